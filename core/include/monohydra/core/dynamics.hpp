@@ -1,0 +1,31 @@
+// Open-loop semirecursive dynamics (Sect. 2.1, Eqs. 8-12): M' zdd = Q'.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "monohydra/core/data.hpp"
+#include "monohydra/core/model.hpp"
+
+namespace mh {
+
+// Sets every body's applied load to its weight m_j * gravity at the centre of
+// mass. Valid after forward_kinematics.
+void reset_applied_forces(const Model& model, Data& data);
+
+// Adds a force F_W (world frame, N) acting at world point p_W of `body`
+// (ignored for the ground). Valid after forward_kinematics.
+void apply_point_force(Data& data, int body, const Eigen::Vector3d& p_W,
+                       const Eigen::Vector3d& F_W);
+// Adds a pure moment (world frame, N m) to `body`.
+void apply_body_moment(Data& data, int body, const Eigen::Vector3d& tau_W);
+
+// M' = R_d^T T^T Mbar T R_d and Q' = R_d^T T^T (Qbar - Mbar T Rdot_d zd)
+// (Eq. 12) into data.M and data.Q, from the kinematics and applied loads in data.
+void mass_matrix_and_forces(const Model& model, Data& data);
+
+// Kinetic energy 1/2 zd^T M' zd, computed body by body from Eq. (6).
+double kinetic_energy(const Model& model, const Data& data);
+// Gravitational potential energy -sum m_j gravity . g_j (zero at the world origin).
+double potential_energy(const Model& model, const Data& data);
+
+}  // namespace mh

@@ -1,0 +1,74 @@
+// Model files: YAML (yaml-cpp) to a Model plus the specification of its
+// subsystems, formulation and solver. Every error is an InputError naming the
+// file, line, field and what was expected. Format: docs/model-format.md.
+#pragma once
+
+#include <Eigen/Core>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "monohydra/core/input_error.hpp"
+#include "monohydra/core/model.hpp"
+
+namespace mh {
+
+// One option of a component as written in the model file (SI units).
+struct OptionValue {
+  enum class Kind { number, string, table };
+  Kind kind = Kind::number;
+  double number = 0.0;
+  std::string text;          // string value, or the scalar's text for error messages
+  std::vector<double> table; // row-major; a flat list of numbers is one row
+  int rows = 0;
+  int columns = 0;
+  SourceMark mark;
+};
+using OptionMap = std::map<std::string, OptionValue>;
+
+struct PointSpec {
+  BodyPoint point;  // body index into Model::bodies (kGround for the ground)
+  SourceMark mark;
+};
+
+struct SubsystemSpec {
+  std::string name;  // unique among subsystems
+  std::string type;  // component id, e.g. "spring-damper"
+  OptionMap options; // every key but name, type, points, states
+  std::map<std::string, PointSpec> points;          // points/<key>
+  std::map<std::string, std::string> state_names;   // states/<local>: column name
+  SourceMark mark;
+};
+
+struct FormulationSpec {
+  std::string name = "open-loop";
+  OptionMap options;
+  SourceMark mark;
+};
+
+struct SolverSettings {
+  double dt = 1e-3;             // s
+  double t_end = 10.0;          // s
+  int max_iterations = 25;      // Newton iterations per step before giving up
+  double tol_position = 1e-7;   // rad or m: Newton increment tolerance on coordinates
+  SourceMark mark;
+};
+
+struct ModelFile {
+  std::string path;             // as given
+  Model model;
+  std::vector<SourceMark> body_marks;  // parallel to model.bodies
+  std::vector<SubsystemSpec> subsystems;
+  FormulationSpec formulation;
+  SolverSettings solver;
+  std::vector<std::string> plugin_paths;  // absolute, resolved against the file's folder
+};
+
+// Reads and validates a model file. Throws InputError.
+ModelFile load_model_file(const std::string& path);
+// The same from text; `file_label` names it in errors, `base_dir` resolves
+// relative plugin paths.
+ModelFile parse_model_text(const std::string& yaml_text, const std::string& file_label,
+                           const std::string& base_dir = ".");
+
+}  // namespace mh

@@ -1,0 +1,114 @@
+/* monohydra SDK: the services the host hands to every component instance.
+ *
+ * The host creates one mh_host per component instance, so every call below
+ * speaks for that instance (its options, its log lines, its states). The table
+ * and everything it points to stay valid until the instance is destroyed.
+ * Calls are made from the thread that called the plugin; a host never calls one
+ * instance from two threads at once. Strings and arrays the host returns are
+ * owned by the host. Every array travels with its length. */
+#ifndef MONOHYDRA_HOST_H
+#define MONOHYDRA_HOST_H
+
+#include "monohydra/types.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* What evaluate_mechanics computes (bit flags). */
+#define MH_EVAL_DYNAMICS 0x1u    /* M' and Q' (Eq. 12), with every load applied */
+#define MH_EVAL_CONSTRAINTS 0x2u /* Phi, Phi_z and Phi_z_dot * zd of the cut joints */
+#define MH_EVAL_SUBSYSTEMS 0x4u  /* evaluate the subsystems at the Newton iterate: their \
+                                    forces enter Q' and their residual rows are written */
+
+typedef struct mh_mech_info {
+  uint32_t struct_size;
+  uint32_t num_coordinates; /* N: relative joint coordinates, one per body */
+  uint32_t num_constraints; /* m: rows of Phi(z) = 0 from the cut joints */
+  const char* const* coordinate_names; /* N names, e.g. "z1" */
+  const uint8_t* coordinate_is_angle;  /* N flags: 1 revolute (rad), 0 prismatic (m) */
+} mh_mech_info;
+
+typedef struct mh_mech_request {
+  uint32_t struct_size;
+  uint32_t flags;   /* MH_EVAL_* */
+  double t;         /* s */
+  const double* z;  /* N */
+  const double* zd; /* N */
+} mh_mech_request;
+
+/* Results, owned by the host, valid until the next evaluate_mechanics call. Matrices
+ * are dense and column-major. Pointers for what was not requested are NULL. */
+typedef struct mh_mech_result {
+  uint32_t struct_size;
+  const double* M;          /* N x N, M' */
+  const double* Q;          /* N, Q' */
+  const double* phi;        /* m, Phi */
+  const double* phi_z;      /* m x N, Phi_z */
+  const double* phi_dot_zd; /* m, Phi_z_dot * zd (the velocity-product term) */
+} mh_mech_result;
+
+typedef struct mh_host {
+  uint32_t struct_size;   /* sizeof(mh_host) of the host's SDK: check before using
+                             fields added by a later minor version */
+  mh_version abi_version; /* the host's ABI version */
+  void* host_data;        /* opaque: pass back unchanged */
+
+  /* -- any time ------------------------------------------------------------ */
+  /* Logs a message for the user. A plugin logs the reason before returning
+   * MH_DISCARD, MH_ERROR or MH_FATAL. */
+  void (*log)(const struct mh_host* host, mh_log_level level, const char* message);
+
+  /* Options of this instance from the model file, by key. With required = 0 a
+   * missing key yields `fallback` and MH_OK. A present key of the wrong type, or
+   * a missing required one, is reported by the host (file, line, field, what was
+   * expected) and yields MH_ERROR. Keys that no call asked for are reported as
+   * unknown after setup. Numbers are SI. */
+  mh_status (*option_number)(const struct mh_host* host, const char* key, int required,
+                             double fallback, double* out);
+  mh_status (*option_string)(const struct mh_host* host, const char* key, int required,
+                             const char* fallback, const char** out);
+  /* A table of numbers with `columns` columns, row-major (e.g. a time signal).
+   * *rows receives the number of rows. */
+  mh_status (*option_table)(const struct mh_host* host, const char* key, int required,
+                            uint32_t columns, const double** data, uint32_t* rows);
+  /* Reports an invalid option value with the file and line it came from. Returns
+   * MH_ERROR so a plugin can write `return host->option_error(host, "k", "> 0");`. */
+  mh_status (*option_error)(const struct mh_host* host, const char* key,
+                            const char* expected);
+
+  /* The mechanism's sizes and names. */
+  mh_status (*mech_info)(const struct mh_host* host, mh_mech_info* out);
+
+  /* -- subsystem setup only -------------------------------------------------- */
+  /* Declares a state of this instance with its initial value, the absolute
+   * tolerance on its Newton increment and its unit (e.g. "Pa"). *index receives
+   * its index in the global state vector. */
+  mh_status (*add_state)(const struct mh_host* host, const char* name, double initial,
+                         double abs_tolerance, const char* unit, int32_t* index);
+  /* Finds another instance's state by its qualified name "instance.state", to
+   * read it and add to its residual row. *index receives its global index. */
+  mh_status (*find_state)(const struct mh_host* host, const char* qualified_name,
+                          int32_t* index);
+  /* Attaches this instance to the body point the model file gives under
+   * points/<key>. *index receives the point's local index 0, 1, ... */
+  mh_status (*add_point)(const struct mh_host* host, const char* key, int32_t* index);
+
+  /* -- formulation only ------------------------------------------------------ */
+  /* Evaluates the core's semirecursive kinematics and dynamics at (t, z, zd).
+   * Inside mh_formulation.residual the formulation calls it with
+   * MH_EVAL_SUBSYSTEMS exactly once, at the coordinates of the Newton iterate
+   * (which also fills the subsystem residual rows); other calls may come as
+   * often as needed and leave the subsystems untouched. */
+  mh_status (*evaluate_mechanics)(const struct mh_host* host, const mh_mech_request* request,
+                                  mh_mech_result* result);
+
+  /* Host extensions by string id ("name/rev"); NULL when not supported. */
+  const void* (*get_extension)(const struct mh_host* host, const char* id);
+} mh_host;
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* MONOHYDRA_HOST_H */
