@@ -18,8 +18,10 @@ extern "C" {
 /* What evaluate_mechanics computes (bit flags). */
 #define MH_EVAL_DYNAMICS 0x1u    /* M' and Q' (Eq. 12), with every load applied */
 #define MH_EVAL_CONSTRAINTS 0x2u /* Phi, Phi_z and Phi_z_dot * zd of the cut joints */
-#define MH_EVAL_SUBSYSTEMS 0x4u  /* evaluate the subsystems at the Newton iterate: their \
-                                    forces enter Q' and their residual rows are written */
+#define MH_EVAL_SUBSYSTEMS 0x4u  /* this is the Newton iterate's evaluation: the subsystems' \
+                                    residual rows (and powers) are recorded as the step's */
+/* The subsystems' forces always enter Q' under MH_EVAL_DYNAMICS, evaluated at the
+ * host's current subsystem states. */
 
 typedef struct mh_mech_info {
   uint32_t struct_size;
@@ -27,6 +29,8 @@ typedef struct mh_mech_info {
   uint32_t num_constraints; /* m: rows of Phi(z) = 0 from the cut joints */
   const char* const* coordinate_names; /* N names, e.g. "z1" */
   const uint8_t* coordinate_is_angle;  /* N flags: 1 revolute (rad), 0 prismatic (m) */
+  double position_tolerance; /* the model's Newton tolerance on coordinates (rad or m) */
+  double dt;                 /* the fixed step (s) */
 } mh_mech_info;
 
 typedef struct mh_mech_request {

@@ -1,0 +1,68 @@
+// Finds plugin libraries, loads them with Boost.DLL through their one entry
+// symbol, checks their ABI version, and lists the components they offer.
+#pragma once
+
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "monohydra/formulation.h"
+#include "monohydra/subsystem.h"
+
+namespace mh {
+
+// A library that could not be used as a plugin, and why.
+class PluginError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+enum class ComponentKind { formulation, subsystem };
+
+struct ComponentInfo {
+  ComponentKind kind;
+  std::string id;
+  const mh_component_descriptor* descriptor = nullptr;
+  mh_version abi_version{};  // of the library that holds it
+  std::string library;       // path of that library
+  const mh_formulation_factory* formulation_factory = nullptr;
+  const mh_subsystem_factory* subsystem_factory = nullptr;
+};
+
+class PluginRegistry {
+ public:
+  PluginRegistry();
+  ~PluginRegistry();
+  PluginRegistry(const PluginRegistry&) = delete;
+  PluginRegistry& operator=(const PluginRegistry&) = delete;
+
+  // The default search path, in order: $MONOHYDRA_PLUGIN_PATH (':'-separated),
+  // the plugin folder beside the running executable (../lib/monohydra/plugins),
+  // and the install prefix's plugin folder.
+  static std::vector<std::string> default_search_path();
+
+  // Loads one library. Throws PluginError naming the file when it is not a
+  // shared library, lacks the entry symbol, was built for another ABI major
+  // version, fails to initialise, or offers a component id already loaded.
+  void load(const std::string& path);
+  // Loads every shared library (*.so) in the folders, in order, skipping a
+  // library already loaded from the same file. Libraries that refuse are
+  // remembered in refusals() rather than thrown.
+  void scan(const std::vector<std::string>& folders);
+  const std::vector<std::string>& refusals() const { return refusals_; }
+
+  const std::vector<ComponentInfo>& components() const { return components_; }
+  // Throws PluginError "unknown formulation 'x' (found: a, b)" when absent.
+  const ComponentInfo& find(ComponentKind kind, const std::string& id) const;
+
+ private:
+  struct Library;
+  std::vector<std::unique_ptr<Library>> libraries_;
+  std::vector<ComponentInfo> components_;
+  std::vector<std::string> refusals_;
+};
+
+const char* to_string(ComponentKind kind);
+
+}  // namespace mh

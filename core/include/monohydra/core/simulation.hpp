@@ -1,0 +1,101 @@
+// One simulation run: a model, its formulation and subsystem instances loaded
+// from plugins, and the monolithic trapezoidal Newton step (Sect. 4) that
+// integrates them together with one sparse KLU tangent.
+#pragma once
+
+#include <Eigen/Core>
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "monohydra/core/model_file.hpp"
+#include "monohydra/core/plugin_registry.hpp"
+#include "monohydra/types.h"
+
+namespace mh {
+
+// A run that cannot go on: names the time, the step and the reason.
+class SimulationError : public std::runtime_error {
+ public:
+  SimulationError(double t, long step, const std::string& reason);
+  double time() const { return t_; }
+  long step() const { return step_; }
+  const std::string& reason() const { return reason_; }
+
+ private:
+  double t_;
+  long step_;
+  std::string reason_;
+};
+
+using LogSink = std::function<void(mh_log_level, const std::string& source, const std::string&)>;
+
+// Per-step diagnostics of the Newton iteration.
+struct StepStats {
+  int iterations = 0;                   // linear solves this step
+  std::vector<double> increment_norms;  // max_i |dx_i| / tol_i after each solve
+  std::vector<double> residual_norms;   // ||r||_inf at the predictor and after each solve
+};
+
+class Simulation {
+ public:
+  // Creates and sets up every instance; `settings` overrides the file's solver
+  // block and `formulation` (when not empty) the file's formulation name.
+  // Throws InputError for bad options, PluginError for missing plugins.
+  Simulation(const ModelFile& file, const PluginRegistry& registry,
+             const std::string& formulation = "", LogSink log = nullptr);
+  ~Simulation();
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  const SolverSettings& settings() const;
+  SolverSettings& settings();  // dt, t_end, tolerances: change before start()
+
+  void start();  // consistent initial state at t = 0
+  void step();   // one step of dt; throws SimulationError, leaving the last accepted state
+
+  double time() const;
+  long step_index() const;
+  const std::string& formulation_name() const;
+
+  // The accepted state.
+  const Eigen::VectorXd& z() const;
+  const Eigen::VectorXd& zd() const;
+  const Eigen::VectorXd& zdd() const;
+  const Eigen::VectorXd& states() const;
+  const Eigen::VectorXd& state_rates() const;
+  const std::vector<std::string>& coordinate_names() const;
+  const std::vector<std::string>& state_names() const;  // CSV names
+  int state_index(const std::string& name) const;       // -1 if absent
+
+  // Energy balance, all relative to t = 0: kinetic and potential energy of the
+  // bodies, work W done on them by subsystem forces (trapezoidal integral of
+  // the power), drift = KE + PE - W.
+  double kinetic_energy() const;
+  double potential_energy() const;
+  double work() const;
+  double drift() const;
+  // Energy stored in subsystems (relative to t = 0) and dissipated by them.
+  double stored_energy() const;
+  double dissipated_energy() const;
+  double phi_norm() const;  // norm of the cut-joint constraints at z
+  const StepStats& last_step() const;
+
+  // The Newton tangent the step assembles (analytic blocks where plugins give
+  // them) and the one forward differences alone give, both at the current
+  // iterate of the next step, dense (to test analytic blocks).
+  Eigen::MatrixXd assembled_tangent();
+  Eigen::MatrixXd finite_difference_tangent();
+  int num_unknowns() const;
+  int num_mechanical_unknowns() const;
+  int tangent_nonzeros() const;
+
+  struct Engine;
+
+ private:
+  std::unique_ptr<Engine> engine_;
+};
+
+}  // namespace mh

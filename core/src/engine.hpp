@@ -1,0 +1,134 @@
+// Private: the state behind a Simulation, shared by the files that implement
+// it (host services, tangent assembly, the trapezoidal step). Everything here
+// is sized in the constructor and start(); step() allocates nothing.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/LU>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "monohydra/core/data.hpp"
+#include "monohydra/core/klu_solver.hpp"
+#include "monohydra/core/model_file.hpp"
+#include "monohydra/core/simulation.hpp"
+#include "monohydra/core/sparse_pattern.hpp"
+#include "monohydra/monohydra.h"
+
+namespace mh {
+
+// What the host knows about one component instance; its mh_host table points here.
+struct InstanceHost {
+  Simulation::Engine* engine = nullptr;
+  std::string source;            // for log lines: "subsystem 'spring'"
+  const OptionMap* options = nullptr;
+  SourceMark mark;
+  std::set<std::string> keys_read;
+  int subsystem = -1;            // index into Engine::subsystems, -1 for the formulation
+  bool in_setup = false;
+  mh_host table{};
+};
+
+struct SubsystemInstance {
+  const SubsystemSpec* spec = nullptr;
+  const mh_subsystem* api = nullptr;
+  std::unique_ptr<InstanceHost> host;
+  std::vector<int> touched;       // states it may read and add to; own first-call order
+  std::vector<BodyPoint> points;
+  std::vector<double> p, v, f;    // 3 per point
+  std::vector<int> slots;         // touched x touched: value slots in the tangent
+  std::vector<double> d_dy, d_dydot;
+  double power = 0.0;             // sum F . v at the last evaluation
+};
+
+struct Simulation::Engine {
+  explicit Engine(const Model& source) : model(source), data(model) {}
+  const ModelFile* file = nullptr;
+  Model model;
+  Data data;
+  SolverSettings settings;
+  LogSink log;
+  std::string last_plugin_error;  // the most recent error a plugin logged
+  std::unique_ptr<InputError> option_error;  // the first bad option a plugin reported
+
+  // Formulation.
+  std::string formulation_name;
+  const mh_formulation* formulation = nullptr;
+  std::unique_ptr<InstanceHost> formulation_host;
+  int N = 0;    // joint coordinates
+  int m = 0;    // constraint rows
+  int n_m = 0;  // mechanical unknowns
+  std::vector<std::string> coordinate_names;
+  std::vector<const char*> coordinate_name_ptrs;
+  std::vector<uint8_t> coordinate_is_angle;
+
+  // Subsystems and their states.
+  std::vector<SubsystemInstance> subsystems;
+  int n_s = 0;
+  std::vector<std::string> state_names;   // CSV names
+  std::vector<std::string> state_qualified;  // "instance.state"
+  std::vector<std::string> state_units;
+  Eigen::VectorXd y, ydot;            // current (iterate or accepted)
+  Eigen::VectorXd y_k, ydot_k, y_hat; // accepted at t_k; Eq. (34)
+  Eigen::VectorXd state_tol;
+  Eigen::VectorXd scratch_rows;       // rows of evaluations that are not the iterate's
+  double* rows_target = nullptr;      // where MH_EVAL_SUBSYSTEMS writes the state rows
+  bool iterate_evaluated = false;
+  double power = 0.0;                 // of the iterate's evaluation
+
+  // Cut-joint constraint buffers (m rows).
+  Eigen::VectorXd phi, phi_dot_zd;
+  Eigen::MatrixXd phi_z;
+
+  // Newton.
+  int n = 0;
+  Eigen::VectorXd x, r, r_pert, dx, tol, eps;
+  std::unique_ptr<SparsePattern> pattern;
+  std::unique_ptr<KluSolver> klu;
+  std::vector<double> values;
+  std::vector<std::vector<int>> groups;
+  std::vector<char> group_needs_fd;
+  std::vector<char> column_analytic;  // state columns whose ss entries are all analytic
+  Eigen::MatrixXd mech_tangent;       // n_m x n_m from mh_formulation.tangent
+  std::vector<int> mech_slots;        // n_m x n_m column-major slots
+  StepStats stats;
+
+  // Accepted results.
+  double t = 0.0;
+  long step = 0;
+  double attempt_t = 0.0;  // the step being attempted, named by failures
+  long attempt_step = 0;
+  Eigen::VectorXd z, zd, zdd;
+  double ke0 = 0.0, pe0 = 0.0, ke = 0.0, pe = 0.0;
+  double work = 0.0, power_k = 0.0;
+  double stored0 = 0.0, stored = 0.0, dissipated = 0.0, dissipation_k = 0.0;
+  double phi_norm = 0.0;
+  bool started = false;
+
+  // host_services.cpp
+  void make_host(InstanceHost& h, const std::string& source, const OptionMap* options,
+                 const SourceMark& mark, int subsystem);
+  void check_unread_options(const InstanceHost& h) const;
+  mh_status evaluate_mechanics(uint32_t flags, double t_eval, const double* zq, const double* zdq);
+  // Evaluates every subsystem at the kinematics in `data` and the current y,
+  // ydot, adding rows to `rows` (zeroed first) and forces to the bodies.
+  mh_status evaluate_subsystems(double t_eval, double* rows);
+  void energy_terms(double& stored_out, double& dissipation_out);
+
+  // tangent.cpp
+  void build_pattern();
+  mh_status assemble_tangent(double t_next);
+  mh_status residual(double t_next, const Eigen::VectorXd& xq, Eigen::VectorXd& rq);
+
+  // trapezoidal_step.cpp
+  void start();
+  void step_once();
+
+  [[noreturn]] void fail(const std::string& reason) const;
+  std::string status_reason(mh_status s, const std::string& what) const;
+  std::string unknown_name(int i) const;
+};
+
+}  // namespace mh

@@ -1,0 +1,148 @@
+#include "monohydra/core/plugin_registry.hpp"
+
+#include <algorithm>
+#include <boost/dll/runtime_symbol_info.hpp>
+#include <boost/dll/shared_library.hpp>
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+
+#include "monohydra/entry.h"
+
+namespace fs = std::filesystem;
+
+namespace mh {
+
+struct PluginRegistry::Library {
+  std::string path;
+  boost::dll::shared_library library;
+  const mh_plugin_entry* entry = nullptr;
+  ~Library() {
+    if (entry != nullptr && entry->deinit != nullptr) entry->deinit();
+  }
+};
+
+const char* to_string(ComponentKind kind) {
+  return kind == ComponentKind::formulation ? "formulation" : "subsystem";
+}
+
+PluginRegistry::PluginRegistry() = default;
+PluginRegistry::~PluginRegistry() {
+  // Components first (they point into the libraries), then the libraries in
+  // reverse order of loading.
+  components_.clear();
+  while (!libraries_.empty()) libraries_.pop_back();
+}
+
+std::vector<std::string> PluginRegistry::default_search_path() {
+  std::vector<std::string> path;
+  if (const char* env = std::getenv("MONOHYDRA_PLUGIN_PATH"); env != nullptr) {
+    std::stringstream ss(env);
+    std::string item;
+    while (std::getline(ss, item, ':'))
+      if (!item.empty()) path.push_back(item);
+  }
+  std::error_code ec;
+  const fs::path exe_dir = boost::dll::program_location(ec).parent_path();
+  if (!ec) path.push_back((exe_dir / ".." / "lib" / "monohydra" / "plugins").lexically_normal());
+  path.emplace_back(MONOHYDRA_PLUGIN_INSTALL_DIR);
+  return path;
+}
+
+void PluginRegistry::load(const std::string& path) {
+  std::error_code fec;
+  const std::string canonical = fs::weakly_canonical(path, fec).string();
+  for (const auto& lib : libraries_)
+    if (lib->path == canonical) return;
+
+  auto lib = std::make_unique<Library>();
+  lib->path = canonical;
+  boost::dll::fs::error_code ec;
+  lib->library.load(canonical, boost::dll::load_mode::rtld_local | boost::dll::load_mode::rtld_now,
+                    ec);
+  if (ec)
+    throw PluginError("'" + path + "' is not a loadable shared library: " + ec.message());
+  if (!lib->library.has(MH_ENTRY_SYMBOL))
+    throw PluginError("'" + path + "' is not a monohydra plugin: it does not export the entry "
+                      "symbol '" MH_ENTRY_SYMBOL "'");
+  lib->entry = &lib->library.get<const mh_plugin_entry>(MH_ENTRY_SYMBOL);
+  const mh_version v = lib->entry->abi_version;
+  if (v.major != MH_ABI_VERSION_MAJOR) {
+    const std::string got = std::to_string(v.major) + "." + std::to_string(v.minor);
+    lib->entry = nullptr;  // never call into an incompatible library
+    throw PluginError("'" + path + "' was built for monohydra ABI " + got +
+                      ", this host speaks ABI " + std::to_string(MH_ABI_VERSION_MAJOR) + "." +
+                      std::to_string(MH_ABI_VERSION_MINOR) + " (major versions must match)");
+  }
+  if (lib->entry->init == nullptr || lib->entry->get_factory == nullptr) {
+    lib->entry = nullptr;
+    throw PluginError("'" + path + "' has an incomplete entry (init or get_factory is NULL)");
+  }
+  if (lib->entry->init(canonical.c_str()) == 0) {
+    lib->entry = nullptr;
+    throw PluginError("'" + path + "' failed to initialise (its init returned 0)");
+  }
+
+  std::vector<ComponentInfo> found;
+  const auto* ff = static_cast<const mh_formulation_factory*>(
+      lib->entry->get_factory(MH_FORMULATION_FACTORY_ID));
+  if (ff != nullptr) {
+    for (uint32_t i = 0; i < ff->count(ff); ++i) {
+      ComponentInfo info{ComponentKind::formulation, "", ff->descriptor(ff, i), v, canonical, ff,
+                         nullptr};
+      if (info.descriptor == nullptr || info.descriptor->id == nullptr) continue;
+      info.id = info.descriptor->id;
+      found.push_back(info);
+    }
+  }
+  const auto* sf =
+      static_cast<const mh_subsystem_factory*>(lib->entry->get_factory(MH_SUBSYSTEM_FACTORY_ID));
+  if (sf != nullptr) {
+    for (uint32_t i = 0; i < sf->count(sf); ++i) {
+      ComponentInfo info{ComponentKind::subsystem, "", sf->descriptor(sf, i), v, canonical,
+                         nullptr, sf};
+      if (info.descriptor == nullptr || info.descriptor->id == nullptr) continue;
+      info.id = info.descriptor->id;
+      found.push_back(info);
+    }
+  }
+  for (const auto& info : found)
+    for (const auto& existing : components_)
+      if (existing.kind == info.kind && existing.id == info.id)
+        throw PluginError("'" + path + "' offers " + to_string(info.kind) + " '" + info.id +
+                          "', already loaded from '" + existing.library + "'");
+  libraries_.push_back(std::move(lib));
+  components_.insert(components_.end(), found.begin(), found.end());
+}
+
+void PluginRegistry::scan(const std::vector<std::string>& folders) {
+  for (const auto& folder : folders) {
+    std::error_code ec;
+    if (!fs::is_directory(folder, ec)) continue;
+    std::vector<fs::path> files;
+    for (const auto& e : fs::directory_iterator(folder, ec))
+      if (e.path().extension() == ".so") files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    for (const auto& f : files) {
+      try {
+        load(f.string());
+      } catch (const PluginError& err) {
+        refusals_.emplace_back(err.what());
+      }
+    }
+  }
+}
+
+const ComponentInfo& PluginRegistry::find(ComponentKind kind, const std::string& id) const {
+  std::string known;
+  for (const auto& c : components_) {
+    if (c.kind != kind) continue;
+    if (c.id == id) return c;
+    known += (known.empty() ? "" : ", ") + c.id;
+  }
+  throw PluginError("unknown " + std::string(to_string(kind)) + " '" + id + "' (found: " +
+                    (known.empty() ? std::string("none; check the plugin search path") : known) +
+                    ")");
+}
+
+}  // namespace mh

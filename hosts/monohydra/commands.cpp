@@ -1,0 +1,212 @@
+#include "commands.hpp"
+
+#include <unistd.h>
+
+#include <boost/dll/runtime_symbol_info.hpp>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <optional>
+
+#include "monohydra/core/model_file.hpp"
+#include "monohydra/core/plugin_registry.hpp"
+#include "monohydra/core/run.hpp"
+#include "monohydra/core/simulation.hpp"
+
+namespace fs = std::filesystem;
+
+namespace mh::cli {
+namespace {
+
+const char* kUsage =
+    "usage: monohydra [COMMAND] [ARGS]\n"
+    "  (no command)            run the shipped default model, results in out/\n"
+    "  plugins                 list every plugin found, its components and ABI version\n"
+    "  run MODEL.yaml [--formulation NAME] [--dt S] [--t-end S] [--out FILE.csv]\n"
+    "                          simulate MODEL.yaml; CSV columns: t, z1..zN, states,\n"
+    "                          KE, PE, W, drift, phi_norm, iters\n"
+    "plugins are searched in $MONOHYDRA_PLUGIN_PATH, beside the executable, the install\n"
+    "prefix and the model file's plugin_paths.\n";
+
+void log_to_stderr(mh_log_level level, const std::string& source, const std::string& msg) {
+  if (level < MH_LOG_WARNING) return;
+  std::cerr << (level >= MH_LOG_ERROR ? "error: " : "warning: ") << source << ": " << msg << '\n';
+}
+
+std::optional<double> parse_number(const std::string& flag, const std::string& text) {
+  try {
+    size_t used = 0;
+    const double v = std::stod(text, &used);
+    if (used == text.size()) return v;
+  } catch (const std::exception&) {
+  }
+  std::cerr << "monohydra: " << flag << " expects a number, got '" << text << "'\n";
+  return std::nullopt;
+}
+
+std::string version_text(const mh_version& v) {
+  return std::to_string(v.major) + "." + std::to_string(v.minor) + "." + std::to_string(v.patch);
+}
+
+struct ProgressBar {
+  bool enabled = isatty(STDERR_FILENO) != 0;
+  void operator()(double fraction) const {
+    if (!enabled) return;
+    const int width = 40;
+    const int filled = static_cast<int>(fraction * width);
+    std::fprintf(stderr, "\r[%s%s] %3d%%", std::string(static_cast<size_t>(filled), '#').c_str(),
+                 std::string(static_cast<size_t>(width - filled), ' ').c_str(),
+                 static_cast<int>(fraction * 100.0 + 0.5));
+    if (fraction >= 1.0) std::fputc('\n', stderr);
+  }
+};
+
+int simulate(const std::string& model_path, const std::string& formulation,
+             std::optional<double> dt, std::optional<double> t_end, const std::string& out_path) {
+  ModelFile file;
+  try {
+    file = load_model_file(model_path);
+  } catch (const InputError& err) {
+    std::cerr << "monohydra: " << err.what() << '\n';
+    return 2;
+  }
+  PluginRegistry registry;
+  auto search = file.plugin_paths;
+  for (const auto& p : PluginRegistry::default_search_path()) search.push_back(p);
+  registry.scan(search);
+  std::unique_ptr<Simulation> sim;
+  try {
+    sim = std::make_unique<Simulation>(file, registry, formulation, log_to_stderr);
+  } catch (const std::exception& err) {
+    std::cerr << "monohydra: " << err.what() << '\n';
+    for (const auto& r : registry.refusals()) std::cerr << "  (refused: " << r << ")\n";
+    return 2;
+  }
+  if (dt) sim->settings().dt = *dt;
+  if (t_end) sim->settings().t_end = *t_end;
+  if (!(sim->settings().dt > 0.0) || !(sim->settings().t_end >= 0.0)) {
+    std::cerr << "monohydra: --dt must be positive and --t-end non-negative\n";
+    return 2;
+  }
+  std::ofstream csv;
+  if (!out_path.empty()) {
+    const fs::path parent = fs::path(out_path).parent_path();
+    std::error_code ec;
+    if (!parent.empty()) fs::create_directories(parent, ec);
+    csv.open(out_path);
+    if (!csv) {
+      std::cerr << "monohydra: cannot write '" << out_path << "'\n";
+      return 2;
+    }
+  }
+  ProgressBar bar;
+  const RunSummary s = mh::run(*sim, out_path.empty() ? nullptr : &csv, std::ref(bar));
+  if (bar.enabled && s.failed) std::fputc('\n', stderr);
+  std::cout << "model:        " << file.model.name << " (" << model_path << ")\n"
+            << "formulation:  " << sim->formulation_name() << "\n"
+            << "steps:        " << s.steps << " of dt = " << sim->settings().dt << " s\n"
+            << "Newton:       " << (s.steps > 0 ? static_cast<double>(s.iterations) /
+                                                      static_cast<double>(s.steps)
+                                                : 0.0)
+            << " iterations per step on average, " << s.max_iterations << " at most\n"
+            << "peak |drift|: " << s.max_abs_drift << " J\n"
+            << "wall time:    " << s.wall_seconds << " s\n";
+  if (!out_path.empty()) std::cout << "results:      " << out_path << "\n";
+  if (s.failed) {
+    std::cerr << "monohydra: simulation failed at " << s.failure << '\n';
+    return 1;
+  }
+  return 0;
+}
+
+std::string default_model() {
+  std::error_code ec;
+  const fs::path exe_dir = boost::dll::program_location(ec).parent_path();
+  for (const fs::path& dir : {exe_dir / ".." / "share" / "monohydra" / "models",
+                              fs::path(MONOHYDRA_INSTALL_MODELS), fs::path(MONOHYDRA_SOURCE_MODELS)}) {
+    const fs::path p = dir / "double-pendulum.yaml";
+    if (fs::exists(p, ec)) return p.lexically_normal().string();
+  }
+  return "models/double-pendulum.yaml";
+}
+
+}  // namespace
+
+int usage(int code) {
+  (code == 0 ? std::cout : std::cerr) << kUsage;
+  return code;
+}
+
+int plugins(const std::vector<std::string>& args) {
+  if (!args.empty()) return usage(2);
+  PluginRegistry registry;
+  const auto search = PluginRegistry::default_search_path();
+  registry.scan(search);
+  std::cout << "host ABI " << MH_ABI_VERSION_MAJOR << "." << MH_ABI_VERSION_MINOR << "."
+            << MH_ABI_VERSION_PATCH << "; search path:";
+  for (const auto& p : search) std::cout << ' ' << p;
+  std::cout << '\n';
+  std::string library;
+  for (const auto& c : registry.components()) {
+    if (c.library != library) {
+      library = c.library;
+      std::cout << library << " (ABI " << version_text(c.abi_version) << ")\n";
+    }
+    std::printf("  %-12s %-20s %s (v%s)\n", to_string(c.kind), c.id.c_str(),
+                c.descriptor->name != nullptr ? c.descriptor->name : "",
+                c.descriptor->version != nullptr ? c.descriptor->version : "?");
+  }
+  for (const auto& r : registry.refusals()) std::cout << "refused: " << r << '\n';
+  if (registry.components().empty()) {
+    std::cerr << "monohydra: no plugins found\n";
+    return 1;
+  }
+  return 0;
+}
+
+int run(const std::vector<std::string>& args) {
+  std::string model, formulation, out;
+  std::optional<double> dt, t_end;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    const bool has_value = i + 1 < args.size();
+    if ((a == "--formulation" || a == "--dt" || a == "--t-end" || a == "--out") && !has_value) {
+      std::cerr << "monohydra: " << a << " expects a value\n";
+      return 2;
+    }
+    if (a == "--formulation") {
+      formulation = args[++i];
+    } else if (a == "--out") {
+      out = args[++i];
+    } else if (a == "--dt") {
+      dt = parse_number(a, args[++i]);
+      if (!dt) return 2;
+    } else if (a == "--t-end") {
+      t_end = parse_number(a, args[++i]);
+      if (!t_end) return 2;
+    } else if (!a.empty() && a[0] == '-') {
+      std::cerr << "monohydra: unknown option '" << a << "'\n";
+      return usage(2);
+    } else if (model.empty()) {
+      model = a;
+    } else {
+      std::cerr << "monohydra: one model file at a time (got '" << model << "' and '" << a
+                << "')\n";
+      return 2;
+    }
+  }
+  if (model.empty()) {
+    std::cerr << "monohydra: run needs a model file\n";
+    return usage(2);
+  }
+  return simulate(model, formulation, dt, t_end, out);
+}
+
+int run_default() {
+  const std::string model = default_model();
+  std::cout << "monohydra: running the shipped default model " << model << "\n";
+  return simulate(model, "", std::nullopt, std::nullopt, "out/double-pendulum.csv");
+}
+
+}  // namespace mh::cli

@@ -1,0 +1,31 @@
+/* The SDK compiles as plain C11, and its structs have the layout this file
+ * records; abi_layout_test.cpp checks C++ sees the same layout. */
+#include <stddef.h>
+
+#include "monohydra/monohydra.h"
+
+#define LAYOUT(T) {#T, sizeof(T), _Alignof(T)}
+
+typedef struct abi_layout {
+  const char* name;
+  size_t size;
+  size_t align;
+} abi_layout;
+
+/* Interface structs begin with struct_size (or the version, for the entry). */
+_Static_assert(offsetof(mh_host, struct_size) == 0, "mh_host starts with struct_size");
+_Static_assert(offsetof(mh_formulation, struct_size) == 0, "struct_size first");
+_Static_assert(offsetof(mh_subsystem, struct_size) == 0, "struct_size first");
+_Static_assert(offsetof(mh_plugin_entry, abi_version) == 0, "entry starts with its version");
+_Static_assert(sizeof(mh_status) == sizeof(int), "status is an int-sized enum");
+
+const abi_layout mh_c_layouts[] = {
+    LAYOUT(mh_version),           LAYOUT(mh_component_descriptor), LAYOUT(mh_plugin_entry),
+    LAYOUT(mh_mech_info),         LAYOUT(mh_mech_request),         LAYOUT(mh_mech_result),
+    LAYOUT(mh_host),              LAYOUT(mh_formulation),          LAYOUT(mh_formulation_factory),
+    LAYOUT(mh_subsystem_eval),    LAYOUT(mh_subsystem),            LAYOUT(mh_subsystem_factory),
+};
+const size_t mh_c_layout_count = sizeof(mh_c_layouts) / sizeof(mh_c_layouts[0]);
+const size_t mh_c_offset_host_evaluate = offsetof(mh_host, evaluate_mechanics);
+const size_t mh_c_offset_formulation_get_extension = offsetof(mh_formulation, get_extension);
+const size_t mh_c_offset_subsystem_get_extension = offsetof(mh_subsystem, get_extension);

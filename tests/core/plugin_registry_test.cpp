@@ -1,0 +1,79 @@
+#include "monohydra/core/plugin_registry.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "test_support.hpp"
+
+namespace mh {
+namespace {
+
+std::string load_error(const std::string& path) {
+  PluginRegistry r;
+  try {
+    r.load(path);
+  } catch (const PluginError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(PluginRegistry, FindsTheBuildsFormulationAndSubsystemsWithTheirAbiVersion) {
+  const PluginRegistry& r = test::build_plugins();
+  const ComponentInfo& f = r.find(ComponentKind::formulation, "open-loop");
+  EXPECT_EQ(f.abi_version.major, MH_ABI_VERSION_MAJOR);
+  ASSERT_NE(f.formulation_factory, nullptr);
+  EXPECT_NE(r.find(ComponentKind::subsystem, "spring-damper").subsystem_factory, nullptr);
+  EXPECT_NE(r.find(ComponentKind::subsystem, "maxwell").subsystem_factory, nullptr);
+  EXPECT_TRUE(r.refusals().empty());
+}
+
+TEST(PluginRegistry, UnknownComponentErrorListsWhatWasFound) {
+  const PluginRegistry& r = test::build_plugins();
+  try {
+    r.find(ComponentKind::formulation, "lagrange");
+    FAIL() << "expected PluginError";
+  } catch (const PluginError& e) {
+    EXPECT_EQ(std::string(e.what()), "unknown formulation 'lagrange' (found: open-loop)");
+  }
+}
+
+TEST(PluginRegistry, RefusesAFileThatIsNotASharedLibrary) {
+  const std::string path = std::string(MH_FIXTURE_DIR) + "/text_file.so";
+  const std::string err = load_error(path);
+  EXPECT_NE(err.find("'" + path + "' is not a loadable shared library"), std::string::npos)
+      << err;
+}
+
+TEST(PluginRegistry, RefusesALibraryWithoutTheEntrySymbol) {
+  const std::string path = std::string(MH_FIXTURE_DIR) + "/mh_fixture_not_a_plugin.so";
+  EXPECT_EQ(load_error(path), "'" + path +
+                                  "' is not a monohydra plugin: it does not export the entry "
+                                  "symbol 'mh_entry'");
+}
+
+TEST(PluginRegistry, RefusesAPluginOfAnIncompatibleAbiMajorVersion) {
+  const std::string path = std::string(MH_FIXTURE_DIR) + "/mh_fixture_future_abi.so";
+  EXPECT_EQ(load_error(path), "'" + path +
+                                  "' was built for monohydra ABI 99.0, this host speaks ABI 1.0 "
+                                  "(major versions must match)");
+}
+
+TEST(PluginRegistry, ScanRecordsRefusalsAndKeepsGoing) {
+  PluginRegistry r;
+  r.scan({MH_FIXTURE_DIR, MH_PLUGIN_DIR});
+  EXPECT_EQ(r.refusals().size(), 3u);
+  EXPECT_NO_THROW(r.find(ComponentKind::formulation, "open-loop"));
+}
+
+TEST(PluginRegistry, RefusesTheSameComponentIdFromASecondLibrary) {
+  PluginRegistry r;
+  r.load(std::string(MH_PLUGIN_DIR) + "/monohydra-mechanics.so");
+  // The same file again is a no-op, not a clash.
+  EXPECT_NO_THROW(r.load(std::string(MH_PLUGIN_DIR) + "/monohydra-mechanics.so"));
+  EXPECT_EQ(r.components().size(), 2u);
+}
+
+}  // namespace
+}  // namespace mh

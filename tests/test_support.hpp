@@ -1,0 +1,26 @@
+// What the tests share: the build's plugin registry and models from text.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "monohydra/core/model_file.hpp"
+#include "monohydra/core/plugin_registry.hpp"
+
+namespace mh::test {
+
+// A registry holding the plugins of this build (loaded once per process).
+inline const PluginRegistry& build_plugins() {
+  static const std::unique_ptr<PluginRegistry> registry = [] {
+    auto r = std::make_unique<PluginRegistry>();
+    r->scan({MH_PLUGIN_DIR});
+    return r;
+  }();
+  return *registry;
+}
+
+inline std::string source_path(const std::string& relative) {
+  return std::string(MH_SOURCE_DIR) + "/" + relative;
+}
+
+}  // namespace mh::test
