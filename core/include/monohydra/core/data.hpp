@@ -24,6 +24,9 @@ struct Data {
   std::vector<Vector6d> b;             // Eq. (2)
   std::vector<Vector6d> d;             // Eq. (3)
   std::vector<Vector6d> Zdot0;         // Zdot with zdd = 0: T Rdot_d zd, Eq. (5)
+  // Zdot is the plain time derivative of Z, so its first half is not the
+  // acceleration of the body point at the origin (that adds omega x sdot);
+  // use point_bias_acceleration() for points.
 
   // Applied loads, per body: force and moment about the centre of mass, world
   // frame. Reset (to gravity) by reset_applied_forces(); point forces add here.
@@ -32,7 +35,7 @@ struct Data {
 
   // Dynamics (Eqs. 8-12).
   std::vector<Matrix6d> Mbar;      // Eq. (9)
-  std::vector<Vector6d> Qbar;      // Eq. (10)
+  std::vector<Vector6d> Qbar;      // Eq. (10), with omega x gdot for omega x (omega x g)
   std::vector<Matrix6d> Mbar_sum;  // composite: body plus all descendants
   std::vector<Vector6d> Q_sum;     // composite of Qbar - Mbar Zdot0
   Eigen::MatrixXd M;               // M' (N x N), Eq. (12)

@@ -1,0 +1,150 @@
+// Open-loop semirecursive dynamics (Sect. 2.1, Eqs. 8-12).
+#include "monohydra/core/dynamics.hpp"
+
+#include <Eigen/Geometry>
+#include <stdexcept>
+#include <string>
+
+namespace mh {
+namespace {
+
+Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d S;
+  S << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+  return S;
+}
+
+bool is_body(const Data& data, int body) {
+  return body >= 0 && body < static_cast<int>(data.f_W.size());
+}
+
+void check_load_body(const char* where, const Data& data, int body) {
+  if (body != kGround && !is_body(data, body)) {
+    throw std::invalid_argument(std::string(where) + ": body: expected " + std::to_string(kGround) +
+                                ".." + std::to_string(static_cast<int>(data.f_W.size()) - 1) +
+                                ", got " + std::to_string(body));
+  }
+}
+
+void check_data(const char* where, const Model& model, const Data& data) {
+  if (static_cast<int>(data.R_W_B.size()) != model.num_bodies() ||
+      data.M.rows() != model.num_coordinates()) {
+    throw std::invalid_argument(std::string(where) + ": data (bodies): expected " +
+                                std::to_string(model.num_bodies()) + ", got " +
+                                std::to_string(data.R_W_B.size()));
+  }
+}
+
+// Inertia tensor about the COM in world axes, J_j = A_j Jbar_j A_j^T (text after Eq. 10).
+Eigen::Matrix3d world_inertia(const Body& body, const Eigen::Matrix3d& R_W_B) {
+  return R_W_B * body.inertia_B * R_W_B.transpose();
+}
+
+}  // namespace
+
+void reset_applied_forces(const Model& model, Data& data) {
+  check_data("reset_applied_forces", model, data);
+  for (int j = 0; j < model.num_bodies(); ++j) {
+    data.f_W[j] = model.bodies[j].mass * model.gravity;  // weight acts at the COM: no moment
+    data.tau_W[j].setZero();
+  }
+}
+
+void apply_point_force(Data& data, int body, const Eigen::Vector3d& p_W,
+                       const Eigen::Vector3d& F_W) {
+  check_load_body("apply_point_force", data, body);
+  if (body == kGround) return;
+  data.f_W[body] += F_W;
+  // Moments are kept about the COM (Eq. 10): transport the force from p to g.
+  data.tau_W[body] += (p_W - data.g_W[body]).cross(F_W);
+}
+
+void apply_body_moment(Data& data, int body, const Eigen::Vector3d& tau_W) {
+  check_load_body("apply_body_moment", data, body);
+  if (body == kGround) return;
+  data.tau_W[body] += tau_W;
+}
+
+void mass_matrix_and_forces(const Model& model, Data& data) {
+  check_data("mass_matrix_and_forces", model, data);
+  const int n = model.num_bodies();
+
+  for (int j = 0; j < n; ++j) {
+    const Body& body = model.bodies[j];
+    const double m = body.mass;
+    const Eigen::Vector3d& g = data.g_W[j];
+    const Eigen::Matrix3d J = world_inertia(body, data.R_W_B[j]);
+    const Eigen::Matrix3d gt = skew(g);
+    const Eigen::Vector3d sdot = data.Z[j].head<3>();
+    const Eigen::Vector3d omega = data.Z[j].tail<3>();
+    const Eigen::Vector3d gdot = sdot + omega.cross(g);  // Eq. (6)
+
+    // Eq. (9): Mbar_j = D_j^T M_j D_j.
+    Matrix6d& Mb = data.Mbar[j];
+    Mb.topLeftCorner<3, 3>() = m * Eigen::Matrix3d::Identity();
+    Mb.topRightCorner<3, 3>() = -m * gt;
+    Mb.bottomLeftCorner<3, 3>() = m * gt;
+    Mb.bottomRightCorner<3, 3>() = J - m * gt * gt;
+
+    // Eq. (10): Qbar_j = D_j^T (Q_j - M_j e_j). Zdot here is the plain time
+    // derivative of Z (Eq. 5, d_j = bdot_j zd_j), and then Eq. (7)'s velocity
+    // term is e_j = Ddot_j Z_j = [omega x gdot; 0]. Eq. (10) as printed has
+    // omega x (omega x g) in its place; the two differ by omega x sdot, which is
+    // not zero in general (e.g. a pendulum whose axis misses the world origin).
+    const Eigen::Vector3d f_net = data.f_W[j] - m * omega.cross(gdot);
+    Vector6d& Qb = data.Qbar[j];
+    Qb.head<3>() = f_net;
+    Qb.tail<3>() = data.tau_W[j] - omega.cross(J * omega) + g.cross(f_net);
+
+    data.Mbar_sum[j] = Mb;
+    data.Q_sum[j] = Qb - Mb * data.Zdot0[j];  // Eq. (11): Qbar - Mbar T Rdot_d zd, per body
+  }
+
+  // T^T (...) of Eq. (12): accumulate each body's terms into all its ancestors.
+  // Children follow their parents, so a backward sweep finishes every subtree
+  // before it is added to its parent.
+  for (int j = n - 1; j >= 0; --j) {
+    const int p = model.bodies[j].parent;
+    if (p == kGround) continue;
+    data.Mbar_sum[p] += data.Mbar_sum[j];
+    data.Q_sum[p] += data.Q_sum[j];
+  }
+
+  // Eq. (12): (T^T Mbar T)_{ik} = sum of Mbar_j over bodies j below both i and k,
+  // which for i an ancestor of k (or k itself) is Mbar_sum_k; zero when neither
+  // is an ancestor of the other.
+  data.M.setZero();
+  for (int k = 0; k < n; ++k) {
+    const Vector6d Mb_k = data.Mbar_sum[k] * data.b[k];
+    for (int i = k; i != kGround; i = model.bodies[i].parent) {
+      const double value = data.b[i].dot(Mb_k);
+      data.M(i, k) = value;
+      data.M(k, i) = value;
+    }
+    data.Q[k] = data.b[k].dot(data.Q_sum[k]);  // Eq. (12)
+  }
+}
+
+double kinetic_energy(const Model& model, const Data& data) {
+  check_data("kinetic_energy", model, data);
+  double T = 0.0;
+  for (int j = 0; j < model.num_bodies(); ++j) {
+    const Body& body = model.bodies[j];
+    const Eigen::Vector3d omega = data.Z[j].tail<3>();
+    const Eigen::Vector3d gdot = data.Z[j].head<3>() + omega.cross(data.g_W[j]);  // Eq. (6)
+    const Eigen::Matrix3d J = world_inertia(body, data.R_W_B[j]);
+    T += 0.5 * (body.mass * gdot.squaredNorm() + omega.dot(J * omega));
+  }
+  return T;
+}
+
+double potential_energy(const Model& model, const Data& data) {
+  check_data("potential_energy", model, data);
+  double V = 0.0;
+  for (int j = 0; j < model.num_bodies(); ++j) {
+    V -= model.bodies[j].mass * model.gravity.dot(data.g_W[j]);
+  }
+  return V;
+}
+
+}  // namespace mh
