@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "monohydra/core/constraints.hpp"
 #include "monohydra/core/data.hpp"
 #include "monohydra/core/klu_solver.hpp"
 #include "monohydra/core/model_file.hpp"
@@ -78,9 +79,11 @@ struct Simulation::Engine {
   bool iterate_evaluated = false;
   double power = 0.0;                 // of the iterate's evaluation
 
-  // Cut-joint constraint buffers (m rows).
+  // Cut-joint constraints (m rows) and the assembled initial state.
+  Constraints constraints;
   Eigen::VectorXd phi, phi_dot_zd;
   Eigen::MatrixXd phi_z;
+  Eigen::VectorXd z0, zd0;
 
   // Newton.
   int n = 0;
@@ -116,6 +119,9 @@ struct Simulation::Engine {
   // ydot, adding rows to `rows` (zeroed first) and forces to the bodies.
   mh_status evaluate_subsystems(double t_eval, double* rows);
   void energy_terms(double& stored_out, double& dissipation_out);
+
+  // loop_assembly.cpp
+  void assemble_loops();
 
   // tangent.cpp
   void build_pattern();

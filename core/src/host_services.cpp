@@ -116,6 +116,8 @@ mh_status host_mech_info(const mh_host* host, mh_mech_info* out) {
   out->coordinate_is_angle = e.coordinate_is_angle.data();
   out->position_tolerance = e.settings.tol_position;
   out->dt = e.settings.dt;
+  out->z0 = e.z0.data();
+  out->zd0 = e.zd0.data();
   return MH_OK;
 }
 
@@ -321,13 +323,8 @@ mh_status Simulation::Engine::evaluate_mechanics(uint32_t flags, double t_eval, 
     if (iterate) iterate_evaluated = true;
   }
   if ((flags & MH_EVAL_DYNAMICS) != 0) mass_matrix_and_forces(model, data);
-  if ((flags & MH_EVAL_CONSTRAINTS) != 0) {
-    // Cut-joint constraints arrive with the closed-loop formulations; a model
-    // without cut joints has m = 0 rows.
-    phi.setZero();
-    phi_z.setZero();
-    phi_dot_zd.setZero();
-  }
+  if ((flags & MH_EVAL_CONSTRAINTS) != 0)
+    evaluate_constraints(model, data, constraints, phi, phi_z, phi_dot_zd);
   return MH_OK;
 }
 

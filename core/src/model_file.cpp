@@ -226,6 +226,15 @@ class Parser {
     return static_cast<int>(value);
   }
 
+  bool boolean(const YAML::Node& node, const std::string& field) const {
+    if (node.IsScalar()) {
+      const std::string& t = node.Scalar();
+      if (t == "true") return true;
+      if (t == "false") return false;
+    }
+    fail(node, field, "expected true or false, got " + describe(node));
+  }
+
   // --- vectors and matrices ------------------------------------------------
 
   Eigen::Vector3d vector3(const YAML::Node& node, const std::string& field) const {
@@ -389,7 +398,7 @@ class Parser {
     }
     const MapView top(*this, root, "",
                       {"units", "name", "gravity", "plugin_paths", "bodies", "cut_joints",
-                       "subsystems", "formulation", "solver"});
+                       "subsystems", "formulation", "solver", "planar", "assembly"});
     ModelFile file;
     file.path = file_;
 
@@ -405,7 +414,12 @@ class Parser {
 
     parse_bodies(top.require("bodies", "a list of bodies (may be empty: bodies: [])"), file);
 
+    if (auto planar_node = top.get("planar")) {
+      file.model.planar = boolean(*planar_node, "planar");
+      if (file.model.planar) check_planar(file);
+    }
     if (auto cuts = top.get("cut_joints")) file.model.cut_joints = cut_joints(*cuts);
+    if (auto assembly_node = top.get("assembly")) parse_assembly(*assembly_node, file);
     if (auto subsystems_node = top.get("subsystems"))
       file.subsystems = subsystems(*subsystems_node);
 
@@ -643,6 +657,40 @@ class Parser {
     return raw;
   }
 
+  // Planar: every revolute axis along Z, every prismatic axis in the plane,
+  // every fixed orientation a rotation about Z.
+  void check_planar(const ModelFile& file) {
+    planar_ = true;
+    for (std::size_t i = 0; i < file.model.bodies.size(); ++i) {
+      const Body& b = file.model.bodies[i];
+      const bool ok_axis = b.joint == JointType::revolute ? std::abs(b.axis_P.z()) > 1.0 - 1e-9
+                                                         : std::abs(b.axis_P.z()) < 1e-9;
+      const bool ok_orientation = std::abs(b.R_P_B0(2, 2) - 1.0) < 1e-9;
+      if (!ok_axis || !ok_orientation)
+        throw InputError(file.body_marks[i], "bodies '" + b.name + "'",
+                         ok_axis ? "expected a fixed orientation about Z in a planar model"
+                                 : "expected a joint axis along Z (revolute) or in the XY "
+                                   "plane (prismatic) in a planar model");
+    }
+  }
+
+  void parse_assembly(const YAML::Node& node, ModelFile& file) const {
+    const MapView map(*this, node, "assembly", {"fixed"});
+    if (auto fixed = map.get("fixed")) {
+      if (!fixed->IsSequence())
+        fail(*fixed, "assembly.fixed", "expected a list of body names, got " + describe(*fixed));
+      for (std::size_t i = 0; i < fixed->size(); ++i) {
+        const std::string body = name((*fixed)[i], index_field("assembly.fixed", i));
+        int found = -1;
+        for (std::size_t j = 0; j < file.model.bodies.size(); ++j)
+          if (file.model.bodies[j].name == body) found = static_cast<int>(j);
+        if (found < 0)
+          fail((*fixed)[i], index_field("assembly.fixed", i), "unknown body '" + body + "'");
+        file.model.assembly_fixed.push_back(found);
+      }
+    }
+  }
+
   std::vector<CutJoint> cut_joints(const YAML::Node& node) const {
     if (!node.IsSequence()) {
       fail(node, "cut_joints", "expected a list of cut joints, got " + describe(node));
@@ -651,7 +699,7 @@ class Parser {
     std::map<std::string, SourceMark> names;
     for (std::size_t i = 0; i < node.size(); ++i) {
       const std::string field = index_field("cut_joints", i);
-      const MapView map(*this, node[i], field, {"name", "type", "a", "b", "axis"});
+      const MapView map(*this, node[i], field, {"name", "type", "a", "b", "axis", "axis_b"});
       CutJoint joint;
       const YAML::Node name_node = map.require("name");
       joint.name = name(name_node, map.field("name"));
@@ -681,6 +729,12 @@ class Parser {
                  "')");
       }
       if (auto axis_node = map.get("axis")) joint.axis_a = axis(*axis_node, map.field("axis"));
+      joint.axis_b = joint.axis_a;
+      if (auto axis_node = map.get("axis_b")) joint.axis_b = axis(*axis_node, map.field("axis_b"));
+      if (planar_ && joint.type == CutJointType::translational &&
+          (std::abs(joint.axis_a.z()) > 1e-9 || std::abs(joint.axis_b.z()) > 1e-9))
+        fail(map.require("axis"), map.field("axis"),
+             "expected an in-plane sliding axis (z = 0) in a planar model");
       joints.push_back(joint);
     }
     return joints;
@@ -785,6 +839,7 @@ class Parser {
   std::string file_;
   mutable std::vector<std::pair<YAML::Node, YAML::Mark>> null_value_marks_;
   double angle_scale_ = 1.0;
+  bool planar_ = false;
   std::vector<std::string> body_file_names_;    // bodies in file order
   std::vector<std::string> body_topo_names_;    // bodies in Model::bodies order
   std::map<std::string, int> body_topo_index_;  // name -> index into Model::bodies

@@ -30,20 +30,12 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
   e.settings = file.solver;
   e.log = std::move(log);
   e.N = e.model.num_coordinates();
-  e.m = 0;
-  for (const auto& cj : e.model.cut_joints) e.m += cj.type == CutJointType::spherical ? 3 : 0;
   for (const auto& b : e.model.bodies) {
     e.coordinate_names.push_back(b.coordinate.empty() ? b.name : b.coordinate);
     e.coordinate_is_angle.push_back(b.joint == JointType::revolute ? 1 : 0);
   }
   for (const auto& name : e.coordinate_names) e.coordinate_name_ptrs.push_back(name.c_str());
-  if (!e.model.cut_joints.empty())
-    throw InputError(file.body_marks.empty() ? SourceMark{file.path, 0, 0} : file.body_marks[0],
-                     "cut_joints",
-                     "cut joints need a closed-loop formulation; this build has none yet");
-  e.phi.setZero(e.m);
-  e.phi_dot_zd.setZero(e.m);
-  e.phi_z.setZero(e.m, e.N);
+  e.assemble_loops();
 
   // Subsystems, in model order (find_state sees the instances before it).
   e.subsystems.resize(file.subsystems.size());

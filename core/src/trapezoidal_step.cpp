@@ -53,8 +53,8 @@ void Simulation::Engine::start() {
   ydot.setZero(n_s);
   y_hat.setZero(n_s);
   scratch_rows.setZero(n_s);
-  z = model.initial_coordinates();
-  zd = model.initial_rates();
+  z = z0;  // assembled: Phi(z0) = 0, Phi_z zd0 = 0
+  zd = zd0;
   zdd.setZero(N);
   Eigen::VectorXd tol_m(n_m);
   tol_m.setConstant(settings.tol_position);
@@ -111,6 +111,10 @@ void Simulation::Engine::start() {
   pe = pe0;
   work = 0.0;
   phi_norm = 0.0;
+  if (m > 0) {
+    evaluate_constraints(model, data, constraints, phi, phi_z, phi_dot_zd);
+    phi_norm = phi.norm();
+  }
   started = true;
 }
 
@@ -214,7 +218,7 @@ void Simulation::Engine::step_once() {
   ke = mh::kinetic_energy(model, data);
   pe = mh::potential_energy(model, data);
   if (m > 0) {
-    evaluate_mechanics(MH_EVAL_CONSTRAINTS, t, z.data(), zd.data());
+    evaluate_constraints(model, data, constraints, phi, phi_z, phi_dot_zd);
     phi_norm = phi.norm();
   }
 }

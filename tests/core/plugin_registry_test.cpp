@@ -35,7 +35,9 @@ TEST(PluginRegistry, UnknownComponentErrorListsWhatWasFound) {
     r.find(ComponentKind::formulation, "lagrange");
     FAIL() << "expected PluginError";
   } catch (const PluginError& e) {
-    EXPECT_EQ(std::string(e.what()), "unknown formulation 'lagrange' (found: open-loop)");
+    const std::string msg = e.what();
+    EXPECT_EQ(msg.rfind("unknown formulation 'lagrange' (found: ", 0), 0u) << msg;
+    EXPECT_NE(msg.find("open-loop"), std::string::npos) << msg;
   }
 }
 

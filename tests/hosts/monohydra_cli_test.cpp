@@ -99,8 +99,9 @@ TEST(MonohydraCli, BadModelFileExitsWithTwoAndNamesFileLineAndField) {
 TEST(MonohydraCli, UnknownFormulationExitsWithTwoAndListsTheKnownOnes) {
   const Result r = run_cli("run " + model("double-pendulum.yaml") + " --formulation lagrange");
   EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.output.find("unknown formulation 'lagrange' (found: open-loop)"), std::string::npos)
+  EXPECT_NE(r.output.find("unknown formulation 'lagrange' (found: "), std::string::npos)
       << r.output;
+  EXPECT_NE(r.output.find("open-loop"), std::string::npos) << r.output;
 }
 
 TEST(MonohydraCli, FailedRunExitsWithOneNamesTheStepAndKeepsEarlierRows) {

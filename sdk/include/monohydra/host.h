@@ -31,6 +31,9 @@ typedef struct mh_mech_info {
   const uint8_t* coordinate_is_angle;  /* N flags: 1 revolute (rad), 0 prismatic (m) */
   double position_tolerance; /* the model's Newton tolerance on coordinates (rad or m) */
   double dt;                 /* the fixed step (s) */
+  const double* z0;          /* N: initial coordinates, assembled by the host so that
+                                Phi(z0) = 0 when there are cut joints */
+  const double* zd0;         /* N: initial rates, with Phi_z zd0 = 0 */
 } mh_mech_info;
 
 typedef struct mh_mech_request {
@@ -49,7 +52,8 @@ typedef struct mh_mech_result {
   const double* Q;          /* N, Q' */
   const double* phi;        /* m, Phi */
   const double* phi_z;      /* m x N, Phi_z */
-  const double* phi_dot_zd; /* m, Phi_z_dot * zd (the velocity-product term) */
+  const double* phi_dot_zd; /* m, Phi_z_dot * zd: the constraint accelerations are
+                               Phi_z * zdd + phi_dot_zd = d^2 Phi / dt^2 */
 } mh_mech_result;
 
 typedef struct mh_host {

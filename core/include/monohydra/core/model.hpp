@@ -46,12 +46,15 @@ enum class CutJointType { revolute, spherical, translational };
 
 // A joint that closes a kinematic loop (Sect. 2.2): it is not part of the tree
 // but imposes constraints Phi(z) = 0 between a point of body a and one of body b.
+// Rows (constraints.hpp): revolute 3 + 2, spherical 3, translational 2 + 3 in
+// 3D; in a planar model revolute and spherical 2, translational 2.
 struct CutJoint {
   std::string name;
   CutJointType type = CutJointType::revolute;
   BodyPoint a;
   BodyPoint b;
   Eigen::Vector3d axis_a = Eigen::Vector3d::UnitZ();  // joint axis in body a's frame
+  Eigen::Vector3d axis_b = Eigen::Vector3d::UnitZ();  // the same axis in body b's frame
 };
 
 struct Model {
@@ -59,6 +62,11 @@ struct Model {
   std::vector<Body> bodies;  // topological order: parent index < own index
   Eigen::Vector3d gravity = Eigen::Vector3d(0.0, -9.81, 0.0);  // m/s^2, world frame
   std::vector<CutJoint> cut_joints;
+  // A planar model moves in the XY plane: revolute axes are Z, and cut joints
+  // impose only their in-plane constraints (the paper's case studies).
+  bool planar = false;
+  // Bodies whose coordinates the initial assembly of the loops keeps as given.
+  std::vector<int> assembly_fixed;
 
   int num_bodies() const { return static_cast<int>(bodies.size()); }
   // Number of relative joint coordinates (one per body: every joint has 1 DOF).
