@@ -1,0 +1,16 @@
+# monohydra_add_plugin(TARGET source...)
+# Builds a monohydra plugin: a MODULE library against the SDK headers whose
+# only exported symbol is the entry `mh_entry` (linker version script), with
+# hidden visibility and no undefined symbols (CMake >= 3.17). Used by monohydra's own plugins
+# and, from the installed SDK, by third parties alike.
+function(monohydra_add_plugin target)
+  add_library(${target} MODULE ${ARGN})
+  target_link_libraries(${target} PRIVATE monohydra::sdk)
+  set_target_properties(${target} PROPERTIES
+    PREFIX ""
+    C_VISIBILITY_PRESET hidden
+    CXX_VISIBILITY_PRESET hidden
+    VISIBILITY_INLINES_HIDDEN ON)
+  target_link_options(${target} PRIVATE
+    -Wl,--version-script=${CMAKE_CURRENT_FUNCTION_LIST_DIR}/plugin.map -Wl,--no-undefined)
+endfunction()

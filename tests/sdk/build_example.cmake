@@ -1,0 +1,21 @@
+# Installs the SDK alone into a fresh prefix and builds the example third-party
+# plugin against it: proof that a plugin needs nothing from core/.
+foreach(var BINARY_DIR SOURCE_DIR OUT)
+  if(NOT DEFINED ${var})
+    message(FATAL_ERROR "build_example.cmake: ${var} is not set")
+  endif()
+endforeach()
+file(REMOVE_RECURSE ${OUT})
+function(run)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "failed (${rc}): ${ARGN}\n${out}\n${err}")
+  endif()
+endfunction()
+run(${CMAKE_COMMAND} --install ${BINARY_DIR} --prefix ${OUT}/prefix --component sdk)
+run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/sdk/examples/point-load -B ${OUT}/build
+    -DCMAKE_PREFIX_PATH=${OUT}/prefix -DCMAKE_BUILD_TYPE=Release)
+run(${CMAKE_COMMAND} --build ${OUT}/build)
+if(NOT EXISTS ${OUT}/build/point-load.so)
+  message(FATAL_ERROR "the example plugin was not built")
+endif()
