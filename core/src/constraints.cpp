@@ -114,8 +114,14 @@ void evaluate_constraints(const Model& model, const Data& data, Constraints& cs,
       const Eigen::Vector3d ndd0 = angular_bias(data, row.frame).cross(n) + w.cross(nd);
       phi[i] = n.dot(r);
       // Jacobian rows from the point Jacobians (velocity = J zd).
-      if (row.b.body == kGround) cs.J1.setZero(); else point_jacobian(model, data, row.b, cs.J1);
-      if (row.a.body == kGround) cs.J2.setZero(); else point_jacobian(model, data, row.a, cs.J2);
+      if (row.b.body == kGround)
+        cs.J1.setZero();
+      else
+        point_jacobian(model, data, row.b, cs.J1);
+      if (row.a.body == kGround)
+        cs.J2.setZero();
+      else
+        point_jacobian(model, data, row.a, cs.J2);
       angular_jacobian_or_zero(model, data, row.frame, cs.J3);
       phi_z.row(i).noalias() = n.transpose() * (cs.J1 - cs.J2) + n.cross(r).transpose() * cs.J3;
       phi_dot_zd[i] = ndd0.dot(r) + 2.0 * nd.dot(rd) + n.dot(rdd0);

@@ -23,11 +23,11 @@ namespace mh {
 // What the host knows about one component instance; its mh_host table points here.
 struct InstanceHost {
   Simulation::Engine* engine = nullptr;
-  std::string source;            // for log lines: "subsystem 'spring'"
+  std::string source;  // for log lines: "subsystem 'spring'"
   const OptionMap* options = nullptr;
   SourceMark mark;
   std::set<std::string> keys_read;
-  int subsystem = -1;            // index into Engine::subsystems, -1 for the formulation
+  int subsystem = -1;  // index into Engine::subsystems, -1 for the formulation
   bool in_setup = false;
   mh_host table{};
 };
@@ -36,12 +36,12 @@ struct SubsystemInstance {
   const SubsystemSpec* spec = nullptr;
   const mh_subsystem* api = nullptr;
   std::unique_ptr<InstanceHost> host;
-  std::vector<int> touched;       // states it may read and add to; own first-call order
+  std::vector<int> touched;  // states it may read and add to; own first-call order
   std::vector<BodyPoint> points;
-  std::vector<double> p, v, f;    // 3 per point
-  std::vector<int> slots;         // touched x touched: value slots in the tangent
+  std::vector<double> p, v, f;  // 3 per point
+  std::vector<int> slots;       // touched x touched: value slots in the tangent
   std::vector<double> d_dy, d_dydot;
-  double power = 0.0;             // sum F . v at the last evaluation
+  double power = 0.0;  // sum F . v at the last evaluation
 };
 
 struct Simulation::Engine {
@@ -51,7 +51,7 @@ struct Simulation::Engine {
   Data data;
   SolverSettings settings;
   LogSink log;
-  std::string last_plugin_error;  // the most recent error a plugin logged
+  std::string last_plugin_error;             // the most recent error a plugin logged
   std::unique_ptr<InputError> option_error;  // the first bad option a plugin reported
 
   // Formulation.
@@ -68,16 +68,16 @@ struct Simulation::Engine {
   // Subsystems and their states.
   std::vector<SubsystemInstance> subsystems;
   int n_s = 0;
-  std::vector<std::string> state_names;   // CSV names
+  std::vector<std::string> state_names;      // CSV names
   std::vector<std::string> state_qualified;  // "instance.state"
   std::vector<std::string> state_units;
-  Eigen::VectorXd y, ydot;            // current (iterate or accepted)
-  Eigen::VectorXd y_k, ydot_k, y_hat; // accepted at t_k; Eq. (34)
+  Eigen::VectorXd y, ydot;             // current (iterate or accepted)
+  Eigen::VectorXd y_k, ydot_k, y_hat;  // accepted at t_k; Eq. (34)
   Eigen::VectorXd state_tol;
-  Eigen::VectorXd scratch_rows;       // rows of evaluations that are not the iterate's
-  double* rows_target = nullptr;      // where MH_EVAL_SUBSYSTEMS writes the state rows
+  Eigen::VectorXd scratch_rows;   // rows of evaluations that are not the iterate's
+  double* rows_target = nullptr;  // where MH_EVAL_SUBSYSTEMS writes the state rows
   bool iterate_evaluated = false;
-  double power = 0.0;                 // of the iterate's evaluation
+  double power = 0.0;  // of the iterate's evaluation
 
   // Cut-joint constraints (m rows) and the assembled initial state.
   Constraints constraints;

@@ -11,7 +11,9 @@
 namespace mh {
 namespace {
 
-InstanceHost& self(const mh_host* host) { return *static_cast<InstanceHost*>(host->host_data); }
+InstanceHost& self(const mh_host* host) {
+  return *static_cast<InstanceHost*>(host->host_data);
+}
 
 void host_log(const mh_host* host, mh_log_level level, const char* message) {
   InstanceHost& h = self(host);
@@ -80,8 +82,7 @@ mh_status host_option_table(const mh_host* host, const char* key, int required, 
                             const double** data, uint32_t* rows) {
   InstanceHost& h = self(host);
   const OptionValue* v = lookup(h, key);
-  const std::string expected =
-      "a table of rows with " + std::to_string(columns) + " numbers each";
+  const std::string expected = "a table of rows with " + std::to_string(columns) + " numbers each";
   if (v == nullptr) {
     if (required != 0) return missing(h, key, expected.c_str());
     *data = nullptr;
@@ -91,9 +92,8 @@ mh_status host_option_table(const mh_host* host, const char* key, int required, 
   if (v->kind != OptionValue::Kind::table || v->columns != static_cast<int>(columns))
     return report(h, v->mark, key,
                   "expected " + expected + ", got " +
-                      (v->kind == OptionValue::Kind::table
-                           ? std::to_string(v->columns) + " columns"
-                           : "'" + v->text + "'"));
+                      (v->kind == OptionValue::Kind::table ? std::to_string(v->columns) + " columns"
+                                                           : "'" + v->text + "'"));
   *data = v->table.data();
   *rows = static_cast<uint32_t>(v->rows);
   return MH_OK;
@@ -180,9 +180,9 @@ mh_status host_find_state(const mh_host* host, const char* qualified_name, int32
       return MH_OK;
     }
   }
-  host_log(host, MH_LOG_ERROR,
-           ("no state '" + q + "' (states are found as 'instance.state' of instances above)")
-               .c_str());
+  host_log(
+      host, MH_LOG_ERROR,
+      ("no state '" + q + "' (states are found as 'instance.state' of instances above)").c_str());
   return MH_ERROR;
 }
 
@@ -211,8 +211,8 @@ mh_status host_add_point(const mh_host* host, const char* key, int32_t* index) {
 mh_status host_evaluate_mechanics(const mh_host* host, const mh_mech_request* request,
                                   mh_mech_result* result) {
   InstanceHost& h = self(host);
-  if (h.subsystem >= 0 || request == nullptr || result == nullptr ||
-      request->z == nullptr || request->zd == nullptr) {
+  if (h.subsystem >= 0 || request == nullptr || result == nullptr || request->z == nullptr ||
+      request->zd == nullptr) {
     host_log(host, MH_LOG_ERROR, "evaluate_mechanics: formulation only, with z and zd");
     return MH_ERROR;
   }
@@ -228,7 +228,9 @@ mh_status host_evaluate_mechanics(const mh_host* host, const mh_mech_request* re
   return s;
 }
 
-const void* host_get_extension(const mh_host*, const char*) { return nullptr; }
+const void* host_get_extension(const mh_host*, const char*) {
+  return nullptr;
+}
 
 }  // namespace
 
@@ -263,8 +265,7 @@ void Simulation::Engine::check_unread_options(const InstanceHost& h) const {
     std::string known;
     for (const auto& k : h.keys_read) known += (known.empty() ? "" : ", ") + k;
     throw InputError(value.mark, h.source + " option '" + key + "'",
-                     "unknown option (expected one of: " + (known.empty() ? "none" : known) +
-                         ")");
+                     "unknown option (expected one of: " + (known.empty() ? "none" : known) + ")");
   }
 }
 

@@ -21,8 +21,8 @@ KluSolver::KluSolver(const SparsePattern& pattern) : impl_(std::make_unique<Impl
   impl_->column_start = pattern.column_start();
   impl_->row_index = pattern.row_index();
   klu_defaults(&impl_->common);
-  impl_->symbolic = klu_analyze(impl_->n, impl_->column_start.data(), impl_->row_index.data(),
-                                &impl_->common);
+  impl_->symbolic =
+      klu_analyze(impl_->n, impl_->column_start.data(), impl_->row_index.data(), &impl_->common);
   if (impl_->symbolic == nullptr)
     throw std::runtime_error("KLU could not analyse the tangent's sparsity pattern (status " +
                              std::to_string(impl_->common.status) + ")");
@@ -60,8 +60,8 @@ bool KluSolver::factor(const double* values) {
   klu_rcond(s.symbolic, s.numeric, &s.common);
   rcond_ = s.common.rcond;
   if (!(rcond_ > 1e-300)) {
-    error_ = "the Newton tangent is numerically singular (KLU rcond " + std::to_string(rcond_) +
-             ")";
+    error_ =
+        "the Newton tangent is numerically singular (KLU rcond " + std::to_string(rcond_) + ")";
     klu_free_numeric(&s.numeric, &s.common);
     return false;
   }

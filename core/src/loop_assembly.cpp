@@ -52,9 +52,10 @@ void Simulation::Engine::assemble_loops() {
   if (!closed)
     throw InputError(SourceMark{file->path, 0, 0}, "cut_joints",
                      "the loops cannot be closed from the given z0: the constraint residual "
-                     "stays at " + std::to_string(residual) +
-                     " after 50 Newton iterations (check the cut joints' points and the "
-                     "initial coordinates)");
+                     "stays at " +
+                         std::to_string(residual) +
+                         " after 50 Newton iterations (check the cut joints' points and the "
+                         "initial coordinates)");
   // Consistent rates: remove the part of zd0 that violates Phi_z zd = 0.
   free_part(phi_z);
   const Eigen::VectorXd vel = phi_z * zd0;

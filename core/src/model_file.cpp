@@ -664,7 +664,7 @@ class Parser {
     for (std::size_t i = 0; i < file.model.bodies.size(); ++i) {
       const Body& b = file.model.bodies[i];
       const bool ok_axis = b.joint == JointType::revolute ? std::abs(b.axis_P.z()) > 1.0 - 1e-9
-                                                         : std::abs(b.axis_P.z()) < 1e-9;
+                                                          : std::abs(b.axis_P.z()) < 1e-9;
       const bool ok_orientation = std::abs(b.R_P_B0(2, 2) - 1.0) < 1e-9;
       if (!ok_axis || !ok_orientation)
         throw InputError(file.body_marks[i], "bodies '" + b.name + "'",

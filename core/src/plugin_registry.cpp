@@ -60,10 +60,10 @@ void PluginRegistry::load(const std::string& path) {
   boost::dll::fs::error_code ec;
   lib->library.load(canonical, boost::dll::load_mode::rtld_local | boost::dll::load_mode::rtld_now,
                     ec);
-  if (ec)
-    throw PluginError("'" + path + "' is not a loadable shared library: " + ec.message());
+  if (ec) throw PluginError("'" + path + "' is not a loadable shared library: " + ec.message());
   if (!lib->library.has(MH_ENTRY_SYMBOL))
-    throw PluginError("'" + path + "' is not a monohydra plugin: it does not export the entry "
+    throw PluginError("'" + path +
+                      "' is not a monohydra plugin: it does not export the entry "
                       "symbol '" MH_ENTRY_SYMBOL "'");
   lib->entry = &lib->library.get<const mh_plugin_entry>(MH_ENTRY_SYMBOL);
   const mh_version v = lib->entry->abi_version;
@@ -88,8 +88,8 @@ void PluginRegistry::load(const std::string& path) {
       lib->entry->get_factory(MH_FORMULATION_FACTORY_ID));
   if (ff != nullptr) {
     for (uint32_t i = 0; i < ff->count(ff); ++i) {
-      ComponentInfo info{ComponentKind::formulation, "", ff->descriptor(ff, i), v, canonical, ff,
-                         nullptr};
+      ComponentInfo info{
+          ComponentKind::formulation, "", ff->descriptor(ff, i), v, canonical, ff, nullptr};
       if (info.descriptor == nullptr || info.descriptor->id == nullptr) continue;
       info.id = info.descriptor->id;
       found.push_back(info);
@@ -99,8 +99,8 @@ void PluginRegistry::load(const std::string& path) {
       static_cast<const mh_subsystem_factory*>(lib->entry->get_factory(MH_SUBSYSTEM_FACTORY_ID));
   if (sf != nullptr) {
     for (uint32_t i = 0; i < sf->count(sf); ++i) {
-      ComponentInfo info{ComponentKind::subsystem, "", sf->descriptor(sf, i), v, canonical,
-                         nullptr, sf};
+      ComponentInfo info{
+          ComponentKind::subsystem, "", sf->descriptor(sf, i), v, canonical, nullptr, sf};
       if (info.descriptor == nullptr || info.descriptor->id == nullptr) continue;
       info.id = info.descriptor->id;
       found.push_back(info);

@@ -32,8 +32,8 @@ void write_csv_row(std::ostream& out, const Simulation& sim) {
     out << ',';
     put(out, sim.states()[i]);
   }
-  for (double v : {sim.kinetic_energy(), sim.potential_energy(), sim.work(), sim.drift(),
-                   sim.phi_norm()}) {
+  for (double v :
+       {sim.kinetic_energy(), sim.potential_energy(), sim.work(), sim.drift(), sim.phi_norm()}) {
     out << ',';
     put(out, v);
   }

@@ -53,11 +53,10 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
       throw InputError(spec.mark, "subsystems '" + spec.name + "'.type", err.what());
     }
     e.last_plugin_error.clear();
-    s.api = info->subsystem_factory->create(info->subsystem_factory, &s.host->table,
-                                            spec.type.c_str());
+    s.api =
+        info->subsystem_factory->create(info->subsystem_factory, &s.host->table, spec.type.c_str());
     if (s.api == nullptr) throw_setup_failure(e, spec.mark, who);
-    require_op(s.api->setup != nullptr && s.api->evaluate != nullptr &&
-                   s.api->destroy != nullptr,
+    require_op(s.api->setup != nullptr && s.api->evaluate != nullptr && s.api->destroy != nullptr,
                who, "setup/evaluate/destroy");
     s.host->in_setup = true;
     const mh_status st = s.api->setup(s.api);
@@ -114,39 +113,87 @@ Simulation::~Simulation() {
     if (s.api != nullptr) s.api->destroy(s.api);
 }
 
-const SolverSettings& Simulation::settings() const { return engine_->settings; }
-SolverSettings& Simulation::settings() { return engine_->settings; }
-void Simulation::start() { engine_->start(); }
-void Simulation::step() { engine_->step_once(); }
-double Simulation::time() const { return engine_->t; }
-long Simulation::step_index() const { return engine_->step; }
-const std::string& Simulation::formulation_name() const { return engine_->formulation_name; }
-const Eigen::VectorXd& Simulation::z() const { return engine_->z; }
-const Eigen::VectorXd& Simulation::zd() const { return engine_->zd; }
-const Eigen::VectorXd& Simulation::zdd() const { return engine_->zdd; }
-const Eigen::VectorXd& Simulation::states() const { return engine_->y_k; }
-const Eigen::VectorXd& Simulation::state_rates() const { return engine_->ydot_k; }
+const SolverSettings& Simulation::settings() const {
+  return engine_->settings;
+}
+SolverSettings& Simulation::settings() {
+  return engine_->settings;
+}
+void Simulation::start() {
+  engine_->start();
+}
+void Simulation::step() {
+  engine_->step_once();
+}
+double Simulation::time() const {
+  return engine_->t;
+}
+long Simulation::step_index() const {
+  return engine_->step;
+}
+const std::string& Simulation::formulation_name() const {
+  return engine_->formulation_name;
+}
+const Eigen::VectorXd& Simulation::z() const {
+  return engine_->z;
+}
+const Eigen::VectorXd& Simulation::zd() const {
+  return engine_->zd;
+}
+const Eigen::VectorXd& Simulation::zdd() const {
+  return engine_->zdd;
+}
+const Eigen::VectorXd& Simulation::states() const {
+  return engine_->y_k;
+}
+const Eigen::VectorXd& Simulation::state_rates() const {
+  return engine_->ydot_k;
+}
 const std::vector<std::string>& Simulation::coordinate_names() const {
   return engine_->coordinate_names;
 }
-const std::vector<std::string>& Simulation::state_names() const { return engine_->state_names; }
+const std::vector<std::string>& Simulation::state_names() const {
+  return engine_->state_names;
+}
 int Simulation::state_index(const std::string& name) const {
   const auto& names = engine_->state_names;
   for (size_t i = 0; i < names.size(); ++i)
     if (names[i] == name || engine_->state_qualified[i] == name) return static_cast<int>(i);
   return -1;
 }
-double Simulation::kinetic_energy() const { return engine_->ke - engine_->ke0; }
-double Simulation::potential_energy() const { return engine_->pe - engine_->pe0; }
-double Simulation::work() const { return engine_->work; }
-double Simulation::drift() const { return kinetic_energy() + potential_energy() - work(); }
-double Simulation::stored_energy() const { return engine_->stored - engine_->stored0; }
-double Simulation::dissipated_energy() const { return engine_->dissipated; }
-double Simulation::phi_norm() const { return engine_->phi_norm; }
-const StepStats& Simulation::last_step() const { return engine_->stats; }
-int Simulation::num_unknowns() const { return engine_->n; }
-int Simulation::num_mechanical_unknowns() const { return engine_->n_m; }
-int Simulation::tangent_nonzeros() const { return engine_->pattern->nonzeros(); }
+double Simulation::kinetic_energy() const {
+  return engine_->ke - engine_->ke0;
+}
+double Simulation::potential_energy() const {
+  return engine_->pe - engine_->pe0;
+}
+double Simulation::work() const {
+  return engine_->work;
+}
+double Simulation::drift() const {
+  return kinetic_energy() + potential_energy() - work();
+}
+double Simulation::stored_energy() const {
+  return engine_->stored - engine_->stored0;
+}
+double Simulation::dissipated_energy() const {
+  return engine_->dissipated;
+}
+double Simulation::phi_norm() const {
+  return engine_->phi_norm;
+}
+const StepStats& Simulation::last_step() const {
+  return engine_->stats;
+}
+int Simulation::num_unknowns() const {
+  return engine_->n;
+}
+int Simulation::num_mechanical_unknowns() const {
+  return engine_->n_m;
+}
+int Simulation::tangent_nonzeros() const {
+  return engine_->pattern->nonzeros();
+}
 
 Eigen::MatrixXd Simulation::assembled_tangent() {
   Engine& e = *engine_;

@@ -9,8 +9,8 @@ SparsePattern::SparsePattern(int n, std::vector<std::pair<int, int>> entries) : 
   for (int i = 0; i < n; ++i) entries.emplace_back(i, i);
   for (const auto& [row, col] : entries) {
     if (row < 0 || row >= n || col < 0 || col >= n)
-      throw std::invalid_argument("SparsePattern: entry outside the " + std::to_string(n) +
-                                  " x " + std::to_string(n) + " matrix");
+      throw std::invalid_argument("SparsePattern: entry outside the " + std::to_string(n) + " x " +
+                                  std::to_string(n) + " matrix");
   }
   // Sort by column, then row, and drop repeats: KLU wants sorted, unique rows.
   std::sort(entries.begin(), entries.end(), [](const auto& a, const auto& b) {

@@ -141,8 +141,8 @@ mh_status Simulation::Engine::assemble_tangent(double t_next) {
   ydot = (2.0 / settings.dt) * y + y_hat;
 
   if (mech_analytic)
-    for (size_t k = 0; k < mech_slots.size(); ++k) values[static_cast<size_t>(mech_slots[k])] =
-        mech_tangent.data()[k];
+    for (size_t k = 0; k < mech_slots.size(); ++k)
+      values[static_cast<size_t>(mech_slots[k])] = mech_tangent.data()[k];
   // d r / d y_{k+1} = d r / d y + (2 / dt) d r / d ydot, Eq. (33); summed over the
   // instances that share a state, in the columns where all of them are analytic.
   const double two_over_dt = 2.0 / settings.dt;

@@ -89,8 +89,9 @@ void Simulation::Engine::start() {
       }
       Eigen::FullPivLU<Eigen::MatrixXd> lu(J);
       if (!lu.isInvertible())
-        fail("the initial state rates cannot be found: the subsystem rows do not determine "
-             "every state's rate (is each state's own term missing?)");
+        fail(
+            "the initial state rates cannot be found: the subsystem rows do not determine "
+            "every state's rate (is each state's own term missing?)");
       const Eigen::VectorXd step_ydot = lu.solve(-f0);
       ydot += step_ydot;
       if (step_ydot.norm() <= 1e-12 * (1.0 + ydot.norm())) break;

@@ -106,9 +106,9 @@ int simulate(const std::string& model_path, const std::string& formulation,
   std::cout << "model:        " << file.model.name << " (" << model_path << ")\n"
             << "formulation:  " << sim->formulation_name() << "\n"
             << "steps:        " << s.steps << " of dt = " << sim->settings().dt << " s\n"
-            << "Newton:       " << (s.steps > 0 ? static_cast<double>(s.iterations) /
-                                                      static_cast<double>(s.steps)
-                                                : 0.0)
+            << "Newton:       "
+            << (s.steps > 0 ? static_cast<double>(s.iterations) / static_cast<double>(s.steps)
+                            : 0.0)
             << " iterations per step on average, " << s.max_iterations << " at most\n"
             << "peak |drift|: " << s.max_abs_drift << " J\n"
             << "wall time:    " << s.wall_seconds << " s\n";
@@ -123,8 +123,9 @@ int simulate(const std::string& model_path, const std::string& formulation,
 std::string default_model() {
   std::error_code ec;
   const fs::path exe_dir = boost::dll::program_location(ec).parent_path();
-  for (const fs::path& dir : {exe_dir / ".." / "share" / "monohydra" / "models",
-                              fs::path(MONOHYDRA_INSTALL_MODELS), fs::path(MONOHYDRA_SOURCE_MODELS)}) {
+  for (const fs::path& dir :
+       {exe_dir / ".." / "share" / "monohydra" / "models", fs::path(MONOHYDRA_INSTALL_MODELS),
+        fs::path(MONOHYDRA_SOURCE_MODELS)}) {
     const fs::path p = dir / "double-pendulum.yaml";
     if (fs::exists(p, ec)) return p.lexically_normal().string();
   }

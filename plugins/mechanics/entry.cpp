@@ -1,16 +1,19 @@
 // The mechanics plugin library: one entry symbol, one subsystem factory that
 // lists its components.
+#include "monohydra/entry.h"
+
 #include <string>
 
 #include "components.hpp"
-#include "monohydra/entry.h"
 
 namespace {
 
 const mh_component_descriptor* const kComponents[] = {&mech::kSpringDamperDescriptor,
                                                       &mech::kMaxwellDescriptor};
 
-uint32_t count(const mh_subsystem_factory*) { return 2; }
+uint32_t count(const mh_subsystem_factory*) {
+  return 2;
+}
 const mh_component_descriptor* descriptor(const mh_subsystem_factory*, uint32_t i) {
   return i < 2 ? kComponents[i] : nullptr;
 }
@@ -24,7 +27,9 @@ const mh_subsystem* create(const mh_subsystem_factory*, const mh_host* host, con
 
 const mh_subsystem_factory kFactory{sizeof(mh_subsystem_factory), count, descriptor, create};
 
-int init(const char*) { return 1; }
+int init(const char*) {
+  return 1;
+}
 void deinit() {}
 const void* get_factory(const char* id) {
   return std::string(id) == MH_SUBSYSTEM_FACTORY_ID ? &kFactory : nullptr;

@@ -19,7 +19,9 @@ struct Maxwell {
   int32_t delta = -1;  // global state index
 };
 
-Maxwell& self(const mh_subsystem* s) { return *static_cast<Maxwell*>(s->plugin_data); }
+Maxwell& self(const mh_subsystem* s) {
+  return *static_cast<Maxwell*>(s->plugin_data);
+}
 
 mh_status setup(const mh_subsystem* s) {
   Maxwell& d = self(s);
@@ -60,8 +62,7 @@ mh_status evaluate(const mh_subsystem* s, const mh_subsystem_eval* eval) {
 }
 
 // Touched states: only delta, so 1 x 1 blocks.
-mh_status jacobian(const mh_subsystem* s, const mh_subsystem_eval*, double* d_dy,
-                   double* d_dydot) {
+mh_status jacobian(const mh_subsystem* s, const mh_subsystem_eval*, double* d_dy, double* d_dydot) {
   const Maxwell& d = self(s);
   d_dy[0] = d.k;
   d_dydot[0] = d.c;
@@ -85,12 +86,18 @@ void destroy(const mh_subsystem* s) {
   delete s;
 }
 
-const void* get_extension(const mh_subsystem*, const char*) { return nullptr; }
+const void* get_extension(const mh_subsystem*, const char*) {
+  return nullptr;
+}
 
 }  // namespace
 
 const mh_component_descriptor kMaxwellDescriptor{
-    sizeof(mh_component_descriptor), "maxwell", "Maxwell element", "monohydra", "1.0.0",
+    sizeof(mh_component_descriptor),
+    "maxwell",
+    "Maxwell element",
+    "monohydra",
+    "1.0.0",
     "Spring in series with a damper between points a and b; state delta (m) is the damper's "
     "elongation. Options: stiffness (N/m), damping (N s/m), free_length (m), "
     "initial_elongation (m, default 0), tolerance (m)."};

@@ -9,8 +9,8 @@
 namespace mech {
 
 struct PointPair {
-  double length = 0.0;  // |p_b - p_a|, m
-  double rate = 0.0;    // d length / dt, m/s
+  double length = 0.0;            // |p_b - p_a|, m
+  double rate = 0.0;              // d length / dt, m/s
   double e[3] = {0.0, 0.0, 0.0};  // unit vector from a to b
 
   // Reads points 0 (a) and 1 (b) of `eval`. Returns false when they coincide

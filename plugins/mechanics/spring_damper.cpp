@@ -16,7 +16,9 @@ struct SpringDamper {
   int32_t a = -1, b = -1;
 };
 
-SpringDamper& self(const mh_subsystem* s) { return *static_cast<SpringDamper*>(s->plugin_data); }
+SpringDamper& self(const mh_subsystem* s) {
+  return *static_cast<SpringDamper*>(s->plugin_data);
+}
 
 mh_status fail(const SpringDamper& d, const char* what) {
   d.host->log(d.host, MH_LOG_ERROR, what);
@@ -33,8 +35,7 @@ mh_status setup(const mh_subsystem* s) {
   if (d.k < 0.0) return h->option_error(h, "stiffness", "a non-negative stiffness (N/m)");
   if (d.c < 0.0) return h->option_error(h, "damping", "a non-negative damping (N s/m)");
   if (d.l0 < 0.0) return h->option_error(h, "free_length", "a non-negative length (m)");
-  if (h->add_point(h, "a", &d.a) != MH_OK || h->add_point(h, "b", &d.b) != MH_OK)
-    return MH_ERROR;
+  if (h->add_point(h, "a", &d.a) != MH_OK || h->add_point(h, "b", &d.b) != MH_OK) return MH_ERROR;
   return MH_OK;
 }
 
@@ -62,12 +63,17 @@ void destroy(const mh_subsystem* s) {
   delete s;
 }
 
-const void* get_extension(const mh_subsystem*, const char*) { return nullptr; }
+const void* get_extension(const mh_subsystem*, const char*) {
+  return nullptr;
+}
 
 }  // namespace
 
 const mh_component_descriptor kSpringDamperDescriptor{
-    sizeof(mh_component_descriptor), "spring-damper", "Linear spring-damper", "monohydra",
+    sizeof(mh_component_descriptor),
+    "spring-damper",
+    "Linear spring-damper",
+    "monohydra",
     "1.0.0",
     "Spring and damper in parallel between points a and b: tension k (l - l0) + c dl/dt. "
     "Options: stiffness (N/m), damping (N s/m, default 0), free_length (m)."};

@@ -15,12 +15,14 @@ struct OpenLoop {
   int N = 0;
   double dt = 0.0;
   double tol = 1e-7;
-  Eigen::VectorXd z, zd, zdd;         // accepted at t_k
-  Eigen::VectorXd z_hat, zdd_hat;     // Eq. (34)
-  Eigen::VectorXd zd_it, zdd_it;      // at the iterate, Eq. (33)
+  Eigen::VectorXd z, zd, zdd;      // accepted at t_k
+  Eigen::VectorXd z_hat, zdd_hat;  // Eq. (34)
+  Eigen::VectorXd zd_it, zdd_it;   // at the iterate, Eq. (33)
 };
 
-OpenLoop& self(const mh_formulation* f) { return *static_cast<OpenLoop*>(f->plugin_data); }
+OpenLoop& self(const mh_formulation* f) {
+  return *static_cast<OpenLoop*>(f->plugin_data);
+}
 
 void log_error(const OpenLoop& s, const std::string& msg) {
   s.host->log(s.host, MH_LOG_ERROR, msg.c_str());
@@ -48,8 +50,8 @@ mh_status setup(const mh_formulation* f, uint32_t* num_unknowns) {
 }
 
 // Accelerations from M' zdd = Q' at the given state.
-mh_status accelerations(OpenLoop& s, double t, const Eigen::VectorXd& z,
-                        const Eigen::VectorXd& zd, Eigen::VectorXd& zdd) {
+mh_status accelerations(OpenLoop& s, double t, const Eigen::VectorXd& z, const Eigen::VectorXd& zd,
+                        Eigen::VectorXd& zdd) {
   mh_mech_request rq{sizeof(rq), MH_EVAL_DYNAMICS, t, z.data(), zd.data()};
   mh_mech_result rs{};
   rs.struct_size = sizeof(rs);
@@ -65,8 +67,8 @@ mh_status accelerations(OpenLoop& s, double t, const Eigen::VectorXd& z,
   return MH_OK;
 }
 
-mh_status start(const mh_formulation* f, double t0, double dt, const double* z0,
-                const double* zd0, double* abs_tolerance) {
+mh_status start(const mh_formulation* f, double t0, double dt, const double* z0, const double* zd0,
+                double* abs_tolerance) {
   OpenLoop& s = self(f);
   s.dt = dt;
   s.z = Eigen::Map<const Eigen::VectorXd>(z0, s.N);
@@ -79,7 +81,7 @@ mh_status predict(const mh_formulation* f, double, double* x) {
   OpenLoop& s = self(f);
   const double dt = s.dt;
   Eigen::Map<Eigen::VectorXd>(x, s.N) = s.z + dt * s.zd + 0.5 * dt * dt * s.zdd;
-  s.z_hat = -((2.0 / dt) * s.z + s.zd);                                 // Eq. (34)
+  s.z_hat = -((2.0 / dt) * s.z + s.zd);                                // Eq. (34)
   s.zdd_hat = -((4.0 / (dt * dt)) * s.z + (4.0 / dt) * s.zd + s.zdd);  // Eq. (34)
   return MH_OK;
 }
@@ -88,10 +90,9 @@ mh_status residual(const mh_formulation* f, double t_next, const double* x, doub
   OpenLoop& s = self(f);
   const double dt = s.dt;
   const Eigen::Map<const Eigen::VectorXd> z(x, s.N);
-  s.zd_it = (2.0 / dt) * z + s.z_hat;             // Eq. (33)
-  s.zdd_it = (4.0 / (dt * dt)) * z + s.zdd_hat;   // Eq. (33)
-  mh_mech_request rq{sizeof(rq), MH_EVAL_DYNAMICS | MH_EVAL_SUBSYSTEMS, t_next, x,
-                     s.zd_it.data()};
+  s.zd_it = (2.0 / dt) * z + s.z_hat;            // Eq. (33)
+  s.zdd_it = (4.0 / (dt * dt)) * z + s.zdd_hat;  // Eq. (33)
+  mh_mech_request rq{sizeof(rq), MH_EVAL_DYNAMICS | MH_EVAL_SUBSYSTEMS, t_next, x, s.zd_it.data()};
   mh_mech_result rs{};
   rs.struct_size = sizeof(rs);
   const mh_status st = s.host->evaluate_mechanics(s.host, &rq, &rs);
@@ -125,15 +126,22 @@ void destroy(const mh_formulation* f) {
   delete f;
 }
 
-const void* get_extension(const mh_formulation*, const char*) { return nullptr; }
+const void* get_extension(const mh_formulation*, const char*) {
+  return nullptr;
+}
 
 const mh_component_descriptor kDescriptor{
-    sizeof(mh_component_descriptor), "open-loop", "Open-loop semirecursive formulation",
-    "monohydra", "1.0.0",
+    sizeof(mh_component_descriptor),
+    "open-loop",
+    "Open-loop semirecursive formulation",
+    "monohydra",
+    "1.0.0",
     "Trees of revolute and prismatic joints without cut joints: M' zdd = Q' (Eq. 12) under "
     "the trapezoidal rule with positions as primary unknowns."};
 
-uint32_t count(const mh_formulation_factory*) { return 1; }
+uint32_t count(const mh_formulation_factory*) {
+  return 1;
+}
 const mh_component_descriptor* descriptor(const mh_formulation_factory*, uint32_t i) {
   return i == 0 ? &kDescriptor : nullptr;
 }
@@ -166,7 +174,9 @@ const mh_formulation* create(const mh_formulation_factory*, const mh_host* host,
 
 const mh_formulation_factory kFactory{sizeof(mh_formulation_factory), count, descriptor, create};
 
-int init(const char*) { return 1; }
+int init(const char*) {
+  return 1;
+}
 void deinit() {}
 const void* get_factory(const char* id) {
   return std::string(id) == MH_FORMULATION_FACTORY_ID ? &kFactory : nullptr;

@@ -75,7 +75,8 @@ TEST(Constraints, PlanarJacobianAndVelocityProductMatchFiniteDifferences) {
     const int N = f.model.num_coordinates();
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
-    const Eigen::VectorXd z = f.model.initial_coordinates() + 0.1 * Eigen::VectorXd::NullaryExpr(N, [&] { return u(rng); });
+    const Eigen::VectorXd z = f.model.initial_coordinates() +
+                              0.1 * Eigen::VectorXd::NullaryExpr(N, [&] { return u(rng); });
     const Eigen::VectorXd zd = Eigen::VectorXd::NullaryExpr(N, [&] { return u(rng); });
     Constraints cs = build_at(f.model, z);
     expect_derivatives_match(f.model, cs, z, zd);
@@ -90,7 +91,8 @@ Model random_3d_model(std::mt19937& rng) {
   for (int j = 0; j < 6; ++j) {
     Body b;
     b.name = "b" + std::to_string(j);
-    b.parent = j == 0 ? kGround : static_cast<int>(rng() % static_cast<unsigned>(j)) - (j > 2 ? 0 : 1);
+    b.parent =
+        j == 0 ? kGround : static_cast<int>(rng() % static_cast<unsigned>(j)) - (j > 2 ? 0 : 1);
     if (b.parent < kGround) b.parent = kGround;
     b.joint = (j % 3 == 2) ? JointType::prismatic : JointType::revolute;
     b.joint_P = vec();

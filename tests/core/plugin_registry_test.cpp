@@ -44,8 +44,7 @@ TEST(PluginRegistry, UnknownComponentErrorListsWhatWasFound) {
 TEST(PluginRegistry, RefusesAFileThatIsNotASharedLibrary) {
   const std::string path = std::string(MH_FIXTURE_DIR) + "/text_file.so";
   const std::string err = load_error(path);
-  EXPECT_NE(err.find("'" + path + "' is not a loadable shared library"), std::string::npos)
-      << err;
+  EXPECT_NE(err.find("'" + path + "' is not a loadable shared library"), std::string::npos) << err;
 }
 
 TEST(PluginRegistry, RefusesALibraryWithoutTheEntrySymbol) {

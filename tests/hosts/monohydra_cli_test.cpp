@@ -17,7 +17,8 @@ struct Result {
 };
 
 Result run_cli(const std::string& args) {
-  const std::string cmd = std::string("MONOHYDRA_PLUGIN_PATH= ") + MH_EXECUTABLE + " " + args + " 2>&1";
+  const std::string cmd =
+      std::string("MONOHYDRA_PLUGIN_PATH= ") + MH_EXECUTABLE + " " + args + " 2>&1";
   Result r;
   FILE* pipe = popen(cmd.c_str(), "r");
   if (pipe == nullptr) return r;
@@ -29,11 +30,13 @@ Result run_cli(const std::string& args) {
   return r;
 }
 
-std::string model(const std::string& name) { return std::string(MH_SOURCE_DIR) + "/models/" + name; }
+std::string model(const std::string& name) {
+  return std::string(MH_SOURCE_DIR) + "/models/" + name;
+}
 
 std::filesystem::path temp_dir() {
-  auto dir = std::filesystem::temp_directory_path() /
-             ("monohydra-cli-" + std::to_string(::getpid()));
+  auto dir =
+      std::filesystem::temp_directory_path() / ("monohydra-cli-" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   return dir;
 }
@@ -49,8 +52,8 @@ TEST(MonohydraCli, PluginsListsEveryComponentWithKindAndAbiVersion) {
   const Result r = run_cli("plugins");
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("(ABI 1.0.0)"), std::string::npos) << r.output;
-  for (const char* line : {"formulation  open-loop", "subsystem    spring-damper",
-                           "subsystem    maxwell"})
+  for (const char* line :
+       {"formulation  open-loop", "subsystem    spring-damper", "subsystem    maxwell"})
     EXPECT_NE(r.output.find(line), std::string::npos) << line << "\n" << r.output;
 }
 

@@ -41,8 +41,7 @@ solver: {dt: 0.001, t_end: 2}
 )";
 }
 
-const std::string kOscillatorOptions =
-    "    stiffness: 200\n    damping: 4\n    free_length: 1.0\n";
+const std::string kOscillatorOptions = "    stiffness: 200\n    damping: 4\n    free_length: 1.0\n";
 
 TEST(SpringDamper, MatchesTheClosedFormDampedOscillator) {
   const ModelFile file = parse_model_text(oscillator(kOscillatorOptions), "oscillator.yaml");
@@ -59,10 +58,10 @@ TEST(SpringDamper, MatchesTheClosedFormDampedOscillator) {
         std::exp(-zeta * w0 * t) * (x0 * std::cos(wd * t) + zeta * w0 * x0 / wd * std::sin(wd * t));
     max_err = std::max(max_err, std::abs(sim.z()[0] - exact));
     // Work done by the element = -(spring energy change + damper dissipation).
-    max_energy_gap = std::max(
-        max_energy_gap, std::abs(sim.work() + sim.stored_energy() + sim.dissipated_energy()));
+    max_energy_gap = std::max(max_energy_gap,
+                              std::abs(sim.work() + sim.stored_energy() + sim.dissipated_energy()));
   }
-  EXPECT_LT(max_err, 5e-5);  // 0.05 % of the 0.1 m amplitude
+  EXPECT_LT(max_err, 5e-5);                 // 0.05 % of the 0.1 m amplitude
   EXPECT_GT(sim.dissipated_energy(), 0.5);  // most of the initial 1 J is gone
   EXPECT_LT(max_energy_gap, 1e-4);
   EXPECT_LT(std::abs(sim.drift()), 1e-4);

@@ -12,7 +12,9 @@ typedef struct point_load {
   int32_t point;
 } point_load;
 
-static point_load* self(const mh_subsystem* s) { return (point_load*)s->plugin_data; }
+static point_load* self(const mh_subsystem* s) {
+  return (point_load*)s->plugin_data;
+}
 
 static mh_status setup(const mh_subsystem* s) {
   point_load* d = self(s);
@@ -44,8 +46,12 @@ static const void* get_extension(const mh_subsystem* s, const char* id) {
 }
 
 static const mh_component_descriptor descriptor_ = {
-    sizeof(mh_component_descriptor), "point-load", "Constant point load", "example.org",
-    "1.0.0", "A constant world-frame force at one body point. Options: force [N]; point: at."};
+    sizeof(mh_component_descriptor),
+    "point-load",
+    "Constant point load",
+    "example.org",
+    "1.0.0",
+    "A constant world-frame force at one body point. Options: force [N]; point: at."};
 
 static uint32_t count(const mh_subsystem_factory* f) {
   (void)f;
@@ -95,5 +101,4 @@ static const void* get_factory(const char* id) {
   return strcmp(id, MH_SUBSYSTEM_FACTORY_ID) == 0 ? &factory_ : NULL;
 }
 
-MH_PLUGIN_EXPORT const mh_plugin_entry mh_entry = {MH_ABI_VERSION_INIT, init, deinit,
-                                                   get_factory};
+MH_PLUGIN_EXPORT const mh_plugin_entry mh_entry = {MH_ABI_VERSION_INIT, init, deinit, get_factory};

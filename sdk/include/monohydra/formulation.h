@@ -37,8 +37,8 @@ typedef struct mh_formulation {
    * formulation may correct them (e.g. assemble a closed loop) and computes the
    * initial accelerations. dt is the fixed step. abs_tolerance receives, per
    * unknown, the absolute tolerance on its Newton increment. */
-  mh_status (*start)(const struct mh_formulation* self, double t0, double dt,
-                     const double* z0, const double* zd0, double* abs_tolerance);
+  mh_status (*start)(const struct mh_formulation* self, double t0, double dt, const double* z0,
+                     const double* zd0, double* abs_tolerance);
 
   /* Initial guess x of the unknowns at t_next. */
   mh_status (*predict)(const struct mh_formulation* self, double t_next, double* x);
@@ -55,16 +55,14 @@ typedef struct mh_formulation {
                        double* drdx);
 
   /* Optional: after each Newton update, with the updated x (e.g. Eq. 19). */
-  mh_status (*iteration_done)(const struct mh_formulation* self, double t_next,
-                              const double* x);
+  mh_status (*iteration_done)(const struct mh_formulation* self, double t_next, const double* x);
 
   /* The step to t_next converged at x: update the history (velocities,
    * accelerations, projections such as Eqs. 20-21). */
   mh_status (*accept)(const struct mh_formulation* self, double t_next, const double* x);
 
   /* The accepted joint coordinates, rates and accelerations (N each). */
-  mh_status (*coordinates)(const struct mh_formulation* self, double* z, double* zd,
-                           double* zdd);
+  mh_status (*coordinates)(const struct mh_formulation* self, double* z, double* zd, double* zdd);
 
   void (*destroy)(const struct mh_formulation* self);
 
@@ -79,8 +77,8 @@ typedef struct mh_formulation_factory {
                                                uint32_t index);
   /* Creates the formulation `id`; NULL on failure, after logging through host.
    * `host` outlives the instance. */
-  const mh_formulation* (*create)(const struct mh_formulation_factory* factory,
-                                  const mh_host* host, const char* id);
+  const mh_formulation* (*create)(const struct mh_formulation_factory* factory, const mh_host* host,
+                                  const char* id);
 } mh_formulation_factory;
 
 #ifdef __cplusplus

@@ -18,22 +18,23 @@ extern "C" {
 /* What evaluate_mechanics computes (bit flags). */
 #define MH_EVAL_DYNAMICS 0x1u    /* M' and Q' (Eq. 12), with every load applied */
 #define MH_EVAL_CONSTRAINTS 0x2u /* Phi, Phi_z and Phi_z_dot * zd of the cut joints */
-#define MH_EVAL_SUBSYSTEMS 0x4u  /* this is the Newton iterate's evaluation: the subsystems' \
-                                    residual rows (and powers) are recorded as the step's */
+#define MH_EVAL_SUBSYSTEMS                                         \
+  0x4u /* this is the Newton iterate's evaluation: the subsystems' \
+          residual rows (and powers) are recorded as the step's */
 /* The subsystems' forces always enter Q' under MH_EVAL_DYNAMICS, evaluated at the
  * host's current subsystem states. */
 
 typedef struct mh_mech_info {
   uint32_t struct_size;
-  uint32_t num_coordinates; /* N: relative joint coordinates, one per body */
-  uint32_t num_constraints; /* m: rows of Phi(z) = 0 from the cut joints */
+  uint32_t num_coordinates;            /* N: relative joint coordinates, one per body */
+  uint32_t num_constraints;            /* m: rows of Phi(z) = 0 from the cut joints */
   const char* const* coordinate_names; /* N names, e.g. "z1" */
   const uint8_t* coordinate_is_angle;  /* N flags: 1 revolute (rad), 0 prismatic (m) */
-  double position_tolerance; /* the model's Newton tolerance on coordinates (rad or m) */
-  double dt;                 /* the fixed step (s) */
-  const double* z0;          /* N: initial coordinates, assembled by the host so that
-                                Phi(z0) = 0 when there are cut joints */
-  const double* zd0;         /* N: initial rates, with Phi_z zd0 = 0 */
+  double position_tolerance;           /* the model's Newton tolerance on coordinates (rad or m) */
+  double dt;                           /* the fixed step (s) */
+  const double* z0;                    /* N: initial coordinates, assembled by the host so that
+                                          Phi(z0) = 0 when there are cut joints */
+  const double* zd0;                   /* N: initial rates, with Phi_z zd0 = 0 */
 } mh_mech_info;
 
 typedef struct mh_mech_request {
@@ -82,8 +83,7 @@ typedef struct mh_host {
                             uint32_t columns, const double** data, uint32_t* rows);
   /* Reports an invalid option value with the file and line it came from. Returns
    * MH_ERROR so a plugin can write `return host->option_error(host, "k", "> 0");`. */
-  mh_status (*option_error)(const struct mh_host* host, const char* key,
-                            const char* expected);
+  mh_status (*option_error)(const struct mh_host* host, const char* key, const char* expected);
 
   /* The mechanism's sizes and names. */
   mh_status (*mech_info)(const struct mh_host* host, mh_mech_info* out);
@@ -96,8 +96,7 @@ typedef struct mh_host {
                          double abs_tolerance, const char* unit, int32_t* index);
   /* Finds another instance's state by its qualified name "instance.state", to
    * read it and add to its residual row. *index receives its global index. */
-  mh_status (*find_state)(const struct mh_host* host, const char* qualified_name,
-                          int32_t* index);
+  mh_status (*find_state)(const struct mh_host* host, const char* qualified_name, int32_t* index);
   /* Attaches this instance to the body point the model file gives under
    * points/<key>. *index receives the point's local index 0, 1, ... */
   mh_status (*add_point)(const struct mh_host* host, const char* key, int32_t* index);

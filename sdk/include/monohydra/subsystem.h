@@ -26,16 +26,16 @@ extern "C" {
 
 typedef struct mh_subsystem_eval {
   uint32_t struct_size;
-  double t;                /* s */
-  uint32_t num_states;     /* length of y, ydot and residual */
-  const double* y;         /* every subsystem state, by global index */
-  const double* ydot;      /* their rates */
-  double* residual;        /* every state's row: add this instance's contributions */
-  uint32_t num_points;     /* this instance's points */
-  const double* point_p;   /* 3 per point: world position (m) */
-  const double* point_v;   /* 3 per point: world velocity (m/s) */
-  double* point_f;         /* 3 per point: force on the body at the point (N, world);
-                              zero on entry */
+  double t;              /* s */
+  uint32_t num_states;   /* length of y, ydot and residual */
+  const double* y;       /* every subsystem state, by global index */
+  const double* ydot;    /* their rates */
+  double* residual;      /* every state's row: add this instance's contributions */
+  uint32_t num_points;   /* this instance's points */
+  const double* point_p; /* 3 per point: world position (m) */
+  const double* point_v; /* 3 per point: world velocity (m/s) */
+  double* point_f;       /* 3 per point: force on the body at the point (N, world);
+                            zero on entry */
 } mh_subsystem_eval;
 
 typedef struct mh_subsystem {
@@ -76,8 +76,8 @@ typedef struct mh_subsystem_factory {
   uint32_t (*count)(const struct mh_subsystem_factory* factory);
   const mh_component_descriptor* (*descriptor)(const struct mh_subsystem_factory* factory,
                                                uint32_t index);
-  const mh_subsystem* (*create)(const struct mh_subsystem_factory* factory,
-                                const mh_host* host, const char* id);
+  const mh_subsystem* (*create)(const struct mh_subsystem_factory* factory, const mh_host* host,
+                                const char* id);
 } mh_subsystem_factory;
 
 #ifdef __cplusplus

@@ -50,7 +50,7 @@ typedef struct mh_component_descriptor {
   const char* id;       /* unique name used in model files, e.g. "spring-damper" */
   const char* name;     /* human readable */
   const char* vendor;
-  const char* version;  /* the component's own version, e.g. "1.0.0" */
+  const char* version; /* the component's own version, e.g. "1.0.0" */
   const char* description;
 } mh_component_descriptor;
 

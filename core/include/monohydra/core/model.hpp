@@ -19,21 +19,22 @@ inline constexpr int kGround = -1;
 // Frames: body j has a frame B_j whose origin is the joint point. With P the
 // parent's frame (the world frame for the ground) and z_j the joint coordinate:
 //   revolute:  R_W_Bj = R_W_P * Rot(axis_P, z_j) * R_P_B0,  o_Bj = o_P + R_W_P * joint_P
-//   prismatic: R_W_Bj = R_W_P * R_P_B0,                     o_Bj = o_P + R_W_P * (joint_P + axis_P z_j)
+//   prismatic: R_W_Bj = R_W_P * R_P_B0,                     o_Bj = o_P + R_W_P * (joint_P + axis_P
+//   z_j)
 // so z_j is a relative angle (rad) or a relative length (m).
 struct Body {
   std::string name;
   std::string coordinate;  // name of z_j in results, e.g. "z1" (position in the model file)
-  int parent = kGround;  // parents always precede their children in Model::bodies
+  int parent = kGround;    // parents always precede their children in Model::bodies
   JointType joint = JointType::revolute;
-  Eigen::Vector3d joint_P = Eigen::Vector3d::Zero();         // joint point, parent frame
-  Eigen::Vector3d axis_P = Eigen::Vector3d::UnitZ();         // unit joint axis, parent frame
-  Eigen::Matrix3d R_P_B0 = Eigen::Matrix3d::Identity();      // body orientation at z = 0
-  double mass = 0.0;                                         // kg
-  Eigen::Vector3d com_B = Eigen::Vector3d::Zero();           // centre of mass, body frame
-  Eigen::Matrix3d inertia_B = Eigen::Matrix3d::Zero();       // about the COM, body frame (kg m^2)
-  double z0 = 0.0;                                           // initial coordinate
-  double zd0 = 0.0;                                          // initial rate
+  Eigen::Vector3d joint_P = Eigen::Vector3d::Zero();     // joint point, parent frame
+  Eigen::Vector3d axis_P = Eigen::Vector3d::UnitZ();     // unit joint axis, parent frame
+  Eigen::Matrix3d R_P_B0 = Eigen::Matrix3d::Identity();  // body orientation at z = 0
+  double mass = 0.0;                                     // kg
+  Eigen::Vector3d com_B = Eigen::Vector3d::Zero();       // centre of mass, body frame
+  Eigen::Matrix3d inertia_B = Eigen::Matrix3d::Zero();   // about the COM, body frame (kg m^2)
+  double z0 = 0.0;                                       // initial coordinate
+  double zd0 = 0.0;                                      // initial rate
 };
 
 // A point fixed on a body (or on the ground), given in that body's frame.

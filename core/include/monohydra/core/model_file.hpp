@@ -18,8 +18,8 @@ struct OptionValue {
   enum class Kind { number, string, table };
   Kind kind = Kind::number;
   double number = 0.0;
-  std::string text;          // string value, or the scalar's text for error messages
-  std::vector<double> table; // row-major; a flat list of numbers is one row
+  std::string text;           // string value, or the scalar's text for error messages
+  std::vector<double> table;  // row-major; a flat list of numbers is one row
   int rows = 0;
   int columns = 0;
   SourceMark mark;
@@ -32,11 +32,11 @@ struct PointSpec {
 };
 
 struct SubsystemSpec {
-  std::string name;  // unique among subsystems
-  std::string type;  // component id, e.g. "spring-damper"
-  OptionMap options; // every key but name, type, points, states
-  std::map<std::string, PointSpec> points;          // points/<key>
-  std::map<std::string, std::string> state_names;   // states/<local>: column name
+  std::string name;                                // unique among subsystems
+  std::string type;                                // component id, e.g. "spring-damper"
+  OptionMap options;                               // every key but name, type, points, states
+  std::map<std::string, PointSpec> points;         // points/<key>
+  std::map<std::string, std::string> state_names;  // states/<local>: column name
   SourceMark mark;
 };
 
@@ -47,15 +47,15 @@ struct FormulationSpec {
 };
 
 struct SolverSettings {
-  double dt = 1e-3;             // s
-  double t_end = 10.0;          // s
-  int max_iterations = 25;      // Newton iterations per step before giving up
-  double tol_position = 1e-7;   // rad or m: Newton increment tolerance on coordinates
+  double dt = 1e-3;            // s
+  double t_end = 10.0;         // s
+  int max_iterations = 25;     // Newton iterations per step before giving up
+  double tol_position = 1e-7;  // rad or m: Newton increment tolerance on coordinates
   SourceMark mark;
 };
 
 struct ModelFile {
-  std::string path;             // as given
+  std::string path;  // as given
   Model model;
   std::vector<SourceMark> body_marks;  // parallel to model.bodies
   std::vector<SubsystemSpec> subsystems;

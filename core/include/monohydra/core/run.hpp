@@ -17,13 +17,13 @@ void write_csv_row(std::ostream& out, const Simulation& sim);
 
 struct RunSummary {
   long steps = 0;
-  long iterations = 0;       // Newton iterations, all steps
-  int max_iterations = 0;    // in one step
+  long iterations = 0;     // Newton iterations, all steps
+  int max_iterations = 0;  // in one step
   double max_abs_drift = 0.0;
   double max_phi_norm = 0.0;
   double wall_seconds = 0.0;
   bool failed = false;
-  std::string failure;       // SimulationError::what() when failed
+  std::string failure;  // SimulationError::what() when failed
 };
 
 // start()s the simulation and steps it to settings().t_end. `csv` may be null.
