@@ -1,5 +1,7 @@
 #include "monohydra/core/constraints.hpp"
 
+#include <Eigen/Geometry>
+
 #include "monohydra/core/kinematics.hpp"
 
 namespace mh {
