@@ -32,8 +32,8 @@ void run_model(benchmark::State& state, const std::string& model, const std::str
     steps += s.steps;
   }
   state.counters["steps"] = static_cast<double>(steps) / static_cast<double>(state.iterations());
-  state.counters["us_per_step"] = benchmark::Counter(
-      static_cast<double>(steps) * 1e-6, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["time_per_step"] = benchmark::Counter(
+      static_cast<double>(steps), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
 void BM_DoublePendulum10s(benchmark::State& state) {
