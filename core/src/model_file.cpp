@@ -298,7 +298,7 @@ class Parser {
     }
     inertia = 0.5 * (inertia + inertia.transpose()).eval();
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(inertia, Eigen::EigenvaluesOnly);
-    const Eigen::Vector3d eigenvalues = solver.eigenvalues();
+    const Eigen::Vector3d& eigenvalues = solver.eigenvalues();
     if (eigenvalues.minCoeff() < -1e-10 * scale) {
       fail(
           node, field,
@@ -856,7 +856,7 @@ MapView::MapView(const Parser& parser, const YAML::Node& node, std::string field
     if (!key.IsScalar()) {
       parser_.fail(key, field_, "expected a plain key, got " + describe(key));
     }
-    const std::string name = key.Scalar();
+    const std::string& name = key.Scalar();
     const std::string key_field = child_field(field_, name);
     if (!allowed.empty() && std::find(allowed.begin(), allowed.end(), name) == allowed.end()) {
       parser_.fail(key, key_field,

@@ -54,7 +54,8 @@ void Simulation::Engine::build_pattern() {
   mech_slots.resize(static_cast<size_t>(n_m) * static_cast<size_t>(n_m));
   for (int c = 0; c < n_m; ++c)
     for (int rr = 0; rr < n_m; ++rr)
-      mech_slots[static_cast<size_t>(c * n_m + rr)] = pattern->slot(rr, c);
+      mech_slots[static_cast<size_t>(c) * static_cast<size_t>(n_m) + static_cast<size_t>(rr)] =
+          pattern->slot(rr, c);
   mech_tangent.resize(n_m, n_m);
   for (auto& s : subsystems) {
     const size_t k = s.touched.size();

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <boost/dll/runtime_symbol_info.hpp>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -57,7 +58,7 @@ struct ProgressBar {
     const int filled = static_cast<int>(fraction * width);
     std::fprintf(stderr, "\r[%s%s] %3d%%", std::string(static_cast<size_t>(filled), '#').c_str(),
                  std::string(static_cast<size_t>(width - filled), ' ').c_str(),
-                 static_cast<int>(fraction * 100.0 + 0.5));
+                 static_cast<int>(std::lround(fraction * 100.0)));
     if (fraction >= 1.0) std::fputc('\n', stderr);
   }
 };
