@@ -74,8 +74,12 @@ struct Simulation::Engine {
   Eigen::VectorXd y, ydot;             // current (iterate or accepted)
   Eigen::VectorXd y_k, ydot_k, y_hat;  // accepted at t_k; Eq. (34)
   Eigen::VectorXd state_tol;
-  Eigen::VectorXd scratch_rows;   // rows of evaluations that are not the iterate's
-  double* rows_target = nullptr;  // where MH_EVAL_SUBSYSTEMS writes the state rows
+  // Subsystem outputs (values computed in evaluate, e.g. a cylinder's stroke).
+  int n_o = 0;
+  std::vector<std::string> output_names, output_qualified, output_units;
+  Eigen::VectorXd outputs, outputs_k;  // of the last evaluation; accepted
+  Eigen::VectorXd scratch_rows;        // rows of evaluations that are not the iterate's
+  double* rows_target = nullptr;       // where MH_EVAL_SUBSYSTEMS writes the state rows
   bool iterate_evaluated = false;
   double power = 0.0;  // of the iterate's evaluation
 

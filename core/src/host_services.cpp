@@ -208,6 +208,27 @@ mh_status host_add_point(const mh_host* host, const char* key, int32_t* index) {
   return MH_OK;
 }
 
+mh_status host_add_output(const mh_host* host, const char* name, const char* unit, int32_t* index) {
+  InstanceHost& h = self(host);
+  if (setup_only(h, "add_output") != MH_OK) return MH_ERROR;
+  Simulation::Engine& e = *h.engine;
+  const SubsystemInstance& s = e.subsystems[static_cast<size_t>(h.subsystem)];
+  const std::string local = name != nullptr ? name : "";
+  const std::string qualified = s.spec->name + "." + local;
+  for (const auto& q : e.output_qualified)
+    if (local.empty() || q == qualified) {
+      host_log(host, MH_LOG_ERROR,
+               ("output '" + qualified + "' is empty or declared twice").c_str());
+      return MH_ERROR;
+    }
+  auto named = s.spec->output_names.find(local);
+  e.output_qualified.push_back(qualified);
+  e.output_names.push_back(named != s.spec->output_names.end() ? named->second : qualified);
+  e.output_units.push_back(unit != nullptr ? unit : "");
+  *index = e.n_o++;
+  return MH_OK;
+}
+
 mh_status host_evaluate_mechanics(const mh_host* host, const mh_mech_request* request,
                                   mh_mech_result* result) {
   InstanceHost& h = self(host);
@@ -254,6 +275,7 @@ void Simulation::Engine::make_host(InstanceHost& h, const std::string& source,
   h.table.add_state = host_add_state;
   h.table.find_state = host_find_state;
   h.table.add_point = host_add_point;
+  h.table.add_output = host_add_output;
   h.table.evaluate_mechanics = host_evaluate_mechanics;
   h.table.get_extension = host_get_extension;
 }
@@ -278,6 +300,8 @@ mh_status Simulation::Engine::evaluate_subsystems(double t_eval, double* rows) {
   ev.y = y.data();
   ev.ydot = ydot.data();
   ev.residual = rows;
+  ev.num_outputs = static_cast<uint32_t>(n_o);
+  ev.outputs = outputs.data();
   double total_power = 0.0;
   for (auto& s : subsystems) {
     const size_t np = s.points.size();
@@ -339,6 +363,8 @@ void Simulation::Engine::energy_terms(double& stored_out, double& dissipation_ou
   ev.y = y.data();
   ev.ydot = ydot.data();
   ev.residual = scratch_rows.data();
+  ev.num_outputs = static_cast<uint32_t>(n_o);
+  ev.outputs = outputs.data();
   for (auto& s : subsystems) {
     if (s.api->energy == nullptr) continue;
     ev.num_points = static_cast<uint32_t>(s.points.size());

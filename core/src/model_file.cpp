@@ -765,17 +765,24 @@ class Parser {
           for (const Entry& p : points.entries()) {
             spec.points[p.key] = point(p.value, points.field(p.key));
           }
-        } else if (entry.key == "states") {
-          const MapView states(*this, entry.value, entry_field, {});
-          for (const Entry& s : states.entries()) {
-            const std::string column_field = states.field(s.key);
+        } else if (entry.key == "states" || entry.key == "outputs") {
+          // Column names of the instance's states and outputs; null hides one.
+          const bool states_key = entry.key == "states";
+          auto& target = states_key ? spec.state_names : spec.output_names;
+          const MapView cols(*this, entry.value, entry_field, {});
+          for (const Entry& s : cols.entries()) {
+            const std::string column_field = cols.field(s.key);
+            if (s.value.IsNull()) {
+              target[s.key] = "";
+              continue;
+            }
             const std::string column = name(s.value, column_field);
             if (column.find_first_of(", \t\"\r\n") != std::string::npos) {
               fail(s.value, column_field,
                    "expected a column name without commas, quotes or spaces, got '" + column + "'");
             }
-            check_unique(columns, column, s.value, column_field, "state column");
-            spec.state_names[s.key] = column;
+            check_unique(columns, column, s.value, column_field, "result column");
+            target[s.key] = column;
           }
         } else {
           spec.options[entry.key] = option(entry.value, entry_field);

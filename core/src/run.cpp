@@ -18,7 +18,10 @@ void put(std::ostream& out, double v) {
 void write_csv_header(std::ostream& out, const Simulation& sim) {
   out << "t";
   for (const auto& n : sim.coordinate_names()) out << ',' << n;
-  for (const auto& n : sim.state_names()) out << ',' << n;
+  for (const auto& n : sim.state_names())
+    if (!n.empty()) out << ',' << n;
+  for (const auto& n : sim.output_names())
+    if (!n.empty()) out << ',' << n;
   out << ",KE,PE,W,drift,phi_norm,iters\n";
 }
 
@@ -28,9 +31,17 @@ void write_csv_row(std::ostream& out, const Simulation& sim) {
     out << ',';
     put(out, sim.z()[i]);
   }
+  const auto& state_names = sim.state_names();
   for (int i = 0; i < sim.states().size(); ++i) {
+    if (state_names[static_cast<size_t>(i)].empty()) continue;
     out << ',';
     put(out, sim.states()[i]);
+  }
+  const auto& output_names = sim.output_names();
+  for (int i = 0; i < sim.outputs().size(); ++i) {
+    if (output_names[static_cast<size_t>(i)].empty()) continue;
+    out << ',';
+    put(out, sim.outputs()[i]);
   }
   for (double v :
        {sim.kinetic_energy(), sim.potential_energy(), sim.work(), sim.drift(), sim.phi_norm()}) {

@@ -103,6 +103,8 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
   e.n_m = static_cast<int>(n_m);
   e.y.conservativeResize(e.n_s);
   e.state_tol.conservativeResize(e.n_s);
+  e.outputs.setZero(e.n_o);
+  e.outputs_k.setZero(e.n_o);
   e.build_pattern();
 }
 
@@ -154,6 +156,18 @@ const std::vector<std::string>& Simulation::coordinate_names() const {
 }
 const std::vector<std::string>& Simulation::state_names() const {
   return engine_->state_names;
+}
+const Eigen::VectorXd& Simulation::outputs() const {
+  return engine_->outputs_k;
+}
+const std::vector<std::string>& Simulation::output_names() const {
+  return engine_->output_names;
+}
+int Simulation::output_index(const std::string& name) const {
+  const auto& names = engine_->output_names;
+  for (size_t i = 0; i < names.size(); ++i)
+    if (names[i] == name || engine_->output_qualified[i] == name) return static_cast<int>(i);
+  return -1;
 }
 int Simulation::state_index(const std::string& name) const {
   const auto& names = engine_->state_names;

@@ -109,6 +109,8 @@ mh_status Simulation::Engine::assemble_tangent(double t_next) {
   ev.y = y.data();
   ev.ydot = ydot.data();
   ev.residual = scratch_rows.data();
+  ev.num_outputs = static_cast<uint32_t>(n_o);
+  ev.outputs = outputs.data();
   for (auto& s : subsystems) {
     if (s.api->jacobian == nullptr) continue;
     std::fill(s.d_dy.begin(), s.d_dy.end(), 0.0);

@@ -53,6 +53,7 @@ void Simulation::Engine::start() {
   ydot.setZero(n_s);
   y_hat.setZero(n_s);
   scratch_rows.setZero(n_s);
+  outputs.setZero(n_o);
   z = z0;  // assembled: Phi(z0) = 0, Phi_z zd0 = 0
   zd = zd0;
   zdd.setZero(N);
@@ -87,12 +88,33 @@ void Simulation::Engine::start() {
         ydot[c] -= h;
         J.col(c) = (f1 - f0) / h;
       }
-      Eigen::FullPivLU<Eigen::MatrixXd> lu(J);
+      // Algebraic states (a constant-pressure source: no row depends on their
+      // rate) keep ydot = 0; the rows that involve no rate are theirs.
+      std::vector<int> rates, rows_used;
+      for (int c = 0; c < n_s; ++c)
+        if (J.col(c).lpNorm<Eigen::Infinity>() > 0.0) rates.push_back(c);
+      for (int r0 = 0; r0 < n_s; ++r0)
+        if (J.row(r0).lpNorm<Eigen::Infinity>() > 0.0) rows_used.push_back(r0);
+      if (rates.size() != rows_used.size())
+        fail("the initial state rates cannot be found: " + std::to_string(rows_used.size()) +
+             " subsystem rows involve rates, but " + std::to_string(rates.size()) +
+             " states have rates that rows involve");
+      const int k = static_cast<int>(rates.size());
+      Eigen::MatrixXd Jr(k, k);
+      Eigen::VectorXd fr(k);
+      for (int a = 0; a < k; ++a) {
+        fr[a] = f0[rows_used[static_cast<size_t>(a)]];
+        for (int b = 0; b < k; ++b)
+          Jr(a, b) = J(rows_used[static_cast<size_t>(a)], rates[static_cast<size_t>(b)]);
+      }
+      Eigen::FullPivLU<Eigen::MatrixXd> lu(Jr);
       if (!lu.isInvertible())
         fail(
             "the initial state rates cannot be found: the subsystem rows do not determine "
             "every state's rate (is each state's own term missing?)");
-      const Eigen::VectorXd step_ydot = lu.solve(-f0);
+      const Eigen::VectorXd dr = lu.solve(-fr);
+      Eigen::VectorXd step_ydot = Eigen::VectorXd::Zero(n_s);
+      for (int b = 0; b < k; ++b) step_ydot[rates[static_cast<size_t>(b)]] = dr[b];
       ydot += step_ydot;
       if (step_ydot.norm() <= 1e-12 * (1.0 + ydot.norm())) break;
     }
@@ -103,6 +125,7 @@ void Simulation::Engine::start() {
   reset_applied_forces(model, data);
   evaluate_subsystems(t, scratch_rows.data());
   power_k = power;
+  outputs_k = outputs;
   energy_terms(stored0, dissipation_k);
   stored = stored0;
   dissipated = 0.0;
@@ -192,6 +215,7 @@ void Simulation::Engine::step_once() {
   ydot = (2.0 / dt) * y + y_hat;  // Eq. (33)
   y_k = y;
   ydot_k = ydot;
+  outputs_k = outputs;                   // of the converged iterate's evaluation
   work += 0.5 * dt * (power_k + power);  // W = integral of F . v, trapezoidal
   power_k = power;
   double dissipation = 0.0;
@@ -209,7 +233,9 @@ void Simulation::Engine::step_once() {
                          static_cast<uint32_t>(s.points.size()),
                          s.p.data(),
                          s.v.data(),
-                         s.f.data()};
+                         s.f.data(),
+                         static_cast<uint32_t>(n_o),
+                         outputs.data()};
     st = s.api->accept(s.api, &ev);
     if (st >= MH_DISCARD) fail(status_reason(st, "subsystem accept"));
   }

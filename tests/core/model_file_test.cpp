@@ -702,7 +702,7 @@ TEST(ModelFileErrors, DuplicateNames) {
   expect_error(valid_body("subsystems:\n"
                           "  - {name: s1, type: t, states: {x: pos}}\n"
                           "  - {name: s2, type: t, states: {y: pos}}\n"),
-               10, "subsystems[1].states.y", "duplicate state column name 'pos'");
+               10, "subsystems[1].states.y", "duplicate result column name 'pos'");
 }
 
 TEST(ModelFileErrors, PointOnUnknownBody) {

@@ -36,6 +36,8 @@ typedef struct mh_subsystem_eval {
   const double* point_v; /* 3 per point: world velocity (m/s) */
   double* point_f;       /* 3 per point: force on the body at the point (N, world);
                             zero on entry */
+  uint32_t num_outputs;  /* length of outputs */
+  double* outputs;       /* every instance's outputs, by index: write your own */
 } mh_subsystem_eval;
 
 typedef struct mh_subsystem {

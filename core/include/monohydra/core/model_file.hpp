@@ -32,11 +32,12 @@ struct PointSpec {
 };
 
 struct SubsystemSpec {
-  std::string name;                                // unique among subsystems
-  std::string type;                                // component id, e.g. "spring-damper"
-  OptionMap options;                               // every key but name, type, points, states
-  std::map<std::string, PointSpec> points;         // points/<key>
-  std::map<std::string, std::string> state_names;  // states/<local>: column name
+  std::string name;                         // unique among subsystems
+  std::string type;                         // component id, e.g. "spring-damper"
+  OptionMap options;                        // every key but name, type, points, states, outputs
+  std::map<std::string, PointSpec> points;  // points/<key>
+  std::map<std::string, std::string> state_names;   // states/<local>: column ("" hidden)
+  std::map<std::string, std::string> output_names;  // outputs/<local>: column ("" hidden)
   SourceMark mark;
 };
 

@@ -11,7 +11,8 @@
 
 namespace mh {
 
-// Columns: t, z1..zN, one per subsystem state, KE, PE, W, drift, phi_norm, iters.
+// Columns: t, z1..zN, one per subsystem state and output (unless hidden), KE, PE,
+// W, drift, phi_norm, iters.
 void write_csv_header(std::ostream& out, const Simulation& sim);
 void write_csv_row(std::ostream& out, const Simulation& sim);
 
