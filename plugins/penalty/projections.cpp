@@ -1,0 +1,43 @@
+// Mass-orthogonal projections of velocities and accelerations, Eqs. (20)-(21).
+#include "projections.hpp"
+
+#include "constraint_terms.hpp"
+
+namespace mh_penalty {
+
+void Projector::resize(int N, int m) {
+  W_.setZero(N, N);
+  phi_z_.setZero(m, N);
+  A_.setZero(N, N);
+  llt_ = Eigen::LLT<Eigen::MatrixXd>(N);  // sized now: compute() will not allocate
+  rhs_.setZero(N);
+}
+
+bool Projector::factorize(const ConstMatrixMap& W, const ConstMatrixMap& phi_z, double dt,
+                          double alpha) {
+  c_alpha_ = 0.25 * dt * dt * alpha;
+  W_ = W;
+  phi_z_ = phi_z;
+  // Eqs. (20)-(21), left-hand side: W + dt^2/4 Phi_z^T alpha Phi_z (one alpha
+  // for every constraint, so alpha is a scalar).
+  A_ = W_;
+  add_penalty_matrix(A_, phi_z_, c_alpha_);
+  llt_.compute(A_);
+  return llt_.info() == Eigen::Success;
+}
+
+void Projector::project_velocities(const Eigen::VectorXd& zd_prime, Eigen::VectorXd& zd) {
+  rhs_.noalias() = W_ * zd_prime;  // Eq. (20): W zd'
+  zd = llt_.solve(rhs_);
+}
+
+void Projector::project_accelerations(const Eigen::VectorXd& zdd_prime,
+                                      const ConstVectorMap& phi_dot_zd, Eigen::VectorXd& zdd) {
+  // Eq. (21): W zdd' - dt^2/4 Phi_z^T alpha (Phidot_z zd). Scleronomic
+  // constraints: no time-derivative terms (the paper's note under Eq. 21).
+  rhs_.noalias() = W_ * zdd_prime;
+  add_constraint_forces(rhs_, phi_z_, phi_dot_zd, -c_alpha_);
+  zdd = llt_.solve(rhs_);
+}
+
+}  // namespace mh_penalty

@@ -1,0 +1,55 @@
+// The mass-orthogonal projections of the penalty formulation (Sect. 2.3,
+// Eqs. 20-21; Bayo and Ledesma [3], Cuadrado et al. [9]): after a step has
+// converged, the velocities and accelerations of the trapezoidal rule are
+// projected so that they satisfy the constraints at velocity and acceleration
+// level, within the same penalty approximation as the positions.
+//
+//   [W + dt^2/4 Phi_z^T alpha Phi_z] zd  = W zd'                                  Eq. (20)
+//   [W + dt^2/4 Phi_z^T alpha Phi_z] zdd = W zdd' - dt^2/4 Phi_z^T alpha Phidot_z zd   Eq. (21)
+//
+// W: the paper's W = M + dt/2 C + dt^2/4 K. Here W = M' (the caller passes
+// it): the damping and stiffness matrices C and K of the whole system are not
+// available through the ABI v1 (see docs/formulations-penalty.md).
+#pragma once
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+namespace mh_penalty {
+
+using ConstMatrixMap = Eigen::Map<const Eigen::MatrixXd>;
+using ConstVectorMap = Eigen::Map<const Eigen::VectorXd>;
+
+// The projection matrix [W + dt^2/4 Phi_z^T alpha Phi_z] (N x N, symmetric
+// positive definite when W is), factorized once per step and applied to both
+// right-hand sides. Sized once by resize(); factorize() and the projections do
+// not allocate.
+class Projector {
+ public:
+  // N coordinates, m constraint rows.
+  void resize(int N, int m);
+
+  // Factorizes [W + c Phi_z^T Phi_z] with c = dt^2/4 alpha, keeping W for the
+  // right-hand sides. W is N x N, phi_z m x N. Returns false when the matrix is
+  // not numerically positive definite (e.g. W singular and Phi_z rank
+  // deficient in the same direction).
+  bool factorize(const ConstMatrixMap& W, const ConstMatrixMap& phi_z, double dt, double alpha);
+
+  // Eq. (20): zd from the trapezoidal rule's zd' (N each). zd may not alias zd_prime.
+  void project_velocities(const Eigen::VectorXd& zd_prime, Eigen::VectorXd& zd);
+
+  // Eq. (21): zdd from zdd' and Phidot_z zd evaluated at the projected zd (m).
+  // zdd may not alias zdd_prime.
+  void project_accelerations(const Eigen::VectorXd& zdd_prime, const ConstVectorMap& phi_dot_zd,
+                             Eigen::VectorXd& zdd);
+
+ private:
+  double c_alpha_ = 0.0;   // dt^2/4 alpha
+  Eigen::MatrixXd W_;      // N x N
+  Eigen::MatrixXd phi_z_;  // m x N, of the last factorize()
+  Eigen::MatrixXd A_;      // N x N, W + c_alpha Phi_z^T Phi_z
+  Eigen::LLT<Eigen::MatrixXd> llt_;
+  Eigen::VectorXd rhs_;  // N
+};
+
+}  // namespace mh_penalty
