@@ -100,11 +100,6 @@ typedef struct mh_host {
   /* Attaches this instance to the body point the model file gives under
    * points/<key>. *index receives the point's local index 0, 1, ... */
   mh_status (*add_point)(const struct mh_host* host, const char* key, int32_t* index);
-  /* Declares an output of this instance: a value it computes in evaluate (e.g. a
-   * cylinder's stroke), written to the results beside the states. *index
-   * receives its index in mh_subsystem_eval.outputs. */
-  mh_status (*add_output)(const struct mh_host* host, const char* name, const char* unit,
-                          int32_t* index);
 
   /* -- formulation only ------------------------------------------------------ */
   /* Evaluates the core's semirecursive kinematics and dynamics at (t, z, zd).
@@ -117,6 +112,12 @@ typedef struct mh_host {
 
   /* Host extensions by string id ("name/rev"); NULL when not supported. */
   const void* (*get_extension)(const struct mh_host* host, const char* id);
+  /* -- subsystem setup only (listed last: appended to the table) ------------ */
+  /* Declares an output of this instance: a value it computes in evaluate (e.g. a
+   * cylinder's stroke), written to the results beside the states. *index
+   * receives its index in mh_subsystem_eval.outputs. */
+  mh_status (*add_output)(const struct mh_host* host, const char* name, const char* unit,
+                          int32_t* index);
 } mh_host;
 
 #ifdef __cplusplus
