@@ -1,0 +1,570 @@
+// The double-step semirecursive formulation (Sect. 2.2 and Sect. 4): coordinate
+// partitioning. Full pivoting on Phi_z picks the f independent coordinates z^i
+// (the Newton unknowns, x = z^i_{k+1}); every residual evaluation then takes two
+// steps: the dependent coordinates z^d from Phi(z) = 0 by Newton-Raphson, then
+// the reduced equations of motion M'' zdd^i = Q'' (Eq. 17) under the
+// trapezoidal rule with positions as primary unknowns (Eqs. 32-35, 38).
+//
+// Files: coordinate_partition.* (the choice of z^i and of the rows kept),
+// dependent_coordinates.* (Newton on Phi(z) = 0), velocity_transformation.*
+// (Eqs. 13-17), this file (options, the step's operations, entry point).
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <new>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "coordinate_partition.hpp"
+#include "dependent_coordinates.hpp"
+#include "eigen.hpp"
+#include "host_calls.hpp"
+#include "monohydra/monohydra.h"
+#include "velocity_transformation.hpp"
+
+namespace mh::double_step {
+namespace {
+
+// Defaults of the options (docs/formulations-double-step.md gives the reasons).
+// The dependent Newton stops on an increment this small (rad or m): below the
+// host's forward-difference increment (>= 1e-10, Eq. 41) by the quadratic
+// convergence, so z^d is at round-off and the residual is smooth in x.
+constexpr double kDefaultPositionTolerance = 1e-10;
+constexpr int kDefaultMaxPositionIterations = 20;
+// Re-partition when the pivot ratio of Phi_z^d falls below this: early enough
+// that a limit position cannot be crossed within one 1 ms step unseen.
+constexpr double kDefaultRepartitionRcond = 0.1;
+
+// A re-partition must improve the pivot ratio of Phi_z^d at least this much.
+constexpr double kRepartitionGain = 2.0;
+
+struct DoubleStep {
+  const mh_host* host = nullptr;
+  int N = 0;  // coordinates
+  int m = 0;  // constraint rows
+  int r = 0;  // rank of Phi_z: rows kept, dependent coordinates
+  int f = 0;  // degrees of freedom: independent coordinates, Newton unknowns
+  double dt = 0.0;
+  double tolerance = 0.0;  // on x = z^i; NaN until start when the option is absent
+  double position_tolerance = kDefaultPositionTolerance;
+  int max_position_iterations = kDefaultMaxPositionIterations;
+  double repartition_rcond = kDefaultRepartitionRcond;
+  std::vector<std::string> names;
+  std::string independent_option;  // the user's initial z^i, when given
+
+  Partition partition, candidate;
+  DependentCoordinates dependent;
+  VelocityTransformation transform;
+  Eigen::FullPivLU<Eigen::MatrixXd> full_lu;   // m x N: Phi_z, for (re-)partitioning
+  Eigen::FullPivLU<Eigen::MatrixXd> block_lu;  // r x r: Phi_z^d, its conditioning
+  Eigen::MatrixXd block;                       // r x r: a candidate's Phi_z^d
+  bool ill_conditioned_reported = false;
+  // Sign of det Phi_z^d at the accepted state (0: none yet). det Phi_z^d is
+  // continuous in z for a fixed partition, so a sign change within a step means
+  // the step crossed a configuration where this partition is singular.
+  double det_sign = 0.0;
+
+  Eigen::VectorXd z, zd, zdd;           // accepted at t_k, all N coordinates
+  Eigen::VectorXd zd_hat, zdd_hat;      // f: Eq. (34) for z^i
+  Eigen::VectorXd z_pred;               // N: z_k + zd_k dt + zdd_k dt^2 / 2
+  Eigen::VectorXd z_it, zd_it, zdd_it;  // N: at the last evaluated iterate
+  Eigen::VectorXd x_it;                 // f: that iterate's x
+  Eigen::VectorXd zdd_i;                // f: scratch
+  bool iterate_valid = false;
+};
+
+DoubleStep& self(const mh_formulation* f) {
+  return *static_cast<DoubleStep*>(f->plugin_data);
+}
+
+void log_error(const DoubleStep& s, const std::string& message) {
+  log(s.host, MH_LOG_ERROR, message);
+}
+
+// Runs an operation with no exception crossing the C boundary.
+template <class Op>
+mh_status guarded(const DoubleStep& s, const char* what, Op&& op) {
+  try {
+    return op();
+  } catch (const std::exception& e) {
+    log_error(s, std::string(what) + ": " + e.what());
+  } catch (...) {
+    log_error(s, std::string(what) + ": unknown exception");
+  }
+  return MH_ERROR;
+}
+
+// ---------------------------------------------------------------- setup ----
+
+mh_status read_options(DoubleStep& s) {
+  const mh_host* h = s.host;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  if (h->option_number(h, "tolerance", 0, nan, &s.tolerance) != MH_OK) return MH_ERROR;
+  if (!std::isnan(s.tolerance) && !(s.tolerance > 0.0))
+    return h->option_error(h, "tolerance", "a positive number (rad or m)");
+  if (h->option_number(h, "position_tolerance", 0, kDefaultPositionTolerance,
+                       &s.position_tolerance) != MH_OK)
+    return MH_ERROR;
+  if (!(s.position_tolerance > 0.0))
+    return h->option_error(h, "position_tolerance", "a positive number (rad or m)");
+  double iterations = kDefaultMaxPositionIterations;
+  if (h->option_number(h, "max_position_iterations", 0, iterations, &iterations) != MH_OK)
+    return MH_ERROR;
+  if (!(iterations >= 1.0 && iterations <= 1000.0 && iterations == std::floor(iterations)))
+    return h->option_error(h, "max_position_iterations", "an integer from 1 to 1000");
+  s.max_position_iterations = static_cast<int>(iterations);
+  if (h->option_number(h, "repartition_rcond", 0, kDefaultRepartitionRcond, &s.repartition_rcond) !=
+      MH_OK)
+    return MH_ERROR;
+  if (!(s.repartition_rcond > kRankThreshold && s.repartition_rcond < 1.0))
+    return h->option_error(h, "repartition_rcond", "a number between 1e-8 and 1");
+  const char* independent = "";
+  if (h->option_string(h, "independent_coordinates", 0, "", &independent) != MH_OK) return MH_ERROR;
+  s.independent_option = independent != nullptr ? independent : "";
+  return MH_OK;
+}
+
+// The option independent_coordinates ("z3" or "z2, z5") as coordinate indices;
+// false after reporting the option error.
+bool parse_independent(DoubleStep& s, std::vector<int>& out) {
+  const char* key = "independent_coordinates";
+  std::string all;
+  for (const auto& n : s.names) all += (all.empty() ? "" : ", ") + n;
+  const std::string expected = std::to_string(s.f) + " of the coordinates " + all +
+                               ", separated by commas (the mechanism has " + std::to_string(s.f) +
+                               (s.f == 1 ? " degree of freedom)" : " degrees of freedom)");
+  std::string token;
+  const std::string& text = s.independent_option;
+  for (size_t i = 0; i <= text.size(); ++i) {
+    const char c = i < text.size() ? text[i] : ',';
+    if (c != ',' && c != ' ' && c != '\t') {
+      token += c;
+      continue;
+    }
+    if (token.empty()) continue;
+    const auto it = std::find(s.names.begin(), s.names.end(), token);
+    if (it == s.names.end() ||
+        std::find(out.begin(), out.end(), static_cast<int>(it - s.names.begin())) != out.end()) {
+      s.host->option_error(s.host, key, expected.c_str());
+      return false;
+    }
+    out.push_back(static_cast<int>(it - s.names.begin()));
+    token.clear();
+  }
+  if (static_cast<int>(out.size()) != s.f) {
+    s.host->option_error(s.host, key, expected.c_str());
+    return false;
+  }
+  return true;
+}
+
+void size_buffers(DoubleStep& s) {
+  for (Eigen::VectorXd* v : {&s.z, &s.zd, &s.zdd, &s.z_pred, &s.z_it, &s.zd_it, &s.zdd_it})
+    v->setZero(s.N);
+  for (Eigen::VectorXd* v : {&s.zd_hat, &s.zdd_hat, &s.x_it, &s.zdd_i}) v->setZero(s.f);
+  s.dependent.resize(s.m, s.N, s.r);
+  s.transform.resize(s.N, s.r);
+  s.transform.set_partition(s.partition);
+  s.block_lu = Eigen::FullPivLU<Eigen::MatrixXd>(s.r, s.r);
+  s.block.setZero(s.r, s.r);
+  size_partition(s.candidate, s.N, s.r);
+}
+
+mh_status setup(const mh_formulation* fo, uint32_t* num_unknowns) {
+  DoubleStep& s = self(fo);
+  return guarded(s, "setup", [&]() -> mh_status {
+    mh_mech_info info{};
+    info.struct_size = sizeof(info);
+    if (s.host->mech_info(s.host, &info) != MH_OK) {
+      log_error(s, "the host did not describe the mechanism (mech_info failed)");
+      return MH_ERROR;
+    }
+    s.N = static_cast<int>(info.num_coordinates);
+    s.m = static_cast<int>(info.num_constraints);
+    if (read_options(s) != MH_OK) return MH_ERROR;
+    if (s.m == 0) {
+      log_error(s,
+                "the model has no cut joints (0 constraint rows): double-step partitions "
+                "the coordinates of closed loops; use open-loop for a tree");
+      return MH_ERROR;
+    }
+    if (info.z0 == nullptr || info.zd0 == nullptr || info.coordinate_names == nullptr) {
+      log_error(s,
+                "the host gave no assembled initial coordinates (mech_info z0, zd0): "
+                "they are needed to choose the independent coordinates");
+      return MH_ERROR;
+    }
+    s.names.assign(info.coordinate_names, info.coordinate_names + s.N);
+
+    // Full pivoting on Phi_z(z0) chooses z^d and z^i (Sect. 2.2).
+    mh_mech_result rs{};
+    const mh_status st = evaluate(s.host, MH_EVAL_CONSTRAINTS, 0.0, info.z0, info.zd0, rs);
+    if (st >= MH_DISCARD) return st;
+    s.full_lu = Eigen::FullPivLU<Eigen::MatrixXd>(s.m, s.N);
+    s.r = factor_full_pivoting(Eigen::Map<const Eigen::MatrixXd>(rs.phi_z, s.m, s.N), s.full_lu);
+    if (s.r == 0) {
+      log_error(s,
+                "the constraint Jacobian Phi_z vanishes at the initial configuration: "
+                "no coordinate is constrained");
+      return MH_ERROR;
+    }
+    if (s.r == s.N) {
+      log_error(s, "the " + std::to_string(s.m) + " constraint rows fix all " +
+                       std::to_string(s.N) +
+                       " coordinates (rank N): the mechanism has no degree of freedom");
+      return MH_ERROR;
+    }
+    s.f = s.N - s.r;
+    size_partition(s.partition, s.N, s.r);
+    partition_from_pivots(s.full_lu, s.r, s.partition);
+    std::string origin;
+    if (!s.independent_option.empty()) {
+      // The user's choice replaces full pivoting's, if Phi_z^d is invertible.
+      std::vector<int> chosen;
+      if (!parse_independent(s, chosen)) return MH_ERROR;
+      const std::string pivoting = coordinate_list(s.partition.independent, s.names);
+      const double ratio = partition_with_independent(
+          Eigen::Map<const Eigen::MatrixXd>(rs.phi_z, s.m, s.N), chosen, s.partition);
+      if (!(ratio > kRankThreshold))
+        return s.host->option_error(
+            s.host, "independent_coordinates",
+            ("coordinates whose complement makes Phi_z^d invertible at the initial "
+             "configuration (with these, Phi_z^d is singular; full pivoting picks " +
+             pivoting + ")")
+                .c_str());
+      origin = " (from the option independent_coordinates; full pivoting picks " + pivoting + ")";
+    }
+    if (s.r < s.m)
+      log(s.host, MH_LOG_WARNING,
+          "redundant constraints: using " + std::to_string(s.r) + " of " + std::to_string(s.m) +
+              " rows (" + (s.m - s.r == 1 ? "row " : "rows ") +
+              dropped_rows(s.partition.rows, s.m) + " dropped)");
+    log(s.host, MH_LOG_INFO,
+        "independent coordinates: " + coordinate_list(s.partition.independent, s.names) + origin);
+    size_buffers(s);
+    *num_unknowns = static_cast<uint32_t>(s.f);
+    return MH_OK;
+  });
+}
+
+// ----------------------------------------------------- the two steps ----
+
+// Why the dependent Newton failed, for the log.
+std::string dependent_failure(const DoubleStep& s, const DependentSolveResult& res, double t) {
+  const std::string where = " at t = " + fmt(t) + " s with independent coordinates " +
+                            coordinate_list(s.partition.independent, s.names);
+  if (res.outcome == DependentSolveResult::Outcome::singular)
+    return "Phi_z^d is singular" + where + " (pivot ratio " + fmt(res.pivot_ratio) + " after " +
+           std::to_string(res.iterations) + " iterations, max |Phi| = " + fmt(res.residual) + ")";
+  return "the dependent coordinates did not converge" + where + ": " +
+         std::to_string(res.iterations) + " Newton iterations, max |Phi| = " + fmt(res.residual) +
+         ", last increment " + fmt(res.increment) + " (tolerance " + fmt(s.position_tolerance) +
+         ")";
+}
+
+// With z_it and zd_it set on z^i and z_it on z^d set to the estimate: z^d by
+// Newton, zd^d (Eq. 13), R_z (Eq. 14), one evaluation of M', Q' with `flags`
+// added, Rdot_z zd^i (Eq. 15) and M'', Q'' (Eq. 17).
+mh_status two_steps(DoubleStep& s, double t, uint32_t flags) {
+  const DependentSolveResult res = s.dependent.solve(s.host, t, s.partition, s.position_tolerance,
+                                                     s.max_position_iterations, s.z_it, s.zd_it);
+  if (res.outcome == DependentSolveResult::Outcome::host_failed) return res.host_status;
+  if (res.outcome != DependentSolveResult::Outcome::converged) {
+    // At error level so the host's failure message carries the reason.
+    log_error(s, dependent_failure(s, res, t));
+    return MH_DISCARD;
+  }
+  const double det = s.dependent.lu().determinant();
+  if (s.det_sign != 0.0 && !(det * s.det_sign > 0.0)) {
+    log_error(s, "the step to t = " + fmt(t) +
+                     " s crosses a configuration where the partition with independent "
+                     "coordinates " +
+                     coordinate_list(s.partition.independent, s.names) +
+                     " is singular (det Phi_z^d changed sign): the re-partition check "
+                     "(repartition_rcond = " +
+                     fmt(s.repartition_rcond) + ") came too late; raise it or shorten the step");
+    return MH_DISCARD;
+  }
+  s.transform.rates(s.dependent.lu(), s.dependent.phi_z_i(), s.partition, s.zd_it);
+  mh_mech_result rs{};
+  const mh_status st = evaluate(s.host, MH_EVAL_DYNAMICS | MH_EVAL_CONSTRAINTS | flags, t,
+                                s.z_it.data(), s.zd_it.data(), rs);
+  if (st >= MH_DISCARD) return st;
+  // The velocity-product term at the full zd just completed.
+  s.transform.velocity_term(s.dependent.lu(), rs.phi_dot_zd, s.partition);
+  s.transform.reduce(rs.M, rs.Q);
+  return MH_OK;
+}
+
+// The iterate x = z^i_{k+1}: rates and accelerations by Eq. (33), z^d from the
+// estimate of step k, then the two steps and zdd^d (Eq. 15).
+mh_status evaluate_iterate(DoubleStep& s, double t, const double* x, uint32_t flags) {
+  const double dt = s.dt;
+  s.iterate_valid = false;
+  s.z_it = s.z_pred;  // the dependent entries start from the estimate
+  for (int k = 0; k < s.f; ++k) {
+    const int i = s.partition.independent[static_cast<size_t>(k)];
+    s.z_it[i] = x[k];
+    s.zd_it[i] = (2.0 / dt) * x[k] + s.zd_hat[k];           // Eq. (33)
+    s.zdd_it[i] = (4.0 / (dt * dt)) * x[k] + s.zdd_hat[k];  // Eq. (33)
+  }
+  const mh_status st = two_steps(s, t, flags);
+  if (st >= MH_DISCARD) return st;
+  s.transform.accelerations(s.partition, s.zdd_it);  // Eq. (15)
+  s.x_it = Eigen::Map<const Eigen::VectorXd>(x, s.f);
+  s.iterate_valid = true;
+  return MH_OK;
+}
+
+// ------------------------------------------------------------- start ----
+
+mh_status start(const mh_formulation* fo, double t0, double dt, const double* z0, const double* zd0,
+                double* abs_tolerance) {
+  DoubleStep& s = self(fo);
+  return guarded(s, "start", [&]() -> mh_status {
+    if (!(dt > 0.0)) {
+      log_error(s, "the time step must be positive");
+      return MH_ERROR;
+    }
+    s.dt = dt;
+    if (std::isnan(s.tolerance)) {  // default: the model's position tolerance now
+      mh_mech_info info{};
+      info.struct_size = sizeof(info);
+      if (s.host->mech_info(s.host, &info) != MH_OK) return MH_ERROR;
+      s.tolerance = info.position_tolerance;
+    }
+    for (int k = 0; k < s.f; ++k) abs_tolerance[k] = s.tolerance;
+
+    // Consistent initial state on this partition: z^d from Phi(z) = 0 with
+    // z^i = z0^i (the host assembled z0, so this only polishes it), zd^d by
+    // Eq. (13), then zdd^i from M'' zdd^i = Q'' (Eq. 17) and zdd^d by Eq. (15).
+    s.det_sign = 0.0;  // no reference yet
+    s.z_it = Eigen::Map<const Eigen::VectorXd>(z0, s.N);
+    s.zd_it = Eigen::Map<const Eigen::VectorXd>(zd0, s.N);
+    const mh_status st = two_steps(s, t0, 0u);
+    if (st >= MH_DISCARD) {
+      log_error(s, "the initial state is not consistent on the chosen partition");
+      return MH_ERROR;
+    }
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(s.transform.M_reduced());
+    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0.0)) {
+      log_error(s,
+                "the reduced mass matrix M'' = R_z^T M' R_z is singular at the initial "
+                "state (a massless chain of bodies?)");
+      return MH_ERROR;
+    }
+    s.zdd_i = ldlt.solve(s.transform.Q_reduced());  // Eq. (17)
+    for (int k = 0; k < s.f; ++k)
+      s.zdd_it[s.partition.independent[static_cast<size_t>(k)]] = s.zdd_i[k];
+    s.transform.accelerations(s.partition, s.zdd_it);  // Eq. (15)
+    const double moved =
+        (s.z_it - Eigen::Map<const Eigen::VectorXd>(z0, s.N)).lpNorm<Eigen::Infinity>();
+    if (moved > s.tolerance)
+      log(s.host, MH_LOG_INFO,
+          "start: dependent coordinates moved by up to " + fmt(moved) + " to close the loops");
+    s.z = s.z_it;
+    s.zd = s.zd_it;
+    s.zdd = s.zdd_it;
+    s.iterate_valid = false;
+    s.ill_conditioned_reported = false;
+    s.det_sign = s.dependent.lu().determinant() > 0.0 ? 1.0 : -1.0;
+    return MH_OK;
+  });
+}
+
+// ------------------------------------------------------------ the step ----
+
+mh_status predict(const mh_formulation* fo, double, double* x) {
+  DoubleStep& s = self(fo);
+  return guarded(s, "predict", [&]() -> mh_status {
+    const NoHeapScope no_heap;
+    const double dt = s.dt;
+    for (int k = 0; k < s.f; ++k) {
+      const int i = s.partition.independent[static_cast<size_t>(k)];
+      x[k] = s.z[i] + dt * s.zd[i] + 0.5 * dt * dt * s.zdd[i];  // after Eq. (34)
+      s.zd_hat[k] = -((2.0 / dt) * s.z[i] + s.zd[i]);           // Eq. (34)
+      s.zdd_hat[k] = -((4.0 / (dt * dt)) * s.z[i] + (4.0 / dt) * s.zd[i] + s.zdd[i]);  // Eq. (34)
+    }
+    // The estimate of z^d_{k+1} the dependent Newton starts from (after Eq. 34).
+    s.z_pred = s.z + dt * s.zd + (0.5 * dt * dt) * s.zdd;
+    s.iterate_valid = false;
+    return MH_OK;
+  });
+}
+
+mh_status residual(const mh_formulation* fo, double t_next, const double* x, double* r) {
+  DoubleStep& s = self(fo);
+  return guarded(s, "residual", [&]() -> mh_status {
+    const NoHeapScope no_heap;
+    const mh_status st = evaluate_iterate(s, t_next, x, MH_EVAL_SUBSYSTEMS);
+    if (st >= MH_DISCARD) return st;
+    for (int k = 0; k < s.f; ++k)
+      s.zdd_i[k] = s.zdd_it[s.partition.independent[static_cast<size_t>(k)]];
+    // Eq. (38): dt^2/4 (M'' zdd^i - Q''), the mechanical rows of Eq. (35).
+    Eigen::Map<Eigen::VectorXd> rows(r, s.f);
+    rows = s.transform.Q_reduced();
+    rows.noalias() -= s.transform.M_reduced() * s.zdd_i;
+    rows *= -0.25 * s.dt * s.dt;
+    return MH_OK;
+  });
+}
+
+// After an accepted step: is Phi_z^d still well conditioned? If not, choose the
+// independent coordinates again by full pivoting at the accepted z.
+mh_status check_partition(DoubleStep& s, double t) {
+  s.block_lu.compute(s.dependent.phi_z_d());  // at the accepted z (r x r, no reallocation)
+  const double ratio = pivot_ratio(s.block_lu);
+  if (ratio >= s.repartition_rcond) return MH_OK;
+
+  mh_mech_result rs{};
+  const mh_status st = evaluate(s.host, MH_EVAL_CONSTRAINTS, t, s.z.data(), s.zd.data(), rs);
+  if (st >= MH_DISCARD) return st;
+  const int rank =
+      factor_full_pivoting(Eigen::Map<const Eigen::MatrixXd>(rs.phi_z, s.m, s.N), s.full_lu);
+  if (rank < s.r) {
+    log_error(s, "singular configuration at t = " + fmt(t) +
+                     " s: the constraint Jacobian "
+                     "Phi_z has rank " +
+                     std::to_string(rank) + " < " + std::to_string(s.r) +
+                     ", so no choice of independent coordinates can go on (the mechanism is at a "
+                     "bifurcation or a dead point)");
+    return MH_ERROR;
+  }
+  partition_from_pivots(s.full_lu, s.r, s.candidate);
+  // The candidate's Phi_z^d has the first r pivots of the full LU.
+  const auto& LU = s.full_lu.matrixLU();
+  double lo = std::abs(LU(0, 0));
+  for (int k = 1; k < s.r; ++k) lo = std::min(lo, std::abs(LU(k, k)));
+  const double candidate_ratio = lo / std::abs(LU(0, 0));
+  // Switch only for a clear gain: two partitions of similar conditioning
+  // would otherwise take turns, one re-partition per step.
+  if (s.candidate == s.partition || !(candidate_ratio > kRepartitionGain * ratio)) {
+    if (!s.ill_conditioned_reported)
+      log(s.host, MH_LOG_WARNING,
+          "Phi_z^d is ill-conditioned at t = " + fmt(t) + " s (pivot ratio " + fmt(ratio) +
+              ") but full pivoting finds no better independent coordinates than " +
+              coordinate_list(s.partition.independent, s.names) + "; going on with them");
+    s.ill_conditioned_reported = true;
+    return MH_OK;
+  }
+  std::string message = "re-partitioned at t = " + fmt(t) + " s: independent coordinates " +
+                        coordinate_list(s.candidate.independent, s.names) + " (were " +
+                        coordinate_list(s.partition.independent, s.names) + ")";
+  if (s.r < s.m && s.candidate.rows != s.partition.rows)
+    message += "; dropped rows " + dropped_rows(s.candidate.rows, s.m) + " (were " +
+               dropped_rows(s.partition.rows, s.m) + ")";
+  std::swap(s.partition, s.candidate);  // equal sizes: no allocation
+  s.transform.set_partition(s.partition);
+  // The new partition's reference sign of det Phi_z^d, at the accepted z.
+  const Eigen::Map<const Eigen::MatrixXd> phi_z(rs.phi_z, s.m, s.N);
+  for (int a = 0; a < s.r; ++a)
+    for (int k = 0; k < s.r; ++k)
+      s.block(a, k) = phi_z(s.partition.rows[static_cast<size_t>(a)],
+                            s.partition.dependent[static_cast<size_t>(k)]);
+  s.block_lu.compute(s.block);
+  s.det_sign = s.block_lu.determinant() > 0.0 ? 1.0 : -1.0;
+  s.ill_conditioned_reported = false;
+  log(s.host, MH_LOG_WARNING, message);
+  return MH_OK;
+}
+
+mh_status accept(const mh_formulation* fo, double t_next, const double* x) {
+  DoubleStep& s = self(fo);
+  return guarded(s, "accept", [&]() -> mh_status {
+    const NoHeapScope no_heap;
+    // The host's last residual call was at the converged x; should it not have
+    // been, evaluate x again (without the subsystems' rows: they are recorded).
+    if (!s.iterate_valid || s.x_it != Eigen::Map<const Eigen::VectorXd>(x, s.f)) {
+      const mh_status st = evaluate_iterate(s, t_next, x, 0u);
+      if (st >= MH_DISCARD) return st;
+    }
+    // The full z, zd, zdd at t_{k+1} seed the next step's hats and estimate.
+    s.z = s.z_it;
+    s.zd = s.zd_it;
+    s.zdd = s.zdd_it;
+    s.iterate_valid = false;
+    s.det_sign = s.dependent.lu().determinant() > 0.0 ? 1.0 : -1.0;
+    return check_partition(s, t_next);
+  });
+}
+
+mh_status coordinates(const mh_formulation* fo, double* z, double* zd, double* zdd) {
+  const DoubleStep& s = self(fo);
+  Eigen::Map<Eigen::VectorXd>(z, s.N) = s.z;
+  Eigen::Map<Eigen::VectorXd>(zd, s.N) = s.zd;
+  Eigen::Map<Eigen::VectorXd>(zdd, s.N) = s.zdd;
+  return MH_OK;
+}
+
+void destroy(const mh_formulation* fo) {
+  delete static_cast<DoubleStep*>(fo->plugin_data);
+  delete fo;
+}
+
+const void* get_extension(const mh_formulation*, const char*) {
+  return nullptr;
+}
+
+// ------------------------------------------------------- entry point ----
+
+const mh_component_descriptor kDescriptor{
+    sizeof(mh_component_descriptor),
+    "double-step",
+    "Double-step semirecursive formulation (coordinate partitioning)",
+    "monohydra",
+    "1.0.0",
+    "Closed loops by coordinate partitioning (Sect. 2.2): full pivoting on Phi_z picks the "
+    "independent coordinates, the Newton unknowns; the dependent ones come from Phi(z) = 0 by "
+    "Newton-Raphson in every residual; reduced equations M'' zdd^i = Q'' (Eq. 17) under the "
+    "trapezoidal rule (Eqs. 32-35, 38)."};
+
+uint32_t count(const mh_formulation_factory*) {
+  return 1;
+}
+const mh_component_descriptor* descriptor(const mh_formulation_factory*, uint32_t i) {
+  return i == 0 ? &kDescriptor : nullptr;
+}
+
+const mh_formulation* create(const mh_formulation_factory*, const mh_host* host, const char* id) {
+  if (host == nullptr || id == nullptr || std::string(id) != kDescriptor.id) return nullptr;
+  auto* data = new (std::nothrow) DoubleStep;
+  auto* fo = new (std::nothrow) mh_formulation{};
+  if (data == nullptr || fo == nullptr) {
+    delete data;
+    delete fo;
+    return nullptr;
+  }
+  data->host = host;
+  fo->struct_size = sizeof(mh_formulation);
+  fo->descriptor = &kDescriptor;
+  fo->plugin_data = data;
+  fo->setup = setup;
+  fo->start = start;
+  fo->predict = predict;
+  fo->residual = residual;
+  fo->tangent = nullptr;  // forward differences by the host (Eqs. 40-41)
+  fo->iteration_done = nullptr;
+  fo->accept = accept;
+  fo->coordinates = coordinates;
+  fo->destroy = destroy;
+  fo->get_extension = get_extension;
+  return fo;
+}
+
+const mh_formulation_factory kFactory{sizeof(mh_formulation_factory), count, descriptor, create};
+
+int init(const char*) {
+  return 1;
+}
+void deinit() {}
+const void* get_factory(const char* id) {
+  return id != nullptr && std::string(id) == MH_FORMULATION_FACTORY_ID ? &kFactory : nullptr;
+}
+
+}  // namespace
+}  // namespace mh::double_step
+
+extern "C" MH_PLUGIN_EXPORT const mh_plugin_entry mh_entry{
+    MH_ABI_VERSION_INIT, mh::double_step::init, mh::double_step::deinit,
+    mh::double_step::get_factory};
