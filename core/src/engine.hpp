@@ -123,6 +123,10 @@ struct Simulation::Engine {
   // ydot, adding rows to `rows` (zeroed first) and forces to the bodies.
   mh_status evaluate_subsystems(double t_eval, double* rows);
   void energy_terms(double& stored_out, double& dissipation_out);
+  // The evaluation record every subsystem call gets: current states, rates and
+  // outputs, `rows` for the residual; point_at() fills in one instance's points.
+  mh_subsystem_eval subsystem_eval(double t_eval, double* rows);
+  static void point_at(mh_subsystem_eval& ev, SubsystemInstance& s);
 
   // loop_assembly.cpp
   void assemble_loops();

@@ -291,8 +291,7 @@ void Simulation::Engine::check_unread_options(const InstanceHost& h) const {
   }
 }
 
-mh_status Simulation::Engine::evaluate_subsystems(double t_eval, double* rows) {
-  std::fill(rows, rows + n_s, 0.0);
+mh_subsystem_eval Simulation::Engine::subsystem_eval(double t_eval, double* rows) {
   mh_subsystem_eval ev{};
   ev.struct_size = sizeof(mh_subsystem_eval);
   ev.t = t_eval;
@@ -302,6 +301,19 @@ mh_status Simulation::Engine::evaluate_subsystems(double t_eval, double* rows) {
   ev.residual = rows;
   ev.num_outputs = static_cast<uint32_t>(n_o);
   ev.outputs = outputs.data();
+  return ev;
+}
+
+void Simulation::Engine::point_at(mh_subsystem_eval& ev, SubsystemInstance& s) {
+  ev.num_points = static_cast<uint32_t>(s.points.size());
+  ev.point_p = s.p.data();
+  ev.point_v = s.v.data();
+  ev.point_f = s.f.data();
+}
+
+mh_status Simulation::Engine::evaluate_subsystems(double t_eval, double* rows) {
+  std::fill(rows, rows + n_s, 0.0);
+  mh_subsystem_eval ev = subsystem_eval(t_eval, rows);
   double total_power = 0.0;
   for (auto& s : subsystems) {
     const size_t np = s.points.size();
@@ -314,10 +326,7 @@ mh_status Simulation::Engine::evaluate_subsystems(double t_eval, double* rows) {
         s.f[3 * k + c] = 0.0;
       }
     }
-    ev.num_points = static_cast<uint32_t>(np);
-    ev.point_p = s.p.data();
-    ev.point_v = s.v.data();
-    ev.point_f = s.f.data();
+    point_at(ev, s);
     const mh_status st = s.api->evaluate(s.api, &ev);
     if (st >= MH_DISCARD) return st;
     s.power = 0.0;
@@ -356,21 +365,10 @@ mh_status Simulation::Engine::evaluate_mechanics(uint32_t flags, double t_eval, 
 void Simulation::Engine::energy_terms(double& stored_out, double& dissipation_out) {
   stored_out = 0.0;
   dissipation_out = 0.0;
-  mh_subsystem_eval ev{};
-  ev.struct_size = sizeof(mh_subsystem_eval);
-  ev.t = t;
-  ev.num_states = static_cast<uint32_t>(n_s);
-  ev.y = y.data();
-  ev.ydot = ydot.data();
-  ev.residual = scratch_rows.data();
-  ev.num_outputs = static_cast<uint32_t>(n_o);
-  ev.outputs = outputs.data();
+  mh_subsystem_eval ev = subsystem_eval(t, scratch_rows.data());
   for (auto& s : subsystems) {
     if (s.api->energy == nullptr) continue;
-    ev.num_points = static_cast<uint32_t>(s.points.size());
-    ev.point_p = s.p.data();
-    ev.point_v = s.v.data();
-    ev.point_f = s.f.data();
+    point_at(ev, s);
     double st = 0.0, diss = 0.0;
     if (s.api->energy(s.api, &ev, &st, &diss) < MH_DISCARD) {
       stored_out += st;

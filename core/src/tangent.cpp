@@ -102,23 +102,12 @@ mh_status Simulation::Engine::assemble_tangent(double t_next) {
     const mh_status st = formulation->tangent(formulation, t_next, x.data(), mech_tangent.data());
     if (st >= MH_DISCARD) return st;
   }
-  mh_subsystem_eval ev{};
-  ev.struct_size = sizeof(mh_subsystem_eval);
-  ev.t = t_next;
-  ev.num_states = static_cast<uint32_t>(n_s);
-  ev.y = y.data();
-  ev.ydot = ydot.data();
-  ev.residual = scratch_rows.data();
-  ev.num_outputs = static_cast<uint32_t>(n_o);
-  ev.outputs = outputs.data();
+  mh_subsystem_eval ev = subsystem_eval(t_next, scratch_rows.data());
   for (auto& s : subsystems) {
     if (s.api->jacobian == nullptr) continue;
     std::fill(s.d_dy.begin(), s.d_dy.end(), 0.0);
     std::fill(s.d_dydot.begin(), s.d_dydot.end(), 0.0);
-    ev.num_points = static_cast<uint32_t>(s.points.size());
-    ev.point_p = s.p.data();
-    ev.point_v = s.v.data();
-    ev.point_f = s.f.data();
+    point_at(ev, s);
     const mh_status st = s.api->jacobian(s.api, &ev, s.d_dy.data(), s.d_dydot.data());
     if (st >= MH_DISCARD) return st;
   }

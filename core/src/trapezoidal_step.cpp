@@ -224,18 +224,8 @@ void Simulation::Engine::step_once() {
   dissipation_k = dissipation;
   for (auto& s : subsystems) {
     if (s.api->accept == nullptr) continue;
-    mh_subsystem_eval ev{sizeof(mh_subsystem_eval),
-                         t_next,
-                         static_cast<uint32_t>(n_s),
-                         y.data(),
-                         ydot.data(),
-                         scratch_rows.data(),
-                         static_cast<uint32_t>(s.points.size()),
-                         s.p.data(),
-                         s.v.data(),
-                         s.f.data(),
-                         static_cast<uint32_t>(n_o),
-                         outputs.data()};
+    mh_subsystem_eval ev = subsystem_eval(t_next, scratch_rows.data());
+    point_at(ev, s);
     st = s.api->accept(s.api, &ev);
     if (st >= MH_DISCARD) fail(status_reason(st, "subsystem accept"));
   }
