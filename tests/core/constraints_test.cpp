@@ -11,6 +11,7 @@
 #include "monohydra/core/kinematics.hpp"
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/simulation.hpp"
+#include "random_tree.hpp"
 #include "test_support.hpp"
 
 namespace mh {
@@ -73,56 +74,40 @@ TEST(Constraints, PlanarJacobianAndVelocityProductMatchFiniteDifferences) {
     SCOPED_TRACE(name);
     const ModelFile f = load_model_file(test::source_path(name));
     const int N = f.model.num_coordinates();
-    std::mt19937 rng(3);
-    std::uniform_real_distribution<double> u(-1.0, 1.0);
-    const Eigen::VectorXd z = f.model.initial_coordinates() +
-                              0.1 * Eigen::VectorXd::NullaryExpr(N, [&] { return u(rng); });
-    const Eigen::VectorXd zd = Eigen::VectorXd::NullaryExpr(N, [&] { return u(rng); });
+    test::Rng rng(3);
+    const Eigen::VectorXd z =
+        f.model.initial_coordinates() + test::random_vector(rng, N, -0.1, 0.1);
+    const Eigen::VectorXd zd = test::random_vector(rng, N, -1.0, 1.0);
     Constraints cs = build_at(f.model, z);
     expect_derivatives_match(f.model, cs, z, zd);
   }
 }
 
-// A random 3D tree with one cut joint of each kind, between random bodies.
-Model random_3d_model(std::mt19937& rng) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const auto vec = [&] { return Eigen::Vector3d(u(rng), u(rng), u(rng)); };
-  Model m;
-  for (int j = 0; j < 6; ++j) {
-    Body b;
-    b.name = "b" + std::to_string(j);
-    b.parent =
-        j == 0 ? kGround : static_cast<int>(rng() % static_cast<unsigned>(j)) - (j > 2 ? 0 : 1);
-    if (b.parent < kGround) b.parent = kGround;
-    b.joint = (j % 3 == 2) ? JointType::prismatic : JointType::revolute;
-    b.joint_P = vec();
-    b.axis_P = vec().normalized();
-    b.mass = 1.0;
-    b.inertia_B = Eigen::Matrix3d::Identity();
-    m.bodies.push_back(b);
-  }
+// A random 3D tree of six bodies with one cut joint of each kind between
+// random points of its bodies.
+Model random_3d_model(test::Rng& rng) {
+  Model m = test::random_tree(rng, 6, 6);
   const CutJointType types[] = {CutJointType::revolute, CutJointType::spherical,
                                 CutJointType::translational};
   for (int k = 0; k < 3; ++k) {
     CutJoint cj;
     cj.name = "c" + std::to_string(k);
     cj.type = types[k];
-    cj.a = BodyPoint{k, vec()};
-    cj.b = BodyPoint{k == 0 ? kGround : 5 - k, vec()};
-    cj.axis_a = vec().normalized();
-    cj.axis_b = vec().normalized();
+    cj.a = BodyPoint{k, rng.vector(-1.0, 1.0)};
+    cj.b = BodyPoint{k == 0 ? kGround : 5 - k, rng.vector(-1.0, 1.0)};
+    cj.axis_a = rng.unit_vector();
+    cj.axis_b = rng.unit_vector();
     m.cut_joints.push_back(cj);
   }
   return m;
 }
 
 TEST(Constraints, SpatialJacobianAndVelocityProductMatchFiniteDifferences) {
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  test::Rng rng(11);
   for (int trial = 0; trial < 4; ++trial) {
     const Model m = random_3d_model(rng);
-    const Eigen::VectorXd z = Eigen::VectorXd::NullaryExpr(6, [&] { return u(rng); });
-    const Eigen::VectorXd zd = Eigen::VectorXd::NullaryExpr(6, [&] { return u(rng); });
+    const Eigen::VectorXd z = test::random_vector(rng, 6, -1.0, 1.0);
+    const Eigen::VectorXd zd = test::random_vector(rng, 6, -1.0, 1.0);
     Constraints cs = build_at(m, z);
     ASSERT_EQ(cs.size(), 5 + 3 + 5);  // revolute, spherical, translational in 3D
     expect_derivatives_match(m, cs, z, zd);
@@ -130,7 +115,7 @@ TEST(Constraints, SpatialJacobianAndVelocityProductMatchFiniteDifferences) {
 }
 
 TEST(Constraints, TranslationalTwistRowVanishesWhereItWasBuilt) {
-  std::mt19937 rng(5);
+  test::Rng rng(5);
   const Model m = random_3d_model(rng);
   const Eigen::VectorXd z = Eigen::VectorXd::Constant(6, 0.3);
   Constraints cs = build_at(m, z);

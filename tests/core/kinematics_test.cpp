@@ -16,6 +16,7 @@
 
 #include "monohydra/core/data.hpp"
 #include "monohydra/core/model.hpp"
+#include "random_tree.hpp"
 
 namespace mh {
 namespace {
@@ -23,56 +24,9 @@ namespace {
 using Matrix3Xd = Eigen::Matrix<double, 3, Eigen::Dynamic>;
 constexpr double kPi = 3.14159265358979323846;
 
-struct Rng {
-  explicit Rng(unsigned seed) : engine(seed) {}
-  double uniform(double lo, double hi) {
-    return std::uniform_real_distribution<double>(lo, hi)(engine);
-  }
-  int integer(int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(engine); }
-  Eigen::Vector3d vector(double lo, double hi) {
-    return Eigen::Vector3d(uniform(lo, hi), uniform(lo, hi), uniform(lo, hi));
-  }
-  Eigen::Vector3d unit_vector() {
-    std::normal_distribution<double> normal;
-    Eigen::Vector3d v(normal(engine), normal(engine), normal(engine));
-    return v.normalized();
-  }
-  Eigen::Matrix3d rotation() {
-    std::normal_distribution<double> normal;
-    Eigen::Quaterniond q(normal(engine), normal(engine), normal(engine), normal(engine));
-    return q.normalized().toRotationMatrix();
-  }
-  std::mt19937 engine;
-};
-
-// 4-8 bodies, parents anywhere earlier (or the ground), revolute and prismatic
-// joints with random axes, joint points and orientations. Masses do not matter here.
-Model random_tree(Rng& rng) {
-  Model model;
-  const int n = rng.integer(4, 8);
-  for (int j = 0; j < n; ++j) {
-    Body body;
-    body.name = "b" + std::to_string(j);
-    body.parent = rng.integer(kGround, j - 1);
-    body.joint = rng.uniform(0.0, 1.0) < 0.5 ? JointType::revolute : JointType::prismatic;
-    body.joint_P = rng.vector(-1.0, 1.0);
-    body.axis_P = rng.unit_vector();
-    body.R_P_B0 = rng.rotation();
-    body.mass = 1.0;
-    body.com_B = rng.vector(-0.5, 0.5);
-    body.inertia_B = Eigen::Matrix3d::Identity();
-    model.bodies.push_back(body);
-  }
-  model.bodies[1].joint = JointType::prismatic;
-  model.bodies[2].joint = JointType::revolute;
-  return model;
-}
-
-Eigen::VectorXd random_vector(Rng& rng, int n, double lo, double hi) {
-  Eigen::VectorXd v(n);
-  for (int i = 0; i < n; ++i) v[i] = rng.uniform(lo, hi);
-  return v;
-}
+using test::random_tree;
+using test::random_vector;
+using test::Rng;
 
 struct RandomCase {
   Model model;
