@@ -163,6 +163,12 @@ const Eigen::VectorXd& Simulation::outputs() const {
 const std::vector<std::string>& Simulation::output_names() const {
   return engine_->output_names;
 }
+const std::vector<std::string>& Simulation::state_units() const {
+  return engine_->state_units;
+}
+const std::vector<std::string>& Simulation::output_units() const {
+  return engine_->output_units;
+}
 int Simulation::output_index(const std::string& name) const {
   const auto& names = engine_->output_names;
   for (size_t i = 0; i < names.size(); ++i)

@@ -69,10 +69,12 @@ class Simulation {
   const std::vector<std::string>& coordinate_names() const;
   const std::vector<std::string>& state_names() const;  // CSV names ("" not written)
   int state_index(const std::string& name) const;       // -1 if absent
+  const std::vector<std::string>& state_units() const;  // as declared, e.g. "Pa", "V"
   // Subsystem outputs (e.g. a cylinder's stroke) at the accepted state.
   const Eigen::VectorXd& outputs() const;
   const std::vector<std::string>& output_names() const;  // CSV names ("" not written)
   int output_index(const std::string& name) const;       // -1 if absent
+  const std::vector<std::string>& output_units() const;  // as declared, e.g. "m", "N"
 
   // Energy balance, all relative to t = 0: kinetic and potential energy of the
   // bodies, work W done on them by subsystem forces (trapezoidal integral of
