@@ -44,6 +44,22 @@ struct SubsystemInstance {
   double power = 0.0;  // sum F . v at the last evaluation
 };
 
+// A node of a network (e.g. a hydraulic node): the ports the model joined under
+// one name, sharing one effort state.
+struct NodePort {
+  int subsystem = -1;
+  std::string key;
+  uint32_t role = MH_PORT_FLOW;
+};
+struct Node {
+  std::string name;
+  std::string domain, unit;
+  int state = -1;  // its effort's index among the subsystem states
+  bool has_initial = false;
+  std::vector<NodePort> ports;
+  SourceMark mark;  // of the first port naming it
+};
+
 struct Simulation::Engine {
   explicit Engine(const Model& source) : model(source), data(model) {}
   const ModelFile* file = nullptr;
@@ -74,6 +90,10 @@ struct Simulation::Engine {
   Eigen::VectorXd y, ydot;             // current (iterate or accepted)
   Eigen::VectorXd y_k, ydot_k, y_hat;  // accepted at t_k; Eq. (34)
   Eigen::VectorXd state_tol;
+  std::vector<char> algebraic;  // states whose rate no row involves (set by start())
+  std::vector<Node> nodes;
+  std::vector<double> time_events;  // sorted, unique (constructor)
+  size_t next_event = 0;            // the first event after the accepted time
   // Subsystem outputs (values computed in evaluate, e.g. a cylinder's stroke).
   int n_o = 0;
   std::vector<std::string> output_names, output_qualified, output_units;
@@ -127,6 +147,14 @@ struct Simulation::Engine {
   // outputs, `rows` for the residual; point_at() fills in one instance's points.
   mh_subsystem_eval subsystem_eval(double t_eval, double* rows);
   static void point_at(mh_subsystem_eval& ev, SubsystemInstance& s);
+
+  // network_nodes.cpp: ports joined into nodes, and their checks after setup.
+  mh_status add_port(InstanceHost& h, const mh_port_spec& spec, int32_t* index);
+  void check_network() const;
+
+  // initial_state.cpp: consistent initial states at t = 0.
+  void solve_initial_rates(double t_eval);
+  void solve_algebraic_and_equilibrium();
 
   // loop_assembly.cpp
   void assemble_loops();

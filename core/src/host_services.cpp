@@ -249,6 +249,42 @@ mh_status host_evaluate_mechanics(const mh_host* host, const mh_mech_request* re
   return s;
 }
 
+mh_status host_add_port(const mh_host* host, const mh_port_spec* spec, int32_t* index) {
+  InstanceHost& h = self(host);
+  if (setup_only(h, "add_port") != MH_OK) return MH_ERROR;
+  if (spec == nullptr || spec->struct_size < sizeof(mh_port_spec) || index == nullptr) {
+    host_log(host, MH_LOG_ERROR, "add_port: expected an mh_port_spec and an index");
+    return MH_ERROR;
+  }
+  return h.engine->add_port(h, *spec, index);
+}
+
+// The point's world position at the assembled initial configuration (the
+// constructor leaves the kinematics there while the instances are set up).
+mh_status host_point_position(const mh_host* host, int32_t point, double* position3) {
+  InstanceHost& h = self(host);
+  if (setup_only(h, "point_position") != MH_OK) return MH_ERROR;
+  const SubsystemInstance& s = h.engine->subsystems[static_cast<size_t>(h.subsystem)];
+  if (point < 0 || static_cast<size_t>(point) >= s.points.size() || position3 == nullptr) {
+    host_log(host, MH_LOG_ERROR, "point_position: no such point (add it with add_point first)");
+    return MH_ERROR;
+  }
+  const Eigen::Vector3d p = mh::point_position(h.engine->data, s.points[static_cast<size_t>(point)]);
+  for (int c = 0; c < 3; ++c) position3[c] = p[c];
+  return MH_OK;
+}
+
+mh_status host_add_time_event(const mh_host* host, double t) {
+  InstanceHost& h = self(host);
+  if (setup_only(h, "add_time_event") != MH_OK) return MH_ERROR;
+  if (!std::isfinite(t)) {
+    host_log(host, MH_LOG_ERROR, "add_time_event: expected a finite time");
+    return MH_ERROR;
+  }
+  h.engine->time_events.push_back(t);
+  return MH_OK;
+}
+
 const void* host_get_extension(const mh_host*, const char*) {
   return nullptr;
 }
@@ -278,6 +314,9 @@ void Simulation::Engine::make_host(InstanceHost& h, const std::string& source,
   h.table.add_output = host_add_output;
   h.table.evaluate_mechanics = host_evaluate_mechanics;
   h.table.get_extension = host_get_extension;
+  h.table.add_port = host_add_port;
+  h.table.point_position = host_point_position;
+  h.table.add_time_event = host_add_time_event;
 }
 
 void Simulation::Engine::check_unread_options(const InstanceHost& h) const {

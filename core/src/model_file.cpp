@@ -398,7 +398,8 @@ class Parser {
     }
     const MapView top(*this, root, "",
                       {"units", "name", "gravity", "plugin_paths", "bodies", "cut_joints",
-                       "subsystems", "formulation", "solver", "planar", "assembly"});
+                       "subsystems", "formulation", "solver", "planar", "assembly", "nodes",
+                       "equilibrium"});
     ModelFile file;
     file.path = file_;
 
@@ -420,8 +421,11 @@ class Parser {
     }
     if (auto cuts = top.get("cut_joints")) file.model.cut_joints = cut_joints(*cuts);
     if (auto assembly_node = top.get("assembly")) parse_assembly(*assembly_node, file);
+    std::map<std::string, SourceMark> columns;
     if (auto subsystems_node = top.get("subsystems"))
-      file.subsystems = subsystems(*subsystems_node);
+      file.subsystems = subsystems(*subsystems_node, columns);
+    if (auto nodes_node = top.get("nodes")) parse_nodes(*nodes_node, file, columns);
+    if (auto equilibrium_node = top.get("equilibrium")) parse_equilibrium(*equilibrium_node, file);
 
     file.formulation.mark = mark(root);
     if (auto formulation_node = top.get("formulation")) {
@@ -740,13 +744,54 @@ class Parser {
     return joints;
   }
 
-  std::vector<SubsystemSpec> subsystems(const YAML::Node& node) const {
+  // A result column name: no commas, quotes or spaces, unique in the file.
+  std::string column_name(const YAML::Node& node, const std::string& field,
+                          std::map<std::string, SourceMark>& columns) const {
+    const std::string column = name(node, field);
+    if (column.find_first_of(", \t\"\r\n") != std::string::npos) {
+      fail(node, field,
+           "expected a column name without commas, quotes or spaces, got '" + column + "'");
+    }
+    check_unique(columns, column, node, field, "result column");
+    return column;
+  }
+
+  // nodes: {NODE: COLUMN | null}. Every node must be some port's.
+  void parse_nodes(const YAML::Node& node, ModelFile& file,
+                   std::map<std::string, SourceMark>& columns) const {
+    const MapView map(*this, node, "nodes", {});
+    file.nodes_mark = mark(node);
+    for (const Entry& e : map.entries()) {
+      bool used = false;
+      for (const auto& spec : file.subsystems)
+        for (const auto& [key, port] : spec.ports) used = used || port.node == e.key;
+      if (!used)
+        fail(e.value, map.field(e.key),
+             "unknown node '" + e.key + "' (no subsystem port names it under ports)");
+      file.node_columns[e.key] = e.value.IsNull() ? "" : column_name(e.value, map.field(e.key), columns);
+    }
+  }
+
+  // equilibrium: {free: [state, ...]}
+  void parse_equilibrium(const YAML::Node& node, ModelFile& file) const {
+    const MapView map(*this, node, "equilibrium", {"free"});
+    const YAML::Node free = map.require("free", "a list of states to solve for at t = 0");
+    if (!free.IsSequence() || free.size() == 0)
+      fail(free, "equilibrium.free",
+           "expected a non-empty list of state names (result columns), got " + describe(free));
+    for (std::size_t i = 0; i < free.size(); ++i) {
+      file.equilibrium_free.push_back(name(free[i], index_field("equilibrium.free", i)));
+      file.equilibrium_marks.push_back(mark(free[i]));
+    }
+  }
+
+  std::vector<SubsystemSpec> subsystems(const YAML::Node& node,
+                                        std::map<std::string, SourceMark>& columns) const {
     if (!node.IsSequence()) {
       fail(node, "subsystems", "expected a list of subsystems, got " + describe(node));
     }
     std::vector<SubsystemSpec> specs;
     std::map<std::string, SourceMark> names;
-    std::map<std::string, SourceMark> columns;
     for (std::size_t i = 0; i < node.size(); ++i) {
       const std::string field = index_field("subsystems", i);
       const MapView map(*this, node[i], field, {});
@@ -765,6 +810,16 @@ class Parser {
           for (const Entry& p : points.entries()) {
             spec.points[p.key] = point(p.value, points.field(p.key));
           }
+        } else if (entry.key == "ports") {
+          // ports: {KEY: NODE}: ports naming the same node are joined.
+          const MapView ports(*this, entry.value, entry_field, {});
+          for (const Entry& p : ports.entries()) {
+            if (!p.value.IsScalar())
+              fail(p.value, ports.field(p.key),
+                   "expected one node name (a port joins exactly one node), got " +
+                       describe(p.value));
+            spec.ports[p.key] = PortSpec{name(p.value, ports.field(p.key)), mark(p.value)};
+          }
         } else if (entry.key == "states" || entry.key == "outputs") {
           // Column names of the instance's states and outputs; null hides one.
           const bool states_key = entry.key == "states";
@@ -776,13 +831,7 @@ class Parser {
               target[s.key] = "";
               continue;
             }
-            const std::string column = name(s.value, column_field);
-            if (column.find_first_of(", \t\"\r\n") != std::string::npos) {
-              fail(s.value, column_field,
-                   "expected a column name without commas, quotes or spaces, got '" + column + "'");
-            }
-            check_unique(columns, column, s.value, column_field, "result column");
-            target[s.key] = column;
+            target[s.key] = column_name(s.value, column_field, columns);
           }
         } else {
           spec.options[entry.key] = option(entry.value, entry_field);

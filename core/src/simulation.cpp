@@ -2,9 +2,11 @@
 // the tangent's pattern analysed once; then the accessors of the results.
 #include "monohydra/core/simulation.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "engine.hpp"
+#include "monohydra/core/kinematics.hpp"
 
 namespace mh {
 
@@ -36,6 +38,8 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
   }
   for (const auto& name : e.coordinate_names) e.coordinate_name_ptrs.push_back(name.c_str());
   e.assemble_loops();
+  // Instances read their points' initial positions during setup.
+  forward_kinematics(e.model, e.data, e.z0, e.zd0);
 
   // Subsystems, in model order (find_state sees the instances before it).
   e.subsystems.resize(file.subsystems.size());
@@ -72,6 +76,10 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
                          "unknown point (this component does not use it)");
     }
   }
+
+  e.check_network();
+  std::sort(e.time_events.begin(), e.time_events.end());
+  e.time_events.erase(std::unique(e.time_events.begin(), e.time_events.end()), e.time_events.end());
 
   // The formulation.
   e.formulation_name = formulation.empty() ? file.formulation.name : formulation;

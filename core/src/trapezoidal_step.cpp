@@ -60,6 +60,11 @@ void Simulation::Engine::start() {
   Eigen::VectorXd tol_m(n_m);
   tol_m.setConstant(settings.tol_position);
   last_plugin_error.clear();
+  // Algebraic states, and the equilibrium the model asks for, before the
+  // formulation computes its initial accelerations from them.
+  solve_algebraic_and_equilibrium();
+  next_event = 0;
+  while (next_event < time_events.size() && time_events[next_event] <= 0.0) ++next_event;
   mh_status st = formulation->start(formulation, t, dt, z.data(), zd.data(), tol_m.data());
   if (st >= MH_DISCARD) fail(status_reason(st, "formulation start"));
   st = formulation->coordinates(formulation, z.data(), zd.data(), zdd.data());
@@ -70,55 +75,9 @@ void Simulation::Engine::start() {
   for (int i = 0; i < n; ++i)
     if (!(tol[i] > 0.0)) fail("the tolerance of " + unknown_name(i) + " is not positive");
 
-  // ydot0: the state rows are F(ydot, y0) = 0 at the initial kinematics; solve
-  // for ydot by Newton with a forward-difference Jacobian (done once).
+  // ydot0: the rates that make every state row vanish at t = 0.
   forward_kinematics(model, data, z, zd);
-  if (n_s > 0) {
-    Eigen::VectorXd f0(n_s), f1(n_s);
-    Eigen::MatrixXd J(n_s, n_s);
-    for (int it = 0; it < 20; ++it) {
-      reset_applied_forces(model, data);
-      st = evaluate_subsystems(t, f0.data());
-      if (st >= MH_DISCARD) fail(status_reason(st, "subsystem evaluation at t = 0"));
-      for (int c = 0; c < n_s; ++c) {
-        const double h = 1e-8 * std::max(1.0, std::abs(ydot[c]));
-        ydot[c] += h;
-        reset_applied_forces(model, data);
-        evaluate_subsystems(t, f1.data());
-        ydot[c] -= h;
-        J.col(c) = (f1 - f0) / h;
-      }
-      // Algebraic states (a constant-pressure source: no row depends on their
-      // rate) keep ydot = 0; the rows that involve no rate are theirs.
-      std::vector<int> rates, rows_used;
-      for (int c = 0; c < n_s; ++c)
-        if (J.col(c).lpNorm<Eigen::Infinity>() > 0.0) rates.push_back(c);
-      for (int r0 = 0; r0 < n_s; ++r0)
-        if (J.row(r0).lpNorm<Eigen::Infinity>() > 0.0) rows_used.push_back(r0);
-      if (rates.size() != rows_used.size())
-        fail("the initial state rates cannot be found: " + std::to_string(rows_used.size()) +
-             " subsystem rows involve rates, but " + std::to_string(rates.size()) +
-             " states have rates that rows involve");
-      const int k = static_cast<int>(rates.size());
-      Eigen::MatrixXd Jr(k, k);
-      Eigen::VectorXd fr(k);
-      for (int a = 0; a < k; ++a) {
-        fr[a] = f0[rows_used[static_cast<size_t>(a)]];
-        for (int b = 0; b < k; ++b)
-          Jr(a, b) = J(rows_used[static_cast<size_t>(a)], rates[static_cast<size_t>(b)]);
-      }
-      Eigen::FullPivLU<Eigen::MatrixXd> lu(Jr);
-      if (!lu.isInvertible())
-        fail(
-            "the initial state rates cannot be found: the subsystem rows do not determine "
-            "every state's rate (is each state's own term missing?)");
-      const Eigen::VectorXd dr = lu.solve(-fr);
-      Eigen::VectorXd step_ydot = Eigen::VectorXd::Zero(n_s);
-      for (int b = 0; b < k; ++b) step_ydot[rates[static_cast<size_t>(b)]] = dr[b];
-      ydot += step_ydot;
-      if (step_ydot.norm() <= 1e-12 * (1.0 + ydot.norm())) break;
-    }
-  }
+  solve_initial_rates(t);
   y_k = y;
   ydot_k = ydot;
   // The energy bookkeeping's starting values.
@@ -154,13 +113,27 @@ void Simulation::Engine::step_once() {
   stats.increment_norms.clear();
   stats.residual_norms.clear();
 
-  // Predictor: the formulation's for its unknowns, y + dt ydot for the states.
+  // A time event inside the step, or at its end: the end is evaluated at the
+  // event's left limit, and the rates restart after it (right limit).
+  bool event = false;
+  double t_eval = t_next;
+  while (next_event < time_events.size() && time_events[next_event] <= t_next + 1e-9 * dt) {
+    event = true;
+    if (std::abs(time_events[next_event] - t_next) <= 1e-9 * dt)
+      t_eval = std::nextafter(time_events[next_event], -HUGE_VAL);
+    ++next_event;
+  }
+
+  // Predictor: the formulation's for its unknowns, y + dt ydot for the states
+  // (y for the algebraic ones, whose rates mean nothing).
   mh_status st = formulation->predict(formulation, t_next, x.data());
   if (st >= MH_DISCARD) fail(status_reason(st, "formulation predict"));
   x.tail(n_s) = y_k + dt * ydot_k;
+  for (int i = 0; i < n_s; ++i)
+    if (algebraic[static_cast<size_t>(i)] != 0) x[n_m + i] = y_k[i];
   y_hat = -((2.0 / dt) * y_k + ydot_k);  // Eq. (34)
 
-  st = residual(t_next, x, r);
+  st = residual(t_eval, x, r);
   if (st >= MH_DISCARD) fail(status_reason(st, "residual evaluation"));
   stats.residual_norms.push_back(r.lpNorm<Eigen::Infinity>());
   bool converged = false;
@@ -172,7 +145,7 @@ void Simulation::Engine::step_once() {
       while (bad < n && std::isfinite(r[bad])) ++bad;
       fail("the residual is not finite in the row of " + unknown_name(bad));
     }
-    st = assemble_tangent(t_next);
+    st = assemble_tangent(t_eval);
     if (st >= MH_DISCARD) fail(status_reason(st, "tangent assembly"));
     if (!klu->factor(values.data())) fail(klu->error());
     dx = -r;
@@ -192,7 +165,7 @@ void Simulation::Engine::step_once() {
       st = formulation->iteration_done(formulation, t_next, x.data());
       if (st >= MH_DISCARD) fail(status_reason(st, "formulation iteration"));
     }
-    st = residual(t_next, x, r);
+    st = residual(t_eval, x, r);
     if (st >= MH_DISCARD) fail(status_reason(st, "residual evaluation"));
     stats.residual_norms.push_back(r.lpNorm<Eigen::Infinity>());
     if (worst <= 1.0) {
@@ -213,8 +186,8 @@ void Simulation::Engine::step_once() {
   if (st >= MH_DISCARD) fail(status_reason(st, "formulation coordinates"));
   y = x.tail(n_s);
   ydot = (2.0 / dt) * y + y_hat;  // Eq. (33)
-  y_k = y;
-  ydot_k = ydot;
+  for (int i = 0; i < n_s; ++i)
+    if (algebraic[static_cast<size_t>(i)] != 0) ydot[i] = 0.0;
   outputs_k = outputs;                   // of the converged iterate's evaluation
   work += 0.5 * dt * (power_k + power);  // W = integral of F . v, trapezoidal
   power_k = power;
@@ -232,6 +205,12 @@ void Simulation::Engine::step_once() {
   t = t_next;
   ++step;
   forward_kinematics(model, data, z, zd);
+  if (event) {
+    solve_initial_rates(std::nextafter(t, HUGE_VAL));
+    forward_kinematics(model, data, z, zd);
+  }
+  y_k = y;
+  ydot_k = ydot;
   ke = mh::kinetic_energy(model, data);
   pe = mh::potential_energy(model, data);
   if (m > 0) {

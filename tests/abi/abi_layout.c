@@ -27,6 +27,7 @@ const abi_layout mh_c_layouts[] = {
     LAYOUT(mh_mech_info),
     LAYOUT(mh_mech_request),
     LAYOUT(mh_mech_result),
+    LAYOUT(mh_port_spec),
     LAYOUT(mh_host),
     LAYOUT(mh_formulation),
     LAYOUT(mh_formulation_factory),

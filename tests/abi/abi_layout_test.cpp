@@ -31,7 +31,8 @@ TEST(AbiLayout, CAndCxxSeeTheSameSizesAndAlignments) {
       CXX_LAYOUT(mh_mech_info),
       CXX_LAYOUT(mh_mech_request),
       CXX_LAYOUT(mh_mech_result),
-      CXX_LAYOUT(mh_host),
+      CXX_LAYOUT(mh_port_spec),
+    CXX_LAYOUT(mh_host),
       CXX_LAYOUT(mh_formulation),
       CXX_LAYOUT(mh_formulation_factory),
       CXX_LAYOUT(mh_subsystem_eval),
@@ -52,8 +53,16 @@ TEST(AbiLayout, FunctionTablesKeepTheirFieldOffsets) {
   EXPECT_EQ(mh_c_offset_subsystem_get_extension, offsetof(mh_subsystem, get_extension));
 }
 
-TEST(AbiLayout, VersionIsOneZero) {
+TEST(AbiLayout, VersionIsOneOne) {
   const mh_version v = MH_ABI_VERSION_INIT;
   EXPECT_EQ(v.major, 1u);
-  EXPECT_EQ(v.minor, 0u);
+  EXPECT_EQ(v.minor, 1u);
+}
+
+// ABI 1.1 only appended: every 1.0 field keeps its offset, the new ones follow.
+TEST(AbiLayout, MinorOneAppendsHostServicesAfterEveryOneZeroField) {
+  EXPECT_GT(offsetof(mh_host, add_port), offsetof(mh_host, add_output));
+  EXPECT_GT(offsetof(mh_host, point_position), offsetof(mh_host, add_port));
+  EXPECT_GT(offsetof(mh_host, add_time_event), offsetof(mh_host, point_position));
+  EXPECT_EQ(sizeof(mh_host), offsetof(mh_host, add_time_event) + sizeof(void*));
 }

@@ -57,7 +57,7 @@ TEST(PluginRegistry, RefusesALibraryWithoutTheEntrySymbol) {
 TEST(PluginRegistry, RefusesAPluginOfAnIncompatibleAbiMajorVersion) {
   const std::string path = std::string(MH_FIXTURE_DIR) + "/mh_fixture_future_abi.so";
   EXPECT_EQ(load_error(path), "'" + path +
-                                  "' was built for monohydra ABI 99.0, this host speaks ABI 1.0 "
+                                  "' was built for monohydra ABI 99.0, this host speaks ABI 1.1 "
                                   "(major versions must match)");
 }
 

@@ -57,6 +57,30 @@ typedef struct mh_mech_result {
                                Phi_z * zdd + phi_dot_zd = d^2 Phi / dt^2 */
 } mh_mech_result;
 
+/* Port roles (mh_port_spec.role). */
+#define MH_PORT_FLOW 0u   /* exchanges flow with the node and reads its effort: a valve's
+                             port, a volume, a cylinder chamber */
+#define MH_PORT_EFFORT 1u /* imposes the node's effort: a pressure source. At most one
+                             per node. */
+
+/* A port of a subsystem instance: its connection to a node of a network (a
+ * hydraulic node: effort = pressure). The model file joins ports into nodes by
+ * name (subsystems/<name>/ports/<key>: NODE). The node's effort is one state of
+ * the run, shared by every port on the node; its row is the node's balance, to
+ * which every port adds what leaves the node through it (storage terms, such as
+ * C dp/dt of a volume, count as leaving). */
+typedef struct mh_port_spec {
+  uint32_t struct_size; /* sizeof(mh_port_spec) */
+  const char* key;      /* the port's name, e.g. "A" */
+  const char* domain;   /* e.g. "hydraulic": every port on a node must agree */
+  const char* unit;     /* of the effort, e.g. "Pa" */
+  uint32_t role;        /* MH_PORT_FLOW or MH_PORT_EFFORT */
+  double initial;       /* the node's initial effort, or NaN for no opinion; the
+                           ports that give one must agree */
+  double abs_tolerance; /* Newton increment tolerance on the effort, or NaN; the
+                           node takes the smallest given */
+} mh_port_spec;
+
 typedef struct mh_host {
   uint32_t struct_size;   /* sizeof(mh_host) of the host's SDK: check before using
                              fields added by a later minor version */
@@ -118,6 +142,21 @@ typedef struct mh_host {
    * receives its index in mh_subsystem_eval.outputs. */
   mh_status (*add_output)(const struct mh_host* host, const char* name, const char* unit,
                           int32_t* index);
+
+  /* -- ABI 1.1 (check struct_size before use) ----------------------------- */
+  /* -- subsystem setup only -- */
+  /* Declares a port (see mh_port_spec). *index receives the global index of
+   * its node's effort state: read it in y and ydot, add to its residual row. */
+  mh_status (*add_port)(const struct mh_host* host, const mh_port_spec* spec, int32_t* index);
+  /* The world position (m) of this instance's point `point` (from add_point)
+   * at the initial, assembled configuration: e.g. a cylinder's initial length. */
+  mh_status (*point_position)(const struct mh_host* host, int32_t point, double* position3);
+  /* Declares a time (s) at which this instance's equations jump (a step of a
+   * reference signal). When a step ends exactly there, the host evaluates the
+   * step's end just before it (the left limit) and restarts the state rates
+   * just after it (the right limit), which keeps the trapezoidal rule second
+   * order. Evaluate signals right-continuously: a table row at t_i holds from t_i. */
+  mh_status (*add_time_event)(const struct mh_host* host, double t);
 } mh_host;
 
 #ifdef __cplusplus

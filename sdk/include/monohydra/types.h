@@ -16,7 +16,7 @@ extern "C" {
 #endif
 
 #define MH_ABI_VERSION_MAJOR 1u
-#define MH_ABI_VERSION_MINOR 0u
+#define MH_ABI_VERSION_MINOR 1u
 #define MH_ABI_VERSION_PATCH 0u
 
 typedef struct mh_version {

@@ -31,11 +31,19 @@ struct PointSpec {
   SourceMark mark;
 };
 
+// A port of a subsystem joined to a named node of a network (e.g. a hydraulic
+// node: every port naming it shares its pressure).
+struct PortSpec {
+  std::string node;
+  SourceMark mark;
+};
+
 struct SubsystemSpec {
   std::string name;                         // unique among subsystems
   std::string type;                         // component id, e.g. "spring-damper"
   OptionMap options;                        // every key but name, type, points, states, outputs
   std::map<std::string, PointSpec> points;  // points/<key>
+  std::map<std::string, PortSpec> ports;    // ports/<key>: node
   std::map<std::string, std::string> state_names;   // states/<local>: column ("" hidden)
   std::map<std::string, std::string> output_names;  // outputs/<local>: column ("" hidden)
   SourceMark mark;
@@ -63,6 +71,14 @@ struct ModelFile {
   FormulationSpec formulation;
   SolverSettings solver;
   std::vector<std::string> plugin_paths;  // absolute, resolved against the file's folder
+  // nodes/<node>: the result column of a node's effort ("" hidden); unlisted
+  // nodes are written under their own name.
+  std::map<std::string, std::string> node_columns;
+  SourceMark nodes_mark;
+  // equilibrium/free: states (result columns or "instance.state" names) the
+  // host solves at t = 0 so that the system starts at rest.
+  std::vector<std::string> equilibrium_free;
+  std::vector<SourceMark> equilibrium_marks;
 };
 
 // Reads and validates a model file. Throws InputError.
