@@ -1,14 +1,11 @@
 // The components of the mechanics plugin library.
 #pragma once
 
-#include "monohydra/subsystem.h"
+#include "monohydra/cpp/subsystem_component.hpp"
 
 namespace mech {
 
-extern const mh_component_descriptor kSpringDamperDescriptor;
-extern const mh_component_descriptor kMaxwellDescriptor;
-
-const mh_subsystem* create_spring_damper(const mh_host* host);
-const mh_subsystem* create_maxwell_element(const mh_host* host);
+extern const monohydra::SubsystemComponent kSpringDamper;  // spring_damper.cpp
+extern const monohydra::SubsystemComponent kMaxwell;       // maxwell_element.cpp
 
 }  // namespace mech

@@ -1,0 +1,15 @@
+// The components of the hydraulics plugin library (docs/hydraulics.md), each
+// defined in its own file.
+#pragma once
+
+#include "monohydra/cpp/subsystem_component.hpp"
+
+namespace hyd {
+
+extern const monohydra::SubsystemComponent kPressureSource;  // pressure_source.cpp
+extern const monohydra::SubsystemComponent kVolume;          // volume.cpp
+extern const monohydra::SubsystemComponent kThrottle;        // throttle.cpp
+extern const monohydra::SubsystemComponent kValve43;         // valve_4_3.cpp
+extern const monohydra::SubsystemComponent kCylinder;        // cylinder.cpp
+
+}  // namespace hyd

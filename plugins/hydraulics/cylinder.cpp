@@ -1,0 +1,189 @@
+// cylinder: a double-acting hydraulic cylinder (Eqs. 28-29, 42-45) between
+// point a (the housing end) and point b (the rod end). With s = |p_b - p_a|,
+// sdot = ds/dt (> 0 extending), s0 = s at the initial configuration:
+//   l2 = l2_0 + (s - s0), l3 = l3_0 - (s - s0),  l2_0 = s0 - l, l3_0 = l - l2_0
+//   (the case study's Decision on the sign of Eq. 43)
+//   A's row += A2 l2 (1/B_oil + 1/B_c) dp_A/dt + A2 sdot   (chamber storage; the
+//   B's row += A3 l3 (1/B_oil + 1/B_c) dp_B/dt - A3 sdot    piston's Eq. 28 flows)
+//   F = p_A A2 - p_B A3 - F_mu                               (Eq. 29)
+//   F_mu = (1 - eta) |p_A A2 - p_B A3| tanh(sdot / v_s)      (the Decision on friction)
+// +F e on point b and -F e on point a, e the unit vector from a to b.
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "components.hpp"
+#include "host_services.hpp"
+#include "touched_states.hpp"
+
+namespace hyd {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kPi = 3.14159265358979323846;
+
+class Cylinder {
+ public:
+  static const mh_component_descriptor kDescriptor;
+
+  explicit Cylinder(const mh_host* host) : host_(host) {}
+
+  mh_status setup() {
+    const mh_host* h = host_;
+    double d2 = 0.0, d3 = 0.0, chamber = 0.0, fluid = 0.0;
+    if (positive_option(h, "piston_diameter", 1, 0.0, "a positive piston diameter (m)", &d2) !=
+            MH_OK ||
+        positive_option(h, "rod_diameter", 1, 0.0, "a positive rod diameter (m)", &d3) != MH_OK ||
+        positive_option(h, "length", 1, 0.0, "a positive cylinder length (m)", &length_) != MH_OK ||
+        positive_option(h, "chamber_bulk_modulus", 1, 0.0,
+                        "a positive bulk modulus of the cylinder (Pa)", &chamber) != MH_OK ||
+        positive_option(h, "fluid_bulk_modulus", 1, 0.0,
+                        "a positive bulk modulus of the fluid (Pa)", &fluid) != MH_OK ||
+        h->option_number(h, "efficiency", 1, 0.0, &efficiency_) != MH_OK ||
+        positive_option(h, "friction_velocity", 0, 0.01, "a positive friction velocity (m/s)",
+                        &v_s_) != MH_OK)
+      return MH_ERROR;
+    if (!(d3 < d2))
+      return h->option_error(
+          h, "rod_diameter",
+          ("a rod diameter below the piston diameter " + fmt(d2) + " m").c_str());
+    if (!(efficiency_ > 0.0 && efficiency_ <= 1.0))
+      return h->option_error(h, "efficiency", "an efficiency in (0, 1]");
+    a2_ = 0.25 * kPi * d2 * d2;
+    a3_ = 0.25 * kPi * (d2 * d2 - d3 * d3);
+    compliance_ = 1.0 / fluid + 1.0 / chamber;
+    if (!has_ports(h, "cylinder")) return MH_ERROR;
+
+    double xa[3], xb[3];
+    if (h->add_point(h, "a", &point_a_) != MH_OK || h->add_point(h, "b", &point_b_) != MH_OK ||
+        h->point_position(h, point_a_, xa) != MH_OK || h->point_position(h, point_b_, xb) != MH_OK)
+      return MH_ERROR;
+    s0_ = std::sqrt((xb[0] - xa[0]) * (xb[0] - xa[0]) + (xb[1] - xa[1]) * (xb[1] - xa[1]) +
+                    (xb[2] - xa[2]) * (xb[2] - xa[2]));
+    l2_0_ = s0_ - length_;
+    l3_0_ = length_ - l2_0_;
+    if (l2_0_ < 0.0 || l3_0_ < 0.0)
+      return h->option_error(
+          h, "length",
+          ("a cylinder length l with s0/2 <= l <= s0, where s0 = " + fmt(s0_) +
+           " m is the initial distance between points a and b (the chambers l2_0 = s0 - l = " +
+           fmt(l2_0_) + " m and l3_0 = l - l2_0 = " + fmt(l3_0_) + " m must not be negative)")
+              .c_str());
+
+    if (add_hydraulic_port(h, "A", MH_PORT_FLOW, kNaN, kNaN, &p_a_) != MH_OK) return MH_ERROR;
+    states_.add(p_a_);
+    if (add_hydraulic_port(h, "B", MH_PORT_FLOW, kNaN, kNaN, &p_b_) != MH_OK) return MH_ERROR;
+    states_.add(p_b_);
+    if (h->add_output(h, "s", "m", &s_out_) != MH_OK ||
+        h->add_output(h, "sdot", "m/s", &sdot_out_) != MH_OK ||
+        h->add_output(h, "Fs", "N", &force_out_) != MH_OK)
+      return MH_ERROR;
+    return MH_OK;
+  }
+
+  mh_status evaluate(const mh_subsystem_eval& eval) const {
+    State st;
+    if (!measure(eval, st)) return MH_ERROR;
+    const double p_a = eval.y[p_a_], p_b = eval.y[p_b_];
+    // Chamber storage (Eq. 23's V_s / B_oil + V_s / B_c) and the piston's flows (Eq. 28).
+    eval.residual[p_a_] += a2_ * st.l2 * compliance_ * eval.ydot[p_a_] + a2_ * st.sdot;
+    eval.residual[p_b_] += a3_ * st.l3 * compliance_ * eval.ydot[p_b_] - a3_ * st.sdot;
+    const double force = p_a * a2_ - p_b * a3_ - friction(p_a, p_b, st.sdot);  // Eq. 29
+    for (int i = 0; i < 3; ++i) {
+      eval.point_f[3 * point_a_ + i] -= force * st.e[i];
+      eval.point_f[3 * point_b_ + i] += force * st.e[i];
+    }
+    eval.outputs[s_out_] = st.s;
+    eval.outputs[sdot_out_] = st.sdot;
+    eval.outputs[force_out_] = force;
+    return MH_OK;
+  }
+
+  // The rows depend on the pressures only through their rates.
+  mh_status jacobian(const mh_subsystem_eval& eval, double*, double* d_dydot) const {
+    State st;
+    if (!measure(eval, st)) return MH_ERROR;
+    JacobianBlock dydot(states_, d_dydot);
+    dydot.add(p_a_, p_a_, a2_ * st.l2 * compliance_);
+    dydot.add(p_b_, p_b_, a3_ * st.l3 * compliance_);
+    return MH_OK;
+  }
+
+  // Nothing stored (the fluid's compression energy is not tracked); the seals
+  // dissipate F_mu sdot >= 0.
+  mh_status energy(const mh_subsystem_eval& eval, double& stored, double& dissipation) const {
+    State st;
+    if (!measure(eval, st)) return MH_ERROR;
+    stored = 0.0;
+    dissipation = friction(eval.y[p_a_], eval.y[p_b_], st.sdot) * st.sdot;
+    return MH_OK;
+  }
+
+ private:
+  struct State {
+    double s = 0.0, sdot = 0.0;     // m, m/s
+    double e[3] = {0.0, 0.0, 0.0};  // unit vector from a to b
+    double l2 = 0.0, l3 = 0.0;      // chamber lengths, m
+  };
+
+  // Geometry at `eval`; false (after logging) when the points coincide or the
+  // stroke left the cylinder.
+  bool measure(const mh_subsystem_eval& eval, State& st) const {
+    const double* xa = eval.point_p + 3 * point_a_;
+    const double* xb = eval.point_p + 3 * point_b_;
+    const double* va = eval.point_v + 3 * point_a_;
+    const double* vb = eval.point_v + 3 * point_b_;
+    const double d[3] = {xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]};
+    st.s = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (!(st.s > 1e-12)) {
+      log_error(host_, "the cylinder's points a and b coincide: no direction");
+      return false;
+    }
+    st.sdot = 0.0;
+    for (int i = 0; i < 3; ++i) {
+      st.e[i] = d[i] / st.s;
+      st.sdot += (vb[i] - va[i]) * st.e[i];
+    }
+    st.l2 = l2_0_ + (st.s - s0_);
+    st.l3 = l3_0_ - (st.s - s0_);
+    if (st.l2 < 0.0 || st.l3 < 0.0) {
+      log_error(host_, "the stroke left the cylinder: actuator length s = " + fmt(st.s) +
+                           " m is outside its range [s0 - l2_0, s0 + l3_0] = [" + fmt(s0_ - l2_0_) +
+                           ", " + fmt(s0_ + l3_0_) + "] m");
+      return false;
+    }
+    return true;
+  }
+
+  double friction(double p_a, double p_b, double sdot) const {
+    return (1.0 - efficiency_) * std::abs(p_a * a2_ - p_b * a3_) * std::tanh(sdot / v_s_);
+  }
+
+  const mh_host* host_;
+  double length_ = 0.0, efficiency_ = 1.0, v_s_ = 0.01;
+  double a2_ = 0.0, a3_ = 0.0;  // piston and rod side areas, m^2
+  double compliance_ = 0.0;     // 1/B_oil + 1/B_c, 1/Pa
+  double s0_ = 0.0, l2_0_ = 0.0, l3_0_ = 0.0;
+  int32_t point_a_ = 0, point_b_ = 1;
+  int32_t p_a_ = -1, p_b_ = -1, s_out_ = -1, sdot_out_ = -1, force_out_ = -1;
+  TouchedStates states_;
+};
+
+const mh_component_descriptor Cylinder::kDescriptor{
+    sizeof(mh_component_descriptor),
+    "cylinder",
+    "Double-acting hydraulic cylinder",
+    "monohydra",
+    "1.0.0",
+    "Between points a (housing) and b (rod end); ports A (piston side) and B (rod side). "
+    "Force p_A A2 - p_B A3 - F_mu pushes a and b apart (Eq. 29); chambers A2 l2 and A3 l3 store "
+    "fluid, the piston displaces A2 sdot and A3 sdot (Eq. 28). Options: piston_diameter (m), "
+    "rod_diameter (m), length (m), chamber_bulk_modulus (Pa), fluid_bulk_modulus (Pa), "
+    "efficiency (0..1], friction_velocity (m/s, default 0.01). Outputs s (m), sdot (m/s), "
+    "Fs (N)."};
+
+}  // namespace
+
+const monohydra::SubsystemComponent kCylinder = monohydra::subsystem_component<Cylinder>();
+
+}  // namespace hyd

@@ -1,0 +1,77 @@
+// pressure-source: a pump or a tank held at a constant pressure (p_P, p_T of
+// the paper's circuit). The imposed pressure enters as a constraint with a
+// Lagrange multiplier q, the flow the source delivers into its node:
+//   node row  += -q                 (q enters the node)
+//   q's row   += p - pressure       (= 0: the node is held at `pressure`)
+// so every other component treats a source node like any other node.
+#include <cmath>
+
+#include "components.hpp"
+#include "host_services.hpp"
+#include "touched_states.hpp"
+
+namespace hyd {
+namespace {
+
+class PressureSource {
+ public:
+  static const mh_component_descriptor kDescriptor;
+
+  explicit PressureSource(const mh_host* host) : host_(host) {}
+
+  mh_status setup() {
+    const mh_host* h = host_;
+    double tolerance = 0.0, flow_tolerance = 0.0;
+    if (h->option_number(h, "pressure", 1, 0.0, &pressure_) != MH_OK) return MH_ERROR;
+    if (!(std::isfinite(pressure_) && pressure_ >= 0.0))
+      return h->option_error(h, "pressure", "a non-negative pressure (Pa)");
+    if (positive_option(h, "tolerance", 0, 1e-2, "a positive pressure tolerance (Pa)",
+                        &tolerance) != MH_OK ||
+        positive_option(h, "flow_tolerance", 0, 1e-10, "a positive flow tolerance (m^3/s)",
+                        &flow_tolerance) != MH_OK)
+      return MH_ERROR;
+    if (!has_ports(h, "pressure-source")) return MH_ERROR;
+    if (add_hydraulic_port(h, "p", MH_PORT_EFFORT, pressure_, tolerance, &p_) != MH_OK)
+      return MH_ERROR;
+    states_.add(p_);
+    if (h->add_state(h, "q", 0.0, flow_tolerance, "m^3/s", &q_) != MH_OK) return MH_ERROR;
+    states_.add(q_);
+    return MH_OK;
+  }
+
+  mh_status evaluate(const mh_subsystem_eval& eval) const {
+    eval.residual[p_] -= eval.y[q_];
+    eval.residual[q_] += eval.y[p_] - pressure_;
+    return MH_OK;
+  }
+
+  mh_status jacobian(const mh_subsystem_eval&, double* d_dy, double*) const {
+    JacobianBlock dy(states_, d_dy);
+    dy.add(p_, q_, -1.0);
+    dy.add(q_, p_, 1.0);
+    return MH_OK;
+  }
+
+ private:
+  const mh_host* host_;
+  double pressure_ = 0.0;  // Pa
+  int32_t p_ = -1, q_ = -1;
+  TouchedStates states_;
+};
+
+const mh_component_descriptor PressureSource::kDescriptor{
+    sizeof(mh_component_descriptor),
+    "pressure-source",
+    "Constant pressure source (pump or tank)",
+    "monohydra",
+    "1.0.0",
+    "Holds its node (port p) at a constant pressure; state q (m^3/s) is the flow it delivers "
+    "into the node. Options: pressure (Pa), tolerance (Pa, default 1e-2), flow_tolerance "
+    "(m^3/s, default 1e-10)."};
+
+}  // namespace
+
+const monohydra::SubsystemComponent kPressureSource =
+    monohydra::subsystem_component<PressureSource>();
+
+}  // namespace hyd

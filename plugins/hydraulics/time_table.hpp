@@ -1,0 +1,38 @@
+// A piecewise-linear signal of time from a table of rows [t (s), value]: the
+// directional control valve's reference voltage U_ref(t) (Eqs. 46-47).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace hyd {
+
+class TimeTable {
+ public:
+  struct Row {
+    double t;
+    double value;
+  };
+
+  // Reads `rows` rows of 2 numbers (row-major [t0, v0, t1, v1, ...]). The times
+  // must be finite and non-decreasing; a time given twice is a jump. On a bad
+  // table returns false and `error` says what was expected.
+  bool assign(const double* data, uint32_t rows, std::string& error);
+
+  // The value at t: the first value before the first row, the last after the
+  // last row, linear between rows. At a jump (rows i and i+1 at the same time)
+  // the later row holds from that time on (right-continuous).
+  double value(double t) const;
+
+  // The times at which the signal jumps (each time that appears more than
+  // once), ascending, without repeats.
+  std::vector<double> jump_times() const;
+
+  const std::vector<Row>& rows() const { return rows_; }
+
+ private:
+  std::vector<Row> rows_;
+};
+
+}  // namespace hyd

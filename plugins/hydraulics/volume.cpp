@@ -1,0 +1,74 @@
+// volume: a lumped hose volume V on one node (Eqs. 22-23). Its storage term
+//   node row += V (1/B_oil + 1/B_h) dp/dt
+// is the capacitance V_s / B_oil + V_s / B_s of one sub-volume: summed with the
+// other sub-volumes on the node (e.g. a cylinder chamber) it is exactly
+// V_k / B_ek of Eq. 23, and the node row then reads Eq. 22 multiplied by
+// V_k / B_ek: sum(C) dp/dt + sum(outflows) = 0.
+#include <cmath>
+#include <limits>
+
+#include "components.hpp"
+#include "host_services.hpp"
+#include "touched_states.hpp"
+
+namespace hyd {
+namespace {
+
+class Volume {
+ public:
+  static const mh_component_descriptor kDescriptor;
+
+  explicit Volume(const mh_host* host) : host_(host) {}
+
+  mh_status setup() {
+    const mh_host* h = host_;
+    double volume = 0.0, wall = 0.0, fluid = 0.0, tolerance = 0.0;
+    double initial = std::numeric_limits<double>::quiet_NaN();
+    if (positive_option(h, "volume", 1, 0.0, "a positive volume (m^3)", &volume) != MH_OK ||
+        positive_option(h, "bulk_modulus", 1, 0.0, "a positive bulk modulus of the hose wall (Pa)",
+                        &wall) != MH_OK ||
+        positive_option(h, "fluid_bulk_modulus", 1, 0.0,
+                        "a positive bulk modulus of the fluid (Pa)", &fluid) != MH_OK ||
+        positive_option(h, "tolerance", 0, 1e-2, "a positive pressure tolerance (Pa)",
+                        &tolerance) != MH_OK ||
+        h->option_number(h, "initial_pressure", 0, initial, &initial) != MH_OK)
+      return MH_ERROR;
+    capacitance_ = volume * (1.0 / fluid + 1.0 / wall);
+    if (!has_ports(h, "volume")) return MH_ERROR;
+    if (add_hydraulic_port(h, "p", MH_PORT_FLOW, initial, tolerance, &p_) != MH_OK) return MH_ERROR;
+    states_.add(p_);
+    return MH_OK;
+  }
+
+  mh_status evaluate(const mh_subsystem_eval& eval) const {
+    eval.residual[p_] += capacitance_ * eval.ydot[p_];
+    return MH_OK;
+  }
+
+  mh_status jacobian(const mh_subsystem_eval&, double*, double* d_dydot) const {
+    JacobianBlock(states_, d_dydot).add(p_, p_, capacitance_);
+    return MH_OK;
+  }
+
+ private:
+  const mh_host* host_;
+  double capacitance_ = 0.0;  // V (1/B_oil + 1/B_h), m^3/Pa
+  int32_t p_ = -1;
+  TouchedStates states_;
+};
+
+const mh_component_descriptor Volume::kDescriptor{
+    sizeof(mh_component_descriptor),
+    "volume",
+    "Lumped hose volume",
+    "monohydra",
+    "1.0.0",
+    "Stores fluid on its node (port p): V (1/B_oil + 1/B_h) dp/dt (Eqs. 22-23). Options: volume "
+    "(m^3), bulk_modulus (Pa, of the hose wall), fluid_bulk_modulus (Pa), initial_pressure (Pa, "
+    "optional), tolerance (Pa, default 1e-2)."};
+
+}  // namespace
+
+const monohydra::SubsystemComponent kVolume = monohydra::subsystem_component<Volume>();
+
+}  // namespace hyd

@@ -1,0 +1,296 @@
+// monohydra SDK, optional C++17 layer (header-only): turns a C++ class into an
+// mh_subsystem, and a list of such classes into the plugin's one entry symbol,
+// so a plugin writes its equations and none of the C ABI's boilerplate.
+//
+// Everything here is compiled into the plugin; only the plain C structs of
+// monohydra/*.h cross the boundary, and no exception ever does (each operation
+// catches, logs through the host and returns MH_ERROR).
+//
+// A component is a class T with
+//
+//   static const mh_component_descriptor kDescriptor;   // id, name, ...
+//   explicit T(const mh_host* host);                      // may throw
+//   mh_status setup();
+//   mh_status evaluate(const mh_subsystem_eval& eval);    // pure
+//
+// and, optionally (found at compile time; absent means NULL in the table, so
+// the host falls back as docs/sdk.md says):
+//
+//   mh_status jacobian(const mh_subsystem_eval& eval, double* d_dy, double* d_dydot);
+//   mh_status energy(const mh_subsystem_eval& eval, double& stored, double& dissipation);
+//   mh_status accept(const mh_subsystem_eval& eval);
+//   const void* extension(const char* id);                // NULL if not supported
+//
+// The library then lists its components once:
+//
+//   MONOHYDRA_SUBSYSTEM_PLUGIN(monohydra::subsystem_component<Spring>(),
+//                              monohydra::subsystem_component<Damper>())
+//
+// or, with components defined in other files, `extern const
+// monohydra::SubsystemComponent kSpring;` values defined there as
+// `const monohydra::SubsystemComponent kSpring = monohydra::subsystem_component<Spring>();`.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <exception>
+#include <memory>
+#include <new>
+#include <string>
+#include <type_traits>
+#include <utility>
+
+#include "monohydra/entry.h"
+#include "monohydra/subsystem.h"
+
+// True when the table `table` of C type `type` (e.g. a host's mh_host) is
+// large enough to hold `field`: fields a later minor ABI appended are only
+// there when the other side was built against that minor version or newer.
+//   if (!MONOHYDRA_HAS_FIELD(mh_host, host, add_port)) ...
+#define MONOHYDRA_HAS_FIELD(type, table, field) \
+  ((table)->struct_size >= offsetof(type, field) + sizeof(type::field))
+
+namespace monohydra {
+
+namespace detail {
+
+template <class T, class = void>
+struct HasJacobian : std::false_type {};
+template <class T>
+struct HasJacobian<T, std::void_t<decltype(std::declval<T&>().jacobian(
+                          std::declval<const mh_subsystem_eval&>(), std::declval<double*>(),
+                          std::declval<double*>()))>> : std::true_type {};
+
+template <class T, class = void>
+struct HasEnergy : std::false_type {};
+template <class T>
+struct HasEnergy<T, std::void_t<decltype(std::declval<T&>().energy(
+                        std::declval<const mh_subsystem_eval&>(), std::declval<double&>(),
+                        std::declval<double&>()))>> : std::true_type {};
+
+template <class T, class = void>
+struct HasAccept : std::false_type {};
+template <class T>
+struct HasAccept<
+    T, std::void_t<decltype(std::declval<T&>().accept(std::declval<const mh_subsystem_eval&>()))>>
+    : std::true_type {};
+
+template <class T, class = void>
+struct HasExtension : std::false_type {};
+template <class T>
+struct HasExtension<
+    T, std::void_t<decltype(std::declval<T&>().extension(std::declval<const char*>()))>>
+    : std::true_type {};
+
+// Logs "<what>: <reason>" without throwing (a failed allocation logs `what` alone).
+inline void log_failure(const mh_host* host, const char* what, const char* reason) noexcept {
+  if (host == nullptr || host->log == nullptr) return;
+  try {
+    host->log(host, MH_LOG_ERROR, (std::string(what) + ": " + reason).c_str());
+  } catch (...) {
+    host->log(host, MH_LOG_ERROR, what);
+  }
+}
+
+}  // namespace detail
+
+// Runs `op` (returning mh_status); an exception escaping it is logged through
+// `host` as "<what>: <exception text>" and turns into MH_ERROR.
+template <class Op>
+mh_status guarded(const mh_host* host, const char* what, Op&& op) noexcept {
+  try {
+    return std::forward<Op>(op)();
+  } catch (const std::exception& e) {
+    detail::log_failure(host, what, e.what());
+  } catch (...) {
+    detail::log_failure(host, what, "unknown C++ exception");
+  }
+  return MH_ERROR;
+}
+
+// One component of a library: its descriptor and how to create an instance.
+struct SubsystemComponent {
+  const mh_component_descriptor* descriptor;
+  const mh_subsystem* (*create)(const mh_host* host);
+};
+
+// The mh_subsystem of a C++ component class T (see the top of this file).
+template <class T>
+class SubsystemAdapter {
+ public:
+  // A new instance, or NULL after logging why (T's constructor threw, or no
+  // memory). The host releases it through its `destroy`.
+  static const mh_subsystem* create(const mh_host* host) noexcept {
+    if (host == nullptr) return nullptr;
+    std::unique_ptr<Instance> instance(new (std::nothrow) Instance);
+    if (instance == nullptr) {
+      detail::log_failure(host, T::kDescriptor.id, "out of memory");
+      return nullptr;
+    }
+    instance->host = host;
+    const mh_status made = guarded(host, "creating the instance", [&] {
+      instance->object = std::make_unique<T>(host);
+      return MH_OK;
+    });
+    if (made != MH_OK) return nullptr;
+    mh_subsystem& api = instance->api;
+    api.struct_size = sizeof(mh_subsystem);
+    api.descriptor = &T::kDescriptor;
+    api.plugin_data = instance.get();
+    api.setup = setup;
+    api.evaluate = evaluate;
+    api.jacobian = jacobian_op();
+    api.energy = energy_op();
+    api.accept = accept_op();
+    api.destroy = destroy;
+    api.get_extension = get_extension;
+    return &instance.release()->api;
+  }
+
+ private:
+  struct Instance {
+    mh_subsystem api{};
+    const mh_host* host = nullptr;
+    std::unique_ptr<T> object;
+  };
+  using JacobianOp = mh_status (*)(const mh_subsystem*, const mh_subsystem_eval*, double*, double*);
+  using EnergyOp = mh_status (*)(const mh_subsystem*, const mh_subsystem_eval*, double*, double*);
+  using AcceptOp = mh_status (*)(const mh_subsystem*, const mh_subsystem_eval*);
+
+  static Instance& self(const mh_subsystem* s) { return *static_cast<Instance*>(s->plugin_data); }
+
+  static mh_status setup(const mh_subsystem* s) noexcept {
+    Instance& i = self(s);
+    return guarded(i.host, "setup", [&] { return i.object->setup(); });
+  }
+  static mh_status evaluate(const mh_subsystem* s, const mh_subsystem_eval* eval) noexcept {
+    Instance& i = self(s);
+    return guarded(i.host, "evaluate", [&] { return i.object->evaluate(*eval); });
+  }
+  static JacobianOp jacobian_op() {
+    if constexpr (detail::HasJacobian<T>::value) {
+      return [](const mh_subsystem* s, const mh_subsystem_eval* eval, double* d_dy,
+                double* d_dydot) noexcept {
+        Instance& i = self(s);
+        return guarded(i.host, "jacobian",
+                       [&] { return i.object->jacobian(*eval, d_dy, d_dydot); });
+      };
+    } else {
+      return nullptr;
+    }
+  }
+  static EnergyOp energy_op() {
+    if constexpr (detail::HasEnergy<T>::value) {
+      return [](const mh_subsystem* s, const mh_subsystem_eval* eval, double* stored,
+                double* dissipation) noexcept {
+        Instance& i = self(s);
+        return guarded(i.host, "energy",
+                       [&] { return i.object->energy(*eval, *stored, *dissipation); });
+      };
+    } else {
+      return nullptr;
+    }
+  }
+  static AcceptOp accept_op() {
+    if constexpr (detail::HasAccept<T>::value) {
+      return [](const mh_subsystem* s, const mh_subsystem_eval* eval) noexcept {
+        Instance& i = self(s);
+        return guarded(i.host, "accept", [&] { return i.object->accept(*eval); });
+      };
+    } else {
+      return nullptr;
+    }
+  }
+  static void destroy(const mh_subsystem* s) noexcept {
+    delete static_cast<Instance*>(s->plugin_data);
+  }
+  static const void* get_extension(const mh_subsystem* s, const char* id) noexcept {
+    if constexpr (detail::HasExtension<T>::value) {
+      if (id == nullptr) return nullptr;
+      try {
+        return self(s).object->extension(id);
+      } catch (...) {
+        return nullptr;
+      }
+    } else {
+      (void)s;
+      (void)id;
+      return nullptr;
+    }
+  }
+};
+
+template <class T>
+constexpr SubsystemComponent subsystem_component() noexcept {
+  return {&T::kDescriptor, &SubsystemAdapter<T>::create};
+}
+
+// The mh_subsystem_factory over a fixed list of components (a static array
+// that outlives the factory, e.g. one at namespace scope).
+class SubsystemFactory {
+ public:
+  template <std::size_t N>
+  constexpr explicit SubsystemFactory(const SubsystemComponent (&components)[N]) noexcept
+      : api_{sizeof(mh_subsystem_factory), count, descriptor, create},
+        components_(components),
+        size_(static_cast<uint32_t>(N)) {}
+
+  const mh_subsystem_factory* api() const noexcept { return &api_; }
+  // For mh_plugin_entry.get_factory: this factory for MH_SUBSYSTEM_FACTORY_ID, else NULL.
+  const void* get_factory(const char* factory_id) const noexcept {
+    return factory_id != nullptr && std::strcmp(factory_id, MH_SUBSYSTEM_FACTORY_ID) == 0 ? &api_
+                                                                                          : nullptr;
+  }
+
+ private:
+  // The host holds &api_, which is this object's address (first member of a
+  // standard-layout class): the operations below recover the object from it.
+  mh_subsystem_factory api_;
+  const SubsystemComponent* components_;
+  uint32_t size_;
+
+  static const SubsystemFactory& self(const mh_subsystem_factory* f) noexcept {
+    return *reinterpret_cast<const SubsystemFactory*>(f);
+  }
+  static uint32_t count(const mh_subsystem_factory* f) noexcept { return self(f).size_; }
+  static const mh_component_descriptor* descriptor(const mh_subsystem_factory* f,
+                                                   uint32_t index) noexcept {
+    const SubsystemFactory& factory = self(f);
+    return index < factory.size_ ? factory.components_[index].descriptor : nullptr;
+  }
+  static const mh_subsystem* create(const mh_subsystem_factory* f, const mh_host* host,
+                                    const char* id) noexcept {
+    if (host == nullptr || id == nullptr) return nullptr;
+    const SubsystemFactory& factory = self(f);
+    for (uint32_t i = 0; i < factory.size_; ++i)
+      if (std::strcmp(factory.components_[i].descriptor->id, id) == 0)
+        return factory.components_[i].create(host);
+    detail::log_failure(host, id, "no such component in this library");
+    return nullptr;
+  }
+};
+static_assert(std::is_standard_layout_v<SubsystemFactory>,
+              "SubsystemFactory must be standard-layout: the host holds its first member");
+
+}  // namespace monohydra
+
+// Defines the library's entry symbol `mh_entry` (its only export) with one
+// subsystem factory listing the given monohydra::SubsystemComponent values.
+// Use once per library, at namespace scope of one source file.
+#define MONOHYDRA_SUBSYSTEM_PLUGIN(...)                                                      \
+  namespace {                                                                                \
+  const ::monohydra::SubsystemComponent monohydra_plugin_components[] = {__VA_ARGS__};       \
+  const ::monohydra::SubsystemFactory monohydra_plugin_factory(monohydra_plugin_components); \
+  int monohydra_plugin_init(const char*) {                                                   \
+    return 1;                                                                                \
+  }                                                                                          \
+  void monohydra_plugin_deinit() {}                                                          \
+  const void* monohydra_plugin_get_factory(const char* id) {                                 \
+    return monohydra_plugin_factory.get_factory(id);                                         \
+  }                                                                                          \
+  }                                                                                          \
+  extern "C" MH_PLUGIN_EXPORT const mh_plugin_entry mh_entry {                               \
+    MH_ABI_VERSION_INIT, monohydra_plugin_init, monohydra_plugin_deinit,                     \
+        monohydra_plugin_get_factory                                                         \
+  }

@@ -1,0 +1,212 @@
+// The SDK's C++ helper (monohydra/cpp/subsystem_component.hpp): optional
+// operations found at compile time, exceptions turned into logged errors at
+// the boundary, the factory over a list of components, and the struct_size
+// check for fields of a later minor ABI.
+#include <gtest/gtest.h>
+
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+
+#include "fake_host.hpp"
+#include "monohydra/cpp/subsystem_component.hpp"
+
+namespace mh::test {
+namespace {
+
+int g_alive = 0;  // instances of the classes below not yet destroyed
+
+class Minimal {
+ public:
+  static const mh_component_descriptor kDescriptor;
+  explicit Minimal(const mh_host* host) : host_(host) { ++g_alive; }
+  ~Minimal() { --g_alive; }
+  Minimal(const Minimal&) = delete;
+  Minimal& operator=(const Minimal&) = delete;
+  mh_status setup() { return host_->add_state(host_, "x", 1.0, 1e-6, "m", &x_); }
+  mh_status evaluate(const mh_subsystem_eval& eval) const {
+    eval.residual[x_] += eval.ydot[x_] + 2.0 * eval.y[x_];
+    return MH_OK;
+  }
+
+ private:
+  const mh_host* host_;
+  int32_t x_ = -1;
+};
+const mh_component_descriptor Minimal::kDescriptor{
+    sizeof(mh_component_descriptor), "minimal", "Minimal", "tests", "1.0.0", "x' + 2 x = 0"};
+
+class Full : public Minimal {
+ public:
+  static const mh_component_descriptor kDescriptor;
+  using Minimal::Minimal;
+  mh_status jacobian(const mh_subsystem_eval&, double* d_dy, double* d_dydot) const {
+    d_dy[0] = 2.0;
+    d_dydot[0] = 1.0;
+    return MH_OK;
+  }
+  mh_status energy(const mh_subsystem_eval&, double& stored, double& dissipation) const {
+    stored = 3.0;
+    dissipation = 4.0;
+    return MH_OK;
+  }
+  mh_status accept(const mh_subsystem_eval&) {
+    ++accepted;
+    return MH_OK;
+  }
+  const void* extension(const char* id) const {
+    return std::string(id) == "full/1" ? &kDescriptor : nullptr;
+  }
+  int accepted = 0;
+};
+const mh_component_descriptor Full::kDescriptor{
+    sizeof(mh_component_descriptor), "full", "Full", "tests", "1.0.0", "every optional op"};
+
+class Throwing {
+ public:
+  static const mh_component_descriptor kDescriptor;
+  explicit Throwing(const mh_host*) {}
+  mh_status setup() { throw std::runtime_error("the option file is on fire"); }
+  mh_status evaluate(const mh_subsystem_eval&) { throw 42; }
+};
+const mh_component_descriptor Throwing::kDescriptor{
+    sizeof(mh_component_descriptor), "throwing", "Throwing", "tests", "1.0.0", "throws"};
+
+class ThrowingConstructor {
+ public:
+  static const mh_component_descriptor kDescriptor;
+  explicit ThrowingConstructor(const mh_host*) { throw std::invalid_argument("no, thanks"); }
+  mh_status setup() { return MH_OK; }
+  mh_status evaluate(const mh_subsystem_eval&) { return MH_OK; }
+};
+const mh_component_descriptor ThrowingConstructor::kDescriptor{
+    sizeof(mh_component_descriptor), "throwing-constructor", "", "tests", "1.0.0", ""};
+
+const monohydra::SubsystemComponent kComponents[] = {monohydra::subsystem_component<Minimal>(),
+                                                     monohydra::subsystem_component<Full>()};
+constexpr monohydra::SubsystemFactory kFactory(kComponents);
+
+// Destroys an instance at the end of a scope.
+struct Destroy {
+  const mh_subsystem* s;
+  ~Destroy() {
+    if (s != nullptr) s->destroy(s);
+  }
+};
+
+TEST(SdkSubsystemComponent, AbsentOptionalOperationsAreNullInTheTable) {
+  FakeNetwork net;
+  FakeHost host(net);
+  const mh_subsystem* minimal = monohydra::SubsystemAdapter<Minimal>::create(&host.table);
+  ASSERT_NE(minimal, nullptr);
+  const Destroy guard{minimal};
+  EXPECT_EQ(minimal->struct_size, sizeof(mh_subsystem));
+  EXPECT_EQ(minimal->descriptor, &Minimal::kDescriptor);
+  EXPECT_EQ(minimal->jacobian, nullptr);
+  EXPECT_EQ(minimal->energy, nullptr);
+  EXPECT_EQ(minimal->accept, nullptr);
+  ASSERT_NE(minimal->get_extension, nullptr);
+  EXPECT_EQ(minimal->get_extension(minimal, "full/1"), nullptr);
+  ASSERT_EQ(minimal->setup(minimal), MH_OK);
+  Evaluation e(net);
+  e.y[0] = 1.5;
+  e.ydot[0] = 0.5;
+  ASSERT_EQ(e.run(minimal), MH_OK);
+  EXPECT_EQ(e.residual[0], 0.5 + 3.0);
+}
+
+TEST(SdkSubsystemComponent, PresentOptionalOperationsAreFoundAndCalled) {
+  FakeNetwork net;
+  FakeHost host(net);
+  const mh_subsystem* full = monohydra::SubsystemAdapter<Full>::create(&host.table);
+  ASSERT_NE(full, nullptr);
+  const Destroy guard{full};
+  ASSERT_EQ(full->setup(full), MH_OK);
+  ASSERT_NE(full->jacobian, nullptr);
+  ASSERT_NE(full->energy, nullptr);
+  ASSERT_NE(full->accept, nullptr);
+  Evaluation e(net);
+  const mh_subsystem_eval rec = e.record();
+  double d_dy = 0.0, d_dydot = 0.0, stored = 0.0, dissipation = 0.0;
+  EXPECT_EQ(full->jacobian(full, &rec, &d_dy, &d_dydot), MH_OK);
+  EXPECT_EQ(d_dy, 2.0);
+  EXPECT_EQ(d_dydot, 1.0);
+  EXPECT_EQ(full->energy(full, &rec, &stored, &dissipation), MH_OK);
+  EXPECT_EQ(stored, 3.0);
+  EXPECT_EQ(dissipation, 4.0);
+  EXPECT_EQ(full->accept(full, &rec), MH_OK);
+  EXPECT_EQ(full->get_extension(full, "full/1"), &Full::kDescriptor);
+  EXPECT_EQ(full->get_extension(full, "other/1"), nullptr);
+}
+
+TEST(SdkSubsystemComponent, DestroyReleasesTheObject) {
+  FakeNetwork net;
+  FakeHost host(net);
+  const int before = g_alive;
+  const mh_subsystem* s = monohydra::SubsystemAdapter<Minimal>::create(&host.table);
+  ASSERT_NE(s, nullptr);
+  EXPECT_EQ(g_alive, before + 1);
+  s->destroy(s);
+  EXPECT_EQ(g_alive, before);
+}
+
+TEST(SdkSubsystemComponent, ExceptionsBecomeLoggedErrorsAtTheBoundary) {
+  FakeNetwork net;
+  FakeHost host(net);
+  const mh_subsystem* s = monohydra::SubsystemAdapter<Throwing>::create(&host.table);
+  ASSERT_NE(s, nullptr);
+  const Destroy guard{s};
+  EXPECT_EQ(s->setup(s), MH_ERROR);
+  ASSERT_EQ(host.logs.size(), 1u);
+  EXPECT_EQ(host.logs[0], "setup: the option file is on fire");
+  Evaluation e(net);
+  EXPECT_EQ(e.run(s), MH_ERROR);
+  ASSERT_EQ(host.logs.size(), 2u);
+  EXPECT_EQ(host.logs[1], "evaluate: unknown C++ exception");
+}
+
+TEST(SdkSubsystemComponent, ConstructorThatThrowsMakesCreateReturnNullAfterLogging) {
+  FakeNetwork net;
+  FakeHost host(net);
+  EXPECT_EQ(monohydra::SubsystemAdapter<ThrowingConstructor>::create(&host.table), nullptr);
+  ASSERT_EQ(host.logs.size(), 1u);
+  EXPECT_EQ(host.logs[0], "creating the instance: no, thanks");
+  EXPECT_EQ(monohydra::SubsystemAdapter<ThrowingConstructor>::create(nullptr), nullptr);
+}
+
+TEST(SdkSubsystemComponent, FactoryListsCreatesByIdAndAnswersOnlyItsFactoryId) {
+  const mh_subsystem_factory* f = kFactory.api();
+  EXPECT_EQ(f->struct_size, sizeof(mh_subsystem_factory));
+  ASSERT_EQ(f->count(f), 2u);
+  EXPECT_EQ(f->descriptor(f, 0), &Minimal::kDescriptor);
+  EXPECT_EQ(f->descriptor(f, 1), &Full::kDescriptor);
+  EXPECT_EQ(f->descriptor(f, 2), nullptr);
+  FakeNetwork net;
+  FakeHost host(net);
+  const mh_subsystem* full = f->create(f, &host.table, "full");
+  ASSERT_NE(full, nullptr);
+  const Destroy guard{full};
+  EXPECT_EQ(full->descriptor, &Full::kDescriptor);
+  EXPECT_EQ(f->create(f, &host.table, "nothing"), nullptr);
+  ASSERT_EQ(host.logs.size(), 1u);
+  EXPECT_EQ(host.logs[0], "nothing: no such component in this library");
+  EXPECT_EQ(f->create(f, &host.table, nullptr), nullptr);
+  EXPECT_EQ(kFactory.get_factory(MH_SUBSYSTEM_FACTORY_ID), f);
+  EXPECT_EQ(kFactory.get_factory(MH_FORMULATION_FACTORY_ID), nullptr);
+  EXPECT_EQ(kFactory.get_factory(nullptr), nullptr);
+}
+
+TEST(SdkSubsystemComponent, HasFieldComparesTheTablesStructSize) {
+  mh_host host{};
+  host.struct_size = sizeof(mh_host);
+  EXPECT_TRUE(MONOHYDRA_HAS_FIELD(mh_host, &host, add_time_event));
+  host.struct_size = static_cast<uint32_t>(offsetof(mh_host, add_time_event));
+  EXPECT_FALSE(MONOHYDRA_HAS_FIELD(mh_host, &host, add_time_event));
+  EXPECT_TRUE(MONOHYDRA_HAS_FIELD(mh_host, &host, point_position));
+  host.struct_size = static_cast<uint32_t>(offsetof(mh_host, add_port));  // an ABI 1.0 host
+  EXPECT_FALSE(MONOHYDRA_HAS_FIELD(mh_host, &host, add_port));
+  EXPECT_TRUE(MONOHYDRA_HAS_FIELD(mh_host, &host, add_output));
+}
+
+}  // namespace
+}  // namespace mh::test
