@@ -269,7 +269,8 @@ mh_status host_point_position(const mh_host* host, int32_t point, double* positi
     host_log(host, MH_LOG_ERROR, "point_position: no such point (add it with add_point first)");
     return MH_ERROR;
   }
-  const Eigen::Vector3d p = mh::point_position(h.engine->data, s.points[static_cast<size_t>(point)]);
+  const Eigen::Vector3d p =
+      mh::point_position(h.engine->data, s.points[static_cast<size_t>(point)]);
   for (int c = 0; c < 3; ++c) position3[c] = p[c];
   return MH_OK;
 }

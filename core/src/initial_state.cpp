@@ -6,6 +6,7 @@
 // event: dense forward differences are fine here.
 #include <Eigen/LU>
 #include <Eigen/QR>
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -30,17 +31,26 @@ static void rows_at(Simulation::Engine& e, double t_eval, Eigen::VectorXd& f) {
   if (st >= MH_DISCARD) e.fail(e.status_reason(st, "subsystem evaluation"));
 }
 
-// Which states are algebraic: no row involves their rate.
+// d rows / d ydot by forward differences, with the entries that are round-off
+// (below 1e-9 of their row's largest) set to zero: a state is algebraic when
+// no row involves its rate.
 static Eigen::MatrixXd rate_jacobian(Simulation::Engine& e, double t_eval) {
   Eigen::VectorXd f0(e.n_s), f1(e.n_s);
   Eigen::MatrixXd J(e.n_s, e.n_s);
   rows_at(e, t_eval, f0);
   for (int c = 0; c < e.n_s; ++c) {
-    const double h = 1e-8 * std::max(1.0, std::abs(e.ydot[c]));
+    // Large enough to show against a row's other terms (a volume's C pdot
+    // beside a flow 1e9 times larger): scaled by the state itself.
+    const double h = 1e-6 * std::max({1.0, std::abs(e.ydot[c]), std::abs(e.y[c])});
     e.ydot[c] += h;
     rows_at(e, t_eval, f1);
     e.ydot[c] -= h;
     J.col(c) = (f1 - f0) / h;
+  }
+  for (int r = 0; r < e.n_s; ++r) {
+    const double big = J.row(r).lpNorm<Eigen::Infinity>();
+    for (int c = 0; c < e.n_s; ++c)
+      if (std::abs(J(r, c)) <= 1e-9 * big) J(r, c) = 0.0;
   }
   return J;
 }
@@ -60,10 +70,11 @@ void Simulation::Engine::solve_initial_rates(double t_eval) {
       if (J.row(r0).lpNorm<Eigen::Infinity>() > 0.0) rows_used.push_back(r0);
     algebraic.assign(static_cast<size_t>(n_s), 1);
     for (int c : rates) algebraic[static_cast<size_t>(c)] = 0;
-    if (rates.size() != rows_used.size())
+    if (rates.size() != rows_used.size()) {
       fail("the state rates cannot be found: " + std::to_string(rows_used.size()) +
            " subsystem rows involve rates, but " + std::to_string(rates.size()) +
            " states have rates that rows involve");
+    }
     const int k = static_cast<int>(rates.size());
     Eigen::MatrixXd Jr(k, k);
     Eigen::VectorXd fr(k);
@@ -168,11 +179,13 @@ void Simulation::Engine::solve_algebraic_and_equilibrium() {
     // Rows in units of the unknowns' tolerances.
     for (int i = 0; i < n_rows; ++i) {
       double s = 0.0;
-      for (int j = 0; j < k; ++j) s += std::abs(J(i, j)) * state_tol[unknowns[static_cast<size_t>(j)]];
+      for (int j = 0; j < k; ++j)
+        s += std::abs(J(i, j)) * state_tol[unknowns[static_cast<size_t>(j)]];
       scale[i] = s > 0.0 ? 1.0 / s : 0.0;
     }
     const Eigen::MatrixXd Js = scale.asDiagonal() * J;
-    const Eigen::VectorXd du = Js.completeOrthogonalDecomposition().solve(-(scale.asDiagonal() * F));
+    const Eigen::VectorXd du =
+        Js.completeOrthogonalDecomposition().solve(-(scale.asDiagonal() * F));
     worst = 0.0;
     for (int j = 0; j < k; ++j) {
       const int c = unknowns[static_cast<size_t>(j)];
@@ -191,15 +204,18 @@ void Simulation::Engine::solve_algebraic_and_equilibrium() {
     if (ok) continue;
     const std::string what =
         i < static_cast<int>(rows.size())
-            ? "the row of state '" + state_names[static_cast<size_t>(rows[static_cast<size_t>(i)])] +
-                  "' stays at " + fmt(F[i])
+            ? "the row of state '" +
+                  state_names[static_cast<size_t>(rows[static_cast<size_t>(i)])] + "' stays at " +
+                  fmt(F[i])
             : "the mechanism is not held: its static balance stays at " + fmt(F[i]) + " N or N m";
     fail(std::string(equilibrium ? "no equilibrium with the states under equilibrium.free"
                                  : "the algebraic states cannot be solved") +
          ": " + what);
   }
-  if (equilibrium) ydot.setZero();
-  else ydot = saved_ydot;
+  if (equilibrium)
+    ydot.setZero();
+  else
+    ydot = saved_ydot;
 }
 
 }  // namespace mh

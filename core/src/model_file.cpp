@@ -396,10 +396,10 @@ class Parser {
       fail(root, "",
            "expected a mapping with the model (units, bodies, ...), got " + describe(root));
     }
-    const MapView top(*this, root, "",
-                      {"units", "name", "gravity", "plugin_paths", "bodies", "cut_joints",
-                       "subsystems", "formulation", "solver", "planar", "assembly", "nodes",
-                       "equilibrium"});
+    const MapView top(
+        *this, root, "",
+        {"units", "name", "gravity", "plugin_paths", "bodies", "cut_joints", "subsystems",
+         "formulation", "solver", "planar", "assembly", "nodes", "equilibrium"});
     ModelFile file;
     file.path = file_;
 
@@ -768,7 +768,8 @@ class Parser {
       if (!used)
         fail(e.value, map.field(e.key),
              "unknown node '" + e.key + "' (no subsystem port names it under ports)");
-      file.node_columns[e.key] = e.value.IsNull() ? "" : column_name(e.value, map.field(e.key), columns);
+      file.node_columns[e.key] =
+          e.value.IsNull() ? "" : column_name(e.value, map.field(e.key), columns);
     }
   }
 

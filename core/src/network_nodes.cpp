@@ -28,8 +28,7 @@ std::string port_list(const SubsystemSpec& spec) {
 
 }  // namespace
 
-mh_status Simulation::Engine::add_port(InstanceHost& h, const mh_port_spec& spec,
-                                       int32_t* index) {
+mh_status Simulation::Engine::add_port(InstanceHost& h, const mh_port_spec& spec, int32_t* index) {
   SubsystemInstance& s = subsystems[static_cast<size_t>(h.subsystem)];
   const std::string key = spec.key != nullptr ? spec.key : "";
   const auto fail_input = [&](const SourceMark& mark, const std::string& field,
@@ -48,8 +47,8 @@ mh_status Simulation::Engine::add_port(InstanceHost& h, const mh_port_spec& spec
   auto it = s.spec->ports.find(key);
   if (it == s.spec->ports.end())
     return fail_input(s.spec->mark, who(s) + " port '" + key + "'",
-                      "the port is not connected: name its node under ports (e.g. ports: {" +
-                          key + ": NODE}); connected here: " + port_list(*s.spec));
+                      "the port is not connected: name its node under ports (e.g. ports: {" + key +
+                          ": NODE}); connected here: " + port_list(*s.spec));
   const std::string& node_name = it->second.node;
   const SourceMark& mark = it->second.mark;
   Node* node = nullptr;
@@ -87,9 +86,8 @@ mh_status Simulation::Engine::add_port(InstanceHost& h, const mh_port_spec& spec
     for (const auto& p : node->ports)
       if (p.role == MH_PORT_EFFORT)
         return fail_input(mark, who(s) + " port '" + key + "'",
-                          "at most one port imposing the effort of node '" + node_name +
-                              "', but " + port_name(*this, p) +
-                              " imposes it too (two outputs on one node)");
+                          "at most one port imposing the effort of node '" + node_name + "', but " +
+                              port_name(*this, p) + " imposes it too (two outputs on one node)");
   const double y0 = spec.initial;
   if (std::isfinite(y0)) {
     const double have = y[node->state];
@@ -122,10 +120,10 @@ void Simulation::Engine::check_network() const {
     for (const auto& [key, port] : s.spec->ports) {
       bool declared = false;
       for (const auto& nd : nodes)
-        for (const auto& p : nd.ports) declared = declared || (p.subsystem >= 0 &&
-                                                               &subsystems[static_cast<size_t>(
-                                                                   p.subsystem)] == &s &&
-                                                               p.key == key);
+        for (const auto& p : nd.ports)
+          declared =
+              declared || (p.subsystem >= 0 &&
+                           &subsystems[static_cast<size_t>(p.subsystem)] == &s && p.key == key);
       if (!declared)
         throw InputError(port.mark, who(s) + " port '" + key + "'",
                          "unknown port (this component has no port '" + key + "')");
@@ -137,9 +135,8 @@ void Simulation::Engine::check_network() const {
                        "a port left unconnected: node '" + nd.name +
                            "' joins no other port (name it on another component's port)");
     bool free = false;
-    for (const auto& f : file->equilibrium_free) free = free || f == nd.name ||
-                                                        f == state_names[static_cast<size_t>(
-                                                                 nd.state)];
+    for (const auto& f : file->equilibrium_free)
+      free = free || f == nd.name || f == state_names[static_cast<size_t>(nd.state)];
     if (!nd.has_initial && !free)
       throw InputError(nd.mark, "node '" + nd.name + "'",
                        "an initial " + nd.unit +

@@ -533,7 +533,7 @@ TEST(ModelFileErrors, UnknownTopLevelKey) {
   expect_message(valid_body("solvr: {dt: 0.01}\n"),
                  "model.yaml:8:1: solvr: unknown key 'solvr' (expected one of: units, name, "
                  "gravity, plugin_paths, bodies, cut_joints, subsystems, formulation, solver, "
-                 "planar, assembly)");
+                 "planar, assembly, nodes, equilibrium)");
 }
 
 TEST(ModelFileErrors, UnknownBodyKey) {
@@ -790,6 +790,58 @@ TEST(ModelFileErrors, WrongShapes) {
   expect_error(valid_body("subsystems:\n  - {name: s, type: t, states: {x: 'a b'}}\n"), 9,
                "subsystems[0].states.x", "without commas, quotes or spaces");
   expect_error(valid_body("---\nunits: {}\n"), 9, "", "expected a single YAML document");
+}
+
+}  // namespace
+}  // namespace mh
+
+// --- circuits: ports, nodes, equilibrium -------------------------------------
+
+namespace mh {
+namespace {
+
+const std::string kCircuitHead =
+    "units: {length: m, mass: kg, time: s, angle: deg}\n"  // 1
+    "bodies: []\n"                                         // 2
+    "subsystems:\n"                                        // 3
+    "  - name: orifice\n"                                  // 4
+    "    type: throttle\n";                                // 5
+
+TEST(ModelFileCircuits, PortsNodesAndEquilibriumAreRead) {
+  const ModelFile f = parse_model_text(kCircuitHead +
+                                           "    ports: {a: supply, b: n1}\n"
+                                           "nodes: {supply: null, n1: p1}\n"
+                                           "equilibrium: {free: [p1]}\n",
+                                       kLabel);
+  ASSERT_EQ(f.subsystems.size(), 1u);
+  EXPECT_EQ(f.subsystems[0].ports.at("a").node, "supply");
+  EXPECT_EQ(f.subsystems[0].ports.at("b").node, "n1");
+  EXPECT_EQ(f.subsystems[0].ports.at("b").mark.line, 6);
+  EXPECT_EQ(f.node_columns.at("supply"), "");
+  EXPECT_EQ(f.node_columns.at("n1"), "p1");
+  ASSERT_EQ(f.equilibrium_free.size(), 1u);
+  EXPECT_EQ(f.equilibrium_free[0], "p1");
+}
+
+TEST(ModelFileCircuits, APortJoinsExactlyOneNode) {
+  expect_error(kCircuitHead + "    ports: {a: [n1, n2], b: n1}\n", 6, "subsystems[0].ports.a",
+               "expected one node name");
+}
+
+TEST(ModelFileCircuits, NodesMustBeNamedByAPort) {
+  expect_error(kCircuitHead + "    ports: {a: n1, b: n2}\nnodes: {n3: p3}\n", 7, "nodes.n3",
+               "unknown node 'n3'");
+}
+
+TEST(ModelFileCircuits, NodeColumnsAreUniqueAmongResultColumns) {
+  expect_error(
+      kCircuitHead + "    ports: {a: n1, b: n2}\n    outputs: {q: flow}\nnodes: {n1: flow}\n", 8,
+      "nodes.n1", "duplicate result column");
+}
+
+TEST(ModelFileCircuits, EquilibriumNeedsAListOfStates) {
+  expect_error(kCircuitHead + "    ports: {a: n1, b: n2}\nequilibrium: {free: p1}\n", 7,
+               "equilibrium.free", "expected a non-empty list");
 }
 
 }  // namespace
