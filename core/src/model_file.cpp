@@ -747,7 +747,7 @@ class Parser {
   // A result column name: no commas, quotes or spaces, unique in the file.
   std::string column_name(const YAML::Node& node, const std::string& field,
                           std::map<std::string, SourceMark>& columns) const {
-    const std::string column = name(node, field);
+    std::string column = name(node, field);
     if (column.find_first_of(", \t\"\r\n") != std::string::npos) {
       fail(node, field,
            "expected a column name without commas, quotes or spaces, got '" + column + "'");

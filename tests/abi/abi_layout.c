@@ -21,18 +21,12 @@ _Static_assert(offsetof(mh_plugin_entry, abi_version) == 0, "entry starts with i
 _Static_assert(sizeof(mh_status) == sizeof(int), "status is an int-sized enum");
 
 const abi_layout mh_c_layouts[] = {
-    LAYOUT(mh_version),
-    LAYOUT(mh_component_descriptor),
-    LAYOUT(mh_plugin_entry),
-    LAYOUT(mh_mech_info),
-    LAYOUT(mh_mech_request),
-    LAYOUT(mh_mech_result),
-    LAYOUT(mh_port_spec),
-    LAYOUT(mh_host),
-    LAYOUT(mh_formulation),
-    LAYOUT(mh_formulation_factory),
-    LAYOUT(mh_subsystem_eval),
-    LAYOUT(mh_subsystem),
+    LAYOUT(mh_version),           LAYOUT(mh_component_descriptor),
+    LAYOUT(mh_plugin_entry),      LAYOUT(mh_mech_info),
+    LAYOUT(mh_mech_request),      LAYOUT(mh_mech_result),
+    LAYOUT(mh_port_spec),         LAYOUT(mh_host),
+    LAYOUT(mh_formulation),       LAYOUT(mh_formulation_factory),
+    LAYOUT(mh_subsystem_eval),    LAYOUT(mh_subsystem),
     LAYOUT(mh_subsystem_factory),
 };
 const size_t mh_c_layout_count = sizeof(mh_c_layouts) / sizeof(mh_c_layouts[0]);

@@ -25,18 +25,12 @@ extern const size_t mh_c_offset_subsystem_get_extension;
 
 TEST(AbiLayout, CAndCxxSeeTheSameSizesAndAlignments) {
   const abi_layout cxx[] = {
-      CXX_LAYOUT(mh_version),
-      CXX_LAYOUT(mh_component_descriptor),
-      CXX_LAYOUT(mh_plugin_entry),
-      CXX_LAYOUT(mh_mech_info),
-      CXX_LAYOUT(mh_mech_request),
-      CXX_LAYOUT(mh_mech_result),
-      CXX_LAYOUT(mh_port_spec),
-    CXX_LAYOUT(mh_host),
-      CXX_LAYOUT(mh_formulation),
-      CXX_LAYOUT(mh_formulation_factory),
-      CXX_LAYOUT(mh_subsystem_eval),
-      CXX_LAYOUT(mh_subsystem),
+      CXX_LAYOUT(mh_version),           CXX_LAYOUT(mh_component_descriptor),
+      CXX_LAYOUT(mh_plugin_entry),      CXX_LAYOUT(mh_mech_info),
+      CXX_LAYOUT(mh_mech_request),      CXX_LAYOUT(mh_mech_result),
+      CXX_LAYOUT(mh_port_spec),         CXX_LAYOUT(mh_host),
+      CXX_LAYOUT(mh_formulation),       CXX_LAYOUT(mh_formulation_factory),
+      CXX_LAYOUT(mh_subsystem_eval),    CXX_LAYOUT(mh_subsystem),
       CXX_LAYOUT(mh_subsystem_factory),
   };
   ASSERT_EQ(mh_c_layout_count, sizeof(cxx) / sizeof(cxx[0]));

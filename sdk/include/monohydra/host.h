@@ -58,10 +58,12 @@ typedef struct mh_mech_result {
 } mh_mech_result;
 
 /* Port roles (mh_port_spec.role). */
-#define MH_PORT_FLOW 0u   /* exchanges flow with the node and reads its effort: a valve's
-                             port, a volume, a cylinder chamber */
-#define MH_PORT_EFFORT 1u /* imposes the node's effort: a pressure source. At most one
-                             per node. */
+#define MH_PORT_FLOW                                                 \
+  0u /* exchanges flow with the node and reads its effort: a valve's \
+        port, a volume, a cylinder chamber */
+#define MH_PORT_EFFORT                                            \
+  1u /* imposes the node's effort: a pressure source. At most one \
+        per node. */
 
 /* A port of a subsystem instance: its connection to a node of a network (a
  * hydraulic node: effort = pressure). The model file joins ports into nodes by
