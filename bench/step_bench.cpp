@@ -46,6 +46,23 @@ void BM_MaxwellPendulum10s(benchmark::State& state) {
 }
 BENCHMARK(BM_MaxwellPendulum10s)->Unit(benchmark::kMillisecond)->Iterations(3);
 
+// The paper's case studies (Sect. 5): its Matlab took 21-29 s for each.
+void BM_CaseStudy10s(benchmark::State& state, const char* model, const char* formulation) {
+  run_model(state, model, formulation);
+}
+BENCHMARK_CAPTURE(BM_CaseStudy10s, fourbar_double_step, "fourbar.yaml", "double-step")
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
+BENCHMARK_CAPTURE(BM_CaseStudy10s, fourbar_penalty, "fourbar.yaml", "penalty")
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
+BENCHMARK_CAPTURE(BM_CaseStudy10s, quickreturn_double_step, "quickreturn.yaml", "double-step")
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
+BENCHMARK_CAPTURE(BM_CaseStudy10s, quickreturn_penalty, "quickreturn.yaml", "penalty")
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
+
 // An open chain of N beams, each hinged at the previous one's tip.
 std::string chain(int n) {
   std::string text = "units: {length: m, mass: kg, time: s, angle: deg}\nbodies:\n";
