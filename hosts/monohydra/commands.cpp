@@ -11,7 +11,6 @@
 #include "monohydra/core/plugin_registry.hpp"
 #include "monohydra/core/run.hpp"
 #include "monohydra/core/simulation.hpp"
-#include "shipped_models.hpp"
 
 namespace fs = std::filesystem;
 
@@ -20,11 +19,16 @@ namespace {
 
 const char* kUsage =
     "usage: monohydra [COMMAND] [ARGS]\n"
-    "  (no command)            run the shipped default model, results in out/\n"
+    "  (no command)            compare double-step and penalty on the paper's four-bar and\n"
+    "                          quick-return, the paper's numbers beside ours; reports in out/\n"
     "  plugins                 list every plugin found, its components and ABI version\n"
     "  run MODEL.yaml [--formulation NAME] [--dt S] [--t-end S] [--out FILE.csv]\n"
     "                          simulate MODEL.yaml; CSV columns: t, z1..zN, states,\n"
     "                          KE, PE, W, drift, phi_norm, iters\n"
+    "  compare MODEL.yaml [--formulations A,B,...] [--report DIR] [--dt S] [--t-end S]\n"
+    "                          run each formulation (default double-step,penalty) on MODEL.yaml\n"
+    "                          and print their numbers side by side; --report writes\n"
+    "                          DIR/report.html with the paper's figures and each run's CSV\n"
     "plugins are searched in $MONOHYDRA_PLUGIN_PATH, beside the executable, the install\n"
     "prefix and the model file's plugin_paths.\n";
 
@@ -160,12 +164,6 @@ int run(const std::vector<std::string>& args) {
     return usage(2);
   }
   return simulate(model, formulation, dt, t_end, out);
-}
-
-int run_default() {
-  const std::string model = shipped_model("double-pendulum.yaml");
-  std::cout << "monohydra: running the shipped default model " << model << "\n";
-  return simulate(model, "", std::nullopt, std::nullopt, "out/double-pendulum.csv");
 }
 
 }  // namespace mh::cli
