@@ -97,8 +97,6 @@ std::vector<ReportFigure> report_figures(const ModelFile& file, const Comparison
                   "circles on the bodies are joints, open circles cut joints, triangles ground " +
                   "points, dashed lines the ground guides of sliders, orange lines subsystems " +
                   "between two points (the cylinder).";
-    } else {
-      f.caption = "No run produced results: nothing to draw.";
     }
     figs.push_back(f);
   }
@@ -127,8 +125,6 @@ std::vector<ReportFigure> report_figures(const ModelFile& file, const Comparison
       }
       f.caption = "Colour: the coordinate; line style: the formulation (solid " +
                   c.runs[runs.front()].formulation + ").";
-    } else {
-      f.caption = "No run produced results.";
     }
     figs.push_back(f);
   }
@@ -213,6 +209,8 @@ std::vector<ReportFigure> report_figures(const ModelFile& file, const Comparison
     f.caption = "Wall time of each step (the wall_s column), measured on this host.";
     figs.push_back(f);
   }
+  if (ref == nullptr)
+    for (auto& f : figs) f.caption = "No run produced results: nothing to show.";
   return figs;
 }
 

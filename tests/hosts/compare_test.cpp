@@ -205,6 +205,23 @@ TEST(Compare, AFailingFormulationIsInTheTableWithItsReasonAndTheOthersStillRun) 
   EXPECT_NE(html.find("unknown formulation &#39;lagrange&#39;"), std::string::npos);
 }
 
+TEST(Compare, WhenEveryFormulationFailsTheTableAndReportStillSayWhy) {
+  const fs::path dir = scratch_dir("all-failing");
+  // open-loop refuses cut joints; 'lagrange' does not exist.
+  const CliResult r = run_cli("compare " + shipped_model("fourbar-free.yaml") +
+                              " --formulations open-loop,lagrange --report " + dir.string());
+  EXPECT_EQ(r.code, 1) << r.output;
+  const PrintedTable t = parse_printed_table(r.output, "fourbar-free (");
+  ASSERT_TRUE(t.found) << r.output;
+  EXPECT_EQ(t.cell("status", "open-loop"), "FAILED at setup");
+  EXPECT_EQ(t.cell("status", "lagrange"), "FAILED at setup");
+  ASSERT_EQ(t.notes.size(), 2u) << r.output;
+  EXPECT_NE(t.notes[0].find("open-loop handles trees only"), std::string::npos) << t.notes[0];
+  const std::string html = read_text(dir / "report.html");
+  EXPECT_NE(html.find("No run produced results"), std::string::npos);
+  EXPECT_EQ(html.find("<svg"), std::string::npos);
+}
+
 TEST(Compare, BadArgumentsExitWithTwo) {
   const std::string model = shipped_model("fourbar-free.yaml");
   for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
