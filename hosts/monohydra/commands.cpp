@@ -1,15 +1,12 @@
 #include "commands.hpp"
 
-#include <unistd.h>
-
-#include <boost/dll/runtime_symbol_info.hpp>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <optional>
 
+#include "cli_support.hpp"
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/plugin_registry.hpp"
 #include "monohydra/core/run.hpp"
@@ -22,46 +19,22 @@ namespace {
 
 const char* kUsage =
     "usage: monohydra [COMMAND] [ARGS]\n"
-    "  (no command)            run the shipped default model, results in out/\n"
+    "  (no command)            compare double-step and penalty on the paper's four-bar and\n"
+    "                          quick-return, the paper's numbers beside ours; reports in out/\n"
     "  plugins                 list every plugin found, its components and ABI version\n"
     "  run MODEL.yaml [--formulation NAME] [--dt S] [--t-end S] [--out FILE.csv]\n"
     "                          simulate MODEL.yaml; CSV columns: t, z1..zN, states,\n"
     "                          KE, PE, W, drift, phi_norm, iters\n"
+    "  compare MODEL.yaml [--formulations A,B,...] [--report DIR] [--dt S] [--t-end S]\n"
+    "                          run each formulation (default double-step,penalty) on MODEL.yaml\n"
+    "                          and print their numbers side by side; --report writes\n"
+    "                          DIR/report.html with the paper's figures and each run's CSV\n"
     "plugins are searched in $MONOHYDRA_PLUGIN_PATH, beside the executable, the install\n"
     "prefix and the model file's plugin_paths.\n";
-
-void log_to_stderr(mh_log_level level, const std::string& source, const std::string& msg) {
-  if (level < MH_LOG_WARNING) return;
-  std::cerr << (level >= MH_LOG_ERROR ? "error: " : "warning: ") << source << ": " << msg << '\n';
-}
-
-std::optional<double> parse_number(const std::string& flag, const std::string& text) {
-  try {
-    size_t used = 0;
-    const double v = std::stod(text, &used);
-    if (used == text.size()) return v;
-  } catch (const std::exception&) {
-  }
-  std::cerr << "monohydra: " << flag << " expects a number, got '" << text << "'\n";
-  return std::nullopt;
-}
 
 std::string version_text(const mh_version& v) {
   return std::to_string(v.major) + "." + std::to_string(v.minor) + "." + std::to_string(v.patch);
 }
-
-struct ProgressBar {
-  bool enabled = isatty(STDERR_FILENO) != 0;
-  void operator()(double fraction) const {
-    if (!enabled) return;
-    const int width = 40;
-    const int filled = static_cast<int>(fraction * width);
-    std::fprintf(stderr, "\r[%s%s] %3d%%", std::string(static_cast<size_t>(filled), '#').c_str(),
-                 std::string(static_cast<size_t>(width - filled), ' ').c_str(),
-                 static_cast<int>(std::lround(fraction * 100.0)));
-    if (fraction >= 1.0) std::fputc('\n', stderr);
-  }
-};
 
 int simulate(const std::string& model_path, const std::string& formulation,
              std::optional<double> dt, std::optional<double> t_end, const std::string& out_path) {
@@ -119,18 +92,6 @@ int simulate(const std::string& model_path, const std::string& formulation,
     return 1;
   }
   return 0;
-}
-
-std::string default_model() {
-  std::error_code ec;
-  const fs::path exe_dir = boost::dll::program_location(ec).parent_path();
-  for (const fs::path& dir :
-       {exe_dir / ".." / "share" / "monohydra" / "models", fs::path(MONOHYDRA_INSTALL_MODELS),
-        fs::path(MONOHYDRA_SOURCE_MODELS)}) {
-    const fs::path p = dir / "double-pendulum.yaml";
-    if (fs::exists(p, ec)) return p.lexically_normal().string();
-  }
-  return "models/double-pendulum.yaml";
 }
 
 }  // namespace
@@ -203,12 +164,6 @@ int run(const std::vector<std::string>& args) {
     return usage(2);
   }
   return simulate(model, formulation, dt, t_end, out);
-}
-
-int run_default() {
-  const std::string model = default_model();
-  std::cout << "monohydra: running the shipped default model " << model << "\n";
-  return simulate(model, "", std::nullopt, std::nullopt, "out/double-pendulum.csv");
 }
 
 }  // namespace mh::cli

@@ -10,7 +10,8 @@ namespace mh::cli {
 // (results up to the failure are kept), 2 bad usage or bad input.
 int plugins(const std::vector<std::string>& args);
 int run(const std::vector<std::string>& args);
-int run_default();
+int compare(const std::vector<std::string>& args);  // compare.cpp
+int run_default();                                  // default_job.cpp
 int usage(int code);
 
 }  // namespace mh::cli

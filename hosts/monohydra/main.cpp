@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
   args.erase(args.begin());
   if (cmd == "plugins") return mh::cli::plugins(args);
   if (cmd == "run") return mh::cli::run(args);
+  if (cmd == "compare") return mh::cli::compare(args);
   if (cmd == "--help" || cmd == "-h" || cmd == "help") return mh::cli::usage(0);
   return mh::cli::usage(2);
 }

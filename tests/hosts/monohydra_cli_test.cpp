@@ -1,44 +1,25 @@
 // The monohydra command line, run as a user runs it.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "cli_runner.hpp"
+
 namespace {
 
-struct Result {
-  int code = -1;
-  std::string output;  // stdout and stderr
-};
-
-Result run_cli(const std::string& args) {
-  const std::string cmd =
-      std::string("MONOHYDRA_PLUGIN_PATH= ") + MH_EXECUTABLE + " " + args + " 2>&1";
-  Result r;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (pipe == nullptr) return r;
-  char buf[4096];
-  size_t n = 0;
-  while ((n = fread(buf, 1, sizeof(buf), pipe)) > 0) r.output.append(buf, n);
-  const int status = pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+using mh::test::CliResult;
+using mh::test::run_cli;
 
 std::string model(const std::string& name) {
-  return std::string(MH_SOURCE_DIR) + "/models/" + name;
+  return mh::test::shipped_model(name);
 }
 
 std::filesystem::path temp_dir() {
-  auto dir =
-      std::filesystem::temp_directory_path() / ("monohydra-cli-" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  return dir;
+  return mh::test::scratch_dir("cli");
 }
 
 std::vector<std::string> read_lines(const std::filesystem::path& p) {
@@ -49,7 +30,7 @@ std::vector<std::string> read_lines(const std::filesystem::path& p) {
 }
 
 TEST(MonohydraCli, PluginsListsEveryComponentWithKindAndAbiVersion) {
-  const Result r = run_cli("plugins");
+  const CliResult r = run_cli("plugins");
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("(ABI 1.1.0)"), std::string::npos) << r.output;
   for (const char* line :
@@ -59,7 +40,7 @@ TEST(MonohydraCli, PluginsListsEveryComponentWithKindAndAbiVersion) {
 
 TEST(MonohydraCli, RunWritesTheDocumentedColumnsAndOneRowPerStep) {
   const auto csv = temp_dir() / "pendulum.csv";
-  const Result r =
+  const CliResult r =
       run_cli("run " + model("double-pendulum.yaml") + " --t-end 0.25 --out " + csv.string());
   ASSERT_EQ(r.code, 0) << r.output;
   const auto lines = read_lines(csv);
@@ -78,7 +59,7 @@ TEST(MonohydraCli, RunWritesTheDocumentedColumnsAndOneRowPerStep) {
 
 TEST(MonohydraCli, SubsystemStatesAppearAsNamedColumns) {
   const auto csv = temp_dir() / "maxwell.csv";
-  const Result r =
+  const CliResult r =
       run_cli("run " + model("maxwell-pendulum.yaml") + " --t-end 0.01 --out " + csv.string());
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_EQ(read_lines(csv)[0], "t,z1,delta,KE,PE,W,drift,phi_norm,iters");
@@ -93,14 +74,14 @@ TEST(MonohydraCli, BadModelFileExitsWithTwoAndNamesFileLineAndField) {
                         "    joint: {type: helical, at: [0, 0, 0], axis: [0, 0, 1]}\n"
                         "    mass: 1\n"
                         "    inertia: [1, 1, 1]\n";
-  const Result r = run_cli("run " + bad.string());
+  const CliResult r = run_cli("run " + bad.string());
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.output.find(bad.string() + ":5:"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("bodies[0].joint.type"), std::string::npos) << r.output;
 }
 
 TEST(MonohydraCli, UnknownFormulationExitsWithTwoAndListsTheKnownOnes) {
-  const Result r = run_cli("run " + model("double-pendulum.yaml") + " --formulation lagrange");
+  const CliResult r = run_cli("run " + model("double-pendulum.yaml") + " --formulation lagrange");
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.output.find("unknown formulation 'lagrange' (found: "), std::string::npos)
       << r.output;
@@ -121,7 +102,7 @@ TEST(MonohydraCli, FailedRunExitsWithOneNamesTheStepAndKeepsEarlierRows) {
                         "    shape: {type: beam, length: 1}\n"
                         "solver: {dt: 0.001, t_end: 1, max_iterations: 1, tol_position: 1e-300}\n";
   const auto csv = dir / "stiff.csv";
-  const Result r = run_cli("run " + bad.string() + " --out " + csv.string());
+  const CliResult r = run_cli("run " + bad.string() + " --out " + csv.string());
   EXPECT_EQ(r.code, 1) << r.output;
   EXPECT_NE(r.output.find("simulation failed at t = 0.001 s, step 1: Newton did not converge"),
             std::string::npos)
@@ -132,7 +113,7 @@ TEST(MonohydraCli, FailedRunExitsWithOneNamesTheStepAndKeepsEarlierRows) {
 }
 
 TEST(MonohydraCli, NonNumericFlagValueIsAUsageError) {
-  const Result r = run_cli("run " + model("double-pendulum.yaml") + " --dt nope");
+  const CliResult r = run_cli("run " + model("double-pendulum.yaml") + " --dt nope");
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.output.find("--dt expects a number, got 'nope'"), std::string::npos) << r.output;
 }

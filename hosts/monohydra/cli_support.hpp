@@ -1,0 +1,25 @@
+// What the subcommands share: number arguments, the log sink that prints a
+// plugin's warnings and errors, and the progress bar on a terminal.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "monohydra/types.h"
+
+namespace mh::cli {
+
+// The number in `text`, or nullopt after telling the user that `flag` expects one.
+std::optional<double> parse_number(const std::string& flag, const std::string& text);
+
+// Prints warnings and errors to stderr (a LogSink).
+void log_to_stderr(mh_log_level level, const std::string& source, const std::string& msg);
+
+// A 40-column bar on stderr, drawn only when stderr is a terminal.
+struct ProgressBar {
+  ProgressBar();
+  bool enabled;
+  void operator()(double fraction) const;
+};
+
+}  // namespace mh::cli

@@ -1,0 +1,216 @@
+#include "compare.hpp"
+
+#include <algorithm>
+#include <filesystem>
+#include <functional>
+#include <iostream>
+#include <sstream>
+
+#include "cli_support.hpp"
+#include "commands.hpp"
+#include "comparison.hpp"
+#include "comparison_table.hpp"
+#include "monohydra/core/model_file.hpp"
+#include "monohydra/core/plugin_registry.hpp"
+#include "report_figures.hpp"
+#include "report_html.hpp"
+#include "run_record.hpp"
+#include "valve_intervals.hpp"
+
+namespace fs = std::filesystem;
+
+namespace mh::cli {
+namespace {
+
+const char* const kDefaultFormulations = "double-step,penalty";
+
+// A formulation's name as a file name: anything but [A-Za-z0-9._-] becomes '_'.
+std::string file_stem(const std::string& formulation) {
+  std::string out = formulation;
+  for (char& ch : out) {
+    const bool ok = (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') ||
+                    (ch >= '0' && ch <= '9') || ch == '.' || ch == '_' || ch == '-';
+    if (!ok) ch = '_';
+  }
+  return out;
+}
+
+std::optional<std::vector<std::string>> split_formulations(const std::string& list) {
+  std::vector<std::string> out;
+  std::stringstream ss(list);
+  for (std::string name; std::getline(ss, name, ',');) {
+    const auto b = name.find_first_not_of(' '), e = name.find_last_not_of(' ');
+    if (b == std::string::npos) {
+      std::cerr << "monohydra: --formulations expects names separated by commas, got '" << list
+                << "'\n";
+      return std::nullopt;
+    }
+    name = name.substr(b, e - b + 1);
+    if (std::find(out.begin(), out.end(), name) != out.end()) {
+      std::cerr << "monohydra: --formulations names '" << name << "' twice\n";
+      return std::nullopt;
+    }
+    out.push_back(name);
+  }
+  if (out.empty()) {
+    std::cerr << "monohydra: --formulations expects at least one name\n";
+    return std::nullopt;
+  }
+  return out;
+}
+
+std::string interval_text(const std::vector<PlotInterval>& intervals) {
+  std::string text;
+  char buf[64];
+  for (const auto& iv : intervals) {
+    std::snprintf(buf, sizeof(buf), "%s%.3f .. %.3f s", text.empty() ? "" : ", ", iv.begin, iv.end);
+    text += buf;
+  }
+  return text;
+}
+
+}  // namespace
+
+int run_comparison(const CompareJob& job, std::ostream& out) {
+  ModelFile file;
+  try {
+    file = load_model_file(job.model_path);
+  } catch (const InputError& err) {
+    std::cerr << "monohydra: " << err.what() << '\n';
+    return 2;
+  }
+  if ((job.dt && !(*job.dt > 0.0)) || (job.t_end && !(*job.t_end >= 0.0))) {
+    std::cerr << "monohydra: --dt must be positive and --t-end non-negative\n";
+    return 2;
+  }
+  if (!job.report_dir.empty()) {
+    std::error_code ec;
+    fs::create_directories(job.report_dir, ec);
+    if (ec || !fs::is_directory(job.report_dir)) {
+      std::cerr << "monohydra: cannot create the report folder '" << job.report_dir << "'\n";
+      return 2;
+    }
+  }
+  PluginRegistry registry;
+  auto search = file.plugin_paths;
+  for (const auto& p : PluginRegistry::default_search_path()) search.push_back(p);
+  registry.scan(search);
+
+  const std::string name = job.study != nullptr ? job.study->name : file.model.name;
+  std::vector<RunRecord> runs;
+  for (const auto& formulation : job.formulations) {
+    RecordOptions options;
+    options.dt = job.dt;
+    options.t_end = job.t_end;
+    options.log = [&formulation](mh_log_level level, const std::string& source,
+                                 const std::string& msg) {
+      log_to_stderr(level, "[" + formulation + "] " + source, msg);
+    };
+    ProgressBar bar;
+    if (bar.enabled) {
+      std::cerr << name << ": " << formulation << '\n';
+      options.progress = std::ref(bar);
+    }
+    if (!job.report_dir.empty()) {
+      options.csv_path = (fs::path(job.report_dir) / (file_stem(formulation) + ".csv")).string();
+      std::error_code ec;
+      fs::remove(options.csv_path, ec);  // no stale results of an earlier comparison
+    }
+    runs.push_back(record_run(file, registry, formulation, options));
+    if (bar.enabled && runs.back().failed && runs.back().rows() > 0) std::cerr << '\n';
+    if (runs.back().failed)
+      std::cerr << "monohydra: " << formulation << " failed on " << name << ": "
+                << runs.back().failure << '\n';
+  }
+
+  const Comparison c = summarize(name, job.model_path, std::move(runs));
+  const PaperNumbers* paper = job.study != nullptr ? &job.study->paper : nullptr;
+  const TextTable table = comparison_table(c, paper);
+  out << render_text(table);
+
+  if (!job.report_dir.empty()) {
+    const auto valves = valve_columns(file);
+    std::vector<PlotInterval> open;
+    if (const RunRecord* ref = c.reference_run()) open = valve_open_intervals(*ref, valves);
+    const std::string shading = job.study != nullptr ? job.study->valve_shading : "#d8c8f0";
+    const auto figures = report_figures(file, c, open, shading);
+    ReportPage page;
+    page.title = "monohydra compare: " + name;
+    std::string formulations;
+    for (const auto& f : job.formulations) formulations += (formulations.empty() ? "" : ", ") + f;
+    page.facts.push_back("model: " + file.model.name + " (" + job.model_path + ")");
+    page.facts.push_back("formulations: " + formulations);
+    if (valves.empty())
+      page.facts.push_back("valve: the model has no " + std::string(kValveType) +
+                           " subsystem, so no interval is shaded");
+    else if (open.empty())
+      page.facts.push_back("valve: never open in this run");
+    else
+      page.facts.push_back("valve open (shaded in the time plots): " + interval_text(open));
+    page.table = &table;
+    page.figures = &figures;
+    for (const auto& r : c.runs)
+      if (!r.csv_path.empty()) page.csv_files.push_back(fs::path(r.csv_path).filename().string());
+    try {
+      const std::string html = write_report(job.report_dir, page);
+      out << "report: " << html << '\n';
+    } catch (const std::exception& err) {
+      std::cerr << "monohydra: " << err.what() << '\n';
+      return 2;
+    }
+    for (const auto& r : c.runs)
+      if (!r.csv_path.empty()) out << "csv:    " << r.csv_path << '\n';
+  }
+  return c.any_failed() ? 1 : 0;
+}
+
+int compare(const std::vector<std::string>& args) {
+  CompareJob job;
+  std::string formulations = kDefaultFormulations;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    const bool has_value = i + 1 < args.size();
+    if ((a == "--formulations" || a == "--report" || a == "--dt" || a == "--t-end") && !has_value) {
+      std::cerr << "monohydra: " << a << " expects a value\n";
+      return 2;
+    }
+    if (a == "--formulations") {
+      formulations = args[++i];
+    } else if (a == "--report") {
+      job.report_dir = args[++i];
+    } else if (a == "--dt") {
+      job.dt = parse_number(a, args[++i]);
+      if (!job.dt) return 2;
+    } else if (a == "--t-end") {
+      job.t_end = parse_number(a, args[++i]);
+      if (!job.t_end) return 2;
+    } else if (!a.empty() && a[0] == '-') {
+      std::cerr << "monohydra: unknown option '" << a << "'\n";
+      return usage(2);
+    } else if (job.model_path.empty()) {
+      job.model_path = a;
+    } else {
+      std::cerr << "monohydra: compare takes one model file (got '" << job.model_path << "' and '"
+                << a << "')\n";
+      return 2;
+    }
+  }
+  if (job.model_path.empty()) {
+    std::cerr << "monohydra: compare needs a model file\n";
+    return usage(2);
+  }
+  const auto names = split_formulations(formulations);
+  if (!names) return 2;
+  job.formulations = *names;
+  // The paper's numbers go beside ours when the model is one of its case studies.
+  std::vector<CaseStudy> studies;
+  try {
+    studies = load_case_studies(case_studies_path());
+  } catch (const std::exception& err) {
+    std::cerr << "monohydra: warning: no paper numbers: " << err.what() << '\n';
+  }
+  job.study = find_case_study(studies, job.model_path);
+  return run_comparison(job, std::cout);
+}
+
+}  // namespace mh::cli

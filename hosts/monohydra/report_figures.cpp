@@ -1,0 +1,217 @@
+#include "report_figures.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include "mechanism_drawing.hpp"
+#include "valve_intervals.hpp"
+
+namespace mh::cli {
+namespace {
+
+constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+
+struct Plotter {
+  const Comparison& c;
+  const std::vector<PlotInterval>& valve_open;
+  const std::string& shade_colour;
+
+  PlotSpec spec(const std::string& id, const std::string& title, const std::string& y_label,
+                bool log_y = false) const {
+    PlotSpec s;
+    s.id = id;
+    s.title = title;
+    s.x_label = "t (s)";
+    s.y_label = y_label;
+    s.log_y = log_y;
+    s.shaded = valve_open;
+    s.shade_colour = shade_colour;
+    char label[64];
+    std::snprintf(label, sizeof(label), "valve open (|U| > %g V)",
+                  kValveOpenFraction * kValveFullScale);
+    s.shade_label = label;
+    return s;
+  }
+
+  // Runs that have rows, with their index among all runs (for the dash).
+  std::vector<size_t> runs_with_rows() const {
+    std::vector<size_t> out;
+    for (size_t r = 0; r < c.runs.size(); ++r)
+      if (c.runs[r].rows() > 0) out.push_back(r);
+    return out;
+  }
+
+  // y = scale * column, from row `first` on.
+  PlotSeries series(size_t r, const std::string& column, double scale, const std::string& label,
+                    const std::string& colour, size_t first = 0) const {
+    const RunRecord& run = c.runs[r];
+    PlotSeries s;
+    s.label = label;
+    s.colour = colour;
+    s.dash = dash_pattern(r);
+    const auto& t = run.values("t");
+    const auto& y = run.values(column);
+    for (size_t k = first; k < run.rows(); ++k) {
+      s.x.push_back(t[k]);
+      s.y.push_back(scale * y[k]);
+    }
+    return s;
+  }
+
+  // One series per run of one column, coloured by run.
+  std::vector<PlotSeries> per_run(const std::string& column, double scale, size_t first) const {
+    std::vector<PlotSeries> out;
+    for (size_t r : runs_with_rows())
+      out.push_back(series(r, column, scale, c.runs[r].formulation, palette(r), first));
+    return out;
+  }
+};
+
+}  // namespace
+
+const std::vector<std::string>& report_figure_ids() {
+  static const std::vector<std::string> ids = {
+      "fig-mechanism", "fig-coordinates", "fig-pressures",  "fig-energies",
+      "fig-drift",     "fig-constraints", "fig-iterations", "fig-step-time"};
+  return ids;
+}
+
+std::vector<ReportFigure> report_figures(const ModelFile& file, const Comparison& c,
+                                         const std::vector<PlotInterval>& valve_open,
+                                         const std::string& shade_colour) {
+  const Plotter p{c, valve_open, shade_colour};
+  const RunRecord* ref = c.reference_run();
+  const auto runs = p.runs_with_rows();
+  std::vector<ReportFigure> figs;
+
+  // Fig. 6: the mechanism.
+  {
+    ReportFigure f{"fig-mechanism", "Fig. 6", "The mechanism at every second", "", {}};
+    if (ref != nullptr) {
+      const auto frames = frames_every_second(*ref);
+      f.svgs.push_back(svg_mechanism(file, frames, "drawing-mechanism",
+                                     "Positions of the bodies (" + ref->formulation + ")"));
+      f.caption = "The bodies of the " + ref->formulation + " run at every second, light to dark " +
+                  "(a run shorter than 2 s: five instants). Bodies are drawn from their joint " +
+                  "point to their other points; squares are bodies centred on their joint; " +
+                  "circles on the bodies are joints, open circles cut joints, triangles ground " +
+                  "points, dashed lines the ground guides of sliders, orange lines subsystems " +
+                  "between two points (the cylinder).";
+    }
+    figs.push_back(f);
+  }
+
+  // Figs. 7a-8a: relative joint coordinates, revolute in degrees and
+  // prismatic in metres.
+  {
+    ReportFigure f{"fig-coordinates", "Figs. 7a and 8a", "Relative joint coordinates", "", {}};
+    if (ref != nullptr) {
+      for (const bool revolute : {true, false}) {
+        std::vector<PlotSeries> series;
+        for (size_t r : runs)
+          for (int j = 0; j < ref->num_coordinates; ++j) {
+            const size_t col = 1 + static_cast<size_t>(j);
+            if ((ref->units[col] == "rad") != revolute) continue;
+            series.push_back(p.series(r, ref->names[col], revolute ? kRadToDeg : 1.0,
+                                      ref->names[col] + " " + c.runs[r].formulation,
+                                      palette(static_cast<size_t>(j))));
+          }
+        if (series.empty()) continue;
+        const std::string id =
+            revolute ? "plot-coordinates-revolute" : "plot-coordinates-prismatic";
+        f.svgs.push_back(svg_plot(p.spec(id, revolute ? "Revolute joints" : "Prismatic joints",
+                                         revolute ? "z (deg)" : "z (m)"),
+                                  series));
+      }
+      f.caption = "Colour: the coordinate; line style: the formulation (solid " +
+                  c.runs[runs.front()].formulation + ").";
+    }
+    figs.push_back(f);
+  }
+
+  // Figs. 7b-8b: pressures.
+  {
+    ReportFigure f{"fig-pressures", "Figs. 7b and 8b", "Pressures", "", {}};
+    if (ref != nullptr && !c.pressures.empty()) {
+      std::vector<PlotSeries> series;
+      for (size_t r : runs)
+        for (size_t k = 0; k < c.pressures.size(); ++k)
+          if (c.runs[r].column(c.pressures[k]) >= 0)
+            series.push_back(p.series(r, c.pressures[k], 1e-6,
+                                      c.pressures[k] + " " + c.runs[r].formulation, palette(k)));
+      f.svgs.push_back(svg_plot(p.spec("plot-pressures", "Pressures", "p (MPa)"), series));
+      f.caption = "The states in Pa. Colour: the pressure; line style: the formulation.";
+    } else {
+      f.caption = "This model has no pressures (no written state in Pa): the panel is left out.";
+    }
+    figs.push_back(f);
+  }
+
+  // Figs. 9-10: energies, and their balance.
+  {
+    ReportFigure f{
+        "fig-energies", "Figs. 9 and 10", "Kinetic, potential and actuator energy", "", {}};
+    std::vector<PlotSeries> series;
+    const char* names[] = {"KE", "PE", "W"};
+    for (size_t r : runs)
+      for (size_t k = 0; k < 3; ++k)
+        series.push_back(p.series(r, names[k], 1.0,
+                                  std::string(names[k]) + " " + c.runs[r].formulation, palette(k)));
+    if (!series.empty())
+      f.svgs.push_back(svg_plot(p.spec("plot-energies", "Energies", "E (J)"), series));
+    f.caption =
+        "KE and PE: kinetic and potential energy of the bodies since t = 0; W: the work "
+        "done on them by subsystem forces (the actuator). Line style: the formulation.";
+    figs.push_back(f);
+  }
+  {
+    ReportFigure f{"fig-drift", "Figs. 9 and 10", "Energy drift", "", {}};
+    const auto series = p.per_run("drift", 1.0, 0);
+    if (!series.empty())
+      f.svgs.push_back(svg_plot(p.spec("plot-drift", "Drift KE + PE - W", "drift (J)"), series));
+    f.caption = "drift = KE + PE - W: zero for an exact energy balance.";
+    figs.push_back(f);
+  }
+
+  // Figs. 11-12: constraint violation.
+  {
+    ReportFigure f{"fig-constraints", "Figs. 11 and 12", "Constraint violation", "", {}};
+    if (file.model.cut_joints.empty()) {
+      f.caption = "This model has no cut joints: no constraints to violate.";
+    } else {
+      const auto series = p.per_run("phi_norm", 1.0, 0);
+      if (!series.empty())
+        f.svgs.push_back(svg_plot(
+            p.spec("plot-constraints", "Norm of the constraints", "phi_norm", true), series));
+      f.caption =
+          "phi_norm: the norm of every cut joint's constraints (the paper shows one "
+          "joint), on a log scale; exact zeros are drawn on the bottom of the axis.";
+    }
+    figs.push_back(f);
+  }
+
+  // Figs. 13-14: numerical efficiency.
+  {
+    ReportFigure f{"fig-iterations", "Figs. 13 and 14", "Newton iterations per step", "", {}};
+    const auto series = p.per_run("iters", 1.0, 1);
+    if (!series.empty())
+      f.svgs.push_back(
+          svg_plot(p.spec("plot-iterations", "Newton iterations", "iterations"), series));
+    f.caption = "Linear solves per step; each pixel column shows the range of its steps.";
+    figs.push_back(f);
+  }
+  {
+    ReportFigure f{"fig-step-time", "Figs. 13 and 14", "Wall time per step", "", {}};
+    const auto series = p.per_run(kWallColumn, 1e3, 1);
+    if (!series.empty())
+      f.svgs.push_back(
+          svg_plot(p.spec("plot-step-time", "Wall time per step", "time (ms)"), series));
+    f.caption = "Wall time of each step (the wall_s column), measured on this host.";
+    figs.push_back(f);
+  }
+  if (ref == nullptr)
+    for (auto& f : figs) f.caption = "No run produced results: nothing to show.";
+  return figs;
+}
+
+}  // namespace mh::cli

@@ -1,0 +1,155 @@
+#include "run_record.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "monohydra/core/run.hpp"
+
+namespace mh::cli {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// The columns of `sim` and their units, in the order write_csv_row writes them.
+void name_columns(const ModelFile& file, const Simulation& sim, RunRecord& rec) {
+  auto add = [&rec](const std::string& name, const std::string& unit) {
+    rec.names.push_back(name);
+    rec.units.push_back(unit);
+  };
+  add("t", "s");
+  const auto& coordinates = sim.coordinate_names();
+  for (size_t j = 0; j < coordinates.size(); ++j)
+    add(coordinates[j], file.model.bodies[j].joint == JointType::revolute ? "rad" : "m");
+  rec.num_coordinates = static_cast<int>(coordinates.size());
+  for (size_t i = 0; i < sim.state_names().size(); ++i) {
+    if (sim.state_names()[i].empty()) continue;
+    add(sim.state_names()[i], sim.state_units()[i]);
+    ++rec.num_states;
+  }
+  for (size_t i = 0; i < sim.output_names().size(); ++i)
+    if (!sim.output_names()[i].empty()) add(sim.output_names()[i], sim.output_units()[i]);
+  for (const char* energy : {"KE", "PE", "W", "drift"}) add(energy, "J");
+  add("phi_norm", "");
+  add("iters", "");
+  add(kWallColumn, "s");
+  rec.columns.assign(rec.names.size(), {});
+}
+
+void record_row(const Simulation& sim, double wall_seconds, RunRecord& rec) {
+  size_t c = 0;
+  auto push = [&rec, &c](double v) { rec.columns[c++].push_back(v); };
+  push(sim.time());
+  for (int i = 0; i < sim.z().size(); ++i) push(sim.z()[i]);
+  for (int i = 0; i < sim.states().size(); ++i)
+    if (!sim.state_names()[static_cast<size_t>(i)].empty()) push(sim.states()[i]);
+  for (int i = 0; i < sim.outputs().size(); ++i)
+    if (!sim.output_names()[static_cast<size_t>(i)].empty()) push(sim.outputs()[i]);
+  for (double v :
+       {sim.kinetic_energy(), sim.potential_energy(), sim.work(), sim.drift(), sim.phi_norm()})
+    push(v);
+  push(static_cast<double>(sim.last_step().iterations));
+  push(wall_seconds);
+}
+
+// `monohydra run`'s row (write_csv_row) with the wall time appended.
+void write_row(std::ostream& csv, std::ostringstream& line, const Simulation& sim,
+               double wall_seconds) {
+  line.str("");
+  write_csv_row(line, sim);
+  std::string text = line.str();
+  text.back() = ',';  // the row's '\n'
+  char buf[32];
+  const auto res = std::to_chars(buf, buf + sizeof(buf), wall_seconds);
+  text.append(buf, res.ptr);
+  text += '\n';
+  csv << text;
+}
+
+}  // namespace
+
+int RunRecord::column(const std::string& name) const {
+  const auto it = std::find(names.begin(), names.end(), name);
+  return it == names.end() ? -1 : static_cast<int>(it - names.begin());
+}
+
+const std::vector<double>& RunRecord::values(const std::string& name) const {
+  const int c = column(name);
+  if (c < 0) throw std::out_of_range("no column '" + name + "' in the run of " + formulation);
+  return columns[static_cast<size_t>(c)];
+}
+
+RunRecord record_run(const ModelFile& file, const PluginRegistry& registry,
+                     const std::string& formulation, const RecordOptions& options) {
+  RunRecord rec;
+  rec.formulation = formulation;
+  std::unique_ptr<Simulation> sim;
+  try {
+    sim = std::make_unique<Simulation>(file, registry, formulation, options.log);
+  } catch (const std::exception& err) {
+    rec.failed = true;
+    rec.failure = err.what();
+    return rec;
+  }
+  if (options.dt) sim->settings().dt = *options.dt;
+  if (options.t_end) sim->settings().t_end = *options.t_end;
+  rec.dt = sim->settings().dt;
+  rec.t_end = sim->settings().t_end;
+  name_columns(file, *sim, rec);
+
+  std::ofstream csv;
+  if (!options.csv_path.empty()) {
+    csv.open(options.csv_path);
+    if (!csv) {
+      rec.failed = true;
+      rec.failure = "cannot write '" + options.csv_path + "'";
+      return rec;
+    }
+    rec.csv_path = options.csv_path;
+  }
+  std::ostringstream line;
+  try {
+    auto t0 = Clock::now();
+    sim->start();
+    double wall = seconds_since(t0);
+    record_row(*sim, wall, rec);
+    if (csv.is_open()) {
+      line.str("");
+      write_csv_header(line, *sim);
+      std::string header = line.str();
+      header.pop_back();  // the header's '\n'
+      csv << header << ',' << kWallColumn << '\n';
+      write_row(csv, line, *sim, wall);
+    }
+    const long total = std::lround(rec.t_end / rec.dt);
+    const long report_every = std::max(1L, total / 100);
+    for (long k = 0; k < total; ++k) {
+      t0 = Clock::now();
+      sim->step();
+      wall = seconds_since(t0);
+      record_row(*sim, wall, rec);
+      if (csv.is_open()) write_row(csv, line, *sim, wall);
+      if (options.progress && (k + 1) % report_every == 0)
+        options.progress(static_cast<double>(k + 1) / static_cast<double>(total));
+    }
+  } catch (const SimulationError& err) {
+    rec.failed = true;
+    rec.failure = err.what();
+    rec.failure_time = err.time();
+  } catch (const std::exception& err) {  // e.g. the initial assembly
+    rec.failed = true;
+    rec.failure = err.what();
+  }
+  return rec;
+}
+
+}  // namespace mh::cli

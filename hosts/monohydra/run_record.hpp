@@ -1,0 +1,60 @@
+// One formulation's run of a model, kept in memory column by column with the
+// same doubles its CSV holds: what the comparison table and the report are
+// computed from.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "monohydra/core/model_file.hpp"
+#include "monohydra/core/plugin_registry.hpp"
+#include "monohydra/core/simulation.hpp"
+
+namespace mh::cli {
+
+// The column the comparison adds after `monohydra run`'s columns: the wall time
+// (s) spent computing the row, start() for t = 0 and one step() after that
+// (writing the CSV is not counted).
+inline constexpr const char* kWallColumn = "wall_s";
+
+struct RunRecord {
+  std::string formulation;
+  bool failed = false;
+  std::string failure;  // why, when failed: the setup error or "t = .. s, step ..: reason"
+  std::optional<double> failure_time;  // s: the step that failed (none: setup failed)
+  double dt = 0.0;                     // s, the settings the run used
+  double t_end = 0.0;                  // s
+  // Columns in CSV order: t, z1..zN, written states, written outputs, KE, PE,
+  // W, drift, phi_norm, iters, wall_s; units parallel ("s", "rad" or "m" for
+  // coordinates, as declared for states and outputs, "J" for energies).
+  std::vector<std::string> names;
+  std::vector<std::string> units;
+  std::vector<std::vector<double>> columns;  // columns[c][row]
+  int num_coordinates = 0;                   // z1..zN are columns 1..N
+  int num_states = 0;                        // written states follow them
+  std::string csv_path;                      // "" when no CSV was written
+
+  size_t rows() const { return columns.empty() ? 0 : columns.front().size(); }
+  int column(const std::string& name) const;  // -1 when absent
+  // The column named `name`; throws std::out_of_range when absent.
+  const std::vector<double>& values(const std::string& name) const;
+};
+
+struct RecordOptions {
+  std::optional<double> dt;     // override the model file's solver settings
+  std::optional<double> t_end;  // s
+  std::string csv_path;         // write the CSV here when not empty
+  LogSink log;
+  std::function<void(double)> progress;  // fraction done, about 100 calls
+};
+
+// Runs `formulation` on the model from t = 0 to t_end. Never throws for a run
+// that fails: a formulation that cannot be set up gives a record with no rows,
+// a step that fails stops the run and keeps the rows before it; both set
+// `failed` and `failure`.
+RunRecord record_run(const ModelFile& file, const PluginRegistry& registry,
+                     const std::string& formulation, const RecordOptions& options);
+
+}  // namespace mh::cli

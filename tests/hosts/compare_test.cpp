@@ -1,0 +1,322 @@
+// `monohydra compare`, run as a user runs it: the table's numbers are the
+// runs' CSVs' numbers, the report and CSVs are written, a formulation that
+// fails is in the table with its reason while the others run, and the
+// default job compares the paper's case studies with the paper's numbers
+// beside ours.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "cli_runner.hpp"
+#include "printed_table.hpp"
+
+namespace mh::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+double number(const std::string& cell) {
+  size_t used = 0;
+  const double v = std::stod(cell, &used);
+  EXPECT_EQ(used, cell.size()) << "not a number: '" << cell << "'";
+  return v;
+}
+
+// The printed cell holds `value` to the digits it shows (%.4g or more).
+void expect_printed(const PrintedTable& t, const std::string& label, const std::string& column,
+                    double value) {
+  const std::string cell = t.cell(label, column);
+  ASSERT_FALSE(cell.empty()) << label << " / " << column;
+  EXPECT_NEAR(number(cell), value, 5e-4 * std::abs(value) + 1e-300)
+      << label << " / " << column << ": printed " << cell;
+}
+
+// Every number of the table recomputed from the CSVs in `dir`, the first
+// formulation the reference of the differences.
+void expect_table_from_csvs(const PrintedTable& t, const fs::path& dir,
+                            const std::vector<std::string>& formulations) {
+  const Csv ref = read_csv(dir / (formulations.front() + ".csv"));
+  for (const auto& f : formulations) {
+    SCOPED_TRACE(f);
+    const Csv csv = read_csv(dir / (f + ".csv"));
+    ASSERT_GT(csv.rows, 1u);
+    const size_t steps = csv.rows - 1;
+    double iterations = 0.0, max_iterations = 0.0, step_wall = 0.0;
+    for (size_t k = 1; k < csv.rows; ++k) {
+      iterations += csv["iters"][k];
+      max_iterations = std::max(max_iterations, csv["iters"][k]);
+      step_wall += csv["wall_s"][k];
+    }
+    const double wall = csv["wall_s"][0] + step_wall;
+    double drift = 0.0, drift_t = 0.0, work = 0.0, phi = 0.0;
+    for (size_t k = 0; k < csv.rows; ++k) {
+      if (std::abs(csv["drift"][k]) > drift) {
+        drift = std::abs(csv["drift"][k]);
+        drift_t = csv["t"][k];
+      }
+      work = std::max(work, std::abs(csv["W"][k]));
+      phi = std::max(phi, csv["phi_norm"][k]);
+    }
+    double dz = 0.0;
+    for (const auto& name : csv.header)
+      if (name.size() > 1 && name[0] == 'z')
+        for (size_t k = 0; k < std::min(csv.rows, ref.rows); ++k)
+          dz = std::max(dz, std::abs(csv[name][k] - ref[name][k]));
+
+    EXPECT_EQ(t.cell("status", f), "ok");
+    EXPECT_EQ(t.cell("steps", f), std::to_string(steps));
+    EXPECT_NEAR(number(t.cell("Newton iterations avg", f)), iterations / static_cast<double>(steps),
+                5e-5);
+    EXPECT_EQ(number(t.cell("Newton iterations max", f)), max_iterations);
+    expect_printed(t, "total wall time (s)", f, wall);
+    expect_printed(t, "time per step (ms)", f, step_wall / static_cast<double>(steps) * 1e3);
+    expect_printed(t, "real-time factor", f, csv["t"].back() / wall);
+    expect_printed(t, "peak |drift| (J)", f, drift);
+    expect_printed(t, "peak |drift| at t (s)", f, drift_t);
+    if (work > 0.0) {
+      expect_printed(t, "max |W| (J)", f, work);
+      expect_printed(t, "peak |drift| (% of max |W|)", f, drift / work * 100.0);
+    } else {
+      EXPECT_EQ(t.cell("max |W| (J)", f), "0");
+      EXPECT_EQ(t.cell("peak |drift| (% of max |W|)", f), "n/a");
+    }
+    expect_printed(t, "max phi_norm", f, phi);
+    expect_printed(t, "max |dz| from " + formulations.front(), f, dz);
+  }
+}
+
+TEST(Compare, TableNumbersAreComputedFromTheRunsCsvsOnTheFourBar) {
+  const fs::path dir = scratch_dir("table-fourbar");
+  const CliResult r =
+      run_cli("compare " + shipped_model("fourbar-free.yaml") +
+              " --formulations double-step,penalty --t-end 3 --report " + dir.string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  const PrintedTable t = parse_printed_table(r.output, "fourbar-free (");
+  ASSERT_TRUE(t.found) << r.output;
+  EXPECT_EQ(t.header, (std::vector<std::string>{"quantity", "double-step", "penalty"}));
+  expect_table_from_csvs(t, dir, {"double-step", "penalty"});
+  // The two formulations really differ (penalty holds the loop less tightly),
+  // so the differences row is not trivially zero.
+  EXPECT_GT(number(t.cell("max |dz| from double-step", "penalty")), 0.0);
+  EXPECT_EQ(number(t.cell("max |dz| from double-step", "double-step")), 0.0);
+}
+
+TEST(Compare, DriftPercentIsOfTheMaximumWorkWhenSubsystemsDoWork) {
+  // The Maxwell element does work on the pendulum, so max |W| > 0.
+  const fs::path dir = scratch_dir("table-maxwell");
+  const CliResult r =
+      run_cli("compare " + shipped_model("maxwell-pendulum.yaml") +
+              " --formulations open-loop,penalty --t-end 2 --report " + dir.string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  const PrintedTable t = parse_printed_table(r.output, "maxwell-pendulum (");
+  ASSERT_TRUE(t.found) << r.output;
+  ASSERT_NE(t.cell("max |W| (J)", "open-loop"), "0");
+  expect_table_from_csvs(t, dir, {"open-loop", "penalty"});
+}
+
+TEST(Compare, WritesTheReportAndOneCsvPerFormulationForBothMechanisms) {
+  for (const char* model : {"fourbar-free", "quickreturn-free"}) {
+    SCOPED_TRACE(model);
+    const fs::path dir = scratch_dir(std::string("report-") + model);
+    const CliResult r =
+        run_cli("compare " + shipped_model(std::string(model) + ".yaml") +
+                " --formulations double-step,penalty --t-end 2 --report " + dir.string());
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("report: " + (dir / "report.html").string()), std::string::npos)
+        << r.output;
+    EXPECT_TRUE(parse_printed_table(r.output, std::string(model) + " (").found) << r.output;
+    EXPECT_GT(fs::file_size(dir / "report.html"), 10000u);
+    for (const char* f : {"double-step", "penalty"}) {
+      const Csv csv = read_csv(dir / (std::string(f) + ".csv"));
+      EXPECT_EQ(csv.rows, 2001u) << f;
+      EXPECT_EQ(csv.header.back(), "wall_s");
+    }
+  }
+}
+
+TEST(Compare, CsvIsTheRunCommandsCsvWithTheWallTimeAppended) {
+  const fs::path dir = scratch_dir("same-as-run");
+  const std::string model = shipped_model("fourbar-free.yaml");
+  ASSERT_EQ(run_cli("run " + model + " --t-end 0.5 --out " + (dir / "run.csv").string()).code, 0);
+  ASSERT_EQ(run_cli("compare " + model + " --formulations double-step --t-end 0.5 --report " +
+                    (dir / "cmp").string())
+                .code,
+            0);
+  const std::string run_text = read_text(dir / "run.csv");
+  const std::string cmp_text = read_text(dir / "cmp" / "double-step.csv");
+  // Drop the last column of every line of the comparison's CSV.
+  std::string stripped;
+  size_t begin = 0;
+  while (begin < cmp_text.size()) {
+    const size_t end = cmp_text.find('\n', begin);
+    const std::string line = cmp_text.substr(begin, end - begin);
+    stripped += line.substr(0, line.rfind(',')) + '\n';
+    begin = end + 1;
+  }
+  EXPECT_EQ(stripped, run_text);
+}
+
+TEST(Compare, AFailingFormulationIsInTheTableWithItsReasonAndTheOthersStillRun) {
+  const fs::path dir = scratch_dir("failing");
+  // double-step with a re-partition threshold too low for the crank-rocker
+  // stops at t = 0.434 s (tests/plugins/double_step_test.cpp); 'lagrange' is
+  // no formulation at all.
+  std::string text = read_text(shipped_model("crank-rocker.yaml"));
+  const std::string line = "formulation: {name: double-step}";
+  ASSERT_NE(text.find(line), std::string::npos);
+  text.replace(text.find(line), line.size(),
+               "formulation: {name: double-step, independent_coordinates: z3, "
+               "repartition_rcond: 0.001}");
+  const fs::path model = dir / "crank-rocker-late.yaml";
+  std::ofstream(model) << text;
+  const CliResult r = run_cli("compare " + model.string() +
+                              " --formulations double-step,lagrange,penalty --t-end 1 --report " +
+                              (dir / "report").string());
+  EXPECT_EQ(r.code, 1) << r.output;
+  const PrintedTable t = parse_printed_table(r.output, "crank-rocker (");
+  ASSERT_TRUE(t.found) << r.output;
+  EXPECT_EQ(t.cell("status", "double-step"), "FAILED at t = 0.434 s");
+  EXPECT_EQ(t.cell("status", "lagrange"), "FAILED at setup");
+  EXPECT_EQ(t.cell("status", "penalty"), "ok");
+  EXPECT_EQ(t.cell("steps", "double-step"), "433");  // the rows before the failure
+  EXPECT_EQ(t.cell("steps", "lagrange"), "-");
+  EXPECT_EQ(t.cell("steps", "penalty"), "1000");
+  // Each failure's reason is under the table.
+  auto note = [&t](const std::string& start) {
+    for (const auto& n : t.notes)
+      if (n.rfind(start, 0) == 0) return n;
+    return std::string();
+  };
+  EXPECT_NE(note("double-step FAILED: t = 0.434 s, step 434: ").find("det Phi_z^d changed sign"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(note("lagrange FAILED: ").find("unknown formulation 'lagrange'"), std::string::npos)
+      << r.output;
+  // The others still report: CSVs of the rows they have, and the report.
+  EXPECT_EQ(read_csv(dir / "report" / "double-step.csv").rows, 434u);
+  EXPECT_EQ(read_csv(dir / "report" / "penalty.csv").rows, 1001u);
+  EXPECT_FALSE(fs::exists(dir / "report" / "lagrange.csv"));
+  const std::string html = read_text(dir / "report" / "report.html");
+  EXPECT_NE(html.find("FAILED at t = 0.434 s"), std::string::npos);
+  EXPECT_NE(html.find("unknown formulation &#39;lagrange&#39;"), std::string::npos);
+}
+
+TEST(Compare, WhenEveryFormulationFailsTheTableAndReportStillSayWhy) {
+  const fs::path dir = scratch_dir("all-failing");
+  // open-loop refuses cut joints; 'lagrange' does not exist.
+  const CliResult r = run_cli("compare " + shipped_model("fourbar-free.yaml") +
+                              " --formulations open-loop,lagrange --report " + dir.string());
+  EXPECT_EQ(r.code, 1) << r.output;
+  const PrintedTable t = parse_printed_table(r.output, "fourbar-free (");
+  ASSERT_TRUE(t.found) << r.output;
+  EXPECT_EQ(t.cell("status", "open-loop"), "FAILED at setup");
+  EXPECT_EQ(t.cell("status", "lagrange"), "FAILED at setup");
+  ASSERT_EQ(t.notes.size(), 2u) << r.output;
+  EXPECT_NE(t.notes[0].find("open-loop handles trees only"), std::string::npos) << t.notes[0];
+  const std::string html = read_text(dir / "report.html");
+  EXPECT_NE(html.find("No run produced results"), std::string::npos);
+  EXPECT_EQ(html.find("<svg"), std::string::npos);
+}
+
+TEST(Compare, BadArgumentsExitWithTwo) {
+  const std::string model = shipped_model("fourbar-free.yaml");
+  for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
+           {"compare", "compare needs a model file"},
+           {"compare " + model + " --formulations penalty,penalty", "names 'penalty' twice"},
+           {"compare " + model + " --formulations ,", "expects names separated by commas"},
+           {"compare " + model + " --t-end soon", "--t-end expects a number, got 'soon'"},
+           {"compare " + model + " --frobnicate", "unknown option '--frobnicate'"},
+           {"compare /no/such/model.yaml", "/no/such/model.yaml"}}) {
+    const CliResult r = run_cli(args);
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << args << "\n" << r.output;
+  }
+}
+
+// The shipped case studies with their models swapped for the free
+// mechanisms (the hydraulic ones are not on this branch yet).
+fs::path free_case_studies(const fs::path& dir) {
+  std::string text = read_text(shipped_model("paper-reference.yaml"));
+  for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
+           {"model: fourbar.yaml", "model: " + shipped_model("fourbar-free.yaml")},
+           {"model: quickreturn.yaml", "model: " + shipped_model("quickreturn-free.yaml")}}) {
+    const size_t at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) text.replace(at, from.size(), to);
+  }
+  const fs::path file = dir / "case-studies.yaml";
+  std::ofstream(file) << text;
+  return file;
+}
+
+TEST(Compare, DefaultJobComparesBothCaseStudiesWithThePapersNumbersBeside) {
+  const fs::path dir = scratch_dir("default-job");
+  const fs::path studies = free_case_studies(dir);
+  const CliResult r = run_cli("", "MONOHYDRA_CASE_STUDIES=" + studies.string() + " ", dir.string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  const PrintedTable fourbar = parse_printed_table(r.output, "four-bar (");
+  const PrintedTable quick = parse_printed_table(r.output, "quick-return (");
+  ASSERT_TRUE(fourbar.found) << r.output;
+  ASSERT_TRUE(quick.found) << r.output;
+  const std::vector<std::string> header{"quantity", "double-step", "paper", "penalty", "paper"};
+  EXPECT_EQ(fourbar.header, header);
+  EXPECT_EQ(quick.header, header);
+  // The paper's numbers (../shared/case-studies.md, last table) beside ours.
+  EXPECT_EQ(fourbar.cell("Newton iterations avg", "paper", 0), "1.39");
+  EXPECT_EQ(fourbar.cell("Newton iterations max", "paper", 1), "4");
+  EXPECT_EQ(fourbar.cell("total wall time (s)", "paper", 1), "21.54");
+  EXPECT_EQ(fourbar.cell("max |W| (J)", "paper", 0), "982.95");
+  EXPECT_EQ(fourbar.cell("peak |drift| (J)", "paper", 0), "0.84");
+  EXPECT_EQ(fourbar.cell("peak |drift| (% of max |W|)", "paper", 0), "0.09");
+  EXPECT_EQ(quick.cell("Newton iterations avg", "paper", 0), "1.49");
+  EXPECT_EQ(quick.cell("Newton iterations max", "paper", 1), "6");
+  EXPECT_EQ(quick.cell("total wall time (s)", "paper", 0), "29.03");
+  EXPECT_EQ(quick.cell("max |W| (J)", "paper", 1), "357.47");
+  EXPECT_EQ(quick.cell("peak |drift| (J)", "paper", 1), "0.23");
+  // Ours are the runs' (10 s of the model's settings).
+  EXPECT_EQ(fourbar.cell("steps", "double-step"), "10000");
+  EXPECT_EQ(quick.cell("steps", "penalty"), "10000");
+  // And it says where the reports are.
+  for (const char* name : {"fourbar", "quickreturn"}) {
+    const fs::path report = dir / "out" / name / "report.html";
+    EXPECT_TRUE(fs::exists(report)) << report;
+    EXPECT_NE(r.output.find("  " + report.string()), std::string::npos) << r.output;
+    EXPECT_TRUE(fs::exists(dir / "out" / name / "penalty.csv"));
+  }
+}
+
+TEST(Compare, DefaultJobStopsWithAClearMessageWhenAModelIsMissing) {
+  const fs::path dir = scratch_dir("default-job-missing");
+  std::string text = read_text(shipped_model("paper-reference.yaml"));
+  const std::string from = "model: quickreturn.yaml";
+  text.replace(text.find(from), from.size(), "model: " + shipped_model("fourbar-free.yaml"));
+  std::ofstream(dir / "studies.yaml") << text;  // four-bar: fourbar.yaml beside it, missing
+  const CliResult r =
+      run_cli("", "MONOHYDRA_CASE_STUDIES=" + (dir / "studies.yaml").string() + " ", dir.string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(
+      r.output.find("the model of the four-bar is missing: " + (dir / "fourbar.yaml").string()),
+      std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir / "out")) << "nothing runs before every model is found";
+}
+
+TEST(Compare, AModelOfACaseStudyGetsThePapersNumbersBesideOurs) {
+  const fs::path dir = scratch_dir("compare-case-study");
+  const fs::path studies = free_case_studies(dir);
+  const CliResult r = run_cli("compare " + shipped_model("fourbar-free.yaml") +
+                                  " --formulations penalty,open-loop --t-end 0.2",
+                              "MONOHYDRA_CASE_STUDIES=" + studies.string() + " ");
+  EXPECT_EQ(r.code, 1) << r.output;  // open-loop refuses a model with cut joints
+  const PrintedTable t = parse_printed_table(r.output, "four-bar (");
+  ASSERT_TRUE(t.found) << r.output;
+  EXPECT_EQ(t.cell("Newton iterations max", "paper", 0), "4");  // beside penalty
+  EXPECT_EQ(t.cell("Newton iterations max", "paper", 1), "-");  // the paper ran no open-loop
+}
+
+}  // namespace
+}  // namespace mh::test

@@ -1,0 +1,165 @@
+// The report's figures for a hydraulic model (hosts/monohydra/report_figures.cpp),
+// before the hydraulic plugins exist: the four-bar with a cylinder and a
+// valve in its model file, and runs built by hand with the columns the
+// hydraulic four-bar will write (p1..p3, U, s, sdot, Fs).
+#include "report_figures.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "comparison_table.hpp"
+#include "report_html.hpp"
+#include "synthetic_run.hpp"
+#include "test_support.hpp"
+#include "valve_intervals.hpp"
+
+namespace mh::test {
+namespace {
+
+size_t count(const std::string& text, const std::string& what) {
+  size_t n = 0;
+  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+ModelFile hydraulic_fourbar() {
+  std::ifstream in(source_path("models/fourbar-free.yaml"));
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string yaml = text.str();
+  yaml.replace(yaml.find("formulation:"), 0,
+               "subsystems:\n"
+               "  - name: valve\n"
+               "    type: valve-4-3\n"
+               "    states: {U: U}\n"
+               "  - name: cylinder\n"
+               "    type: cylinder\n"
+               "    points: {a: {body: ground, at: [0, -2, 0]}, b: {body: body3, at: [1, 0, 0]}}\n"
+               "    states: {p1: p1, p2: p2, p3: p3}\n"
+               "    outputs: {s: s, sdot: sdot, Fs: Fs}\n");
+  return parse_model_text(yaml, "fourbar-hydraulic.yaml");
+}
+
+cli::RunRecord hydraulic_run(const std::string& formulation, double wobble) {
+  SyntheticRun s;
+  s.formulation = formulation;
+  s.rows = 1001;
+  s.dt = 0.01;  // 10 s
+  const double deg = 3.14159265358979323846 / 180.0;
+  s.z = {[wobble, deg](size_t, double t) { return (5.0 + wobble) * std::sin(t) * deg; },
+         [deg](size_t, double) { return -135.0 * deg; },
+         [deg](size_t, double) { return -45.0 * deg; }};
+  auto u = [](size_t k, double) {  // the four-bar's reference signal
+    if (k >= 100 && k < 250) return 10.0;
+    if (k >= 500 && k < 800) return -10.0;
+    return 0.0;
+  };
+  s.states = {{"p1", "Pa", [](size_t, double t) { return 5.0e6 + 1e5 * t; }},
+              {"p2", "Pa", [](size_t, double t) { return 5.0e6 + 2e5 * t; }},
+              {"p3", "Pa", [wobble](size_t, double) { return 3.5e6 + wobble; }},
+              {"U", "V", u}};
+  s.outputs = {{"s", "m", [](size_t, double) { return 1.414; }},
+               {"sdot", "m/s", nullptr},
+               {"Fs", "N", [](size_t, double) { return 11029.38; }}};
+  s.W = [](size_t, double t) { return 100.0 * t; };
+  s.phi = [](size_t, double) { return 1e-15; };
+  s.iters = [](size_t k, double) { return k == 0 ? 0.0 : 1.0 + static_cast<double>(k % 3 == 0); };
+  s.wall = [](size_t, double) { return 2e-5; };
+  return s.make();
+}
+
+class HydraulicReport : public ::testing::Test {
+ protected:
+  HydraulicReport()
+      : file(hydraulic_fourbar()),
+        c(cli::summarize("four-bar", "fourbar-hydraulic.yaml",
+                         {hydraulic_run("double-step", 0.0), hydraulic_run("penalty", 1.0)})),
+        open(cli::valve_open_intervals(*c.reference_run(), cli::valve_columns(file))),
+        figures(cli::report_figures(file, c, open, "#d8c8f0")) {}
+  std::string svgs(const std::string& id) const {
+    for (const auto& f : figures)
+      if (f.id == id) {
+        std::string all;
+        for (const auto& s : f.svgs) all += s;
+        return all;
+      }
+    return "";
+  }
+  ModelFile file;
+  cli::Comparison c;
+  std::vector<cli::PlotInterval> open;
+  std::vector<cli::ReportFigure> figures;
+};
+
+TEST_F(HydraulicReport, EveryFigureIsThereInThePapersOrder) {
+  ASSERT_EQ(figures.size(), cli::report_figure_ids().size());
+  for (size_t i = 0; i < figures.size(); ++i) {
+    EXPECT_EQ(figures[i].id, cli::report_figure_ids()[i]);
+    EXPECT_FALSE(figures[i].svgs.empty()) << figures[i].id;
+  }
+}
+
+TEST_F(HydraulicReport, PressuresAreTheStatesInPascalOfEveryRunInMegapascal) {
+  const std::string svg = svgs("fig-pressures");
+  EXPECT_EQ(count(svg, "class=\"series\""), 6u);  // p1..p3 for each run; not U
+  EXPECT_NE(svg.find("p (MPa)"), std::string::npos);
+  EXPECT_NE(svg.find("<title>p3 penalty</title>"), std::string::npos);
+  EXPECT_EQ(svg.find("<title>U "), std::string::npos);
+}
+
+TEST_F(HydraulicReport, TimePlotsShadeTheTwoValveOpenings) {
+  ASSERT_EQ(open.size(), 2u);
+  EXPECT_NEAR(open[0].begin, 1.0, 1e-9);
+  EXPECT_NEAR(open[0].end, 2.49, 1e-9);
+  EXPECT_NEAR(open[1].begin, 5.0, 1e-9);
+  EXPECT_NEAR(open[1].end, 7.99, 1e-9);
+  for (const char* id : {"fig-coordinates", "fig-pressures", "fig-energies", "fig-drift",
+                         "fig-constraints", "fig-iterations", "fig-step-time"})
+    EXPECT_EQ(count(svgs(id), "<rect class=\"shade\""), 2u) << id;
+  EXPECT_NE(svgs("fig-drift").find("valve open (|U| &gt; 0.1 V)"), std::string::npos);
+}
+
+TEST_F(HydraulicReport, MechanismDrawsTheCylinderBetweenItsPointsAtEverySecond) {
+  const std::string svg = svgs("fig-mechanism");
+  EXPECT_EQ(count(svg, "<g class=\"frame\""), 11u);  // t = 0 .. 10 s
+  EXPECT_EQ(count(svg, "<line class=\"element\""), 11u);
+  EXPECT_EQ(count(svg, "class=\"cut-joint\""), 11u);  // E
+  EXPECT_NE(svg.find(">cylinder</text>"), std::string::npos);
+  // G = (0, -2) and O = (0, 0) are ground points; E = (0, -1) too.
+  EXPECT_EQ(count(svg, "<polygon points="), 3u);
+}
+
+TEST_F(HydraulicReport, TheTableComparesEachPressure) {
+  const cli::TextTable t = cli::comparison_table(c, nullptr);
+  const std::string text = cli::render_text(t);
+  for (const char* p : {"max |dp1| from double-step (Pa)", "max |dp2| from double-step (Pa)",
+                        "max |dp3| from double-step (Pa)"})
+    EXPECT_NE(text.find(p), std::string::npos) << p;
+  // p3 of the penalty run is 1 Pa higher throughout.
+  for (const auto& row : t.rows) {
+    if (row[0] == "max |dp3| from double-step (Pa)") {
+      EXPECT_EQ(row[2], "1.000e+00");
+    }
+  }
+}
+
+TEST_F(HydraulicReport, ThePageHoldsEveryFigureAndTheTable) {
+  const cli::TextTable t = cli::comparison_table(c, nullptr);
+  cli::ReportPage page;
+  page.title = "four-bar";
+  page.table = &t;
+  page.figures = &figures;
+  page.csv_files = {"double-step.csv", "penalty.csv"};
+  const std::string html = cli::report_html(page);
+  for (const auto& id : cli::report_figure_ids())
+    EXPECT_NE(html.find("<figure id=\"" + id + "\">"), std::string::npos) << id;
+  EXPECT_EQ(count(html, "<svg xmlns=\"http://www.w3.org/2000/svg\""), 8u);
+  EXPECT_NE(html.find("<table class=\"comparison\">"), std::string::npos);
+  EXPECT_EQ(html.rfind("<!DOCTYPE html>\n<html xmlns=\"http://www.w3.org/1999/xhtml\"", 0), 0u);
+}
+
+}  // namespace
+}  // namespace mh::test
