@@ -100,7 +100,7 @@ TextTable comparison_table(const Comparison& c, const PaperNumbers* paper) {
   add_row(row::kWork, metric([](const RunMetrics& m) { return g4(m.max_abs_work); }),
           paper_model(p.max_actuator_work));
   add_row(row::kDriftPercent, metric([](const RunMetrics& m) {
-            return m.drift_percent ? fmt("%.3g", *m.drift_percent) : std::string("n/a");
+            return m.drift_percent ? g4(*m.drift_percent) : std::string("n/a");
           }),
           paper_model(p.peak_drift_percent));
   add_row(row::kPhi, metric([](const RunMetrics& m) { return e3(m.max_phi_norm); }), none);

@@ -13,6 +13,7 @@
 
 #include "cli_runner.hpp"
 #include "printed_table.hpp"
+#include "report_figures.hpp"
 
 namespace mh::test {
 namespace {
@@ -67,6 +68,20 @@ void expect_table_from_csvs(const PrintedTable& t, const fs::path& dir,
         for (size_t k = 0; k < std::min(csv.rows, ref.rows); ++k)
           dz = std::max(dz, std::abs(csv[name][k] - ref[name][k]));
 
+    // Pressures (the hydraulic models' p1, p2, p3 columns).
+    for (const auto& name : csv.header) {
+      if (name.size() < 2 || name[0] != 'p' ||
+          name.find_first_not_of("0123456789", 1) != std::string::npos)
+        continue;
+      double dp = 0.0;
+      for (size_t k = 0; k < std::min(csv.rows, ref.rows); ++k)
+        dp = std::max(dp, std::abs(csv[name][k] - ref[name][k]));
+      const std::string label = "max |d" + name + "| from " + formulations.front() + " (Pa)";
+      if (f == formulations.front())
+        EXPECT_EQ(number(t.cell(label, f)), 0.0) << label;
+      else
+        expect_printed(t, label, f, dp);
+    }
     EXPECT_EQ(t.cell("status", f), "ok");
     EXPECT_EQ(t.cell("steps", f), std::to_string(steps));
     EXPECT_NEAR(number(t.cell("Newton iterations avg", f)), iterations / static_cast<double>(steps),
@@ -253,10 +268,11 @@ fs::path free_case_studies(const fs::path& dir) {
   return file;
 }
 
+// The README's main command: no arguments, the paper's two hydraulic case
+// studies, both formulations, the paper's numbers beside ours.
 TEST(Compare, DefaultJobComparesBothCaseStudiesWithThePapersNumbersBeside) {
   const fs::path dir = scratch_dir("default-job");
-  const fs::path studies = free_case_studies(dir);
-  const CliResult r = run_cli("", "MONOHYDRA_CASE_STUDIES=" + studies.string() + " ", dir.string());
+  const CliResult r = run_cli("", "", dir.string());
   ASSERT_EQ(r.code, 0) << r.output;
   const PrintedTable fourbar = parse_printed_table(r.output, "four-bar (");
   const PrintedTable quick = parse_printed_table(r.output, "quick-return (");
@@ -287,6 +303,22 @@ TEST(Compare, DefaultJobComparesBothCaseStudiesWithThePapersNumbersBeside) {
     EXPECT_NE(r.output.find("  " + report.string()), std::string::npos) << r.output;
     EXPECT_TRUE(fs::exists(dir / "out" / name / "penalty.csv"));
   }
+  // Every number of both tables from the runs' CSVs, pressures included.
+  expect_table_from_csvs(fourbar, dir / "out" / "fourbar", {"double-step", "penalty"});
+  expect_table_from_csvs(quick, dir / "out" / "quickreturn", {"double-step", "penalty"});
+  EXPECT_FALSE(fourbar.cell("max |dp2| from double-step (Pa)", "penalty").empty());
+  // The hydraulic report: pressures of both runs, the valve's two openings
+  // shaded on the time plots, the cylinder drawn at every second.
+  const std::string html = read_text(dir / "out" / "fourbar" / "report.html");
+  const auto count = [&html](const std::string& what) {
+    size_t n = 0;
+    for (size_t at = html.find(what); at != std::string::npos; at = html.find(what, at + 1)) ++n;
+    return n;
+  };
+  for (const auto& id : mh::cli::report_figure_ids())
+    EXPECT_NE(html.find("<figure id=\"" + id + "\">"), std::string::npos) << id;
+  EXPECT_EQ(html.find("no pressures"), std::string::npos);
+  EXPECT_GE(count("<rect class=\"shade\""), 2u * 7u);  // 2 openings on each time plot
 }
 
 TEST(Compare, DefaultJobStopsWithAClearMessageWhenAModelIsMissing) {
