@@ -7,6 +7,7 @@
 #include <Eigen/LU>
 #include <memory>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,14 @@
 #include "monohydra/monohydra.h"
 
 namespace mh {
+
+// A number for a message: 6 significant digits.
+inline std::string short_number(double v) {
+  std::ostringstream os;
+  os.precision(6);
+  os << v;
+  return os.str();
+}
 
 // What the host knows about one component instance; its mh_host table points here.
 struct InstanceHost {

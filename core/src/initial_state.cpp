@@ -8,21 +8,12 @@
 #include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include "engine.hpp"
 #include "monohydra/core/dynamics.hpp"
 #include "monohydra/core/kinematics.hpp"
 
 namespace mh {
-namespace {
-std::string fmt(double v) {
-  std::ostringstream os;
-  os.precision(6);
-  os << v;
-  return os.str();
-}
-}  // namespace
 
 // Rows of every state at the current y, ydot and the kinematics in `data`.
 static void rows_at(Simulation::Engine& e, double t_eval, Eigen::VectorXd& f) {
@@ -196,7 +187,7 @@ void Simulation::Engine::solve_algebraic_and_equilibrium() {
   }
   equations(F);
   if (!(worst <= 1.0))
-    fail("the initial states could not be solved (the last correction was " + fmt(worst) +
+    fail("the initial states could not be solved (the last correction was " + short_number(worst) +
          " times the tolerance)");
   // Every equation must hold: a row that the unknowns cannot move must be zero.
   for (int i = 0; i < n_rows; ++i) {
@@ -206,8 +197,9 @@ void Simulation::Engine::solve_algebraic_and_equilibrium() {
         i < static_cast<int>(rows.size())
             ? "the row of state '" +
                   state_names[static_cast<size_t>(rows[static_cast<size_t>(i)])] + "' stays at " +
-                  fmt(F[i])
-            : "the mechanism is not held: its static balance stays at " + fmt(F[i]) + " N or N m";
+                  short_number(F[i])
+            : "the mechanism is not held: its static balance stays at " + short_number(F[i]) +
+                  " N or N m";
     fail(std::string(equilibrium ? "no equilibrium with the states under equilibrium.free"
                                  : "the algebraic states cannot be solved") +
          ": " + what);

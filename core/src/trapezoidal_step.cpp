@@ -3,24 +3,16 @@
 // Newton-Raphson iteration (Eq. 37) whose sparse tangent KLU solves.
 #include <Eigen/LU>
 #include <cmath>
-#include <sstream>
 
 #include "engine.hpp"
 #include "monohydra/core/dynamics.hpp"
 #include "monohydra/core/kinematics.hpp"
 
 namespace mh {
-namespace {
-std::string fmt(double v) {
-  std::ostringstream os;
-  os.precision(6);
-  os << v;
-  return os.str();
-}
-}  // namespace
 
 SimulationError::SimulationError(double t, long step, const std::string& reason)
-    : std::runtime_error("t = " + fmt(t) + " s, step " + std::to_string(step) + ": " + reason),
+    : std::runtime_error("t = " + short_number(t) + " s, step " + std::to_string(step) + ": " +
+                         reason),
       t_(t),
       step_(step),
       reason_(reason) {}
@@ -175,8 +167,8 @@ void Simulation::Engine::step_once() {
   }
   if (!converged) {
     fail("Newton did not converge in " + std::to_string(settings.max_iterations) +
-         " iterations; the largest increment was " + fmt(worst) + " times the tolerance, in " +
-         unknown_name(worst_i));
+         " iterations; the largest increment was " + short_number(worst) +
+         " times the tolerance, in " + unknown_name(worst_i));
   }
 
   // Accept: the last residual call evaluated the converged iterate.
