@@ -104,6 +104,20 @@ TextTable comparison_table(const Comparison& c, const PaperNumbers* paper) {
           }),
           paper_model(p.peak_drift_percent));
   add_row(row::kPhi, metric([](const RunMetrics& m) { return e3(m.max_phi_norm); }), none);
+  add_row(
+      row::kPartition,
+      [&c](size_t i) {
+        const RunRecord& r = c.runs[i];
+        if (r.independent_coordinates.empty()) return std::string("-");
+        return r.independent_coordinates +
+               (r.repartitions == 0 ? std::string(" throughout")
+                                    : ", " + std::to_string(r.repartitions) + " re-partitions");
+      },
+      [paper](const std::string& f) {
+        return paper != nullptr && f == "double-step" && !paper->independent_coordinate.empty()
+                   ? paper->independent_coordinate + " throughout"
+                   : std::string("-");
+      });
 
   if (ref != nullptr) {
     auto difference = [&c](auto get) {

@@ -94,7 +94,16 @@ RunRecord record_run(const ModelFile& file, const PluginRegistry& registry,
   rec.formulation = formulation;
   std::unique_ptr<Simulation> sim;
   try {
-    sim = std::make_unique<Simulation>(file, registry, formulation, options.log);
+    // The partition a formulation chooses is only in its log: keep it.
+    LogSink log = [&rec, &options](mh_log_level level, const std::string& source,
+                                   const std::string& msg) {
+      const std::string chosen = "independent coordinates: ";
+      if (msg.rfind(chosen, 0) == 0 && rec.independent_coordinates.empty())
+        rec.independent_coordinates = msg.substr(chosen.size());
+      if (msg.rfind("re-partitioned at", 0) == 0) ++rec.repartitions;
+      if (options.log) options.log(level, source, msg);
+    };
+    sim = std::make_unique<Simulation>(file, registry, formulation, log);
   } catch (const std::exception& err) {
     rec.failed = true;
     rec.failure = err.what();

@@ -35,6 +35,10 @@ struct RunRecord {
   int num_coordinates = 0;                   // z1..zN are columns 1..N
   int num_states = 0;                        // written states follow them
   std::string csv_path;                      // "" when no CSV was written
+  // What the formulation said of its partition (double-step's info lines
+  // "independent coordinates: z3" and "re-partitioned at ..."), "" if nothing.
+  std::string independent_coordinates;
+  int repartitions = 0;
 
   size_t rows() const { return columns.empty() ? 0 : columns.front().size(); }
   int column(const std::string& name) const;  // -1 when absent

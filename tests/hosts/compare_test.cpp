@@ -303,6 +303,11 @@ TEST(Compare, DefaultJobComparesBothCaseStudiesWithThePapersNumbersBeside) {
     EXPECT_NE(r.output.find("  " + report.string()), std::string::npos) << r.output;
     EXPECT_TRUE(fs::exists(dir / "out" / name / "penalty.csv"));
   }
+  // Double-step's own partition, beside the paper's (Sect. 6.1).
+  EXPECT_EQ(fourbar.cell("independent coordinates", "double-step"), "z3 throughout");
+  EXPECT_EQ(fourbar.cell("independent coordinates", "paper", 0), "z3 throughout");
+  EXPECT_EQ(quick.cell("independent coordinates", "double-step"), "z4 throughout");
+  EXPECT_EQ(quick.cell("independent coordinates", "penalty"), "-");
   // Every number of both tables from the runs' CSVs, pressures included.
   expect_table_from_csvs(fourbar, dir / "out" / "fourbar", {"double-step", "penalty"});
   expect_table_from_csvs(quick, dir / "out" / "quickreturn", {"double-step", "penalty"});
