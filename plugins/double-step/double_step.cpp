@@ -20,6 +20,7 @@
 #include "dependent_coordinates.hpp"
 #include "eigen.hpp"
 #include "host_calls.hpp"
+#include "monohydra/cpp/formulation_plugin.hpp"
 #include "monohydra/monohydra.h"
 #include "velocity_transformation.hpp"
 
@@ -497,11 +498,6 @@ mh_status coordinates(const mh_formulation* fo, double* z, double* zd, double* z
   return MH_OK;
 }
 
-void destroy(const mh_formulation* fo) {
-  delete static_cast<DoubleStep*>(fo->plugin_data);
-  delete fo;
-}
-
 const void* get_extension(const mh_formulation*, const char*) {
   return nullptr;
 }
@@ -519,52 +515,29 @@ const mh_component_descriptor kDescriptor{
     "Newton-Raphson in every residual; reduced equations M'' zdd^i = Q'' (Eq. 17) under the "
     "trapezoidal rule (Eqs. 32-35, 38)."};
 
-uint32_t count(const mh_formulation_factory*) {
-  return 1;
-}
-const mh_component_descriptor* descriptor(const mh_formulation_factory*, uint32_t i) {
-  return i == 0 ? &kDescriptor : nullptr;
-}
+// The instance's operations; every instance gets a copy with its own state.
+const mh_formulation kOps = [] {
+  mh_formulation f{};
+  f.struct_size = sizeof(mh_formulation);
+  f.descriptor = &kDescriptor;
+  f.setup = setup;
+  f.start = start;
+  f.predict = predict;
+  f.residual = residual;
+  f.tangent = nullptr;  // forward differences by the host (Eqs. 40-41)
+  f.iteration_done = nullptr;
+  f.accept = accept;
+  f.coordinates = coordinates;
+  f.destroy = monohydra::destroy_formulation<DoubleStep>;
+  f.get_extension = get_extension;
+  return f;
+}();
 
-const mh_formulation* create(const mh_formulation_factory*, const mh_host* host, const char* id) {
-  if (host == nullptr || id == nullptr || std::string(id) != kDescriptor.id) return nullptr;
-  auto* data = new (std::nothrow) DoubleStep;
-  auto* fo = new (std::nothrow) mh_formulation{};
-  if (data == nullptr || fo == nullptr) {
-    delete data;
-    delete fo;
-    return nullptr;
-  }
-  data->host = host;
-  fo->struct_size = sizeof(mh_formulation);
-  fo->descriptor = &kDescriptor;
-  fo->plugin_data = data;
-  fo->setup = setup;
-  fo->start = start;
-  fo->predict = predict;
-  fo->residual = residual;
-  fo->tangent = nullptr;  // forward differences by the host (Eqs. 40-41)
-  fo->iteration_done = nullptr;
-  fo->accept = accept;
-  fo->coordinates = coordinates;
-  fo->destroy = destroy;
-  fo->get_extension = get_extension;
-  return fo;
-}
-
-const mh_formulation_factory kFactory{sizeof(mh_formulation_factory), count, descriptor, create};
-
-int init(const char*) {
-  return 1;
-}
-void deinit() {}
-const void* get_factory(const char* id) {
-  return id != nullptr && std::string(id) == MH_FORMULATION_FACTORY_ID ? &kFactory : nullptr;
+const mh_formulation* create(const mh_host* host) {
+  return monohydra::create_formulation<DoubleStep>(host, kOps);
 }
 
 }  // namespace
 }  // namespace mh::double_step
 
-extern "C" MH_PLUGIN_EXPORT const mh_plugin_entry mh_entry{
-    MH_ABI_VERSION_INIT, mh::double_step::init, mh::double_step::deinit,
-    mh::double_step::get_factory};
+MONOHYDRA_FORMULATION_PLUGIN(mh::double_step::kDescriptor, mh::double_step::create);

@@ -6,6 +6,7 @@
 #include <new>
 #include <string>
 
+#include "monohydra/cpp/formulation_plugin.hpp"
 #include "monohydra/monohydra.h"
 
 namespace {
@@ -121,11 +122,6 @@ mh_status coordinates(const mh_formulation* f, double* z, double* zd, double* zd
   return MH_OK;
 }
 
-void destroy(const mh_formulation* f) {
-  delete static_cast<OpenLoop*>(f->plugin_data);
-  delete f;
-}
-
 const void* get_extension(const mh_formulation*, const char*) {
   return nullptr;
 }
@@ -139,50 +135,28 @@ const mh_component_descriptor kDescriptor{
     "Trees of revolute and prismatic joints without cut joints: M' zdd = Q' (Eq. 12) under "
     "the trapezoidal rule with positions as primary unknowns."};
 
-uint32_t count(const mh_formulation_factory*) {
-  return 1;
-}
-const mh_component_descriptor* descriptor(const mh_formulation_factory*, uint32_t i) {
-  return i == 0 ? &kDescriptor : nullptr;
-}
-
-const mh_formulation* create(const mh_formulation_factory*, const mh_host* host, const char* id) {
-  if (host == nullptr || id == nullptr || std::string(id) != kDescriptor.id) return nullptr;
-  auto* data = new (std::nothrow) OpenLoop;
-  auto* f = new (std::nothrow) mh_formulation{};
-  if (data == nullptr || f == nullptr) {
-    delete data;
-    delete f;
-    return nullptr;
-  }
-  data->host = host;
-  f->struct_size = sizeof(mh_formulation);
-  f->descriptor = &kDescriptor;
-  f->plugin_data = data;
-  f->setup = setup;
-  f->start = start;
-  f->predict = predict;
-  f->residual = residual;
-  f->tangent = nullptr;  // forward differences by the host
-  f->iteration_done = nullptr;
-  f->accept = accept;
-  f->coordinates = coordinates;
-  f->destroy = destroy;
-  f->get_extension = get_extension;
+// The instance's operations; every instance gets a copy with its own state.
+const mh_formulation kOps = [] {
+  mh_formulation f{};
+  f.struct_size = sizeof(mh_formulation);
+  f.descriptor = &kDescriptor;
+  f.setup = setup;
+  f.start = start;
+  f.predict = predict;
+  f.residual = residual;
+  f.tangent = nullptr;  // forward differences by the host
+  f.iteration_done = nullptr;
+  f.accept = accept;
+  f.coordinates = coordinates;
+  f.destroy = monohydra::destroy_formulation<OpenLoop>;
+  f.get_extension = get_extension;
   return f;
-}
+}();
 
-const mh_formulation_factory kFactory{sizeof(mh_formulation_factory), count, descriptor, create};
-
-int init(const char*) {
-  return 1;
-}
-void deinit() {}
-const void* get_factory(const char* id) {
-  return std::string(id) == MH_FORMULATION_FACTORY_ID ? &kFactory : nullptr;
+const mh_formulation* create(const mh_host* host) {
+  return monohydra::create_formulation<OpenLoop>(host, kOps);
 }
 
 }  // namespace
 
-extern "C" MH_PLUGIN_EXPORT const mh_plugin_entry mh_entry{MH_ABI_VERSION_INIT, init, deinit,
-                                                           get_factory};
+MONOHYDRA_FORMULATION_PLUGIN(kDescriptor, create);

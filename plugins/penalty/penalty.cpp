@@ -19,6 +19,7 @@
 
 #include "constraint_terms.hpp"
 #include "initial_accelerations.hpp"
+#include "monohydra/cpp/formulation_plugin.hpp"
 #include "monohydra/monohydra.h"
 #include "projections.hpp"
 
@@ -335,11 +336,6 @@ mh_status coordinates(const mh_formulation* f, double* z, double* zd, double* zd
   });
 }
 
-void destroy(const mh_formulation* f) {
-  delete static_cast<Penalty*>(f->plugin_data);
-  delete f;
-}
-
 const void* get_extension(const mh_formulation*, const char*) {
   return nullptr;
 }
@@ -355,52 +351,29 @@ const mh_component_descriptor kDescriptor{
     "Newton iteration (Eq. 19) and mass-orthogonal projections of velocities and "
     "accelerations (Eqs. 20-21). Options: alpha, tolerance, projections."};
 
-uint32_t count(const mh_formulation_factory*) {
-  return 1;
-}
-const mh_component_descriptor* descriptor(const mh_formulation_factory*, uint32_t i) {
-  return i == 0 ? &kDescriptor : nullptr;
-}
-
-const mh_formulation* create(const mh_formulation_factory*, const mh_host* host, const char* id) {
-  if (host == nullptr || id == nullptr || std::string(id) != kDescriptor.id) return nullptr;
-  auto* data = new (std::nothrow) Penalty;
-  auto* f = new (std::nothrow) mh_formulation{};
-  if (data == nullptr || f == nullptr) {
-    delete data;
-    delete f;
-    host->log(host, MH_LOG_ERROR, "penalty: out of memory");
-    return nullptr;
-  }
-  data->host = host;
-  f->struct_size = sizeof(mh_formulation);
-  f->descriptor = &kDescriptor;
-  f->plugin_data = data;
-  f->setup = setup;
-  f->start = start;
-  f->predict = predict;
-  f->residual = residual;
-  f->tangent = nullptr;  // forward differences by the host, Eq. (41): see the note above
-  f->iteration_done = iteration_done;
-  f->accept = accept;
-  f->coordinates = coordinates;
-  f->destroy = destroy;
-  f->get_extension = get_extension;
+// The instance's operations; every instance gets a copy with its own state.
+const mh_formulation kOps = [] {
+  mh_formulation f{};
+  f.struct_size = sizeof(mh_formulation);
+  f.descriptor = &kDescriptor;
+  f.setup = setup;
+  f.start = start;
+  f.predict = predict;
+  f.residual = residual;
+  f.tangent = nullptr;  // forward differences by the host, Eq. (41): see the note above
+  f.iteration_done = iteration_done;
+  f.accept = accept;
+  f.coordinates = coordinates;
+  f.destroy = monohydra::destroy_formulation<Penalty>;
+  f.get_extension = get_extension;
   return f;
-}
+}();
 
-const mh_formulation_factory kFactory{sizeof(mh_formulation_factory), count, descriptor, create};
-
-int init(const char*) {
-  return 1;
-}
-void deinit() {}
-const void* get_factory(const char* id) {
-  return id != nullptr && std::string(id) == MH_FORMULATION_FACTORY_ID ? &kFactory : nullptr;
+const mh_formulation* create(const mh_host* host) {
+  return monohydra::create_formulation<Penalty>(host, kOps);
 }
 
 }  // namespace
 }  // namespace mh_penalty
 
-extern "C" MH_PLUGIN_EXPORT const mh_plugin_entry mh_entry{
-    MH_ABI_VERSION_INIT, mh_penalty::init, mh_penalty::deinit, mh_penalty::get_factory};
+MONOHYDRA_FORMULATION_PLUGIN(mh_penalty::kDescriptor, mh_penalty::create);

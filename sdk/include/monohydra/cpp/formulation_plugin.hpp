@@ -1,0 +1,85 @@
+// monohydra SDK, optional C++17 helper: the part of a formulation plugin that
+// is the same in every one. A formulation writes its operations as free
+// functions over its own state type T (which has a `const mh_host* host`
+// member), lists them in an mh_formulation "ops" table, and writes
+//
+//   const mh_formulation* create(const mh_host* host) {
+//     return monohydra::create_formulation<MyState>(host, kOps);
+//   }
+//   MONOHYDRA_FORMULATION_PLUGIN(my_ns::kDescriptor, my_ns::create)
+//
+// at global scope; the ops table's destroy can be monohydra::destroy_formulation<MyState>.
+// The macro defines the factory (one component) and the entry symbol.
+#ifndef MONOHYDRA_CPP_FORMULATION_PLUGIN_HPP
+#define MONOHYDRA_CPP_FORMULATION_PLUGIN_HPP
+
+#include <cstring>
+#include <new>
+
+#include "monohydra/entry.h"
+#include "monohydra/formulation.h"
+
+namespace monohydra {
+
+// A new instance: a copy of `ops` with a fresh T as its plugin_data. NULL
+// (after logging) when memory runs out.
+template <class T>
+const mh_formulation* create_formulation(const mh_host* host, const mh_formulation& ops) noexcept {
+  auto* data = new (std::nothrow) T;
+  auto* f = new (std::nothrow) mh_formulation(ops);
+  if (data == nullptr || f == nullptr) {
+    delete data;
+    delete f;
+    host->log(host, MH_LOG_ERROR, "out of memory creating the formulation");
+    return nullptr;
+  }
+  data->host = host;
+  f->plugin_data = data;
+  return f;
+}
+
+// The destroy operation of an instance made by create_formulation<T>.
+template <class T>
+void destroy_formulation(const mh_formulation* f) noexcept {
+  delete static_cast<T*>(f->plugin_data);
+  delete f;
+}
+
+}  // namespace monohydra
+
+// The factory of one formulation and the plugin's entry symbol. `descriptor`
+// is an mh_component_descriptor; `create` a function
+// const mh_formulation* (const mh_host*). Use once per plugin, at global scope.
+#define MONOHYDRA_FORMULATION_PLUGIN(descriptor, create)                                           \
+  namespace {                                                                                      \
+  uint32_t monohydra_formulation_count(const mh_formulation_factory*) {                            \
+    return 1;                                                                                      \
+  }                                                                                                \
+  const mh_component_descriptor* monohydra_formulation_descriptor(const mh_formulation_factory*,   \
+                                                                  uint32_t i) {                    \
+    return i == 0 ? &(descriptor) : nullptr;                                                       \
+  }                                                                                                \
+  const mh_formulation* monohydra_formulation_create(const mh_formulation_factory*,                \
+                                                     const mh_host* host, const char* id) {        \
+    if (host == nullptr || id == nullptr || std::strcmp(id, (descriptor).id) != 0) return nullptr; \
+    return create(host);                                                                           \
+  }                                                                                                \
+  const mh_formulation_factory monohydra_formulation_factory{                                      \
+      sizeof(mh_formulation_factory), monohydra_formulation_count,                                 \
+      monohydra_formulation_descriptor, monohydra_formulation_create};                             \
+  int monohydra_formulation_init(const char*) {                                                    \
+    return 1;                                                                                      \
+  }                                                                                                \
+  void monohydra_formulation_deinit() {}                                                           \
+  const void* monohydra_formulation_get_factory(const char* id) {                                  \
+    return id != nullptr && std::strcmp(id, MH_FORMULATION_FACTORY_ID) == 0                        \
+               ? &monohydra_formulation_factory                                                    \
+               : nullptr;                                                                          \
+  }                                                                                                \
+  }                                                                                                \
+  extern "C" MH_PLUGIN_EXPORT const mh_plugin_entry mh_entry {                                     \
+    MH_ABI_VERSION_INIT, monohydra_formulation_init, monohydra_formulation_deinit,                 \
+        monohydra_formulation_get_factory                                                          \
+  }
+
+#endif  // MONOHYDRA_CPP_FORMULATION_PLUGIN_HPP
