@@ -2,9 +2,11 @@
  *
  *   MH_PLUGIN_EXPORT const mh_plugin_entry mh_entry = { ... };
  *
- * The host checks abi_version.major against its own, calls init once, asks
- * get_factory for MH_FORMULATION_FACTORY_ID and/or MH_SUBSYSTEM_FACTORY_ID, and
- * calls deinit once before unloading. Factories live as long as the library. */
+ * The host checks abi_version.major against its own (a plugin of another major
+ * version is refused, naming both), calls init once, asks get_factory for
+ * MH_FORMULATION_FACTORY_ID, MH_SUBSYSTEM_FACTORY_ID and
+ * MH_INTEGRATOR_FACTORY_ID, and calls deinit once before unloading. Factories live as long as the
+ * library. */
 #ifndef MONOHYDRA_ENTRY_H
 #define MONOHYDRA_ENTRY_H
 

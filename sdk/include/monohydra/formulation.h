@@ -1,16 +1,19 @@
 /* monohydra SDK: the Formulation interface.
  *
  * A formulation decides how the mechanism's equations of motion enter the
- * shared Newton step (Sect. 4): it owns `num_unknowns` mechanical unknowns x
- * (e.g. all joint coordinates z_{k+1}, or only the independent ones) and their
- * residual rows r(x). The host owns the subsystem states, the Newton loop, the
- * sparse tangent and its KLU factorization.
+ * shared Newton step (Sect. 4): it declares Newton unknowns x (add_unknown:
+ * e.g. all joint coordinates, only the independent ones, or coordinates and
+ * multipliers) and writes their residual rows r(x, xd, xdd). It never sees a
+ * step formula: the host's integrator (integrator.h) ties xd and xdd of the
+ * step's end to x, and the host owns the subsystem states, the Newton loop,
+ * the sparse tangent and its factorization.
  *
- * One step from t_k to t_{k+1} = t_k + dt, as the host drives it:
- *   predict -> [ residual (-> host evaluate_mechanics) , tangent?, solve,
- *                iteration_done? ]* -> accept -> coordinates
- * A step whose Newton iteration fails is abandoned by the host; `accept` is only
- * called for converged steps. */
+ * One step to t_next, as the host drives it:
+ *   begin_step -> [ residual (-> host evaluate_mechanics), tangent?, solve,
+ *                   iteration_done? ]* -> accept -> coordinates, write_outputs?
+ * A step whose Newton iteration fails is abandoned: accept is only called for
+ * converged steps, and the next begin_step starts again from the last accepted
+ * state. */
 #ifndef MONOHYDRA_FORMULATION_H
 #define MONOHYDRA_FORMULATION_H
 
@@ -21,48 +24,81 @@
 extern "C" {
 #endif
 
-#define MH_FORMULATION_FACTORY_ID "monohydra.formulation-factory/1"
+#define MH_FORMULATION_FACTORY_ID "monohydra.formulation-factory/2"
+
+/* How the integrator ties the rates at the step's end to the unknowns x there:
+ * xd = dxd_dx x + (offset), xdd = dxdd_dx x + (offset), by the unknown's kind.
+ * A formulation needs them only for corrections that mix levels (e.g. the
+ * projections' W = M' + C dxd_dx / dxdd_dx + K / dxdd_dx, Eqs. 20-21). */
+typedef struct mh_step_coefficients {
+  uint32_t struct_size;
+  double h;              /* the step t_next - t_k (s) */
+  double dxd_dx_second;  /* of second-order unknowns, e.g. 2 / h (trapezoidal) */
+  double dxdd_dx_second; /* e.g. 4 / h^2 */
+  double dxd_dx_first;   /* of first-order unknowns, e.g. 2 / h */
+} mh_step_coefficients;
+
+/* accept's flags (out). */
+#define MH_ACCEPT_REDEFINED                                                    \
+  0x1u /* the unknowns now stand for other quantities (e.g. a new choice of    \
+          independent coordinates); x, xd, xdd hold their values, and the host \
+          restarts the integrator from them */
 
 typedef struct mh_formulation {
   uint32_t struct_size; /* sizeof(mh_formulation) of the plugin's SDK */
   const mh_component_descriptor* descriptor;
   void* plugin_data; /* the plugin's own; the host never touches it */
 
-  /* Reads options and sizes itself. *num_unknowns receives the number of
-   * mechanical unknowns of the Newton step; tolerance (num_unknowns entries,
-   * written after this call returns, so it is NULL here) is set by `start`. */
-  mh_status (*setup)(const struct mh_formulation* self, uint32_t* num_unknowns);
+  /* Reads options (host option_*), the mechanism (host mech_info: sizes,
+   * names, t0, the assembled z0 and zd0) and declares its unknowns
+   * (add_unknown) and outputs (add_output). */
+  mh_status (*setup)(const struct mh_formulation* self);
 
-  /* Consistent initial conditions at t0 from the model's z0, zd0 (N each): a
-   * formulation may correct them (e.g. assemble a closed loop) and computes the
-   * initial accelerations. dt is the fixed step. abs_tolerance receives, per
-   * unknown, the absolute tolerance on its Newton increment. */
-  mh_status (*start)(const struct mh_formulation* self, double t0, double dt, const double* z0,
-                     const double* zd0, double* abs_tolerance);
+  /* Consistent initial conditions at t0: x0, xd0, xdd0 of the unknowns (n
+   * each; xd0, xdd0 of algebraic unknowns are ignored). */
+  mh_status (*start)(const struct mh_formulation* self, double* x0, double* xd0, double* xdd0);
 
-  /* Initial guess x of the unknowns at t_next. */
-  mh_status (*predict)(const struct mh_formulation* self, double t_next, double* x);
+  /* Optional: a step to t_next begins from the last accepted state; x, xd,
+   * xdd are the integrator's prediction (e.g. to reset multipliers, or to
+   * estimate dependent coordinates). */
+  mh_status (*begin_step)(const struct mh_formulation* self, double t_next, const double* x,
+                          const double* xd, const double* xdd);
 
-  /* Residual rows r(x) of the step to t_next (e.g. Eq. 38 or 39). Calls the
-   * host's evaluate_mechanics with MH_EVAL_SUBSYSTEMS once, at the iterate. */
-  mh_status (*residual)(const struct mh_formulation* self, double t_next, const double* x,
-                        double* r);
+  /* Residual rows r(x, xd, xdd) at t (n each; e.g. Eqs. 38-39 without their
+   * dt^2/4). Calls the host's evaluate_mechanics with MH_EVAL_SUBSYSTEMS once,
+   * at the iterate. Pure: no history changes. */
+  mh_status (*residual)(const struct mh_formulation* self, double t, const double* x,
+                        const double* xd, const double* xdd, double* r);
 
-  /* Optional (NULL: the host differentiates `residual` by forward differences,
-   * Eq. 41). d r / d x, dense column-major num_unknowns x num_unknowns, at the x
-   * of the last residual call, holding the subsystem states fixed. */
-  mh_status (*tangent)(const struct mh_formulation* self, double t_next, const double* x,
-                       double* drdx);
+  /* Optional (NULL: the host differences `residual`, Eqs. 40-41). Analytic
+   * blocks at the arguments of the last residual call, holding the subsystem
+   * states fixed: dr_dx, dr_dxd, dr_dxdd, dense column-major n x n, zero on
+   * entry. The formulation sets column_given[j] = 1 for each column j it wrote
+   * in all three blocks; the host differences the others. */
+  mh_status (*tangent)(const struct mh_formulation* self, double t, const double* x,
+                       const double* xd, const double* xdd, double* dr_dx, double* dr_dxd,
+                       double* dr_dxdd, uint8_t* column_given);
 
-  /* Optional: after each Newton update, with the updated x (e.g. Eq. 19). */
-  mh_status (*iteration_done)(const struct mh_formulation* self, double t_next, const double* x);
+  /* Optional: after each Newton update, with the updated unknowns (e.g. Eq. 19). */
+  mh_status (*iteration_done)(const struct mh_formulation* self, double t, const double* x,
+                              const double* xd, const double* xdd);
 
-  /* The step to t_next converged at x: update the history (velocities,
-   * accelerations, projections such as Eqs. 20-21). */
-  mh_status (*accept)(const struct mh_formulation* self, double t_next, const double* x);
+  /* The step to t converged at x, xd, xdd: update the history. The
+   * formulation may correct xd and xdd in place (e.g. the projections of Eqs.
+   * 20-21), or redefine its unknowns (*flags |= MH_ACCEPT_REDEFINED, with x,
+   * xd, xdd rewritten); the integrator continues from what it leaves there.
+   * *flags is 0 on entry. */
+  mh_status (*accept)(const struct mh_formulation* self, double t,
+                      const mh_step_coefficients* coefficients, double* x, double* xd, double* xdd,
+                      uint32_t* flags);
 
   /* The accepted joint coordinates, rates and accelerations (N each). */
   mh_status (*coordinates)(const struct mh_formulation* self, double* z, double* zd, double* zdd);
+
+  /* Optional: writes the values of the outputs it declared, at the accepted
+   * state, into outputs[index] (num_outputs: the run's total). */
+  mh_status (*write_outputs)(const struct mh_formulation* self, double* outputs,
+                             uint32_t num_outputs);
 
   void (*destroy)(const struct mh_formulation* self);
 

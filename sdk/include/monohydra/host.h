@@ -5,7 +5,11 @@
  * and everything it points to stay valid until the instance is destroyed.
  * Calls are made from the thread that called the plugin; a host never calls one
  * instance from two threads at once. Strings and arrays the host returns are
- * owned by the host. Every array travels with its length. */
+ * owned by the host. Every array travels with its length.
+ *
+ * Structs the plugin hands in (specs, results to fill) begin with struct_size
+ * = sizeof of the plugin's SDK: the host reads and writes them only up to that
+ * size (types.h). */
 #ifndef MONOHYDRA_HOST_H
 #define MONOHYDRA_HOST_H
 
@@ -22,8 +26,10 @@ extern "C" {
   0x4u /* this is the Newton iterate's evaluation: the subsystems' \
           residual rows (and powers) are recorded as the step's */
 /* The subsystems' forces always enter Q' under MH_EVAL_DYNAMICS, evaluated at the
- * host's current subsystem states. */
+ * host's current subsystem states and rates. */
 
+/* The mechanism, as the host hands it to a formulation once, at setup, after
+ * every command-line override: nothing here changes during the run. */
 typedef struct mh_mech_info {
   uint32_t struct_size;
   uint32_t num_coordinates;            /* N: relative joint coordinates, one per body */
@@ -31,7 +37,7 @@ typedef struct mh_mech_info {
   const char* const* coordinate_names; /* N names, e.g. "z1" */
   const uint8_t* coordinate_is_angle;  /* N flags: 1 revolute (rad), 0 prismatic (m) */
   double position_tolerance;           /* the model's Newton tolerance on coordinates (rad or m) */
-  double dt;                           /* the fixed step (s) */
+  double t0;                           /* the initial time (s) */
   const double* z0;                    /* N: initial coordinates, assembled by the host so that
                                           Phi(z0) = 0 when there are cut joints */
   const double* zd0;                   /* N: initial rates, with Phi_z zd0 = 0 */
@@ -83,6 +89,47 @@ typedef struct mh_port_spec {
                            node takes the smallest given */
 } mh_port_spec;
 
+/* Roles a component may give a state or an output (mh_state_spec.role,
+ * mh_output_spec.role), so that hosts treat them without knowing the
+ * component: NULL or "" for none. */
+#define MH_ROLE_CONTROL_SIGNAL                                                \
+  "control-signal" /* a control input's actual value (a valve spool): reports \
+                      shade where |value| exceeds 1 % of max(|range_min|,     \
+                      |range_max|) */
+
+/* A state of a subsystem instance (add_state). */
+typedef struct mh_state_spec {
+  uint32_t struct_size; /* sizeof(mh_state_spec) */
+  const char* name;     /* e.g. "p" */
+  const char* unit;     /* e.g. "Pa" */
+  double initial;
+  double abs_tolerance; /* on its Newton increment */
+  const char* role;     /* MH_ROLE_* or NULL */
+  double range_min;     /* the range it is meant to stay in (its role's scale); */
+  double range_max;     /* both 0 for none */
+} mh_state_spec;
+
+/* An output of a component instance (add_output): a value it computes and the
+ * host writes to the results beside the states. */
+typedef struct mh_output_spec {
+  uint32_t struct_size; /* sizeof(mh_output_spec) */
+  const char* name;     /* e.g. "s"; unique within the instance */
+  const char* unit;     /* e.g. "m"; "" for a count or an index */
+  uint32_t kind;        /* mh_output_kind */
+  const char* role;     /* MH_ROLE_* or NULL */
+  double range_min;     /* as in mh_state_spec */
+  double range_max;
+} mh_output_spec;
+
+/* A Newton unknown of a formulation (add_unknown). */
+typedef struct mh_unknown_spec {
+  uint32_t struct_size; /* sizeof(mh_unknown_spec) */
+  const char* name;     /* e.g. "z3" or "lambda1": names it in failure messages */
+  const char* unit;     /* e.g. "rad" */
+  uint32_t kind;        /* mh_unknown_kind */
+  double abs_tolerance; /* on its Newton increment, > 0 */
+} mh_unknown_spec;
+
 typedef struct mh_host {
   uint32_t struct_size;   /* sizeof(mh_host) of the host's SDK: check before using
                              fields added by a later minor version */
@@ -111,42 +158,29 @@ typedef struct mh_host {
    * MH_ERROR so a plugin can write `return host->option_error(host, "k", "> 0");`. */
   mh_status (*option_error)(const struct mh_host* host, const char* key, const char* expected);
 
-  /* The mechanism's sizes and names. */
+  /* The mechanism's sizes, names and initial state (formulations and subsystems). */
   mh_status (*mech_info)(const struct mh_host* host, mh_mech_info* out);
 
+  /* Host extensions by string id ("name/rev"); NULL when not supported. */
+  const void* (*get_extension)(const struct mh_host* host, const char* id);
+
+  /* -- setup only (formulations and subsystems) ------------------------------ */
+  /* Declares an output of this instance. *index receives its index in the
+   * run's output vector: a subsystem writes it in mh_subsystem_eval.outputs, a
+   * formulation in mh_formulation.write_outputs. */
+  mh_status (*add_output)(const struct mh_host* host, const mh_output_spec* spec, int32_t* index);
+
   /* -- subsystem setup only -------------------------------------------------- */
-  /* Declares a state of this instance with its initial value, the absolute
-   * tolerance on its Newton increment and its unit (e.g. "Pa"). *index receives
-   * its index in the global state vector. */
-  mh_status (*add_state)(const struct mh_host* host, const char* name, double initial,
-                         double abs_tolerance, const char* unit, int32_t* index);
+  /* Declares a state of this instance. *index receives its index in the global
+   * state vector. States are first-order unknowns, or algebraic when no row
+   * involves their rate (the host finds out at t0). */
+  mh_status (*add_state)(const struct mh_host* host, const mh_state_spec* spec, int32_t* index);
   /* Finds another instance's state by its qualified name "instance.state", to
    * read it and add to its residual row. *index receives its global index. */
   mh_status (*find_state)(const struct mh_host* host, const char* qualified_name, int32_t* index);
   /* Attaches this instance to the body point the model file gives under
    * points/<key>. *index receives the point's local index 0, 1, ... */
   mh_status (*add_point)(const struct mh_host* host, const char* key, int32_t* index);
-
-  /* -- formulation only ------------------------------------------------------ */
-  /* Evaluates the core's semirecursive kinematics and dynamics at (t, z, zd).
-   * Inside mh_formulation.residual the formulation calls it with
-   * MH_EVAL_SUBSYSTEMS exactly once, at the coordinates of the Newton iterate
-   * (which also fills the subsystem residual rows); other calls may come as
-   * often as needed and leave the subsystems untouched. */
-  mh_status (*evaluate_mechanics)(const struct mh_host* host, const mh_mech_request* request,
-                                  mh_mech_result* result);
-
-  /* Host extensions by string id ("name/rev"); NULL when not supported. */
-  const void* (*get_extension)(const struct mh_host* host, const char* id);
-  /* -- subsystem setup only (listed last: appended to the table) ------------ */
-  /* Declares an output of this instance: a value it computes in evaluate (e.g. a
-   * cylinder's stroke), written to the results beside the states. *index
-   * receives its index in mh_subsystem_eval.outputs. */
-  mh_status (*add_output)(const struct mh_host* host, const char* name, const char* unit,
-                          int32_t* index);
-
-  /* -- ABI 1.1 (check struct_size before use) ----------------------------- */
-  /* -- subsystem setup only -- */
   /* Declares a port (see mh_port_spec). *index receives the global index of
    * its node's effort state: read it in y and ydot, add to its residual row. */
   mh_status (*add_port)(const struct mh_host* host, const mh_port_spec* spec, int32_t* index);
@@ -155,10 +189,24 @@ typedef struct mh_host {
   mh_status (*point_position)(const struct mh_host* host, int32_t point, double* position3);
   /* Declares a time (s) at which this instance's equations jump (a step of a
    * reference signal). When a step ends exactly there, the host evaluates the
-   * step's end just before it (the left limit) and restarts the state rates
-   * just after it (the right limit), which keeps the trapezoidal rule second
-   * order. Evaluate signals right-continuously: a table row at t_i holds from t_i. */
+   * step's end just before it (the left limit) and restarts the integrator just
+   * after it (the right limit), which keeps the step's order. Evaluate signals
+   * right-continuously: a table row at t_i holds from t_i. */
   mh_status (*add_time_event)(const struct mh_host* host, double t);
+
+  /* -- formulation setup only ------------------------------------------------ */
+  /* Declares the formulation's next Newton unknown (indices 0, 1, ... in call
+   * order). The host's integrator ties its rates to it by its kind. */
+  mh_status (*add_unknown)(const struct mh_host* host, const mh_unknown_spec* spec, int32_t* index);
+
+  /* -- formulation, after setup ---------------------------------------------- */
+  /* Evaluates the core's semirecursive kinematics and dynamics at (t, z, zd).
+   * Inside mh_formulation.residual the formulation calls it with
+   * MH_EVAL_SUBSYSTEMS exactly once, at the coordinates of the Newton iterate
+   * (which also fills the subsystem residual rows); other calls may come as
+   * often as needed and leave the subsystems untouched. */
+  mh_status (*evaluate_mechanics)(const struct mh_host* host, const mh_mech_request* request,
+                                  mh_mech_result* result);
 } mh_host;
 
 #ifdef __cplusplus

@@ -4,6 +4,7 @@
 #include "monohydra/entry.h"
 #include "monohydra/formulation.h"
 #include "monohydra/host.h"
+#include "monohydra/integrator.h"
 #include "monohydra/subsystem.h"
 #include "monohydra/types.h"
 #endif

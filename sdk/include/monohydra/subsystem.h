@@ -5,8 +5,8 @@
  * to body points. Its equations are written in residual form: every state i has
  * one residual row, the SUM of the contributions of every instance that touches
  * it, and the step solves sum = 0 with y_{k+1} and ydot_{k+1} tied by the
- * trapezoidal rule (Eqs. 32-34). An instance adds to the rows of the states it
- * touches (its own, and others found with find_state) and applies forces at its
+ * host's integrator (the trapezoidal rule by default, Eqs. 32-34). An instance adds to the rows of
+ * the states it touches (its own, and others found with find_state) and applies forces at its
  * points; the host turns those into generalized forces (Eq. 10).
  *
  * The sparsity of the shared tangent follows from setup: an instance's rows
@@ -22,7 +22,7 @@
 extern "C" {
 #endif
 
-#define MH_SUBSYSTEM_FACTORY_ID "monohydra.subsystem-factory/1"
+#define MH_SUBSYSTEM_FACTORY_ID "monohydra.subsystem-factory/2"
 
 typedef struct mh_subsystem_eval {
   uint32_t struct_size;
@@ -45,8 +45,9 @@ typedef struct mh_subsystem {
   const mh_component_descriptor* descriptor;
   void* plugin_data;
 
-  /* Reads options, declares states (add_state), finds other instances' states
-   * (find_state) and attaches to points (add_point). Instances are set up in
+  /* Reads options, declares states (add_state), ports (add_port) and outputs
+   * (add_output), finds other instances' states (find_state) and attaches to
+   * points (add_point). Instances are set up in
    * model order; find_state only finds states of instances set up before. */
   mh_status (*setup)(const struct mh_subsystem* self);
 
