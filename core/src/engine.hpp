@@ -1,10 +1,13 @@
 // Private: the state behind a Simulation, shared by the files that implement
-// it (host services, tangent assembly, the trapezoidal step). Everything here
-// is sized in the constructor and start(); step() allocates nothing.
+// it along the data flow: host services (host_services.cpp), construction
+// (simulation.cpp), consistent initial states (initial_state.cpp), the
+// integrator's map (integrator_map.cpp), the tangent (tangent.cpp), the Newton
+// loop (newton_solve.cpp), the step (time_step.cpp) and the energy balance
+// (energy_balance.cpp). Everything here is sized in the constructor and
+// start(); step() allocates nothing.
 #pragma once
 
 #include <Eigen/Core>
-#include <Eigen/LU>
 #include <memory>
 #include <set>
 #include <sstream>
@@ -13,11 +16,12 @@
 
 #include "monohydra/core/constraints.hpp"
 #include "monohydra/core/data.hpp"
-#include "monohydra/core/klu_solver.hpp"
+#include "monohydra/core/linear_solver.hpp"
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/simulation.hpp"
 #include "monohydra/core/sparse_pattern.hpp"
 #include "monohydra/monohydra.h"
+#include "plugin_instance.hpp"
 
 namespace mh {
 
@@ -36,15 +40,16 @@ struct InstanceHost {
   const OptionMap* options = nullptr;
   SourceMark mark;
   std::set<std::string> keys_read;
-  int subsystem = -1;  // index into Engine::subsystems, -1 for the formulation
+  enum class Role { formulation, subsystem, integrator } role = Role::subsystem;
+  int subsystem = -1;  // index into Engine::subsystems for a subsystem
   bool in_setup = false;
   mh_host table{};
 };
 
 struct SubsystemInstance {
   const SubsystemSpec* spec = nullptr;
-  const mh_subsystem* api = nullptr;
-  std::unique_ptr<InstanceHost> host;
+  std::unique_ptr<InstanceHost> host;  // before api: it outlives the instance
+  SubsystemProxy api;
   std::vector<int> touched;  // states it may read and add to; own first-call order
   std::vector<BodyPoint> points;
   std::vector<double> p, v, f;  // 3 per point
@@ -79,33 +84,42 @@ struct Simulation::Engine {
   std::string last_plugin_error;             // the most recent error a plugin logged
   std::unique_ptr<InputError> option_error;  // the first bad option a plugin reported
 
-  // Formulation.
+  // Formulation: its n_m unknowns are the first entries of the Newton vector.
   std::string formulation_name;
-  const mh_formulation* formulation = nullptr;
-  std::unique_ptr<InstanceHost> formulation_host;
+  std::unique_ptr<InstanceHost> formulation_host;  // outlives the instance
+  FormulationProxy formulation;
   int N = 0;    // joint coordinates
   int m = 0;    // constraint rows
   int n_m = 0;  // mechanical unknowns
   std::vector<std::string> coordinate_names;
   std::vector<const char*> coordinate_name_ptrs;
   std::vector<uint8_t> coordinate_is_angle;
+  std::vector<std::string> unknown_names;  // n_m, from add_unknown
+  std::vector<uint8_t> unknown_kinds;      // n_m
+  Eigen::VectorXd unknown_tol;             // n_m
 
-  // Subsystems and their states.
+  // Integrator: applied by the host to all n unknowns.
+  std::string integrator_name;
+  std::unique_ptr<InstanceHost> integrator_host;  // outlives the instance
+  IntegratorProxy integrator;
+  std::vector<uint8_t> kinds;  // n: mh_unknown_kind of every unknown
+  mh_step_map map{};           // the step's map; arrays below
+  Eigen::VectorXd x_pred, xd_off, xdd_off;
+
+  // Subsystems and their states (the last n_s unknowns).
   std::vector<SubsystemInstance> subsystems;
   int n_s = 0;
-  std::vector<std::string> state_names;      // CSV names
-  std::vector<std::string> state_qualified;  // "instance.state"
-  std::vector<std::string> state_units;
-  Eigen::VectorXd y, ydot;             // current (iterate or accepted)
-  Eigen::VectorXd y_k, ydot_k, y_hat;  // accepted at t_k; Eq. (34)
+  std::vector<VariableInfo> state_info;  // n_s: CSV name, qualified name, unit, role
+  Eigen::VectorXd y, ydot;               // current (iterate or accepted)
+  Eigen::VectorXd y_k, ydot_k;           // accepted at t_k
   Eigen::VectorXd state_tol;
-  std::vector<char> algebraic;  // states whose rate no row involves (set by start())
+  std::vector<char> algebraic;  // states whose rate no row involves (constructor)
   std::vector<Node> nodes;
   std::vector<double> time_events;  // sorted, unique (constructor)
   size_t next_event = 0;            // the first event after the accepted time
-  // Subsystem outputs (values computed in evaluate, e.g. a cylinder's stroke).
+  // Outputs of subsystems and of the formulation.
   int n_o = 0;
-  std::vector<std::string> output_names, output_qualified, output_units;
+  std::vector<VariableInfo> output_info;
   Eigen::VectorXd outputs, outputs_k;  // of the last evaluation; accepted
   Eigen::VectorXd scratch_rows;        // rows of evaluations that are not the iterate's
   double* rows_target = nullptr;       // where MH_EVAL_SUBSYSTEMS writes the state rows
@@ -118,17 +132,19 @@ struct Simulation::Engine {
   Eigen::MatrixXd phi_z;
   Eigen::VectorXd z0, zd0;
 
-  // Newton.
+  // Newton over x = [formulation unknowns; subsystem states].
   int n = 0;
-  Eigen::VectorXd x, r, r_pert, dx, tol, eps;
+  Eigen::VectorXd x, xd, xdd, r, r_pert, dx, tol, eps;
+  Eigen::VectorXd xd_pert, xdd_pert;  // rates of a perturbed x (forward differences)
   std::unique_ptr<SparsePattern> pattern;
-  std::unique_ptr<KluSolver> klu;
+  std::unique_ptr<LinearSolver> linear_solver;
   std::vector<double> values;
   std::vector<std::vector<int>> groups;
   std::vector<char> group_needs_fd;
-  std::vector<char> column_analytic;  // state columns whose ss entries are all analytic
-  Eigen::MatrixXd mech_tangent;       // n_m x n_m from mh_formulation.tangent
-  std::vector<int> mech_slots;        // n_m x n_m column-major slots
+  std::vector<char> column_analytic;       // state columns whose ss entries are all analytic
+  Eigen::MatrixXd dr_dx, dr_dxd, dr_dxdd;  // n_m x n_m from the formulation's tangent
+  std::vector<uint8_t> mech_column_given;  // n_m
+  std::vector<int> mech_slots;             // n_m x n_m column-major slots
   StepStats stats;
 
   // Accepted results.
@@ -145,13 +161,14 @@ struct Simulation::Engine {
 
   // host_services.cpp
   void make_host(InstanceHost& h, const std::string& source, const OptionMap* options,
-                 const SourceMark& mark, int subsystem);
+                 const SourceMark& mark, InstanceHost::Role role, int subsystem);
   void check_unread_options(const InstanceHost& h) const;
+  // A new state of the run; returns its index.
+  int add_state_record(const VariableInfo& info, double initial, double abs_tolerance);
   mh_status evaluate_mechanics(uint32_t flags, double t_eval, const double* zq, const double* zdq);
   // Evaluates every subsystem at the kinematics in `data` and the current y,
   // ydot, adding rows to `rows` (zeroed first) and forces to the bodies.
   mh_status evaluate_subsystems(double t_eval, double* rows);
-  void energy_terms(double& stored_out, double& dissipation_out);
   // The evaluation record every subsystem call gets: current states, rates and
   // outputs, `rows` for the residual; point_at() fills in one instance's points.
   mh_subsystem_eval subsystem_eval(double t_eval, double* rows);
@@ -162,24 +179,48 @@ struct Simulation::Engine {
   void check_network() const;
 
   // initial_state.cpp: consistent initial states at t = 0.
+  void classify_states();
   void solve_initial_rates(double t_eval);
   void solve_algebraic_and_equilibrium();
 
   // loop_assembly.cpp
   void assemble_loops();
 
+  // integrator_map.cpp: the integrator's map from x to its rates.
+  void begin_step(double t_next, double h);
+  void rates_of(const Eigen::VectorXd& xq, Eigen::VectorXd& xdq, Eigen::VectorXd& xddq) const;
+  void restart_integrator();  // from x, xd, xdd at t
+
   // tangent.cpp
   void build_pattern();
-  mh_status assemble_tangent(double t_next);
-  mh_status residual(double t_next, const Eigen::VectorXd& xq, Eigen::VectorXd& rq);
+  mh_status assemble_tangent(double t_eval);
+  // r(x): the formulation's rows (which evaluate the subsystems' rows) at the
+  // rates the integrator's map gives x.
+  mh_status residual(double t_eval, const Eigen::VectorXd& xq, Eigen::VectorXd& rq);
 
-  // trapezoidal_step.cpp
+  // newton_solve.cpp
+  void newton_solve(double t_eval, double t_next);
+
+  // time_step.cpp
   void start();
   void step_once();
+  void prepare_step(double t_next);
+  void accept_step(double t_next, bool event);
+
+  // energy_balance.cpp
+  void energy_terms(double& stored_out, double& dissipation_out);
+  void start_energy_balance();
+  void update_energy_balance(double h);
+  void measure_mechanism();  // KE, PE, phi_norm at the accepted z, zd
 
   [[noreturn]] void fail(const std::string& reason) const;
   std::string status_reason(mh_status s, const std::string& what) const;
   std::string unknown_name(int i) const;
+  // Throws SimulationError naming the plugin and the operation when `s` is
+  // not a success (one place for every plugin call of the step).
+  void check(mh_status s, const std::string& what) const {
+    if (!status_ok(s)) fail(status_reason(s, what));
+  }
 };
 
 }  // namespace mh

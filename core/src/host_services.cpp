@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "abi_struct.hpp"
 #include "engine.hpp"
 #include "monohydra/core/dynamics.hpp"
 #include "monohydra/core/kinematics.hpp"
@@ -108,23 +109,44 @@ mh_status host_option_error(const mh_host* host, const char* key, const char* ex
 }
 
 mh_status host_mech_info(const mh_host* host, mh_mech_info* out) {
-  if (out == nullptr || out->struct_size < sizeof(mh_mech_info)) return MH_ERROR;
   const Simulation::Engine& e = *self(host).engine;
-  out->num_coordinates = static_cast<uint32_t>(e.N);
-  out->num_constraints = static_cast<uint32_t>(e.m);
-  out->coordinate_names = e.coordinate_name_ptrs.data();
-  out->coordinate_is_angle = e.coordinate_is_angle.data();
-  out->position_tolerance = e.settings.tol_position;
-  out->dt = e.settings.dt;
-  out->z0 = e.z0.data();
-  out->zd0 = e.zd0.data();
-  return MH_OK;
+  mh_mech_info info{};
+  info.struct_size = sizeof(info);
+  info.num_coordinates = static_cast<uint32_t>(e.N);
+  info.num_constraints = static_cast<uint32_t>(e.m);
+  info.coordinate_names = e.coordinate_name_ptrs.data();
+  info.coordinate_is_angle = e.coordinate_is_angle.data();
+  info.position_tolerance = e.settings.tol_position;
+  info.t0 = 0.0;
+  info.z0 = e.z0.data();
+  info.zd0 = e.zd0.data();
+  return write_struct(out, info) ? MH_OK : MH_ERROR;
 }
 
-mh_status setup_only(InstanceHost& h, const char* what) {
-  if (h.subsystem >= 0 && h.in_setup) return MH_OK;
+const char* role_name(InstanceHost::Role r) {
+  switch (r) {
+    case InstanceHost::Role::formulation:
+      return "a formulation";
+    case InstanceHost::Role::integrator:
+      return "an integrator";
+    case InstanceHost::Role::subsystem:
+      break;
+  }
+  return "a subsystem";
+}
+
+// Services of the setup phase: only the roles named, only inside setup.
+mh_status setup_only(InstanceHost& h, const char* what, bool subsystem, bool formulation) {
+  const bool role_ok = (subsystem && h.role == InstanceHost::Role::subsystem) ||
+                       (formulation && h.role == InstanceHost::Role::formulation);
+  if (role_ok && h.in_setup) return MH_OK;
+  const std::string who = subsystem && formulation ? "a subsystem or a formulation"
+                          : subsystem              ? "a subsystem"
+                                                   : "a formulation";
   host_log(&h.table, MH_LOG_ERROR,
-           (std::string(what) + " may only be called by a subsystem during setup").c_str());
+           (std::string(what) + " may only be called by " + who + " during setup (called by " +
+            role_name(h.role) + (h.in_setup ? ")" : " after setup)"))
+               .c_str());
   return MH_ERROR;
 }
 
@@ -134,35 +156,46 @@ void touch(SubsystemInstance& s, int index) {
   s.touched.push_back(index);
 }
 
-mh_status host_add_state(const mh_host* host, const char* name, double initial,
-                         double abs_tolerance, const char* unit, int32_t* index) {
+std::string text(const char* s) {
+  return s != nullptr ? s : "";
+}
+
+// A role and range are optional; a range, when given, must be ordered.
+bool valid_range(double lo, double hi) {
+  return std::isfinite(lo) && std::isfinite(hi) && lo <= hi;
+}
+
+mh_status host_add_state(const mh_host* host, const mh_state_spec* spec_in, int32_t* index) {
   InstanceHost& h = self(host);
-  if (setup_only(h, "add_state") != MH_OK) return MH_ERROR;
+  if (setup_only(h, "add_state", true, false) != MH_OK) return MH_ERROR;
+  const mh_state_spec spec = read_struct(spec_in);
   Simulation::Engine& e = *h.engine;
   SubsystemInstance& s = e.subsystems[static_cast<size_t>(h.subsystem)];
-  const std::string local = name != nullptr ? name : "";
+  const std::string local = text(spec.name);
   const std::string qualified = s.spec->name + "." + local;
-  if (local.empty() || !std::isfinite(initial) || !(abs_tolerance > 0.0)) {
+  if (spec_in == nullptr || index == nullptr || local.empty() || !std::isfinite(spec.initial) ||
+      !(spec.abs_tolerance > 0.0) || !valid_range(spec.range_min, spec.range_max)) {
     host_log(host, MH_LOG_ERROR,
              ("add_state '" + local +
-              "': expected a name, a finite initial value and a positive tolerance")
+              "': expected a name, a finite initial value, a positive tolerance and an ordered "
+              "range")
                  .c_str());
     return MH_ERROR;
   }
-  for (const auto& q : e.state_qualified)
-    if (q == qualified) {
+  for (const auto& v : e.state_info)
+    if (v.qualified == qualified) {
       host_log(host, MH_LOG_ERROR, ("state '" + qualified + "' declared twice").c_str());
       return MH_ERROR;
     }
   auto named = s.spec->state_names.find(local);
-  const int i = e.n_s++;
-  e.state_qualified.push_back(qualified);
-  e.state_names.push_back(named != s.spec->state_names.end() ? named->second : qualified);
-  e.state_units.push_back(unit != nullptr ? unit : "");
-  e.y.conservativeResize(e.n_s);
-  e.y[i] = initial;
-  e.state_tol.conservativeResize(e.n_s);
-  e.state_tol[i] = abs_tolerance;
+  VariableInfo info;
+  info.name = named != s.spec->state_names.end() ? named->second : qualified;
+  info.qualified = qualified;
+  info.unit = text(spec.unit);
+  info.role = text(spec.role);
+  info.range_min = spec.range_min;
+  info.range_max = spec.range_max;
+  const int i = e.add_state_record(info, spec.initial, spec.abs_tolerance);
   touch(s, i);
   *index = i;
   return MH_OK;
@@ -170,11 +203,11 @@ mh_status host_add_state(const mh_host* host, const char* name, double initial,
 
 mh_status host_find_state(const mh_host* host, const char* qualified_name, int32_t* index) {
   InstanceHost& h = self(host);
-  if (setup_only(h, "find_state") != MH_OK) return MH_ERROR;
+  if (setup_only(h, "find_state", true, false) != MH_OK) return MH_ERROR;
   Simulation::Engine& e = *h.engine;
-  const std::string q = qualified_name != nullptr ? qualified_name : "";
+  const std::string q = text(qualified_name);
   for (int i = 0; i < e.n_s; ++i) {
-    if (e.state_qualified[static_cast<size_t>(i)] == q) {
+    if (e.state_info[static_cast<size_t>(i)].qualified == q) {
       touch(e.subsystems[static_cast<size_t>(h.subsystem)], i);
       *index = i;
       return MH_OK;
@@ -188,9 +221,9 @@ mh_status host_find_state(const mh_host* host, const char* qualified_name, int32
 
 mh_status host_add_point(const mh_host* host, const char* key, int32_t* index) {
   InstanceHost& h = self(host);
-  if (setup_only(h, "add_point") != MH_OK) return MH_ERROR;
+  if (setup_only(h, "add_point", true, false) != MH_OK) return MH_ERROR;
   SubsystemInstance& s = h.engine->subsystems[static_cast<size_t>(h.subsystem)];
-  const std::string k = key != nullptr ? key : "";
+  const std::string k = text(key);
   auto it = s.spec->points.find(k);
   if (it == s.spec->points.end()) {
     const InputError err(s.spec->mark, "subsystems '" + s.spec->name + "'.points",
@@ -208,62 +241,114 @@ mh_status host_add_point(const mh_host* host, const char* key, int32_t* index) {
   return MH_OK;
 }
 
-mh_status host_add_output(const mh_host* host, const char* name, const char* unit, int32_t* index) {
+mh_status host_add_output(const mh_host* host, const mh_output_spec* spec_in, int32_t* index) {
   InstanceHost& h = self(host);
-  if (setup_only(h, "add_output") != MH_OK) return MH_ERROR;
+  if (setup_only(h, "add_output", true, true) != MH_OK) return MH_ERROR;
+  const mh_output_spec spec = read_struct(spec_in);
   Simulation::Engine& e = *h.engine;
-  const SubsystemInstance& s = e.subsystems[static_cast<size_t>(h.subsystem)];
-  const std::string local = name != nullptr ? name : "";
-  const std::string qualified = s.spec->name + "." + local;
-  for (const auto& q : e.output_qualified)
-    if (local.empty() || q == qualified) {
-      host_log(host, MH_LOG_ERROR,
-               ("output '" + qualified + "' is empty or declared twice").c_str());
+  const bool from_subsystem = h.role == InstanceHost::Role::subsystem;
+  const SubsystemSpec* owner =
+      from_subsystem ? e.subsystems[static_cast<size_t>(h.subsystem)].spec : nullptr;
+  const std::string local = text(spec.name);
+  const std::string qualified = (from_subsystem ? owner->name : e.formulation_name) + "." + local;
+  const bool kind_ok = spec.kind == MH_OUTPUT_SIGNAL || spec.kind == MH_OUTPUT_COORDINATE ||
+                       spec.kind == MH_OUTPUT_COUNTER;
+  if (spec_in == nullptr || index == nullptr || local.empty() || !kind_ok ||
+      !valid_range(spec.range_min, spec.range_max)) {
+    host_log(host, MH_LOG_ERROR,
+             ("add_output '" + local +
+              "': expected a name, a kind (MH_OUTPUT_SIGNAL, _COORDINATE or _COUNTER) and an "
+              "ordered range")
+                 .c_str());
+    return MH_ERROR;
+  }
+  for (const auto& v : e.output_info)
+    if (v.qualified == qualified) {
+      host_log(host, MH_LOG_ERROR, ("output '" + qualified + "' declared twice").c_str());
       return MH_ERROR;
     }
-  auto named = s.spec->output_names.find(local);
-  e.output_qualified.push_back(qualified);
-  e.output_names.push_back(named != s.spec->output_names.end() ? named->second : qualified);
-  e.output_units.push_back(unit != nullptr ? unit : "");
+  VariableInfo info;
+  info.qualified = qualified;
+  info.name = qualified;
+  if (owner != nullptr) {
+    auto named = owner->output_names.find(local);
+    if (named != owner->output_names.end()) info.name = named->second;
+  }
+  info.unit = text(spec.unit);
+  info.kind = spec.kind;
+  info.role = text(spec.role);
+  info.range_min = spec.range_min;
+  info.range_max = spec.range_max;
+  e.output_info.push_back(info);
   *index = e.n_o++;
+  return MH_OK;
+}
+
+mh_status host_add_unknown(const mh_host* host, const mh_unknown_spec* spec_in, int32_t* index) {
+  InstanceHost& h = self(host);
+  if (setup_only(h, "add_unknown", false, true) != MH_OK) return MH_ERROR;
+  const mh_unknown_spec spec = read_struct(spec_in);
+  Simulation::Engine& e = *h.engine;
+  const std::string name = text(spec.name);
+  const bool kind_ok = spec.kind == MH_UNKNOWN_SECOND_ORDER ||
+                       spec.kind == MH_UNKNOWN_FIRST_ORDER || spec.kind == MH_UNKNOWN_ALGEBRAIC;
+  if (spec_in == nullptr || index == nullptr || name.empty() || !kind_ok ||
+      !(spec.abs_tolerance > 0.0) || !std::isfinite(spec.abs_tolerance)) {
+    host_log(host, MH_LOG_ERROR,
+             ("add_unknown '" + name +
+              "': expected a name, a kind (MH_UNKNOWN_SECOND_ORDER, _FIRST_ORDER or _ALGEBRAIC) "
+              "and a positive, finite tolerance")
+                 .c_str());
+    return MH_ERROR;
+  }
+  e.unknown_names.push_back(name);
+  e.unknown_kinds.push_back(static_cast<uint8_t>(spec.kind));
+  e.unknown_tol.conservativeResize(e.n_m + 1);
+  e.unknown_tol[e.n_m] = spec.abs_tolerance;
+  *index = e.n_m++;
   return MH_OK;
 }
 
 mh_status host_evaluate_mechanics(const mh_host* host, const mh_mech_request* request,
                                   mh_mech_result* result) {
   InstanceHost& h = self(host);
-  if (h.subsystem >= 0 || request == nullptr || result == nullptr || request->z == nullptr ||
-      request->zd == nullptr) {
-    host_log(host, MH_LOG_ERROR, "evaluate_mechanics: formulation only, with z and zd");
+  const mh_mech_request rq = read_struct(request);
+  if (h.role != InstanceHost::Role::formulation || h.in_setup || request == nullptr ||
+      result == nullptr || rq.z == nullptr || rq.zd == nullptr) {
+    host_log(host, MH_LOG_ERROR,
+             "evaluate_mechanics: for a formulation after its setup, with z and zd");
     return MH_ERROR;
   }
   Simulation::Engine& e = *h.engine;
-  const mh_status s = e.evaluate_mechanics(request->flags, request->t, request->z, request->zd);
-  const bool dyn = (request->flags & MH_EVAL_DYNAMICS) != 0;
-  const bool con = (request->flags & MH_EVAL_CONSTRAINTS) != 0;
-  result->M = dyn ? e.data.M.data() : nullptr;
-  result->Q = dyn ? e.data.Q.data() : nullptr;
-  result->phi = con ? e.phi.data() : nullptr;
-  result->phi_z = con ? e.phi_z.data() : nullptr;
-  result->phi_dot_zd = con ? e.phi_dot_zd.data() : nullptr;
+  const mh_status s = e.evaluate_mechanics(rq.flags, rq.t, rq.z, rq.zd);
+  const bool dyn = (rq.flags & MH_EVAL_DYNAMICS) != 0;
+  const bool con = (rq.flags & MH_EVAL_CONSTRAINTS) != 0;
+  mh_mech_result out{};
+  out.struct_size = sizeof(out);
+  out.M = dyn ? e.data.M.data() : nullptr;
+  out.Q = dyn ? e.data.Q.data() : nullptr;
+  out.phi = con ? e.phi.data() : nullptr;
+  out.phi_z = con ? e.phi_z.data() : nullptr;
+  out.phi_dot_zd = con ? e.phi_dot_zd.data() : nullptr;
+  if (!write_struct(result, out)) return MH_ERROR;
   return s;
 }
 
 mh_status host_add_port(const mh_host* host, const mh_port_spec* spec, int32_t* index) {
   InstanceHost& h = self(host);
-  if (setup_only(h, "add_port") != MH_OK) return MH_ERROR;
-  if (spec == nullptr || spec->struct_size < sizeof(mh_port_spec) || index == nullptr) {
+  if (setup_only(h, "add_port", true, false) != MH_OK) return MH_ERROR;
+  if (spec == nullptr || index == nullptr) {
     host_log(host, MH_LOG_ERROR, "add_port: expected an mh_port_spec and an index");
     return MH_ERROR;
   }
-  return h.engine->add_port(h, *spec, index);
+  return h.engine->add_port(h, read_struct(spec), index);
 }
 
 // The point's world position at the assembled initial configuration (the
 // constructor leaves the kinematics there while the instances are set up).
 mh_status host_point_position(const mh_host* host, int32_t point, double* position3) {
   InstanceHost& h = self(host);
-  if (setup_only(h, "point_position") != MH_OK) return MH_ERROR;
+  if (setup_only(h, "point_position", true, false) != MH_OK) return MH_ERROR;
   const SubsystemInstance& s = h.engine->subsystems[static_cast<size_t>(h.subsystem)];
   if (point < 0 || static_cast<size_t>(point) >= s.points.size() || position3 == nullptr) {
     host_log(host, MH_LOG_ERROR, "point_position: no such point (add it with add_point first)");
@@ -277,7 +362,7 @@ mh_status host_point_position(const mh_host* host, int32_t point, double* positi
 
 mh_status host_add_time_event(const mh_host* host, double t) {
   InstanceHost& h = self(host);
-  if (setup_only(h, "add_time_event") != MH_OK) return MH_ERROR;
+  if (setup_only(h, "add_time_event", true, false) != MH_OK) return MH_ERROR;
   if (!std::isfinite(t)) {
     host_log(host, MH_LOG_ERROR, "add_time_event: expected a finite time");
     return MH_ERROR;
@@ -294,11 +379,12 @@ const void* host_get_extension(const mh_host*, const char*) {
 
 void Simulation::Engine::make_host(InstanceHost& h, const std::string& source,
                                    const OptionMap* options, const SourceMark& mark,
-                                   int subsystem) {
+                                   InstanceHost::Role role, int subsystem) {
   h.engine = this;
   h.source = source;
   h.options = options;
   h.mark = mark;
+  h.role = role;
   h.subsystem = subsystem;
   h.table.struct_size = sizeof(mh_host);
   h.table.abi_version = MH_ABI_VERSION_INIT;
@@ -309,15 +395,27 @@ void Simulation::Engine::make_host(InstanceHost& h, const std::string& source,
   h.table.option_table = host_option_table;
   h.table.option_error = host_option_error;
   h.table.mech_info = host_mech_info;
+  h.table.get_extension = host_get_extension;
+  h.table.add_output = host_add_output;
   h.table.add_state = host_add_state;
   h.table.find_state = host_find_state;
   h.table.add_point = host_add_point;
-  h.table.add_output = host_add_output;
-  h.table.evaluate_mechanics = host_evaluate_mechanics;
-  h.table.get_extension = host_get_extension;
   h.table.add_port = host_add_port;
   h.table.point_position = host_point_position;
   h.table.add_time_event = host_add_time_event;
+  h.table.add_unknown = host_add_unknown;
+  h.table.evaluate_mechanics = host_evaluate_mechanics;
+}
+
+int Simulation::Engine::add_state_record(const VariableInfo& info, double initial,
+                                         double abs_tolerance) {
+  const int i = n_s++;
+  state_info.push_back(info);
+  y.conservativeResize(n_s);
+  y[i] = initial;
+  state_tol.conservativeResize(n_s);
+  state_tol[i] = abs_tolerance;
+  return i;
 }
 
 void Simulation::Engine::check_unread_options(const InstanceHost& h) const {
@@ -367,8 +465,8 @@ mh_status Simulation::Engine::evaluate_subsystems(double t_eval, double* rows) {
       }
     }
     point_at(ev, s);
-    const mh_status st = s.api->evaluate(s.api, &ev);
-    if (st >= MH_DISCARD) return st;
+    const mh_status st = normalized(s.api.ops.evaluate(s.api.self, &ev));
+    if (!status_ok(st)) return st;
     s.power = 0.0;
     for (size_t k = 0; k < np; ++k) {
       const Eigen::Vector3d F(s.f[3 * k], s.f[3 * k + 1], s.f[3 * k + 2]);
@@ -393,28 +491,13 @@ mh_status Simulation::Engine::evaluate_mechanics(uint32_t flags, double t_eval, 
   if ((flags & (MH_EVAL_DYNAMICS | MH_EVAL_SUBSYSTEMS)) != 0) {
     reset_applied_forces(model, data);
     const mh_status st = evaluate_subsystems(t_eval, iterate ? rows_target : scratch_rows.data());
-    if (st >= MH_DISCARD) return st;
+    if (!status_ok(st)) return st;
     if (iterate) iterate_evaluated = true;
   }
   if ((flags & MH_EVAL_DYNAMICS) != 0) mass_matrix_and_forces(model, data);
   if ((flags & MH_EVAL_CONSTRAINTS) != 0)
     evaluate_constraints(model, data, constraints, phi, phi_z, phi_dot_zd);
   return MH_OK;
-}
-
-void Simulation::Engine::energy_terms(double& stored_out, double& dissipation_out) {
-  stored_out = 0.0;
-  dissipation_out = 0.0;
-  mh_subsystem_eval ev = subsystem_eval(t, scratch_rows.data());
-  for (auto& s : subsystems) {
-    if (s.api->energy == nullptr) continue;
-    point_at(ev, s);
-    double st = 0.0, diss = 0.0;
-    if (s.api->energy(s.api, &ev, &st, &diss) < MH_DISCARD) {
-      stored_out += st;
-      dissipation_out += diss;
-    }
-  }
 }
 
 }  // namespace mh

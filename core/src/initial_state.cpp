@@ -19,7 +19,7 @@ namespace mh {
 static void rows_at(Simulation::Engine& e, double t_eval, Eigen::VectorXd& f) {
   reset_applied_forces(e.model, e.data);
   const mh_status st = e.evaluate_subsystems(t_eval, f.data());
-  if (st >= MH_DISCARD) e.fail(e.status_reason(st, "subsystem evaluation"));
+  e.check(st, "subsystem evaluation");
 }
 
 // d rows / d ydot by forward differences, with the entries that are round-off
@@ -46,6 +46,19 @@ static Eigen::MatrixXd rate_jacobian(Simulation::Engine& e, double t_eval) {
   return J;
 }
 
+// Which states are algebraic (no row involves their rate, e.g. a pressure
+// source's flow): the integrator gives them no rate. Structural, so decided
+// once, at the initial configuration.
+void Simulation::Engine::classify_states() {
+  algebraic.assign(static_cast<size_t>(n_s), 0);
+  if (n_s == 0) return;
+  forward_kinematics(model, data, z0, zd0);
+  ydot.setZero(n_s);
+  const Eigen::MatrixXd J = rate_jacobian(*this, 0.0);
+  for (int c = 0; c < n_s; ++c)
+    if (J.col(c).lpNorm<Eigen::Infinity>() == 0.0) algebraic[static_cast<size_t>(c)] = 1;
+}
+
 // ydot: the state rows are F(ydot, y) = 0 at the current kinematics; Newton
 // with a forward-difference Jacobian. Algebraic states keep ydot = 0.
 void Simulation::Engine::solve_initial_rates(double t_eval) {
@@ -59,8 +72,6 @@ void Simulation::Engine::solve_initial_rates(double t_eval) {
       if (J.col(c).lpNorm<Eigen::Infinity>() > 0.0) rates.push_back(c);
     for (int r0 = 0; r0 < n_s; ++r0)
       if (J.row(r0).lpNorm<Eigen::Infinity>() > 0.0) rows_used.push_back(r0);
-    algebraic.assign(static_cast<size_t>(n_s), 1);
-    for (int c : rates) algebraic[static_cast<size_t>(c)] = 0;
     if (rates.size() != rows_used.size()) {
       fail("the state rates cannot be found: " + std::to_string(rows_used.size()) +
            " subsystem rows involve rates, but " + std::to_string(rates.size()) +
@@ -101,8 +112,8 @@ void Simulation::Engine::solve_algebraic_and_equilibrium() {
     const std::string& name = file->equilibrium_free[i];
     int found = -1;
     for (int k = 0; k < n_s; ++k)
-      if (state_names[static_cast<size_t>(k)] == name ||
-          state_qualified[static_cast<size_t>(k)] == name)
+      if (state_info[static_cast<size_t>(k)].name == name ||
+          state_info[static_cast<size_t>(k)].qualified == name)
         found = k;
     if (found < 0)
       throw InputError(file->equilibrium_marks[i], "equilibrium.free",
@@ -143,7 +154,7 @@ void Simulation::Engine::solve_algebraic_and_equilibrium() {
   const auto equations = [&](Eigen::VectorXd& out) {
     if (equilibrium) {
       const mh_status st = evaluate_mechanics(MH_EVAL_DYNAMICS, t0, z0.data(), zero_rates.data());
-      if (st >= MH_DISCARD) fail(status_reason(st, "equilibrium: subsystem evaluation"));
+      check(st, "equilibrium: subsystem evaluation");
       std::copy(scratch_rows.data(), scratch_rows.data() + n_s, f.data());
       out.tail(R.cols()) = R.transpose() * data.Q;
     } else {
@@ -196,8 +207,8 @@ void Simulation::Engine::solve_algebraic_and_equilibrium() {
     const std::string what =
         i < static_cast<int>(rows.size())
             ? "the row of state '" +
-                  state_names[static_cast<size_t>(rows[static_cast<size_t>(i)])] + "' stays at " +
-                  short_number(F[i])
+                  state_info[static_cast<size_t>(rows[static_cast<size_t>(i)])].name +
+                  "' stays at " + short_number(F[i])
             : "the mechanism is not held: its static balance stays at " + short_number(F[i]) +
                   " N or N m";
     fail(std::string(equilibrium ? "no equilibrium with the states under equilibrium.free"

@@ -396,10 +396,10 @@ class Parser {
       fail(root, "",
            "expected a mapping with the model (units, bodies, ...), got " + describe(root));
     }
-    const MapView top(
-        *this, root, "",
-        {"units", "name", "gravity", "plugin_paths", "bodies", "cut_joints", "subsystems",
-         "formulation", "solver", "planar", "assembly", "nodes", "equilibrium"});
+    const MapView top(*this, root, "",
+                      {"units", "name", "gravity", "plugin_paths", "bodies", "cut_joints",
+                       "subsystems", "formulation", "integrator", "compare", "solver", "planar",
+                       "assembly", "nodes", "equilibrium"});
     ModelFile file;
     file.path = file_;
 
@@ -429,8 +429,13 @@ class Parser {
 
     file.formulation.mark = mark(root);
     if (auto formulation_node = top.get("formulation")) {
-      file.formulation = formulation(*formulation_node);
+      file.formulation = component_choice(*formulation_node, "formulation", "open-loop");
     }
+    file.integrator.mark = mark(root);
+    if (auto integrator_node = top.get("integrator")) {
+      file.integrator = component_choice(*integrator_node, "integrator", "trapezoidal");
+    }
+    if (auto compare_node = top.get("compare")) parse_compare(*compare_node, file);
     file.solver.mark = mark(root);
     if (auto solver_node = top.get("solver")) file.solver = solver(*solver_node);
     return file;
@@ -843,25 +848,45 @@ class Parser {
     return specs;
   }
 
-  FormulationSpec formulation(const YAML::Node& node) const {
-    FormulationSpec spec;
+  // `formulation:` and `integrator:` alike: a component id, or {name: ID, options...}.
+  ComponentChoice component_choice(const YAML::Node& node, const std::string& section,
+                                   const std::string& example) const {
+    ComponentChoice spec;
     spec.mark = mark(node);
     if (node.IsScalar()) {
-      spec.name = name(node, "formulation");
+      spec.name = name(node, section);
       return spec;
     }
     if (!node.IsMap()) {
-      fail(node, "formulation",
-           "expected a formulation name or a mapping {name: ..., options...}, got " +
-               describe(node));
+      fail(node, section,
+           "expected " + std::string(section == "integrator" ? "an " : "a ") + section +
+               " name or a mapping {name: ..., options...}, got " + describe(node));
     }
-    const MapView map(*this, node, "formulation", {});
-    spec.name = name(map.require("name", "the formulation id, e.g. open-loop"), map.field("name"));
+    const MapView map(*this, node, section, {});
+    spec.name =
+        name(map.require("name", "the " + section + " id, e.g. " + example), map.field("name"));
     for (const Entry& entry : map.entries()) {
       if (entry.key == "name") continue;
       spec.options[entry.key] = option(entry.value, map.field(entry.key));
     }
     return spec;
+  }
+
+  // compare: {formulations: [A, B], integrators: [C]}: what `monohydra compare`
+  // runs on this model when the command line names nothing.
+  void parse_compare(const YAML::Node& node, ModelFile& file) const {
+    const MapView map(*this, node, "compare", {"formulations", "integrators"});
+    const auto names = [&](const char* key, std::vector<std::string>& out) {
+      auto list = map.get(key);
+      if (!list) return;
+      const std::string field = map.field(key);
+      if (!list->IsSequence() || list->size() == 0)
+        fail(*list, field, "expected a non-empty list of component ids, got " + describe(*list));
+      for (size_t i = 0; i < list->size(); ++i)
+        out.push_back(name((*list)[i], field + "[" + std::to_string(i) + "]"));
+    };
+    names("formulations", file.compare_formulations);
+    names("integrators", file.compare_integrators);
   }
 
   SolverSettings solver(const YAML::Node& node) const {

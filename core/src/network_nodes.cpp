@@ -57,8 +57,8 @@ mh_status Simulation::Engine::add_port(InstanceHost& h, const mh_port_spec& spec
   const std::string domain = spec.domain != nullptr ? spec.domain : "";
   const std::string unit = spec.unit != nullptr ? spec.unit : "";
   if (node == nullptr) {
-    for (const auto& q : state_qualified)
-      if (q == node_name)
+    for (const auto& v : state_info)
+      if (v.qualified == node_name)
         return fail_input(mark, who(s) + " port '" + key + "'",
                           "a node name that is not also a state's name, got '" + node_name + "'");
     Node fresh;
@@ -66,15 +66,12 @@ mh_status Simulation::Engine::add_port(InstanceHost& h, const mh_port_spec& spec
     fresh.domain = domain;
     fresh.unit = unit;
     fresh.mark = mark;
-    fresh.state = n_s++;
     auto named = file->node_columns.find(node_name);
-    state_qualified.push_back(node_name);
-    state_names.push_back(named != file->node_columns.end() ? named->second : node_name);
-    state_units.push_back(unit);
-    y.conservativeResize(n_s);
-    y[fresh.state] = 0.0;
-    state_tol.conservativeResize(n_s);
-    state_tol[fresh.state] = std::numeric_limits<double>::infinity();
+    VariableInfo info;
+    info.name = named != file->node_columns.end() ? named->second : node_name;
+    info.qualified = node_name;
+    info.unit = unit;
+    fresh.state = add_state_record(info, 0.0, std::numeric_limits<double>::infinity());
     nodes.push_back(fresh);
     node = &nodes.back();
   } else if (node->domain != domain) {
@@ -136,20 +133,20 @@ void Simulation::Engine::check_network() const {
                            "' joins no other port (name it on another component's port)");
     bool free = false;
     for (const auto& f : file->equilibrium_free)
-      free = free || f == nd.name || f == state_names[static_cast<size_t>(nd.state)];
+      free = free || f == nd.name || f == state_info[static_cast<size_t>(nd.state)].name;
     if (!nd.has_initial && !free)
       throw InputError(nd.mark, "node '" + nd.name + "'",
                        "an initial " + nd.unit +
                            ": none of its ports gives one (e.g. a volume's initial_pressure, "
                            "a pressure source), and it is not under equilibrium.free");
     for (int i = 0; i < n_s; ++i)
-      if (i != nd.state && !state_names[static_cast<size_t>(i)].empty() &&
-          state_names[static_cast<size_t>(i)] == state_names[static_cast<size_t>(nd.state)])
-        throw InputError(nd.mark, "node '" + nd.name + "'",
-                         "a result column of its own, but '" + state_names[static_cast<size_t>(i)] +
-                             "' is also the column of state '" +
-                             state_qualified[static_cast<size_t>(i)] +
-                             "' (rename one, or give the node a column under nodes)");
+      if (i != nd.state && !state_info[static_cast<size_t>(i)].name.empty() &&
+          state_info[static_cast<size_t>(i)].name == state_info[static_cast<size_t>(nd.state)].name)
+        throw InputError(
+            nd.mark, "node '" + nd.name + "'",
+            "a result column of its own, but '" + state_info[static_cast<size_t>(i)].name +
+                "' is also the column of state '" + state_info[static_cast<size_t>(i)].qualified +
+                "' (rename one, or give the node a column under nodes)");
     if (!std::isfinite(state_tol[nd.state]))
       throw InputError(nd.mark, "node '" + nd.name + "'",
                        "a Newton tolerance: none of its ports gives one (connect a volume or "

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "abi_struct.hpp"
 #include "monohydra/entry.h"
 
 namespace fs = std::filesystem;
@@ -23,8 +24,53 @@ struct PluginRegistry::Library {
 };
 
 const char* to_string(ComponentKind kind) {
-  return kind == ComponentKind::formulation ? "formulation" : "subsystem";
+  switch (kind) {
+    case ComponentKind::formulation:
+      return "formulation";
+    case ComponentKind::integrator:
+      return "integrator";
+    case ComponentKind::subsystem:
+      break;
+  }
+  return "subsystem";
 }
+
+namespace {
+
+// The components a factory lists. Every factory starts with struct_size,
+// count, descriptor, create: read up to its struct_size, a factory without
+// them lists nothing.
+template <class Factory>
+void list_components(const void* raw, ComponentKind kind, Factory ComponentInfo::*slot,
+                     const mh_version& v, const std::string& library, const std::string& path,
+                     std::vector<ComponentInfo>& found) {
+  if (raw == nullptr) return;
+  const auto* plugin_factory = static_cast<const Factory*>(raw);
+  const Factory f = read_struct(plugin_factory);
+  if (f.count == nullptr || f.descriptor == nullptr || f.create == nullptr)
+    throw PluginError("'" + path + "' has an incomplete " + to_string(kind) +
+                      " factory (count, descriptor or create is missing)");
+  const uint32_t count = f.count(plugin_factory);
+  // A library lists a handful of components; a count beyond this is garbage.
+  constexpr uint32_t kMaxComponents = 10000;
+  if (count > kMaxComponents)
+    throw PluginError("'" + path + "' claims " + std::to_string(count) + " " + to_string(kind) +
+                      " components (at most " + std::to_string(kMaxComponents) + ")");
+  for (uint32_t i = 0; i < count; ++i) {
+    ComponentInfo info{};
+    info.kind = kind;
+    info.descriptor = f.descriptor(plugin_factory, i);
+    info.abi_version = v;
+    info.library = library;
+    info.*slot = f;
+    info.factory = raw;
+    if (info.descriptor == nullptr || info.descriptor->id == nullptr) continue;
+    info.id = info.descriptor->id;
+    found.push_back(info);
+  }
+}
+
+}  // namespace
 
 PluginRegistry::PluginRegistry() = default;
 PluginRegistry::~PluginRegistry() {
@@ -72,7 +118,9 @@ void PluginRegistry::load(const std::string& path) {
     lib->entry = nullptr;  // never call into an incompatible library
     throw PluginError("'" + path + "' was built for monohydra ABI " + got +
                       ", this host speaks ABI " + std::to_string(MH_ABI_VERSION_MAJOR) + "." +
-                      std::to_string(MH_ABI_VERSION_MINOR) + " (major versions must match)");
+                      std::to_string(MH_ABI_VERSION_MINOR) +
+                      " (major versions must match: rebuild the plugin against SDK " +
+                      std::to_string(MH_ABI_VERSION_MAJOR) + ")");
   }
   if (lib->entry->init == nullptr || lib->entry->get_factory == nullptr) {
     lib->entry = nullptr;
@@ -84,28 +132,12 @@ void PluginRegistry::load(const std::string& path) {
   }
 
   std::vector<ComponentInfo> found;
-  const auto* ff = static_cast<const mh_formulation_factory*>(
-      lib->entry->get_factory(MH_FORMULATION_FACTORY_ID));
-  if (ff != nullptr) {
-    for (uint32_t i = 0; i < ff->count(ff); ++i) {
-      ComponentInfo info{
-          ComponentKind::formulation, "", ff->descriptor(ff, i), v, canonical, ff, nullptr};
-      if (info.descriptor == nullptr || info.descriptor->id == nullptr) continue;
-      info.id = info.descriptor->id;
-      found.push_back(info);
-    }
-  }
-  const auto* sf =
-      static_cast<const mh_subsystem_factory*>(lib->entry->get_factory(MH_SUBSYSTEM_FACTORY_ID));
-  if (sf != nullptr) {
-    for (uint32_t i = 0; i < sf->count(sf); ++i) {
-      ComponentInfo info{
-          ComponentKind::subsystem, "", sf->descriptor(sf, i), v, canonical, nullptr, sf};
-      if (info.descriptor == nullptr || info.descriptor->id == nullptr) continue;
-      info.id = info.descriptor->id;
-      found.push_back(info);
-    }
-  }
+  list_components(lib->entry->get_factory(MH_FORMULATION_FACTORY_ID), ComponentKind::formulation,
+                  &ComponentInfo::formulation_factory, v, canonical, path, found);
+  list_components(lib->entry->get_factory(MH_SUBSYSTEM_FACTORY_ID), ComponentKind::subsystem,
+                  &ComponentInfo::subsystem_factory, v, canonical, path, found);
+  list_components(lib->entry->get_factory(MH_INTEGRATOR_FACTORY_ID), ComponentKind::integrator,
+                  &ComponentInfo::integrator_factory, v, canonical, path, found);
   for (const auto& info : found)
     for (const auto& existing : components_)
       if (existing.kind == info.kind && existing.id == info.id)

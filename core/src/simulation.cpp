@@ -24,12 +24,31 @@ void require_op(bool present, const std::string& who, const char* op) {
   throw InputError(mark, who, e.last_plugin_error.empty() ? "setup failed" : e.last_plugin_error);
 }
 
+// The settings the plugins will read, checked once, before any of them does.
+static SolverSettings checked_settings(const ModelFile& file, const RunChoices& choices) {
+  SolverSettings s = file.solver;
+  if (choices.dt) s.dt = *choices.dt;
+  if (choices.t_end) s.t_end = *choices.t_end;
+  if (!(s.dt > 0.0) || !std::isfinite(s.dt))
+    throw InputError(s.mark, "solver.dt",
+                     "expected a positive, finite time step (s), got " + short_number(s.dt));
+  if (!(s.t_end >= 0.0) || !std::isfinite(s.t_end))
+    throw InputError(s.mark, "solver.t_end",
+                     "expected a non-negative, finite end time (s), got " + short_number(s.t_end));
+  return s;
+}
+
 Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
                        const std::string& formulation, LogSink log)
+    : Simulation(file, registry, RunChoices{formulation, "", std::nullopt, std::nullopt},
+                 std::move(log)) {}
+
+Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
+                       const RunChoices& choices, LogSink log)
     : engine_(std::make_unique<Engine>(file.model)) {
   Engine& e = *engine_;
   e.file = &file;
-  e.settings = file.solver;
+  e.settings = checked_settings(file, choices);
   e.log = std::move(log);
   e.N = e.model.num_coordinates();
   for (const auto& b : e.model.bodies) {
@@ -49,7 +68,8 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
     s.spec = &spec;
     s.host = std::make_unique<InstanceHost>();
     const std::string who = "subsystem '" + spec.name + "' (" + spec.type + ")";
-    e.make_host(*s.host, who, &spec.options, spec.mark, static_cast<int>(i));
+    e.make_host(*s.host, who, &spec.options, spec.mark, InstanceHost::Role::subsystem,
+                static_cast<int>(i));
     const ComponentInfo* info = nullptr;
     try {
       info = &registry.find(ComponentKind::subsystem, spec.type);
@@ -57,15 +77,17 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
       throw InputError(spec.mark, "subsystems '" + spec.name + "'.type", err.what());
     }
     e.last_plugin_error.clear();
-    s.api =
-        info->subsystem_factory->create(info->subsystem_factory, &s.host->table, spec.type.c_str());
-    if (s.api == nullptr) throw_setup_failure(e, spec.mark, who);
-    require_op(s.api->setup != nullptr && s.api->evaluate != nullptr && s.api->destroy != nullptr,
-               who, "setup/evaluate/destroy");
+    s.api = SubsystemProxy(
+        info->subsystem_factory.create(static_cast<const mh_subsystem_factory*>(info->factory),
+                                       &s.host->table, spec.type.c_str()));
+    if (!s.api) throw_setup_failure(e, spec.mark, who);
+    require_op(
+        s.api.ops.setup != nullptr && s.api.ops.evaluate != nullptr && s.api.ops.destroy != nullptr,
+        who, "setup/evaluate/destroy");
     s.host->in_setup = true;
-    const mh_status st = s.api->setup(s.api);
+    const mh_status st = normalized(s.api.ops.setup(s.api.self));
     s.host->in_setup = false;
-    if (st >= MH_DISCARD) throw_setup_failure(e, spec.mark, who);
+    if (!status_ok(st)) throw_setup_failure(e, spec.mark, who);
     e.check_unread_options(*s.host);
     for (const auto& [key, point] : spec.points) {
       bool used = false;
@@ -80,53 +102,100 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
   e.check_network();
   std::sort(e.time_events.begin(), e.time_events.end());
   e.time_events.erase(std::unique(e.time_events.begin(), e.time_events.end()), e.time_events.end());
+  e.y.conservativeResize(e.n_s);
+  e.state_tol.conservativeResize(e.n_s);
+  e.scratch_rows.setZero(e.n_s);
+  e.classify_states();
 
-  // The formulation.
-  e.formulation_name = formulation.empty() ? file.formulation.name : formulation;
+  // The formulation. Options in the model file belong to the model's
+  // formulation; another one chosen on the command line starts from its own
+  // defaults.
+  e.formulation_name = choices.formulation.empty() ? file.formulation.name : choices.formulation;
   const ComponentInfo* finfo = nullptr;
   try {
     finfo = &registry.find(ComponentKind::formulation, e.formulation_name);
   } catch (const PluginError& err) {
-    if (!formulation.empty()) throw;
+    if (!choices.formulation.empty()) throw;
     throw InputError(file.formulation.mark, "formulation", err.what());
   }
   e.formulation_host = std::make_unique<InstanceHost>();
   const std::string fwho = "formulation '" + e.formulation_name + "'";
-  // Options in the model file belong to the model's formulation; another one
-  // chosen on the command line starts from its own defaults.
   const OptionMap* fopts =
       e.formulation_name == file.formulation.name ? &file.formulation.options : nullptr;
-  e.make_host(*e.formulation_host, fwho, fopts, file.formulation.mark, -1);
+  e.make_host(*e.formulation_host, fwho, fopts, file.formulation.mark,
+              InstanceHost::Role::formulation, -1);
   e.last_plugin_error.clear();
-  e.formulation = finfo->formulation_factory->create(
-      finfo->formulation_factory, &e.formulation_host->table, e.formulation_name.c_str());
-  if (e.formulation == nullptr) throw_setup_failure(e, file.formulation.mark, fwho);
-  const mh_formulation* f = e.formulation;
-  require_op(f->setup && f->start && f->predict && f->residual && f->accept && f->coordinates &&
-                 f->destroy,
-             fwho, "setup/start/predict/residual/accept/coordinates/destroy");
-  uint32_t n_m = 0;
-  if (f->setup(f, &n_m) >= MH_DISCARD) throw_setup_failure(e, file.formulation.mark, fwho);
+  e.formulation = FormulationProxy(
+      finfo->formulation_factory.create(static_cast<const mh_formulation_factory*>(finfo->factory),
+                                        &e.formulation_host->table, e.formulation_name.c_str()));
+  if (!e.formulation) throw_setup_failure(e, file.formulation.mark, fwho);
+  const mh_formulation& f = e.formulation.ops;
+  require_op(f.setup && f.start && f.residual && f.accept && f.coordinates && f.destroy, fwho,
+             "setup/start/residual/accept/coordinates/destroy");
+  e.formulation_host->in_setup = true;
+  const mh_status fst = normalized(f.setup(e.formulation.self));
+  e.formulation_host->in_setup = false;
+  if (!status_ok(fst)) throw_setup_failure(e, file.formulation.mark, fwho);
   e.check_unread_options(*e.formulation_host);
-  e.n_m = static_cast<int>(n_m);
-  e.y.conservativeResize(e.n_s);
-  e.state_tol.conservativeResize(e.n_s);
   e.outputs.setZero(e.n_o);
   e.outputs_k.setZero(e.n_o);
+
+  // The integrator, over every unknown: the formulation's, then the states.
+  e.n = e.n_m + e.n_s;
+  e.kinds = e.unknown_kinds;
+  for (int i = 0; i < e.n_s; ++i)
+    e.kinds.push_back(e.algebraic[static_cast<size_t>(i)] != 0 ? MH_UNKNOWN_ALGEBRAIC
+                                                               : MH_UNKNOWN_FIRST_ORDER);
+  e.integrator_name = choices.integrator.empty() ? file.integrator.name : choices.integrator;
+  const ComponentInfo* iinfo = nullptr;
+  try {
+    iinfo = &registry.find(ComponentKind::integrator, e.integrator_name);
+  } catch (const PluginError& err) {
+    if (!choices.integrator.empty()) throw;
+    throw InputError(file.integrator.mark, "integrator", err.what());
+  }
+  e.integrator_host = std::make_unique<InstanceHost>();
+  const std::string iwho = "integrator '" + e.integrator_name + "'";
+  const OptionMap* iopts =
+      e.integrator_name == file.integrator.name ? &file.integrator.options : nullptr;
+  e.make_host(*e.integrator_host, iwho, iopts, file.integrator.mark, InstanceHost::Role::integrator,
+              -1);
+  e.last_plugin_error.clear();
+  e.integrator = IntegratorProxy(
+      iinfo->integrator_factory.create(static_cast<const mh_integrator_factory*>(iinfo->factory),
+                                       &e.integrator_host->table, e.integrator_name.c_str()));
+  if (!e.integrator) throw_setup_failure(e, file.integrator.mark, iwho);
+  const mh_integrator& in = e.integrator.ops;
+  if (in.method != MH_METHOD_IMPLICIT_AFFINE)
+    throw PluginError(iwho + " is an explicit method (method " + std::to_string(in.method) +
+                      "), which this host (ABI " + std::to_string(MH_ABI_VERSION_MAJOR) + "." +
+                      std::to_string(MH_ABI_VERSION_MINOR) + ") does not drive");
+  require_op(in.setup && in.restart && in.begin_step && in.accept && in.destroy, iwho,
+             "setup/restart/begin_step/accept/destroy");
+  mh_integrator_problem problem{};
+  problem.struct_size = sizeof(problem);
+  problem.num_unknowns = static_cast<uint32_t>(e.n);
+  problem.kinds = e.kinds.data();
+  problem.t0 = 0.0;
+  problem.dt = e.settings.dt;
+  const mh_status ist = normalized(in.setup(e.integrator.self, &problem));
+  if (!status_ok(ist)) throw_setup_failure(e, file.integrator.mark, iwho);
+  e.check_unread_options(*e.integrator_host);
+
+  for (const auto& v : e.state_info) {
+    state_names_.push_back(v.name);
+    state_units_.push_back(v.unit);
+  }
+  for (const auto& v : e.output_info) {
+    output_names_.push_back(v.name);
+    output_units_.push_back(v.unit);
+  }
   e.build_pattern();
 }
 
-Simulation::~Simulation() {
-  if (!engine_) return;
-  if (engine_->formulation != nullptr) engine_->formulation->destroy(engine_->formulation);
-  for (auto& s : engine_->subsystems)
-    if (s.api != nullptr) s.api->destroy(s.api);
-}
+Simulation::~Simulation() = default;
 
 const SolverSettings& Simulation::settings() const {
-  return engine_->settings;
-}
-SolverSettings& Simulation::settings() {
   return engine_->settings;
 }
 void Simulation::start() {
@@ -143,6 +212,15 @@ long Simulation::step_index() const {
 }
 const std::string& Simulation::formulation_name() const {
   return engine_->formulation_name;
+}
+const std::string& Simulation::integrator_name() const {
+  return engine_->integrator_name;
+}
+const std::vector<VariableInfo>& Simulation::state_info() const {
+  return engine_->state_info;
+}
+const std::vector<VariableInfo>& Simulation::output_info() const {
+  return engine_->output_info;
 }
 const Eigen::VectorXd& Simulation::z() const {
   return engine_->z;
@@ -163,31 +241,30 @@ const std::vector<std::string>& Simulation::coordinate_names() const {
   return engine_->coordinate_names;
 }
 const std::vector<std::string>& Simulation::state_names() const {
-  return engine_->state_names;
+  return state_names_;
 }
 const Eigen::VectorXd& Simulation::outputs() const {
   return engine_->outputs_k;
 }
 const std::vector<std::string>& Simulation::output_names() const {
-  return engine_->output_names;
+  return output_names_;
 }
 const std::vector<std::string>& Simulation::state_units() const {
-  return engine_->state_units;
+  return state_units_;
 }
 const std::vector<std::string>& Simulation::output_units() const {
-  return engine_->output_units;
+  return output_units_;
+}
+static int index_of(const std::vector<VariableInfo>& vars, const std::string& name) {
+  for (size_t i = 0; i < vars.size(); ++i)
+    if (vars[i].name == name || vars[i].qualified == name) return static_cast<int>(i);
+  return -1;
 }
 int Simulation::output_index(const std::string& name) const {
-  const auto& names = engine_->output_names;
-  for (size_t i = 0; i < names.size(); ++i)
-    if (names[i] == name || engine_->output_qualified[i] == name) return static_cast<int>(i);
-  return -1;
+  return index_of(engine_->output_info, name);
 }
 int Simulation::state_index(const std::string& name) const {
-  const auto& names = engine_->state_names;
-  for (size_t i = 0; i < names.size(); ++i)
-    if (names[i] == name || engine_->state_qualified[i] == name) return static_cast<int>(i);
-  return -1;
+  return index_of(engine_->state_info, name);
 }
 double Simulation::kinetic_energy() const {
   return engine_->ke - engine_->ke0;
@@ -226,7 +303,8 @@ int Simulation::tangent_nonzeros() const {
 Eigen::MatrixXd Simulation::assembled_tangent() {
   Engine& e = *engine_;
   const double t_next = e.t + e.settings.dt;
-  if (e.residual(t_next, e.x, e.r) >= MH_DISCARD || e.assemble_tangent(t_next) >= MH_DISCARD)
+  e.prepare_step(t_next);
+  if (!status_ok(e.residual(t_next, e.x, e.r)) || !status_ok(e.assemble_tangent(t_next)))
     throw SimulationError(e.t, e.step, "tangent assembly failed: " + e.last_plugin_error);
   Eigen::MatrixXd J = Eigen::MatrixXd::Zero(e.n, e.n);
   const auto& colptr = e.pattern->column_start();
@@ -240,6 +318,7 @@ Eigen::MatrixXd Simulation::assembled_tangent() {
 Eigen::MatrixXd Simulation::finite_difference_tangent() {
   Engine& e = *engine_;
   const double t_next = e.t + e.settings.dt;
+  e.prepare_step(t_next);
   Eigen::MatrixXd J(e.n, e.n);
   e.residual(t_next, e.x, e.r);
   for (int c = 0; c < e.n; ++c) {

@@ -1,8 +1,9 @@
-// The shared Newton tangent d r / d x (Eq. 37) over x = [mechanical unknowns;
-// subsystem states]: its sparsity pattern, analysed once from what the
-// instances declared at setup, and its values, from the plugins' analytic
-// blocks where they give them and by forward differences (Eqs. 40-41) where
-// they do not.
+// The shared Newton tangent d r / d x (Eq. 37) over x = [formulation
+// unknowns; subsystem states], with the rates tied to x by the integrator's
+// map: dr/dx + dxd_dx dr/dxd + dxdd_dx dr/dxdd. Its sparsity pattern is
+// analysed once from what the instances declared at setup; its values come
+// from the plugins' analytic blocks where they give them and from forward
+// differences (Eqs. 40-41) where they do not.
 #include <algorithm>
 #include <cmath>
 
@@ -31,24 +32,23 @@ void Simulation::Engine::build_pattern() {
   values.assign(static_cast<size_t>(pattern->nonzeros()), 0.0);
   groups = pattern->column_groups();
 
-  // Which columns are fully covered by analytic blocks.
-  const bool mech_analytic = formulation->tangent != nullptr;
-  bool any_points = false;
-  for (const auto& s : subsystems) any_points = any_points || !s.points.empty();
+  // Which state columns are fully covered by analytic blocks.
   column_analytic.assign(static_cast<size_t>(n_s), 1);
   std::vector<char> state_feeds_mech(static_cast<size_t>(n_s), 0);
   for (const auto& s : subsystems)
     for (int a : s.touched) {
-      if (s.api->jacobian == nullptr) column_analytic[static_cast<size_t>(a)] = 0;
+      if (s.api.ops.jacobian == nullptr) column_analytic[static_cast<size_t>(a)] = 0;
       if (!s.points.empty()) state_feeds_mech[static_cast<size_t>(a)] = 1;
     }
+  // State columns that need differences; the mechanical ones are decided per
+  // assembly (the formulation says which columns it gave).
   group_needs_fd.assign(groups.size(), 0);
   for (size_t g = 0; g < groups.size(); ++g) {
     for (int c : groups[g]) {
-      const bool needs = c < n_m ? (!mech_analytic || any_points)
-                                 : (column_analytic[static_cast<size_t>(c - n_m)] == 0 ||
-                                    state_feeds_mech[static_cast<size_t>(c - n_m)] != 0);
-      if (needs) group_needs_fd[g] = 1;
+      if (c < n_m) continue;
+      if (column_analytic[static_cast<size_t>(c - n_m)] == 0 ||
+          state_feeds_mech[static_cast<size_t>(c - n_m)] != 0)
+        group_needs_fd[g] = 1;
     }
   }
   mech_slots.resize(static_cast<size_t>(n_m) * static_cast<size_t>(n_m));
@@ -56,7 +56,8 @@ void Simulation::Engine::build_pattern() {
     for (int rr = 0; rr < n_m; ++rr)
       mech_slots[static_cast<size_t>(c) * static_cast<size_t>(n_m) + static_cast<size_t>(rr)] =
           pattern->slot(rr, c);
-  mech_tangent.resize(n_m, n_m);
+  for (Eigen::MatrixXd* b : {&dr_dx, &dr_dxd, &dr_dxdd}) b->setZero(n_m, n_m);
+  mech_column_given.assign(static_cast<size_t>(n_m), 0);
   for (auto& s : subsystems) {
     const size_t k = s.touched.size();
     s.slots.resize(k * k);
@@ -66,25 +67,21 @@ void Simulation::Engine::build_pattern() {
       for (size_t b = 0; b < k; ++b)
         s.slots[a * k + b] = pattern->slot(n_m + s.touched[a], n_m + s.touched[b]);
   }
-  klu = std::make_unique<KluSolver>(*pattern);
-  x.setZero(n);
-  r.setZero(n);
-  r_pert.setZero(n);
-  dx.setZero(n);
-  eps.setZero(n);
+  linear_solver = make_linear_solver(*pattern);
+  for (Eigen::VectorXd* v : {&x, &xd, &xdd, &r, &r_pert, &dx, &eps, &x_pred, &xd_off, &xdd_off})
+    v->setZero(n);
 }
 
-// r(x): the formulation's rows (which evaluate the subsystems' rows through
-// the host) with ydot from the trapezoidal rule, Eq. (33).
-mh_status Simulation::Engine::residual(double t_next, const Eigen::VectorXd& xq,
+mh_status Simulation::Engine::residual(double t_eval, const Eigen::VectorXd& xq,
                                        Eigen::VectorXd& rq) {
-  const double two_over_dt = 2.0 / settings.dt;
+  rates_of(xq, xd, xdd);
   y = xq.tail(n_s);
-  ydot = two_over_dt * y + y_hat;  // Eq. (33)
+  ydot = xd.tail(n_s);
   rows_target = rq.data() + n_m;
   iterate_evaluated = false;
-  const mh_status st = formulation->residual(formulation, t_next, xq.data(), rq.data());
-  if (st < MH_DISCARD && !iterate_evaluated) {
+  const mh_status st = normalized(formulation.ops.residual(formulation.self, t_eval, xq.data(),
+                                                           xd.data(), xdd.data(), rq.data()));
+  if (status_ok(st) && !iterate_evaluated) {
     last_plugin_error = "formulation '" + formulation_name +
                         "' broke the ABI contract: its residual did not call "
                         "evaluate_mechanics with MH_EVAL_SUBSYSTEMS";
@@ -93,51 +90,74 @@ mh_status Simulation::Engine::residual(double t_next, const Eigen::VectorXd& xq,
   return st;
 }
 
-mh_status Simulation::Engine::assemble_tangent(double t_next) {
+mh_status Simulation::Engine::assemble_tangent(double t_eval) {
   std::fill(values.begin(), values.end(), 0.0);
   // Analytic blocks first: they are defined at the x of the last residual
   // call, which the forward differences below move away from.
-  const bool mech_analytic = formulation->tangent != nullptr;
-  if (mech_analytic) {
-    const mh_status st = formulation->tangent(formulation, t_next, x.data(), mech_tangent.data());
-    if (st >= MH_DISCARD) return st;
+  std::fill(mech_column_given.begin(), mech_column_given.end(), 0);
+  if (formulation.ops.tangent != nullptr) {
+    for (Eigen::MatrixXd* b : {&dr_dx, &dr_dxd, &dr_dxdd}) b->setZero();
+    const mh_status st = normalized(formulation.ops.tangent(
+        formulation.self, t_eval, x.data(), xd.data(), xdd.data(), dr_dx.data(), dr_dxd.data(),
+        dr_dxdd.data(), mech_column_given.data()));
+    if (!status_ok(st)) return st;
   }
-  mh_subsystem_eval ev = subsystem_eval(t_next, scratch_rows.data());
+  bool any_points = false;
+  for (const auto& s : subsystems) any_points = any_points || !s.points.empty();
+  mh_subsystem_eval ev = subsystem_eval(t_eval, scratch_rows.data());
   for (auto& s : subsystems) {
-    if (s.api->jacobian == nullptr) continue;
+    if (s.api.ops.jacobian == nullptr) continue;
     std::fill(s.d_dy.begin(), s.d_dy.end(), 0.0);
     std::fill(s.d_dydot.begin(), s.d_dydot.end(), 0.0);
     point_at(ev, s);
-    const mh_status st = s.api->jacobian(s.api, &ev, s.d_dy.data(), s.d_dydot.data());
-    if (st >= MH_DISCARD) return st;
+    const mh_status st =
+        normalized(s.api.ops.jacobian(s.api.self, &ev, s.d_dy.data(), s.d_dydot.data()));
+    if (!status_ok(st)) return st;
   }
 
   // Forward differences by column groups, Eqs. (40)-(41).
   const auto& colptr = pattern->column_start();
   const auto& rows = pattern->row_index();
   for (size_t g = 0; g < groups.size(); ++g) {
-    if (group_needs_fd[g] == 0) continue;
+    bool needs = group_needs_fd[g] != 0;
+    for (int c : groups[g])
+      if (c < n_m && (any_points || mech_column_given[static_cast<size_t>(c)] == 0)) needs = true;
+    if (!needs) continue;
     for (int c : groups[g]) {
       eps[c] = 1e-8 * std::max(1e-2, std::abs(x[c]));  // Eq. (41)
       x[c] += eps[c];
     }
-    const mh_status st = residual(t_next, x, r_pert);
+    const mh_status st = residual(t_eval, x, r_pert);
     for (int c : groups[g]) x[c] -= eps[c];
-    if (st >= MH_DISCARD) return st;
+    if (!status_ok(st)) return st;
     for (int c : groups[g])
       for (int k = colptr[c]; k < colptr[c + 1]; ++k)
         values[static_cast<size_t>(k)] = (r_pert[rows[k]] - r[rows[k]]) / eps[c];
   }
-  // Restore the state the step's base evaluation left (y, ydot at x).
+  // Restore the state the step's base evaluation left (rates, y, ydot at x).
+  rates_of(x, xd, xdd);
   y = x.tail(n_s);
-  ydot = (2.0 / settings.dt) * y + y_hat;
+  ydot = xd.tail(n_s);
 
-  if (mech_analytic)
-    for (size_t k = 0; k < mech_slots.size(); ++k)
-      values[static_cast<size_t>(mech_slots[k])] = mech_tangent.data()[k];
-  // d r / d y_{k+1} = d r / d y + (2 / dt) d r / d ydot, Eq. (33); summed over the
-  // instances that share a state, in the columns where all of them are analytic.
-  const double two_over_dt = 2.0 / settings.dt;
+  // The formulation's columns: dr/dx + dxd_dx dr/dxd + dxdd_dx dr/dxdd.
+  const mh_step_coefficients& cf = map.coefficients;
+  if (!any_points) {
+    for (int c = 0; c < n_m; ++c) {
+      if (mech_column_given[static_cast<size_t>(c)] == 0) continue;
+      const uint8_t kind = kinds[static_cast<size_t>(c)];
+      const double cv = kind == MH_UNKNOWN_SECOND_ORDER  ? cf.dxd_dx_second
+                        : kind == MH_UNKNOWN_FIRST_ORDER ? cf.dxd_dx_first
+                                                         : 0.0;
+      const double ca = kind == MH_UNKNOWN_SECOND_ORDER ? cf.dxdd_dx_second : 0.0;
+      for (int rr = 0; rr < n_m; ++rr)
+        values[static_cast<size_t>(mech_slots[static_cast<size_t>(c) * static_cast<size_t>(n_m) +
+                                              static_cast<size_t>(rr)])] =
+            dr_dx(rr, c) + cv * dr_dxd(rr, c) + ca * dr_dxdd(rr, c);
+    }
+  }
+  // d r / d y_{k+1} = d r / d y + dydot_dy d r / d ydot, Eq. (33); summed over
+  // the instances that share a state, in the columns where all of them are analytic.
+  const double dydot_dy = cf.dxd_dx_first;
   for (const auto& s : subsystems) {
     const size_t k = s.touched.size();
     for (size_t b = 0; b < k; ++b) {
@@ -148,10 +168,13 @@ mh_status Simulation::Engine::assemble_tangent(double t_next) {
   for (const auto& s : subsystems) {
     const size_t k = s.touched.size();
     for (size_t b = 0; b < k; ++b) {
-      if (column_analytic[static_cast<size_t>(s.touched[b])] == 0) continue;
+      const int state = s.touched[b];
+      if (column_analytic[static_cast<size_t>(state)] == 0) continue;
+      // An algebraic state has no rate: its column is d r / d y alone.
+      const double cv = algebraic[static_cast<size_t>(state)] != 0 ? 0.0 : dydot_dy;
       for (size_t a = 0; a < k; ++a)
         values[static_cast<size_t>(s.slots[a * k + b])] +=
-            s.d_dy[a * k + b] + two_over_dt * s.d_dydot[a * k + b];
+            s.d_dy[a * k + b] + cv * s.d_dydot[a * k + b];
     }
   }
   return MH_OK;

@@ -6,14 +6,15 @@
 #include <memory>
 #include <string>
 
+#include "monohydra/core/linear_solver.hpp"
 #include "monohydra/core/sparse_pattern.hpp"
 
 namespace mh {
 
-class KluSolver {
+class KluSolver final : public LinearSolver {
  public:
   explicit KluSolver(const SparsePattern& pattern);  // klu_analyze
-  ~KluSolver();
+  ~KluSolver() override;
   KluSolver(const KluSolver&) = delete;
   KluSolver& operator=(const KluSolver&) = delete;
 
@@ -21,12 +22,12 @@ class KluSolver {
   // when a factorization exists, and factors anew (new pivots) when the
   // reciprocal condition estimate falls below `rcond_refactor`. Returns false
   // when the matrix is singular; error() then says why.
-  bool factor(const double* values);
+  bool factor(const double* values) override;
   // Solves A x = b in place (b has size n). Requires a successful factor().
-  void solve(double* b);
+  void solve(double* b) override;
 
   double last_rcond() const { return rcond_; }
-  const std::string& error() const { return error_; }
+  const std::string& error() const override { return error_; }
   int full_factorizations() const { return full_factorizations_; }
 
  private:

@@ -49,8 +49,9 @@ struct SubsystemSpec {
   SourceMark mark;
 };
 
-struct FormulationSpec {
-  std::string name = "open-loop";
+// A formulation or an integrator as the model file chooses it: an id and its options.
+struct ComponentChoice {
+  std::string name;
   OptionMap options;
   SourceMark mark;
 };
@@ -68,8 +69,11 @@ struct ModelFile {
   Model model;
   std::vector<SourceMark> body_marks;  // parallel to model.bodies
   std::vector<SubsystemSpec> subsystems;
-  FormulationSpec formulation;
+  ComponentChoice formulation{"open-loop", {}, {}};
+  ComponentChoice integrator{"trapezoidal", {}, {}};
   SolverSettings solver;
+  // compare/formulations and compare/integrators: what `compare` runs by default.
+  std::vector<std::string> compare_formulations, compare_integrators;
   std::vector<std::string> plugin_paths;  // absolute, resolved against the file's folder
   // nodes/<node>: the result column of a node's effort ("" hidden); unlisted
   // nodes are written under their own name.

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "monohydra/formulation.h"
+#include "monohydra/integrator.h"
 #include "monohydra/subsystem.h"
 
 namespace mh {
@@ -18,7 +19,7 @@ class PluginError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-enum class ComponentKind { formulation, subsystem };
+enum class ComponentKind { formulation, subsystem, integrator };
 
 struct ComponentInfo {
   ComponentKind kind;
@@ -26,8 +27,12 @@ struct ComponentInfo {
   const mh_component_descriptor* descriptor = nullptr;
   mh_version abi_version{};  // of the library that holds it
   std::string library;       // path of that library
-  const mh_formulation_factory* formulation_factory = nullptr;
-  const mh_subsystem_factory* subsystem_factory = nullptr;
+  // The factory that creates it, read up to its struct_size (abi_struct.hpp):
+  // the one of its kind is set.
+  mh_formulation_factory formulation_factory{};
+  mh_subsystem_factory subsystem_factory{};
+  mh_integrator_factory integrator_factory{};
+  const void* factory = nullptr;  // the plugin's own pointer, passed back to its calls
 };
 
 class PluginRegistry {

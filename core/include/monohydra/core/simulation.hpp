@@ -1,11 +1,12 @@
-// One simulation run: a model, its formulation and subsystem instances loaded
-// from plugins, and the monolithic trapezoidal Newton step (Sect. 4) that
-// integrates them together with one sparse KLU tangent.
+// One simulation run: a model, its formulation, integrator and subsystem
+// instances loaded from plugins, and the monolithic implicit Newton step
+// (Sect. 4) that integrates them together with one sparse tangent.
 #pragma once
 
 #include <Eigen/Core>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -39,19 +40,38 @@ struct StepStats {
   std::vector<double> residual_norms;   // ||r||_inf at the predictor and after each solve
 };
 
+// What the command line may choose over the model file. Every choice reaches
+// the plugins once, at setup.
+struct RunChoices {
+  std::string formulation;  // "" = the model file's
+  std::string integrator;   // "" = the model file's
+  std::optional<double> dt, t_end;
+};
+
+// A state or an output of the run, as its component declared it.
+struct VariableInfo {
+  std::string name;       // result column ("" = not written)
+  std::string qualified;  // "instance.state", "formulation-id.output", or a node's name
+  std::string unit;
+  uint32_t kind = 0;  // outputs: mh_output_kind
+  std::string role;   // MH_ROLE_* or ""
+  double range_min = 0.0, range_max = 0.0;
+};
+
 class Simulation {
  public:
-  // Creates and sets up every instance; `settings` overrides the file's solver
-  // block and `formulation` (when not empty) the file's formulation name.
-  // Throws InputError for bad options, PluginError for missing plugins.
+  // Creates and sets up every instance; `choices` override the model file.
+  // Throws InputError for bad options or settings, PluginError for missing
+  // plugins; every instance created before a failure is destroyed.
+  Simulation(const ModelFile& file, const PluginRegistry& registry, const RunChoices& choices,
+             LogSink log = nullptr);
   Simulation(const ModelFile& file, const PluginRegistry& registry,
              const std::string& formulation = "", LogSink log = nullptr);
   ~Simulation();
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
 
-  const SolverSettings& settings() const;
-  SolverSettings& settings();  // dt, t_end, tolerances: change before start()
+  const SolverSettings& settings() const;  // the file's, with the choices' dt and t_end
 
   void start();  // consistent initial state at t = 0
   void step();   // one step of dt; throws SimulationError, leaving the last accepted state
@@ -59,6 +79,7 @@ class Simulation {
   double time() const;
   long step_index() const;
   const std::string& formulation_name() const;
+  const std::string& integrator_name() const;
 
   // The accepted state.
   const Eigen::VectorXd& z() const;
@@ -70,8 +91,11 @@ class Simulation {
   const std::vector<std::string>& state_names() const;  // CSV names ("" not written)
   int state_index(const std::string& name) const;       // -1 if absent
   const std::vector<std::string>& state_units() const;  // as declared, e.g. "Pa", "V"
-  // Subsystem outputs (e.g. a cylinder's stroke) at the accepted state.
+  const std::vector<VariableInfo>& state_info() const;
+  // Outputs of the subsystems (e.g. a cylinder's stroke) and of the
+  // formulation (e.g. its multipliers) at the accepted state.
   const Eigen::VectorXd& outputs() const;
+  const std::vector<VariableInfo>& output_info() const;
   const std::vector<std::string>& output_names() const;  // CSV names ("" not written)
   int output_index(const std::string& name) const;       // -1 if absent
   const std::vector<std::string>& output_units() const;  // as declared, e.g. "m", "N"
@@ -102,6 +126,7 @@ class Simulation {
 
  private:
   std::unique_ptr<Engine> engine_;
+  std::vector<std::string> state_names_, state_units_, output_names_, output_units_;
 };
 
 }  // namespace mh

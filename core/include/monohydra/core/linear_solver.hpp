@@ -1,0 +1,29 @@
+// The linear solver of the shared Newton step, behind a small interface (as
+// SUNDIALS separates its linear solvers from the nonlinear one): the Newton
+// loop hands it the tangent's values in the run's fixed sparsity pattern and
+// right-hand sides; it owns the factorization. KLU is the one shipped
+// (klu_solver.hpp).
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "monohydra/core/sparse_pattern.hpp"
+
+namespace mh {
+
+class LinearSolver {
+ public:
+  virtual ~LinearSolver() = default;
+  // Factors the matrix with the pattern's layout and these values. Returns
+  // false when it is singular; error() then says why.
+  virtual bool factor(const double* values) = 0;
+  // Solves A x = b in place (b has the pattern's size). Requires a successful factor().
+  virtual void solve(double* b) = 0;
+  virtual const std::string& error() const = 0;
+};
+
+// The shipped solver for `pattern`: KLU (analysed once here).
+std::unique_ptr<LinearSolver> make_linear_solver(const SparsePattern& pattern);
+
+}  // namespace mh

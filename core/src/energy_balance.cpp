@@ -1,0 +1,65 @@
+// The energy balance every run reports: kinetic and potential energy of the
+// bodies, the work W subsystem forces do on them (trapezoidal integral of
+// their power), energy stored in and dissipated by the subsystems, and the
+// constraint violation. Relative to t = 0; drift = KE + PE - W.
+#include "engine.hpp"
+#include "monohydra/core/dynamics.hpp"
+
+namespace mh {
+
+void Simulation::Engine::energy_terms(double& stored_out, double& dissipation_out) {
+  stored_out = 0.0;
+  dissipation_out = 0.0;
+  mh_subsystem_eval ev = subsystem_eval(t, scratch_rows.data());
+  for (auto& s : subsystems) {
+    if (s.api.ops.energy == nullptr) continue;
+    point_at(ev, s);
+    double st = 0.0, diss = 0.0;
+    if (status_ok(normalized(s.api.ops.energy(s.api.self, &ev, &st, &diss)))) {
+      stored_out += st;
+      dissipation_out += diss;
+    }
+  }
+}
+
+// At t = 0, with the kinematics at (z0, zd0) in data and the states solved.
+void Simulation::Engine::start_energy_balance() {
+  reset_applied_forces(model, data);
+  check(evaluate_subsystems(t, scratch_rows.data()), "subsystem evaluation");
+  power_k = power;
+  if (formulation.ops.write_outputs != nullptr)
+    check(normalized(formulation.ops.write_outputs(formulation.self, outputs.data(),
+                                                   static_cast<uint32_t>(n_o))),
+          "formulation write_outputs");
+  outputs_k = outputs;
+  energy_terms(stored0, dissipation_k);
+  stored = stored0;
+  dissipated = 0.0;
+  ke0 = mh::kinetic_energy(model, data);
+  pe0 = mh::potential_energy(model, data);
+  work = 0.0;
+  measure_mechanism();
+}
+
+// After a converged step of length h: `power` is the converged iterate's.
+void Simulation::Engine::update_energy_balance(double h) {
+  work += 0.5 * h * (power_k + power);  // W = integral of F . v, trapezoidal
+  power_k = power;
+  double dissipation = 0.0;
+  energy_terms(stored, dissipation);
+  dissipated += 0.5 * h * (dissipation_k + dissipation);
+  dissipation_k = dissipation;
+}
+
+// KE, PE and |Phi| at the accepted state (kinematics in data).
+void Simulation::Engine::measure_mechanism() {
+  ke = mh::kinetic_energy(model, data);
+  pe = mh::potential_energy(model, data);
+  phi_norm = 0.0;
+  if (m > 0) {
+    evaluate_constraints(model, data, constraints, phi, phi_z, phi_dot_zd);
+    phi_norm = phi.norm();
+  }
+}
+
+}  // namespace mh

@@ -1,0 +1,45 @@
+// The host's side of the integrator (integrator.h): the step's affine map
+// from the Newton unknowns x at the step's end to their rates, applied to
+// every unknown alike, mechanical or not. For the trapezoidal rule this is
+// Eq. (33) with the hats of Eq. (34) as offsets.
+#include "engine.hpp"
+
+namespace mh {
+
+void Simulation::Engine::begin_step(double t_next, double h) {
+  map.struct_size = sizeof(map);
+  map.coefficients.struct_size = sizeof(map.coefficients);
+  map.x_predicted = x_pred.data();
+  map.xd_offset = xd_off.data();
+  map.xdd_offset = xdd_off.data();
+  check(normalized(integrator.ops.begin_step(integrator.self, t_next, h, &map)),
+        "integrator '" + integrator_name + "' begin_step");
+}
+
+void Simulation::Engine::rates_of(const Eigen::VectorXd& xq, Eigen::VectorXd& xdq,
+                                  Eigen::VectorXd& xddq) const {
+  const mh_step_coefficients& c = map.coefficients;
+  for (int i = 0; i < n; ++i) {
+    switch (kinds[static_cast<size_t>(i)]) {
+      case MH_UNKNOWN_SECOND_ORDER:
+        xdq[i] = c.dxd_dx_second * xq[i] + xd_off[i];     // Eq. (33), zd
+        xddq[i] = c.dxdd_dx_second * xq[i] + xdd_off[i];  // Eq. (33), zdd
+        break;
+      case MH_UNKNOWN_FIRST_ORDER:
+        xdq[i] = c.dxd_dx_first * xq[i] + xd_off[i];  // Eq. (33), ydot
+        xddq[i] = 0.0;
+        break;
+      default:  // algebraic: no rate
+        xdq[i] = 0.0;
+        xddq[i] = 0.0;
+        break;
+    }
+  }
+}
+
+void Simulation::Engine::restart_integrator() {
+  check(normalized(integrator.ops.restart(integrator.self, t, x.data(), xd.data(), xdd.data())),
+        "integrator '" + integrator_name + "' restart");
+}
+
+}  // namespace mh

@@ -1,0 +1,170 @@
+// One step of the monolithic implicit scheme (Sect. 4): the integrator's
+// prediction, the Newton iteration over every unknown (newton_solve.cpp), and
+// the acceptance that the formulation may correct (the projections of Eqs.
+// 20-21) and the integrator's history follows. Time events restart the
+// integrator at their right limit.
+#include <cmath>
+
+#include "engine.hpp"
+#include "monohydra/core/kinematics.hpp"
+
+namespace mh {
+
+SimulationError::SimulationError(double t, long step, const std::string& reason)
+    : std::runtime_error("t = " + short_number(t) + " s, step " + std::to_string(step) + ": " +
+                         reason),
+      t_(t),
+      step_(step),
+      reason_(reason) {}
+
+void Simulation::Engine::fail(const std::string& reason) const {
+  throw SimulationError(attempt_t, attempt_step, reason);
+}
+
+std::string Simulation::Engine::status_reason(mh_status s, const std::string& what) const {
+  const int v = static_cast<int>(s);
+  std::string reason = what + (v == MH_DISCARD ? " was discarded"
+                               : v == MH_FATAL ? " failed fatally"
+                               : v <= MH_FATAL ? " failed"
+                                               : " returned the unknown status " +
+                                                     std::to_string(v) + " (taken as an error)");
+  if (!last_plugin_error.empty()) reason += ": " + last_plugin_error;
+  return reason;
+}
+
+std::string Simulation::Engine::unknown_name(int i) const {
+  if (i >= n_m) return "state '" + state_info[static_cast<size_t>(i - n_m)].qualified + "'";
+  return "unknown '" + unknown_names[static_cast<size_t>(i)] + "' of formulation '" +
+         formulation_name + "'";
+}
+
+// Consistent initial state: the formulation's x0, xd0, xdd0 (and so z0, zd0,
+// zdd0); the subsystem rates ydot0 that make every state row vanish at t = 0;
+// the integrator started from them.
+void Simulation::Engine::start() {
+  t = 0.0;
+  step = 0;
+  attempt_t = 0.0;
+  attempt_step = 0;
+  ydot.setZero(n_s);
+  scratch_rows.setZero(n_s);
+  outputs.setZero(n_o);
+  z = z0;  // assembled: Phi(z0) = 0, Phi_z zd0 = 0
+  zd = zd0;
+  zdd.setZero(N);
+  last_plugin_error.clear();
+  // Algebraic states, and the equilibrium the model asks for, before the
+  // formulation computes its initial accelerations from them.
+  solve_algebraic_and_equilibrium();
+  next_event = 0;
+  while (next_event < time_events.size() && time_events[next_event] <= 0.0) ++next_event;
+  x.setZero();
+  xd.setZero();
+  xdd.setZero();
+  check(normalized(formulation.ops.start(formulation.self, x.data(), xd.data(), xdd.data())),
+        "formulation start");
+  check(normalized(formulation.ops.coordinates(formulation.self, z.data(), zd.data(), zdd.data())),
+        "formulation coordinates");
+  tol.resize(n);
+  tol.head(n_m) = unknown_tol;
+  tol.tail(n_s) = state_tol;
+  for (int i = 0; i < n; ++i)
+    if (!(tol[i] > 0.0)) fail("the tolerance of " + unknown_name(i) + " is not positive");
+
+  // ydot0: the rates that make every state row vanish at t = 0.
+  forward_kinematics(model, data, z, zd);
+  solve_initial_rates(t);
+  x.tail(n_s) = y;
+  xd.tail(n_s) = ydot;
+  for (int i = 0; i < n_s; ++i)
+    if (algebraic[static_cast<size_t>(i)] != 0) xd[n_m + i] = 0.0;
+  y_k = y;
+  ydot_k = ydot;
+  restart_integrator();
+  start_energy_balance();
+  started = true;
+}
+
+void Simulation::Engine::step_once() {
+  if (!started) fail("step() before start()");
+  const double h = settings.dt;
+  // t from the step count, not by summing dt: no round-off creep over 1e4 steps.
+  const double t_next = static_cast<double>(step + 1) * h;
+  attempt_t = t_next;  // failures name the step being attempted
+  attempt_step = step + 1;
+  last_plugin_error.clear();
+  stats.iterations = 0;
+  stats.increment_norms.clear();
+  stats.residual_norms.clear();
+
+  // A time event inside the step, or at its end: the end is evaluated at the
+  // event's left limit, and the integrator restarts after it (right limit).
+  bool event = false;
+  double t_eval = t_next;
+  while (next_event < time_events.size() && time_events[next_event] <= t_next + 1e-9 * h) {
+    event = true;
+    if (std::abs(time_events[next_event] - t_next) <= 1e-9 * h)
+      t_eval = std::nextafter(time_events[next_event], -HUGE_VAL);
+    ++next_event;
+  }
+
+  prepare_step(t_next);
+  newton_solve(t_eval, t_next);
+  accept_step(t_next, event);
+}
+
+// The integrator's map and prediction for the step to t_next, told to the
+// formulation.
+void Simulation::Engine::prepare_step(double t_next) {
+  begin_step(t_next, settings.dt);
+  x = x_pred;
+  rates_of(x, xd, xdd);
+  if (formulation.ops.begin_step != nullptr)
+    check(normalized(formulation.ops.begin_step(formulation.self, t_next, x.data(), xd.data(),
+                                                xdd.data())),
+          "formulation begin_step");
+}
+
+// The last residual call evaluated the converged iterate: its rates, the
+// subsystems' rows, powers and outputs are the step's.
+void Simulation::Engine::accept_step(double t_next, bool event) {
+  uint32_t flags = 0;
+  check(normalized(formulation.ops.accept(formulation.self, t_next, &map.coefficients, x.data(),
+                                          xd.data(), xdd.data(), &flags)),
+        "formulation accept");
+  check(normalized(formulation.ops.coordinates(formulation.self, z.data(), zd.data(), zdd.data())),
+        "formulation coordinates");
+  y = x.tail(n_s);
+  ydot = xd.tail(n_s);
+  if (formulation.ops.write_outputs != nullptr)
+    check(normalized(formulation.ops.write_outputs(formulation.self, outputs.data(),
+                                                   static_cast<uint32_t>(n_o))),
+          "formulation write_outputs");
+  outputs_k = outputs;  // of the converged iterate's evaluation
+  update_energy_balance(settings.dt);
+  for (auto& s : subsystems) {
+    if (s.api.ops.accept == nullptr) continue;
+    mh_subsystem_eval ev = subsystem_eval(t_next, scratch_rows.data());
+    point_at(ev, s);
+    check(normalized(s.api.ops.accept(s.api.self, &ev)), "subsystem '" + s.spec->name + "' accept");
+  }
+  t = t_next;
+  ++step;
+  forward_kinematics(model, data, z, zd);
+  if (event) {
+    solve_initial_rates(std::nextafter(t, HUGE_VAL));
+    forward_kinematics(model, data, z, zd);
+    xd.tail(n_s) = ydot;
+  }
+  y_k = y;
+  ydot_k = ydot;
+  if (event || (flags & MH_ACCEPT_REDEFINED) != 0) {
+    restart_integrator();
+  } else {
+    check(normalized(integrator.ops.accept(integrator.self, t, x.data(), xd.data(), xdd.data())),
+          "integrator '" + integrator_name + "' accept");
+  }
+  measure_mechanism();
+}
+
+}  // namespace mh
