@@ -19,16 +19,20 @@ namespace {
 
 const char* kUsage =
     "usage: monohydra [COMMAND] [ARGS]\n"
-    "  (no command)            compare double-step and penalty on the paper's four-bar and\n"
-    "                          quick-return, the paper's numbers beside ours; reports in out/\n"
+    "  (no command)            the paper's comparison: its case studies (models/paper-\n"
+    "                          reference.yaml), the paper's numbers beside ours; reports in out/\n"
     "  plugins                 list every plugin found, its components and ABI version\n"
-    "  run MODEL.yaml [--formulation NAME] [--dt S] [--t-end S] [--out FILE.csv]\n"
+    "  run MODEL.yaml [--formulation NAME] [--integrator NAME] [--dt S] [--t-end S]\n"
+    "                 [--out FILE.csv]\n"
     "                          simulate MODEL.yaml; CSV columns: t, z1..zN, states,\n"
-    "                          KE, PE, W, drift, phi_norm, iters\n"
-    "  compare MODEL.yaml [--formulations A,B,...] [--report DIR] [--dt S] [--t-end S]\n"
-    "                          run each formulation (default double-step,penalty) on MODEL.yaml\n"
-    "                          and print their numbers side by side; --report writes\n"
-    "                          DIR/report.html with the paper's figures and each run's CSV\n"
+    "                          outputs, KE, PE, W, drift, phi_norm, iters\n"
+    "  compare MODEL.yaml [--formulations A,B,...] [--integrators C,D,...] [--report DIR]\n"
+    "                     [--dt S] [--t-end S]\n"
+    "                          run every formulation with every integrator on MODEL.yaml\n"
+    "                          (default: the model file's compare: lists, else its own\n"
+    "                          choice) and print their numbers side by side; --report\n"
+    "                          writes DIR/report.html with the paper's figures and each\n"
+    "                          run's CSV, named after what varies\n"
     "plugins are searched in $MONOHYDRA_PLUGIN_PATH, beside the executable, the install\n"
     "prefix and the model file's plugin_paths.\n";
 
@@ -36,8 +40,8 @@ std::string version_text(const mh_version& v) {
   return std::to_string(v.major) + "." + std::to_string(v.minor) + "." + std::to_string(v.patch);
 }
 
-int simulate(const std::string& model_path, const std::string& formulation,
-             std::optional<double> dt, std::optional<double> t_end, const std::string& out_path) {
+int simulate(const std::string& model_path, const RunChoices& choices,
+             const std::string& out_path) {
   ModelFile file;
   try {
     file = load_model_file(model_path);
@@ -51,16 +55,10 @@ int simulate(const std::string& model_path, const std::string& formulation,
   registry.scan(search);
   std::unique_ptr<Simulation> sim;
   try {
-    sim = std::make_unique<Simulation>(file, registry, formulation, log_to_stderr);
+    sim = std::make_unique<Simulation>(file, registry, choices, log_to_stderr);
   } catch (const std::exception& err) {
     std::cerr << "monohydra: " << err.what() << '\n';
     for (const auto& r : registry.refusals()) std::cerr << "  (refused: " << r << ")\n";
-    return 2;
-  }
-  if (dt) sim->settings().dt = *dt;
-  if (t_end) sim->settings().t_end = *t_end;
-  if (!(sim->settings().dt > 0.0) || !(sim->settings().t_end >= 0.0)) {
-    std::cerr << "monohydra: --dt must be positive and --t-end non-negative\n";
     return 2;
   }
   std::ofstream csv;
@@ -79,6 +77,7 @@ int simulate(const std::string& model_path, const std::string& formulation,
   if (bar.enabled && s.failed) std::fputc('\n', stderr);
   std::cout << "model:        " << file.model.name << " (" << model_path << ")\n"
             << "formulation:  " << sim->formulation_name() << "\n"
+            << "integrator:   " << sim->integrator_name() << "\n"
             << "steps:        " << s.steps << " of dt = " << sim->settings().dt << " s\n"
             << "Newton:       "
             << (s.steps > 0 ? static_cast<double>(s.iterations) / static_cast<double>(s.steps)
@@ -129,25 +128,29 @@ int plugins(const std::vector<std::string>& args) {
 }
 
 int run(const std::vector<std::string>& args) {
-  std::string model, formulation, out;
-  std::optional<double> dt, t_end;
+  std::string model, out;
+  RunChoices choices;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     const bool has_value = i + 1 < args.size();
-    if ((a == "--formulation" || a == "--dt" || a == "--t-end" || a == "--out") && !has_value) {
+    if ((a == "--formulation" || a == "--integrator" || a == "--dt" || a == "--t-end" ||
+         a == "--out") &&
+        !has_value) {
       std::cerr << "monohydra: " << a << " expects a value\n";
       return 2;
     }
     if (a == "--formulation") {
-      formulation = args[++i];
+      choices.formulation = args[++i];
+    } else if (a == "--integrator") {
+      choices.integrator = args[++i];
     } else if (a == "--out") {
       out = args[++i];
     } else if (a == "--dt") {
-      dt = parse_number(a, args[++i]);
-      if (!dt) return 2;
+      choices.dt = parse_number(a, args[++i]);
+      if (!choices.dt) return 2;
     } else if (a == "--t-end") {
-      t_end = parse_number(a, args[++i]);
-      if (!t_end) return 2;
+      choices.t_end = parse_number(a, args[++i]);
+      if (!choices.t_end) return 2;
     } else if (!a.empty() && a[0] == '-') {
       std::cerr << "monohydra: unknown option '" << a << "'\n";
       return usage(2);
@@ -163,7 +166,7 @@ int run(const std::vector<std::string>& args) {
     std::cerr << "monohydra: run needs a model file\n";
     return usage(2);
   }
-  return simulate(model, formulation, dt, t_end, out);
+  return simulate(model, choices, out);
 }
 
 }  // namespace mh::cli

@@ -10,23 +10,21 @@
 #include "commands.hpp"
 #include "comparison.hpp"
 #include "comparison_table.hpp"
+#include "control_intervals.hpp"
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/plugin_registry.hpp"
 #include "report_figures.hpp"
 #include "report_html.hpp"
 #include "run_record.hpp"
-#include "valve_intervals.hpp"
 
 namespace fs = std::filesystem;
 
 namespace mh::cli {
 namespace {
 
-const char* const kDefaultFormulations = "double-step,penalty";
-
-// A formulation's name as a file name: anything but [A-Za-z0-9._-] becomes '_'.
-std::string file_stem(const std::string& formulation) {
-  std::string out = formulation;
+// A run's label as a file name: anything but [A-Za-z0-9._-] becomes '_'.
+std::string file_stem(const std::string& label) {
+  std::string out = label;
   for (char& ch : out) {
     const bool ok = (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') ||
                     (ch >= '0' && ch <= '9') || ch == '.' || ch == '_' || ch == '-';
@@ -35,28 +33,47 @@ std::string file_stem(const std::string& formulation) {
   return out;
 }
 
-std::optional<std::vector<std::string>> split_formulations(const std::string& list) {
+// "A,B,C" of an option (`flag` names it in errors) as names.
+std::optional<std::vector<std::string>> split_names(const std::string& flag,
+                                                    const std::string& list) {
   std::vector<std::string> out;
   std::stringstream ss(list);
   for (std::string name; std::getline(ss, name, ',');) {
     const auto b = name.find_first_not_of(' '), e = name.find_last_not_of(' ');
     if (b == std::string::npos) {
-      std::cerr << "monohydra: --formulations expects names separated by commas, got '" << list
+      std::cerr << "monohydra: " << flag << " expects names separated by commas, got '" << list
                 << "'\n";
       return std::nullopt;
     }
     name = name.substr(b, e - b + 1);
     if (std::find(out.begin(), out.end(), name) != out.end()) {
-      std::cerr << "monohydra: --formulations names '" << name << "' twice\n";
+      std::cerr << "monohydra: " << flag << " names '" << name << "' twice\n";
       return std::nullopt;
     }
     out.push_back(name);
   }
   if (out.empty()) {
-    std::cerr << "monohydra: --formulations expects at least one name\n";
+    std::cerr << "monohydra: " << flag << " expects at least one name\n";
     return std::nullopt;
   }
   return out;
+}
+
+// The list the command line gave, else the model file's compare default, else
+// the model's own choice.
+std::vector<std::string> or_defaults(const std::vector<std::string>& given,
+                                     const std::vector<std::string>& file_defaults,
+                                     const std::string& model_choice) {
+  if (!given.empty()) return given;
+  if (!file_defaults.empty()) return file_defaults;
+  return {model_choice};
+}
+
+// A run is named after what varies: the formulation F, the integrator I, or "F+I".
+std::string run_label(const std::string& formulation, const std::string& integrator,
+                      bool formulations_vary, bool integrators_vary) {
+  if (formulations_vary && integrators_vary) return formulation + "+" + integrator;
+  return integrators_vary ? integrator : formulation;
 }
 
 std::string interval_text(const std::vector<PlotInterval>& intervals) {
@@ -97,30 +114,39 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
   registry.scan(search);
 
   const std::string name = job.study != nullptr ? job.study->name : file.model.name;
+  const auto formulations =
+      or_defaults(job.formulations, file.compare_formulations, file.formulation.name);
+  const auto integrators =
+      or_defaults(job.integrators, file.compare_integrators, file.integrator.name);
   std::vector<RunRecord> runs;
-  for (const auto& formulation : job.formulations) {
-    RecordOptions options;
-    options.dt = job.dt;
-    options.t_end = job.t_end;
-    options.log = [&formulation](mh_log_level level, const std::string& source,
-                                 const std::string& msg) {
-      log_to_stderr(level, "[" + formulation + "] " + source, msg);
-    };
-    ProgressBar bar;
-    if (bar.enabled) {
-      std::cerr << name << ": " << formulation << '\n';
-      options.progress = std::ref(bar);
+  for (const auto& formulation : formulations) {
+    for (const auto& integrator : integrators) {
+      const std::string label =
+          run_label(formulation, integrator, formulations.size() > 1, integrators.size() > 1);
+      RecordOptions options;
+      options.dt = job.dt;
+      options.t_end = job.t_end;
+      options.log = [&label](mh_log_level level, const std::string& source,
+                             const std::string& msg) {
+        log_to_stderr(level, "[" + label + "] " + source, msg);
+      };
+      ProgressBar bar;
+      if (bar.enabled) {
+        std::cerr << name << ": " << label << '\n';
+        options.progress = std::ref(bar);
+      }
+      if (!job.report_dir.empty()) {
+        options.csv_path = (fs::path(job.report_dir) / (file_stem(label) + ".csv")).string();
+        std::error_code ec;
+        fs::remove(options.csv_path, ec);  // no stale results of an earlier comparison
+      }
+      runs.push_back(record_run(file, registry, formulation, integrator, options));
+      runs.back().label = label;
+      if (bar.enabled && runs.back().failed && runs.back().rows() > 0) std::cerr << '\n';
+      if (runs.back().failed)
+        std::cerr << "monohydra: " << label << " failed on " << name << ": " << runs.back().failure
+                  << '\n';
     }
-    if (!job.report_dir.empty()) {
-      options.csv_path = (fs::path(job.report_dir) / (file_stem(formulation) + ".csv")).string();
-      std::error_code ec;
-      fs::remove(options.csv_path, ec);  // no stale results of an earlier comparison
-    }
-    runs.push_back(record_run(file, registry, formulation, options));
-    if (bar.enabled && runs.back().failed && runs.back().rows() > 0) std::cerr << '\n';
-    if (runs.back().failed)
-      std::cerr << "monohydra: " << formulation << " failed on " << name << ": "
-                << runs.back().failure << '\n';
   }
 
   const Comparison c = summarize(name, job.model_path, std::move(runs));
@@ -129,24 +155,33 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
   out << render_text(table);
 
   if (!job.report_dir.empty()) {
-    const auto valves = valve_columns(file);
-    std::vector<PlotInterval> open;
-    if (const RunRecord* ref = c.reference_run()) open = valve_open_intervals(*ref, valves);
-    const std::string shading = job.study != nullptr ? job.study->valve_shading : "#d8c8f0";
-    const auto figures = report_figures(file, c, open, shading);
+    std::vector<ControlColumn> controls;
+    std::vector<PlotInterval> on;
+    if (const RunRecord* ref = c.reference_run()) {
+      controls = control_columns(*ref);
+      on = control_on_intervals(*ref, controls);
+    }
+    const std::string shading = job.study != nullptr ? job.study->control_shading : "#d8c8f0";
+    const auto figures = report_figures(file, c, on, shading);
     ReportPage page;
     page.title = "monohydra compare: " + name;
-    std::string formulations;
-    for (const auto& f : job.formulations) formulations += (formulations.empty() ? "" : ", ") + f;
+    const auto joined = [](const std::vector<std::string>& names) {
+      std::string text;
+      for (const auto& f : names) text += (text.empty() ? "" : ", ") + f;
+      return text;
+    };
     page.facts.push_back("model: " + file.model.name + " (" + job.model_path + ")");
-    page.facts.push_back("formulations: " + formulations);
-    if (valves.empty())
-      page.facts.push_back("valve: the model has no " + std::string(kValveType) +
-                           " subsystem, so no interval is shaded");
-    else if (open.empty())
-      page.facts.push_back("valve: never open in this run");
+    page.facts.push_back("formulations: " + joined(formulations));
+    page.facts.push_back("integrators: " + joined(integrators));
+    std::vector<std::string> control_names;
+    for (const auto& col : controls) control_names.push_back(col.name);
+    if (controls.empty())
+      page.facts.push_back("control signals: the model declares none, so no interval is shaded");
+    else if (on.empty())
+      page.facts.push_back("control signals (" + joined(control_names) + "): never on in this run");
     else
-      page.facts.push_back("valve open (shaded in the time plots): " + interval_text(open));
+      page.facts.push_back("control signals (" + joined(control_names) +
+                           ") on, shaded in the time plots: " + interval_text(on));
     page.table = &table;
     page.figures = &figures;
     for (const auto& r : c.runs)
@@ -166,16 +201,19 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
 
 int compare(const std::vector<std::string>& args) {
   CompareJob job;
-  std::string formulations = kDefaultFormulations;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     const bool has_value = i + 1 < args.size();
-    if ((a == "--formulations" || a == "--report" || a == "--dt" || a == "--t-end") && !has_value) {
+    if ((a == "--formulations" || a == "--integrators" || a == "--report" || a == "--dt" ||
+         a == "--t-end") &&
+        !has_value) {
       std::cerr << "monohydra: " << a << " expects a value\n";
       return 2;
     }
-    if (a == "--formulations") {
-      formulations = args[++i];
+    if (a == "--formulations" || a == "--integrators") {
+      const auto names = split_names(a, args[++i]);
+      if (!names) return 2;
+      (a == "--formulations" ? job.formulations : job.integrators) = *names;
     } else if (a == "--report") {
       job.report_dir = args[++i];
     } else if (a == "--dt") {
@@ -199,9 +237,6 @@ int compare(const std::vector<std::string>& args) {
     std::cerr << "monohydra: compare needs a model file\n";
     return usage(2);
   }
-  const auto names = split_formulations(formulations);
-  if (!names) return 2;
-  job.formulations = *names;
   // The paper's numbers go beside ours when the model is one of its case studies.
   std::vector<CaseStudy> studies;
   try {

@@ -1,6 +1,6 @@
-// `monohydra compare`: several formulations on one model in one process, a
-// table of their numbers side by side and, on request, a report with the
-// paper's figures. Definitions: docs/compare.md.
+// `monohydra compare`: several formulations and/or integrators on one model
+// in one process, a table of their numbers side by side and, on request, a
+// report with the paper's figures. Definitions: docs/compare.md.
 #pragma once
 
 #include <optional>
@@ -14,16 +14,20 @@ namespace mh::cli {
 
 struct CompareJob {
   std::string model_path;
-  std::vector<std::string> formulations;  // in order; the first is the reference
-  std::string report_dir;                 // "" for no report and no CSVs
-  std::optional<double> dt;               // override the model file's solver settings
+  // In order; every formulation runs with every integrator, the first pair is
+  // the reference. Empty: the model file's compare defaults, else its own choice.
+  std::vector<std::string> formulations;
+  std::vector<std::string> integrators;
+  std::string report_dir;    // "" for no report and no CSVs
+  std::optional<double> dt;  // override the model file's solver settings
   std::optional<double> t_end;
   const CaseStudy* study = nullptr;  // the paper's numbers beside ours, when set
 };
 
-// Runs every formulation, prints the table to `out` (progress and failures to
-// stderr) and writes the report. Returns 0, 1 when a formulation failed (it
-// is in the table as failed, the others ran), 2 for bad input.
+// Runs every combination, prints the table to `out` (progress and failures to
+// stderr) and writes the report (both also when runs fail). Returns 0 only
+// when every run reached its end time, 1 when one failed (it is in the table
+// as failed, the others ran), 2 for bad input.
 int run_comparison(const CompareJob& job, std::ostream& out);
 
 }  // namespace mh::cli

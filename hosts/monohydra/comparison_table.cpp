@@ -5,6 +5,8 @@
 #include <optional>
 #include <sstream>
 
+#include "declared_outputs.hpp"
+
 namespace mh::cli {
 namespace {
 
@@ -40,7 +42,7 @@ TextTable comparison_table(const Comparison& c, const PaperNumbers* paper) {
 
   t.header.emplace_back("quantity");
   for (const auto& r : c.runs) {
-    t.header.push_back(r.formulation);
+    t.header.push_back(r.label);
     if (paper != nullptr) t.header.emplace_back("paper");
   }
 
@@ -50,13 +52,13 @@ TextTable comparison_table(const Comparison& c, const PaperNumbers* paper) {
     for (size_t i = 0; i < c.runs.size(); ++i) {
       cells.push_back(ours(i));
       if (paper != nullptr) {
-        const std::string p = theirs(c.runs[i].formulation);
+        const std::string p = theirs(c.runs[i]);
         cells.push_back(p.empty() ? "-" : p);
       }
     }
     t.rows.push_back(std::move(cells));
   };
-  auto none = [](const std::string&) { return std::string("-"); };
+  auto none = [](const RunRecord&) { return std::string("-"); };
   auto has_rows = [&c](size_t i) { return c.runs[i].rows() > 0; };
   auto metric = [&](auto get) {
     return [&c, has_rows, get](size_t i) {
@@ -64,16 +66,18 @@ TextTable comparison_table(const Comparison& c, const PaperNumbers* paper) {
     };
   };
   auto paper_run = [paper](auto get) {
-    return [paper, get](const std::string& f) {
-      const PaperRun* pr = paper != nullptr ? paper->run(f) : nullptr;
+    return [paper, get](const RunRecord& r) {
+      const PaperRun* pr = paper != nullptr ? paper->run(r.formulation, r.integrator) : nullptr;
       return pr != nullptr ? paper_number(get(*pr)) : std::string("-");
     };
   };
   auto paper_model = [paper](const std::optional<double>& v) {
-    return [v, paper](const std::string& f) {
+    return [v, paper](const RunRecord& r) {
       // The paper gives one number for the model; show it beside the
-      // formulations it ran.
-      return paper != nullptr && paper->run(f) != nullptr ? paper_number(v) : std::string("-");
+      // formulations it ran, with its integrator.
+      return paper != nullptr && paper->run(r.formulation, r.integrator) != nullptr
+                 ? paper_number(v)
+                 : std::string("-");
     };
   };
   const PaperNumbers empty;
@@ -105,19 +109,13 @@ TextTable comparison_table(const Comparison& c, const PaperNumbers* paper) {
           paper_model(p.peak_drift_percent));
   add_row(row::kPhi, metric([](const RunMetrics& m) { return e3(m.max_phi_norm); }), none);
   add_row(
-      row::kPartition,
-      [&c](size_t i) {
-        const RunRecord& r = c.runs[i];
-        if (r.independent_coordinates.empty()) return std::string("-");
-        return r.independent_coordinates +
-               (r.repartitions == 0 ? std::string(" throughout")
-                                    : ", " + std::to_string(r.repartitions) + " re-partitions");
-      },
-      [paper](const std::string& f) {
-        return paper != nullptr && f == "double-step" && !paper->independent_coordinate.empty()
-                   ? paper->independent_coordinate + " throughout"
-                   : std::string("-");
+      row::kPartition, [&c](size_t i) { return coordinates_in_use(c.runs[i]); },
+      [paper](const RunRecord& r) {
+        const PaperRun* pr = paper != nullptr ? paper->run(r.formulation, r.integrator) : nullptr;
+        return pr != nullptr && !pr->coordinates.empty() ? pr->coordinates : std::string("-");
       });
+  add_row(
+      row::kCounters, [&c](size_t i) { return counters_at_end(c.runs[i]); }, none);
 
   if (ref != nullptr) {
     auto difference = [&c](auto get) {
@@ -128,26 +126,26 @@ TextTable comparison_table(const Comparison& c, const PaperNumbers* paper) {
         return v ? e3(*v) : std::string("-");
       };
     };
-    add_row("max |dz| from " + ref->formulation,
+    add_row("max |dz| from " + ref->label,
             difference([](const Differences& d) { return d.max_abs_z; }), none);
     for (size_t k = 0; k < c.pressures.size(); ++k)
-      add_row("max |d" + c.pressures[k] + "| from " + ref->formulation + " (Pa)",
+      add_row("max |d" + c.pressures[k] + "| from " + ref->label + " (Pa)",
               difference([k](const Differences& d) { return d.pressures[k]; }), none);
   }
 
   for (const auto& r : c.runs)
-    if (r.failed) t.notes.push_back(r.formulation + " FAILED: " + r.failure);
+    if (r.failed) t.notes.push_back(r.label + " FAILED: " + r.failure);
   if (ref != nullptr && ref != &c.runs.front())
-    t.notes.push_back("differences are from " + ref->formulation + ", the first run with results");
+    t.notes.push_back("differences are from " + ref->label + ", the first run with results");
   for (size_t i = 0; i < c.runs.size(); ++i)
     if (c.differences[i] && c.runs[i].rows() != ref->rows())
-      t.notes.push_back(c.runs[i].formulation + ": differences over the " +
+      t.notes.push_back(c.runs[i].label + ": differences over the " +
                         std::to_string(c.differences[i]->rows) + " rows both runs have");
   if (paper != nullptr) {
     std::string source = "paper: " + (p.source.empty() ? std::string("the paper") : p.source);
     if (!p.platform.empty()) source += "; its times were measured in " + p.platform;
-    if (!p.independent_coordinate.empty())
-      source += "; its full pivoting picks " + p.independent_coordinate + " as independent";
+    if (!p.integrator.empty())
+      source += "; its numbers are for the " + p.integrator + " integrator";
     t.notes.push_back(source);
   }
   return t;

@@ -33,7 +33,8 @@ inline constexpr const char* kDriftTime = "peak |drift| at t (s)";
 inline constexpr const char* kWork = "max |W| (J)";
 inline constexpr const char* kDriftPercent = "peak |drift| (% of max |W|)";
 inline constexpr const char* kPhi = "max phi_norm";
-inline constexpr const char* kPartition = "independent coordinates";
+inline constexpr const char* kPartition = "coordinates in use";
+inline constexpr const char* kCounters = "events counted";
 }  // namespace row
 
 // `paper` may be null (then no paper columns).

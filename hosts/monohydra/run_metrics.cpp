@@ -62,9 +62,8 @@ Differences differences(const RunRecord& run, const RunRecord& reference,
   const auto& t_ref = reference.values("t");
   for (size_t k = 0; k < rows; ++k)
     if (std::abs(t[k] - t_ref[k]) > 1e-9 * std::max(1.0, std::abs(t_ref[k])))
-      throw std::invalid_argument("the runs of " + run.formulation + " and " +
-                                  reference.formulation + " are not at the same times (row " +
-                                  std::to_string(k) + ")");
+      throw std::invalid_argument("the runs " + run.label + " and " + reference.label +
+                                  " are not at the same times (row " + std::to_string(k) + ")");
   auto max_difference = [rows](const std::vector<double>& a, const std::vector<double>& b) {
     double m = 0.0;
     for (size_t k = 0; k < rows; ++k) m = std::max(m, std::abs(a[k] - b[k]));

@@ -22,22 +22,24 @@ double seconds_since(Clock::time_point t0) {
 
 // The columns of `sim` and their units, in the order write_csv_row writes them.
 void name_columns(const ModelFile& file, const Simulation& sim, RunRecord& rec) {
-  auto add = [&rec](const std::string& name, const std::string& unit) {
+  auto add = [&rec](const std::string& name, const std::string& unit,
+                    const VariableInfo& info = {}) {
     rec.names.push_back(name);
     rec.units.push_back(unit);
+    rec.info.push_back(info);
   };
   add("t", "s");
   const auto& coordinates = sim.coordinate_names();
   for (size_t j = 0; j < coordinates.size(); ++j)
     add(coordinates[j], file.model.bodies[j].joint == JointType::revolute ? "rad" : "m");
   rec.num_coordinates = static_cast<int>(coordinates.size());
-  for (size_t i = 0; i < sim.state_names().size(); ++i) {
-    if (sim.state_names()[i].empty()) continue;
-    add(sim.state_names()[i], sim.state_units()[i]);
+  for (const auto& v : sim.state_info()) {
+    if (v.name.empty()) continue;
+    add(v.name, v.unit, v);
     ++rec.num_states;
   }
-  for (size_t i = 0; i < sim.output_names().size(); ++i)
-    if (!sim.output_names()[i].empty()) add(sim.output_names()[i], sim.output_units()[i]);
+  for (const auto& v : sim.output_info())
+    if (!v.name.empty()) add(v.name, v.unit, v);
   for (const char* energy : {"KE", "PE", "W", "drift"}) add(energy, "J");
   add("phi_norm", "");
   add("iters", "");
@@ -84,33 +86,27 @@ int RunRecord::column(const std::string& name) const {
 
 const std::vector<double>& RunRecord::values(const std::string& name) const {
   const int c = column(name);
-  if (c < 0) throw std::out_of_range("no column '" + name + "' in the run of " + formulation);
+  if (c < 0) throw std::out_of_range("no column '" + name + "' in the run " + label);
   return columns[static_cast<size_t>(c)];
 }
 
 RunRecord record_run(const ModelFile& file, const PluginRegistry& registry,
-                     const std::string& formulation, const RecordOptions& options) {
+                     const std::string& formulation, const std::string& integrator,
+                     const RecordOptions& options) {
   RunRecord rec;
-  rec.formulation = formulation;
+  rec.formulation = formulation.empty() ? file.formulation.name : formulation;
+  rec.integrator = integrator.empty() ? file.integrator.name : integrator;
+  rec.label = rec.formulation;
   std::unique_ptr<Simulation> sim;
   try {
-    // The partition a formulation chooses is only in its log: keep it.
-    LogSink log = [&rec, &options](mh_log_level level, const std::string& source,
-                                   const std::string& msg) {
-      const std::string chosen = "independent coordinates: ";
-      if (msg.rfind(chosen, 0) == 0 && rec.independent_coordinates.empty())
-        rec.independent_coordinates = msg.substr(chosen.size());
-      if (msg.rfind("re-partitioned at", 0) == 0) ++rec.repartitions;
-      if (options.log) options.log(level, source, msg);
-    };
-    sim = std::make_unique<Simulation>(file, registry, formulation, log);
+    sim = std::make_unique<Simulation>(
+        file, registry, RunChoices{formulation, integrator, options.dt, options.t_end},
+        options.log);
   } catch (const std::exception& err) {
     rec.failed = true;
     rec.failure = err.what();
     return rec;
   }
-  if (options.dt) sim->settings().dt = *options.dt;
-  if (options.t_end) sim->settings().t_end = *options.t_end;
   rec.dt = sim->settings().dt;
   rec.t_end = sim->settings().t_end;
   name_columns(file, *sim, rec);

@@ -1,4 +1,4 @@
-// One formulation's run of a model, kept in memory column by column with the
+// One run of a model (a formulation under an integrator), kept in memory column by column with the
 // same doubles its CSV holds: what the comparison table and the report are
 // computed from.
 #pragma once
@@ -20,7 +20,8 @@ namespace mh::cli {
 inline constexpr const char* kWallColumn = "wall_s";
 
 struct RunRecord {
-  std::string formulation;
+  std::string label;  // what varies between the runs compared: F, I or "F+I"
+  std::string formulation, integrator;
   bool failed = false;
   std::string failure;  // why, when failed: the setup error or "t = .. s, step ..: reason"
   std::optional<double> failure_time;  // s: the step that failed (none: setup failed)
@@ -31,14 +32,11 @@ struct RunRecord {
   // coordinates, as declared for states and outputs, "J" for energies).
   std::vector<std::string> names;
   std::vector<std::string> units;
+  std::vector<VariableInfo> info;  // parallel: kinds, roles and ranges of states and outputs
   std::vector<std::vector<double>> columns;  // columns[c][row]
   int num_coordinates = 0;                   // z1..zN are columns 1..N
   int num_states = 0;                        // written states follow them
   std::string csv_path;                      // "" when no CSV was written
-  // What the formulation said of its partition (double-step's info lines
-  // "independent coordinates: z3" and "re-partitioned at ..."), "" if nothing.
-  std::string independent_coordinates;
-  int repartitions = 0;
 
   size_t rows() const { return columns.empty() ? 0 : columns.front().size(); }
   int column(const std::string& name) const;  // -1 when absent
@@ -54,11 +52,13 @@ struct RecordOptions {
   std::function<void(double)> progress;  // fraction done, about 100 calls
 };
 
-// Runs `formulation` on the model from t = 0 to t_end. Never throws for a run
+// Runs the model with the formulation and integrator `choices` name (dt and
+// t_end from `options`) from t = 0 to t_end. Never throws for a run
 // that fails: a formulation that cannot be set up gives a record with no rows,
 // a step that fails stops the run and keeps the rows before it; both set
 // `failed` and `failure`.
 RunRecord record_run(const ModelFile& file, const PluginRegistry& registry,
-                     const std::string& formulation, const RecordOptions& options);
+                     const std::string& formulation, const std::string& integrator,
+                     const RecordOptions& options);
 
 }  // namespace mh::cli

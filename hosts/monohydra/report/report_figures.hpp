@@ -2,7 +2,7 @@
 // comparison: the mechanism at every second (Fig. 6), relative joint
 // coordinates and pressures (Figs. 7-8), energies and drift (Figs. 9-10),
 // constraint violation (Figs. 11-12), iterations and time per step
-// (Figs. 13-14). Time plots shade the valve's open intervals.
+// (Figs. 13-14). Time plots shade where the model's control signals are on.
 #pragma once
 
 #include <string>
@@ -24,9 +24,9 @@ struct ReportFigure {
 
 // Every figure of the report, in the paper's order; a figure that does not
 // apply to the model (no pressures, no cut joints) has no SVG and says why.
-// `valve_open` are the intervals to shade, `shade_colour` their colour.
+// `control_on` are the intervals to shade, `shade_colour` their colour.
 std::vector<ReportFigure> report_figures(const ModelFile& file, const Comparison& c,
-                                         const std::vector<PlotInterval>& valve_open,
+                                         const std::vector<PlotInterval>& control_on,
                                          const std::string& shade_colour);
 
 // The ids report_figures gives, in order (the report holds each one).

@@ -12,6 +12,7 @@ namespace mh::cli {
 // What the paper reports for one formulation on one case study.
 struct PaperRun {
   std::string formulation;
+  std::string coordinates;  // the coordinates in use it reports (e.g. independent ones), or ""
   std::optional<double> avg_iterations;
   std::optional<double> max_iterations;
   std::optional<double> total_seconds;  // total integration time, on the paper's platform
@@ -21,14 +22,16 @@ struct PaperRun {
 struct PaperNumbers {
   std::string source;                        // where the numbers come from, e.g. "Sect. 6"
   std::string platform;                      // where the paper's times were measured
-  std::string independent_coordinate;        // chosen by full pivoting (double-step)
+  std::string integrator;                    // the integrator the paper used: its numbers
+                                             // stand beside our runs with that one only
   std::optional<double> max_actuator_work;   // J
   std::optional<double> peak_drift;          // J
   std::optional<double> peak_drift_percent;  // % of the maximum actuator work
   std::optional<double> peak_drift_time;     // s
   std::vector<PaperRun> runs;
 
-  const PaperRun* run(const std::string& formulation) const;  // null when absent
+  // Null when absent, or when `integrator` is not the paper's.
+  const PaperRun* run(const std::string& formulation, const std::string& integrator) const;
 };
 
 struct CaseStudy {
@@ -36,7 +39,7 @@ struct CaseStudy {
   std::string model_path;                 // resolved against the reference file's folder
   std::string report_dir;                 // as written: relative to the working directory
   std::vector<std::string> formulations;  // compared, in order
-  std::string valve_shading;              // "#rrggbb": the paper's colour for open valve
+  std::string control_shading;  // "#rrggbb": the paper's colour where a control signal is on
   PaperNumbers paper;
 };
 

@@ -1,6 +1,6 @@
 // The default job (`monohydra` with no arguments): the paper's comparison of
-// double-step and penalty on its two case studies, the paper's numbers beside
-// ours, a report for each.
+// the formulations models/paper-reference.yaml lists on its two case studies,
+// the paper's numbers beside ours, a report for each.
 #include <algorithm>
 #include <filesystem>
 #include <iostream>

@@ -76,11 +76,11 @@ class Reader {
     PaperNumbers p;
     if (!node.IsDefined()) return p;
     keys(node, field,
-         {"source", "platform", "independent_coordinate", "max_actuator_work", "peak_drift",
+         {"source", "platform", "integrator", "max_actuator_work", "peak_drift",
           "peak_drift_percent", "peak_drift_time", "runs"});
     p.source = text(node, "source", field, false);
     p.platform = text(node, "platform", field, false);
-    p.independent_coordinate = text(node, "independent_coordinate", field, false);
+    p.integrator = text(node, "integrator", field, true);
     p.max_actuator_work = number(node, "max_actuator_work", field);
     p.peak_drift = number(node, "peak_drift", field);
     p.peak_drift_percent = number(node, "peak_drift_percent", field);
@@ -90,9 +90,10 @@ class Reader {
       if (!runs.IsMap()) fail(runs, field + ".runs", "expected a mapping formulation: numbers");
       for (const auto& kv : runs) {
         const std::string f = field + ".runs." + kv.first.Scalar();
-        keys(kv.second, f, {"avg_iterations", "max_iterations", "total_seconds"});
+        keys(kv.second, f, {"avg_iterations", "max_iterations", "total_seconds", "coordinates"});
         PaperRun r;
         r.formulation = kv.first.Scalar();
+        r.coordinates = text(kv.second, "coordinates", f, false);
         r.avg_iterations = number(kv.second, "avg_iterations", f);
         r.max_iterations = number(kv.second, "max_iterations", f);
         r.total_seconds = number(kv.second, "total_seconds", f);
@@ -103,7 +104,7 @@ class Reader {
   }
 
   CaseStudy study(const YAML::Node& node, const std::string& field, const fs::path& dir) const {
-    keys(node, field, {"name", "model", "report", "formulations", "valve_shading", "paper"});
+    keys(node, field, {"name", "model", "report", "formulations", "control_shading", "paper"});
     CaseStudy s;
     s.name = text(node, "name", field, true);
     const fs::path model = text(node, "model", field, true);
@@ -118,12 +119,13 @@ class Reader {
         fail(f, field + ".formulations", "expected a formulation name");
       s.formulations.push_back(f.Scalar());
     }
-    s.valve_shading = text(node, "valve_shading", field, false);
-    if (s.valve_shading.empty()) s.valve_shading = "#d8c8f0";
+    s.control_shading = text(node, "control_shading", field, false);
+    if (s.control_shading.empty()) s.control_shading = "#d8c8f0";
     const bool hex =
-        s.valve_shading.size() == 7 && s.valve_shading[0] == '#' &&
-        s.valve_shading.find_first_not_of("0123456789abcdefABCDEF", 1) == std::string::npos;
-    if (!hex) fail(node["valve_shading"], field + ".valve_shading", "expected a colour #rrggbb");
+        s.control_shading.size() == 7 && s.control_shading[0] == '#' &&
+        s.control_shading.find_first_not_of("0123456789abcdefABCDEF", 1) == std::string::npos;
+    if (!hex)
+      fail(node["control_shading"], field + ".control_shading", "expected a colour #rrggbb");
     s.paper = paper(node["paper"], field + ".paper");
     return s;
   }
@@ -134,7 +136,9 @@ class Reader {
 
 }  // namespace
 
-const PaperRun* PaperNumbers::run(const std::string& formulation) const {
+const PaperRun* PaperNumbers::run(const std::string& formulation,
+                                  const std::string& with_integrator) const {
+  if (with_integrator != integrator) return nullptr;
   for (const auto& r : runs)
     if (r.formulation == formulation) return &r;
   return nullptr;

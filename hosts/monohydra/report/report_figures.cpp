@@ -3,8 +3,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "control_intervals.hpp"
 #include "mechanism_drawing.hpp"
-#include "valve_intervals.hpp"
 
 namespace mh::cli {
 namespace {
@@ -13,7 +13,7 @@ constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
 struct Plotter {
   const Comparison& c;
-  const std::vector<PlotInterval>& valve_open;
+  const std::vector<PlotInterval>& control_on;
   const std::string& shade_colour;
 
   PlotSpec spec(const std::string& id, const std::string& title, const std::string& y_label,
@@ -24,11 +24,11 @@ struct Plotter {
     s.x_label = "t (s)";
     s.y_label = y_label;
     s.log_y = log_y;
-    s.shaded = valve_open;
+    s.shaded = control_on;
     s.shade_colour = shade_colour;
     char label[64];
-    std::snprintf(label, sizeof(label), "valve open (|U| > %g V)",
-                  kValveOpenFraction * kValveFullScale);
+    std::snprintf(label, sizeof(label), "control signal on (> %g %% of its range)",
+                  100.0 * kControlOnFraction);
     s.shade_label = label;
     return s;
   }
@@ -62,7 +62,7 @@ struct Plotter {
   std::vector<PlotSeries> per_run(const std::string& column, double scale, size_t first) const {
     std::vector<PlotSeries> out;
     for (size_t r : runs_with_rows())
-      out.push_back(series(r, column, scale, c.runs[r].formulation, palette(r), first));
+      out.push_back(series(r, column, scale, c.runs[r].label, palette(r), first));
     return out;
   }
 };
@@ -77,9 +77,9 @@ const std::vector<std::string>& report_figure_ids() {
 }
 
 std::vector<ReportFigure> report_figures(const ModelFile& file, const Comparison& c,
-                                         const std::vector<PlotInterval>& valve_open,
+                                         const std::vector<PlotInterval>& control_on,
                                          const std::string& shade_colour) {
-  const Plotter p{c, valve_open, shade_colour};
+  const Plotter p{c, control_on, shade_colour};
   const RunRecord* ref = c.reference_run();
   const auto runs = p.runs_with_rows();
   std::vector<ReportFigure> figs;
@@ -90,8 +90,8 @@ std::vector<ReportFigure> report_figures(const ModelFile& file, const Comparison
     if (ref != nullptr) {
       const auto frames = frames_every_second(*ref);
       f.svgs.push_back(svg_mechanism(file, frames, "drawing-mechanism",
-                                     "Positions of the bodies (" + ref->formulation + ")"));
-      f.caption = "The bodies of the " + ref->formulation + " run at every second, light to dark " +
+                                     "Positions of the bodies (" + ref->label + ")"));
+      f.caption = "The bodies of the " + ref->label + " run at every second, light to dark " +
                   "(a run shorter than 2 s: five instants). Bodies are drawn from their joint " +
                   "point to their other points; squares are bodies centred on their joint; " +
                   "circles on the bodies are joints, open circles cut joints, triangles ground " +
@@ -113,7 +113,7 @@ std::vector<ReportFigure> report_figures(const ModelFile& file, const Comparison
             const size_t col = 1 + static_cast<size_t>(j);
             if ((ref->units[col] == "rad") != revolute) continue;
             series.push_back(p.series(r, ref->names[col], revolute ? kRadToDeg : 1.0,
-                                      ref->names[col] + " " + c.runs[r].formulation,
+                                      ref->names[col] + " " + c.runs[r].label,
                                       palette(static_cast<size_t>(j))));
           }
         if (series.empty()) continue;
@@ -123,8 +123,8 @@ std::vector<ReportFigure> report_figures(const ModelFile& file, const Comparison
                                          revolute ? "z (deg)" : "z (m)"),
                                   series));
       }
-      f.caption = "Colour: the coordinate; line style: the formulation (solid " +
-                  c.runs[runs.front()].formulation + ").";
+      f.caption =
+          "Colour: the coordinate; line style: the run (solid " + c.runs[runs.front()].label + ").";
     }
     figs.push_back(f);
   }
@@ -138,9 +138,9 @@ std::vector<ReportFigure> report_figures(const ModelFile& file, const Comparison
         for (size_t k = 0; k < c.pressures.size(); ++k)
           if (c.runs[r].column(c.pressures[k]) >= 0)
             series.push_back(p.series(r, c.pressures[k], 1e-6,
-                                      c.pressures[k] + " " + c.runs[r].formulation, palette(k)));
+                                      c.pressures[k] + " " + c.runs[r].label, palette(k)));
       f.svgs.push_back(svg_plot(p.spec("plot-pressures", "Pressures", "p (MPa)"), series));
-      f.caption = "The states in Pa. Colour: the pressure; line style: the formulation.";
+      f.caption = "The states in Pa. Colour: the pressure; line style: the run.";
     } else {
       f.caption = "This model has no pressures (no written state in Pa): the panel is left out.";
     }
@@ -155,8 +155,8 @@ std::vector<ReportFigure> report_figures(const ModelFile& file, const Comparison
     const char* names[] = {"KE", "PE", "W"};
     for (size_t r : runs)
       for (size_t k = 0; k < 3; ++k)
-        series.push_back(p.series(r, names[k], 1.0,
-                                  std::string(names[k]) + " " + c.runs[r].formulation, palette(k)));
+        series.push_back(
+            p.series(r, names[k], 1.0, std::string(names[k]) + " " + c.runs[r].label, palette(k)));
     if (!series.empty())
       f.svgs.push_back(svg_plot(p.spec("plot-energies", "Energies", "E (J)"), series));
     f.caption =
