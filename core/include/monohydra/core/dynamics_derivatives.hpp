@@ -1,0 +1,61 @@
+// Analytic derivatives of the open-loop semirecursive dynamics (Sect. 2.1,
+// Eqs. 1-12): the tangent of the residual M'(z) zdd - Q'(z, zd) that an implicit
+// integrator's Newton iteration needs, without finite differences. The
+// recursion differentiates Z, Zdot, R_W_B and the positions through the tree, as
+// Pinocchio's RNEA derivatives do; see core/src/motion_variation.hpp.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "monohydra/core/data.hpp"
+#include "monohydra/core/model.hpp"
+
+namespace mh {
+
+// A force F_W (world frame, N) on body point.body at that body point, as
+// apply_point_force applies it, with its derivatives with respect to the
+// point's world position and velocity and, for a force between two points
+// (a spring, a damper, an actuator), with respect to the world position and
+// velocity of the other point. `other` on the ground (the default) means F
+// depends on no other point. All derivatives 3 x 3, world frame.
+struct PointForceTerm {
+  BodyPoint point;
+  Eigen::Vector3d F_W = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d dF_dp = Eigen::Matrix3d::Zero();  // N/m
+  Eigen::Matrix3d dF_dv = Eigen::Matrix3d::Zero();  // N s/m
+  BodyPoint other;
+  Eigen::Matrix3d dF_dp_other = Eigen::Matrix3d::Zero();
+  Eigen::Matrix3d dF_dv_other = Eigen::Matrix3d::Zero();
+};
+
+// Buffers of dynamics_derivatives, sized once from a Model (N bodies).
+struct DynamicsDerivativesWorkspace {
+  explicit DynamicsDerivativesWorkspace(const Model& model);
+
+  std::vector<Vector6d> Zdot;         // full Zdot_j at zdd, Eq. (5)
+  std::vector<Vector6d> h;            // Mbar_j Zdot_j - Qbar_j (Eqs. 9-10), gravity only
+  std::vector<Vector6d> H;            // h summed over each body's subtree (T^T of Eq. 12)
+  std::vector<Vector6d> dH;           // the same for one coordinate's variation
+  std::vector<Eigen::Matrix3d> J;     // world inertia about the COM
+  std::vector<Eigen::Vector3d> gdot;  // COM velocity, Eq. (6)
+  std::vector<char> in_subtree;       // one coordinate's subtree
+  Eigen::Matrix<double, 3, Eigen::Dynamic> cols;  // point Jacobian columns (3 x N)
+  // M'(z) zdd - Q'(z, zd) (N) with the given point forces: the value whose
+  // derivatives are returned, from the same recursion.
+  Eigen::VectorXd residual;
+};
+
+// K = d(M' zdd - Q')/dz and C = d(M' zdd - Q')/dzd (N x N each; row i is the
+// equation of coordinate i, column k the coordinate or rate differentiated), for
+// M', Q' as mass_matrix_and_forces (Eq. 12) gives them after reset_applied_forces
+// and apply_point_force(point.body, position of point, F_W) for every term.
+// Valid after forward_kinematics(model, data, z, zd); data's applied loads and
+// M, Q are not used. zdd of size N. Throws std::invalid_argument on a size
+// mismatch. Does not allocate. Cost O(N^2) plus O(depth^2) per force.
+void dynamics_derivatives(const Model& model, const Data& data, const Eigen::VectorXd& zdd,
+                          const std::vector<PointForceTerm>& forces,
+                          DynamicsDerivativesWorkspace& ws, Eigen::Ref<Eigen::MatrixXd> K,
+                          Eigen::Ref<Eigen::MatrixXd> C);
+
+}  // namespace mh

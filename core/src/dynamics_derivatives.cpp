@@ -1,0 +1,227 @@
+// Analytic K = d(M' zdd - Q')/dz and C = d(M' zdd - Q')/dzd of the open-loop
+// semirecursive dynamics (Sect. 2.1, Eqs. 1-12), for the Newton tangent of
+// implicit steps without finite differences. Written as the inverse dynamics
+//   M' zdd - Q' = R_d^T T^T (Mbar T (R_d zdd + Rdot_d zd) - Qbar)      (Eqs. 5, 11, 12)
+// i.e. residual_i = b_i . H_i with H_i the sum over the subtree of body i of
+// h_j = Mbar_j Zdot_j - Qbar_j, and differentiated body by body with the tree
+// variations of motion_variation.hpp (one subtree sweep per coordinate: O(N^2)).
+#include "monohydra/core/dynamics_derivatives.hpp"
+
+#include <stdexcept>
+#include <string>
+
+#include "monohydra/core/kinematics.hpp"
+#include "motion_variation.hpp"
+
+namespace mh {
+namespace {
+
+using detail::BodyVariation;
+using detail::motion_cross;
+using detail::twist_at;
+
+[[noreturn]] void throw_size(const char* what, Eigen::Index expected, Eigen::Index got) {
+  throw std::invalid_argument(std::string("dynamics_derivatives: ") + what + ": expected " +
+                              std::to_string(expected) + ", got " + std::to_string(got));
+}
+
+void check_sizes(const Model& model, const Data& data, const Eigen::VectorXd& zdd,
+                 const DynamicsDerivativesWorkspace& ws, const Eigen::Ref<Eigen::MatrixXd>& K,
+                 const Eigen::Ref<Eigen::MatrixXd>& C) {
+  const int n = model.num_coordinates();
+  if (static_cast<int>(data.R_W_B.size()) != n) {
+    throw_size("data (bodies)", n, static_cast<Eigen::Index>(data.R_W_B.size()));
+  }
+  if (static_cast<int>(ws.h.size()) != n) {
+    throw_size("workspace (bodies)", n, static_cast<Eigen::Index>(ws.h.size()));
+  }
+  if (zdd.size() != n) throw_size("zdd", n, zdd.size());
+  if (K.rows() != n || K.cols() != n) throw_size("K rows and columns", n, K.rows());
+  if (C.rows() != n || C.cols() != n) throw_size("C rows and columns", n, C.rows());
+}
+
+// The body's share of the residual and its variation, in Newton-Euler form.
+// With A = a + alpha x g (the COM acceleration less its velocity term omega x gdot),
+//   Mbar Zdot = [m A; g x m A + J alpha]                      (Eq. 9)
+//   Qbar      = [f - m omega x gdot; g x (f - m omega x gdot) - omega x J omega]  (Eq. 10)
+// so h = [F; g x F + T] with F = m (A + omega x gdot) - f, T = J alpha + omega x J omega.
+struct BodyState {
+  double m;
+  Eigen::Vector3d g, gdot, omega, alpha, F;
+  Eigen::Matrix3d J;
+};
+
+Vector6d body_residual(const BodyState& s, const Vector6d& Zdot, const Eigen::Vector3d& weight) {
+  const Eigen::Vector3d A = Zdot.head<3>() + s.alpha.cross(s.g);
+  const Eigen::Vector3d F = s.m * (A + s.omega.cross(s.gdot)) - weight;
+  const Eigen::Vector3d T = s.J * s.alpha + s.omega.cross(s.J * s.omega);
+  Vector6d h;
+  h << F, s.g.cross(F) + T;
+  return h;
+}
+
+// d h for the body's variation dv (geometry moved by dv.twist, Z and Zdot changed).
+Vector6d vary_body_residual(const BodyState& s, const BodyVariation& dv) {
+  const Eigen::Vector3d w = dv.twist.tail<3>();
+  const Eigen::Vector3d dg = twist_at(dv.twist, s.g);
+  // J = R Jbar R^T with dR = w~ R: dJ = w~ J - J w~ (text after Eq. 10).
+  const Eigen::Matrix3d dJ = [&] {
+    Eigen::Matrix3d W;
+    W << 0.0, -w.z(), w.y(), w.z(), 0.0, -w.x(), -w.y(), w.x(), 0.0;
+    return Eigen::Matrix3d(W * s.J - s.J * W);
+  }();
+  const Eigen::Vector3d domega = dv.Z.tail<3>();
+  const Eigen::Vector3d dalpha = dv.Zdot.tail<3>();
+  const Eigen::Vector3d dgdot = dv.Z.head<3>() + domega.cross(s.g) + s.omega.cross(dg);  // Eq. (6)
+  const Eigen::Vector3d dA = dv.Zdot.head<3>() + dalpha.cross(s.g) + s.alpha.cross(dg);
+  const Eigen::Vector3d dF = s.m * (dA + domega.cross(s.gdot) + s.omega.cross(dgdot));
+  const Eigen::Vector3d Jw = s.J * s.omega;
+  const Eigen::Vector3d dJw = dJ * s.omega + s.J * domega;
+  const Eigen::Vector3d dT = dJ * s.alpha + s.J * dalpha + domega.cross(Jw) + s.omega.cross(dJw);
+  Vector6d dh;
+  dh << dF, dg.cross(s.F) + s.g.cross(dF) + dT;
+  return dh;
+}
+
+BodyState body_state(const Model& model, const Data& data, const DynamicsDerivativesWorkspace& ws,
+                     int j) {
+  const Body& body = model.bodies[j];
+  BodyState s;
+  s.m = body.mass;
+  s.g = data.g_W[j];
+  s.gdot = ws.gdot[j];
+  s.omega = data.Z[j].tail<3>();
+  s.alpha = ws.Zdot[j].tail<3>();
+  s.J = ws.J[j];
+  s.F = ws.h[j].head<3>();
+  return s;
+}
+
+// One point force's share: residual -= J_p^T F (the Q' of apply_point_force), and
+// its derivatives. Column i of J_p is col_i = b_i at p for i on p's path (Eq. 4).
+void add_point_force(const Model& model, const Data& data, const PointForceTerm& f,
+                     DynamicsDerivativesWorkspace& ws, Eigen::Ref<Eigen::MatrixXd>& K,
+                     Eigen::Ref<Eigen::MatrixXd>& C) {
+  const int e = f.point.body;
+  if (e == kGround) return;  // the ground takes it
+  const Eigen::Vector3d p = point_position(data, f.point);
+  const Eigen::Vector3d omega = data.Z[e].tail<3>();
+  for (int i = e; i != kGround; i = model.bodies[i].parent) {
+    ws.cols.col(i) = twist_at(data.b[i], p);
+    ws.residual[i] -= ws.cols.col(i).dot(f.F_W);
+  }
+  for (int k = e; k != kGround; k = model.bodies[k].parent) {
+    // The point's motion per unit z_k: dp = col_k, dv from dZ_e = b_k x (Z_e - Z_k).
+    const Eigen::Vector3d dp = ws.cols.col(k);
+    const Vector6d dZ = motion_cross(data.b[k], Vector6d(data.Z[e] - data.Z[k]));
+    const Eigen::Vector3d dv = twist_at(dZ, p) + omega.cross(dp);
+    const Eigen::Vector3d dF = f.dF_dp * dp + f.dF_dv * dv;
+    const Eigen::Vector3d dF_rate = f.dF_dv * dp;  // dv/dzd_k = col_k
+    const Eigen::Vector3d wk = data.b[k].tail<3>();
+    for (int i = e; i != kGround; i = model.bodies[i].parent) {
+      // d col_i/dz_k: below k, col_i turns with the subtree (w_k x col_i); at or
+      // above k, b_i is fixed and only p moves (w_i x dp).
+      const Eigen::Vector3d dcol = i > k ? Eigen::Vector3d(wk.cross(ws.cols.col(i)))
+                                         : Eigen::Vector3d(data.b[i].tail<3>().cross(dp));
+      K(i, k) -= dcol.dot(f.F_W) + ws.cols.col(i).dot(dF);
+      C(i, k) -= ws.cols.col(i).dot(dF_rate);
+    }
+  }
+  // Dependence on the other point's motion (forces between two points).
+  const int o = f.other.body;
+  if (o == kGround) return;
+  const Eigen::Vector3d q = point_position(data, f.other);
+  const Eigen::Vector3d omega_o = data.Z[o].tail<3>();
+  for (int k = o; k != kGround; k = model.bodies[k].parent) {
+    const Eigen::Vector3d dq = twist_at(data.b[k], q);
+    const Vector6d dZ = motion_cross(data.b[k], Vector6d(data.Z[o] - data.Z[k]));
+    const Eigen::Vector3d dw = twist_at(dZ, q) + omega_o.cross(dq);
+    const Eigen::Vector3d dF = f.dF_dp_other * dq + f.dF_dv_other * dw;
+    const Eigen::Vector3d dF_rate = f.dF_dv_other * dq;
+    for (int i = e; i != kGround; i = model.bodies[i].parent) {
+      K(i, k) -= ws.cols.col(i).dot(dF);
+      C(i, k) -= ws.cols.col(i).dot(dF_rate);
+    }
+  }
+}
+
+// Columns of K (rate = false) or C (rate = true) from the body terms. Only the
+// subtree of coordinate k varies. For i in it, d(b_i . H_i) = (b_k x b_i) . H_i +
+// b_i . dH_i (b_k itself is fixed on the parent; b_i does not depend on rates);
+// for i above k, H_i contains the whole subtree: b_i . dH_k.
+void fill_columns(const Model& model, const Data& data, bool rate, DynamicsDerivativesWorkspace& ws,
+                  Eigen::Ref<Eigen::MatrixXd>& out) {
+  const int n = model.num_bodies();
+  for (int k = 0; k < n; ++k) {
+    for (int j = k; j < n; ++j) {
+      const int p = model.bodies[j].parent;
+      ws.in_subtree[j] = static_cast<char>(j == k || (p >= k && ws.in_subtree[p]));
+      if (!ws.in_subtree[j]) continue;
+      const BodyState s = body_state(model, data, ws, j);
+      const BodyVariation dv =
+          rate ? detail::variation_zd(data, j, k) : detail::variation_z(data, ws.Zdot, j, k);
+      ws.dH[j] = vary_body_residual(s, dv);
+    }
+    for (int j = n - 1; j > k; --j) {
+      if (ws.in_subtree[j]) ws.dH[model.bodies[j].parent] += ws.dH[j];
+    }
+    out.col(k).setZero();
+    for (int i = k; i < n; ++i) {
+      if (!ws.in_subtree[i]) continue;
+      double value = data.b[i].dot(ws.dH[i]);
+      if (!rate && i != k) value += motion_cross(data.b[k], data.b[i]).dot(ws.H[i]);
+      out(i, k) = value;
+    }
+    for (int i = model.bodies[k].parent; i != kGround; i = model.bodies[i].parent) {
+      out(i, k) = data.b[i].dot(ws.dH[k]);
+    }
+  }
+}
+
+}  // namespace
+
+DynamicsDerivativesWorkspace::DynamicsDerivativesWorkspace(const Model& model) {
+  const auto nb = static_cast<std::size_t>(model.num_bodies());
+  Zdot.assign(nb, Vector6d::Zero());
+  h.assign(nb, Vector6d::Zero());
+  H.assign(nb, Vector6d::Zero());
+  dH.assign(nb, Vector6d::Zero());
+  J.assign(nb, Eigen::Matrix3d::Zero());
+  gdot.assign(nb, Eigen::Vector3d::Zero());
+  in_subtree.assign(nb, 0);
+  cols.setZero(3, model.num_coordinates());
+  residual.setZero(model.num_coordinates());
+}
+
+void dynamics_derivatives(const Model& model, const Data& data, const Eigen::VectorXd& zdd,
+                          const std::vector<PointForceTerm>& forces,
+                          DynamicsDerivativesWorkspace& ws, Eigen::Ref<Eigen::MatrixXd> K,
+                          Eigen::Ref<Eigen::MatrixXd> C) {
+  check_sizes(model, data, zdd, ws, K, C);
+  const int n = model.num_bodies();
+
+  // Nominal pass. Zdot_j = Zdot_parent + b_j zdd_j + d_j (Eq. 3), and the
+  // body residuals h_j (Eqs. 9-10 with the weight as the applied load).
+  for (int j = 0; j < n; ++j) {
+    const Body& body = model.bodies[j];
+    const int p = body.parent;
+    const Vector6d Zdot_P = p == kGround ? Vector6d::Zero() : ws.Zdot[p];
+    ws.Zdot[j] = Zdot_P + data.b[j] * zdd[j] + data.d[j];
+    ws.J[j] = data.R_W_B[j] * body.inertia_B * data.R_W_B[j].transpose();
+    ws.gdot[j] = twist_at(data.Z[j], data.g_W[j]);  // Eq. (6)
+    BodyState s = body_state(model, data, ws, j);
+    ws.h[j] = body_residual(s, ws.Zdot[j], body.mass * model.gravity);
+    ws.H[j] = ws.h[j];
+  }
+  for (int j = n - 1; j >= 0; --j) {  // T^T of Eq. (12): subtree sums
+    const int p = model.bodies[j].parent;
+    if (p != kGround) ws.H[p] += ws.H[j];
+  }
+  for (int i = 0; i < n; ++i) ws.residual[i] = data.b[i].dot(ws.H[i]);  // R_d^T, Eq. (12)
+
+  fill_columns(model, data, false, ws, K);
+  fill_columns(model, data, true, ws, C);
+  for (const PointForceTerm& f : forces) add_point_force(model, data, f, ws, K, C);
+}
+
+}  // namespace mh
