@@ -313,10 +313,9 @@ mh_status host_evaluate_mechanics(const mh_host* host, const mh_mech_request* re
                                   mh_mech_result* result) {
   InstanceHost& h = self(host);
   const mh_mech_request rq = read_struct(request);
-  if (h.role != InstanceHost::Role::formulation || h.in_setup || request == nullptr ||
-      result == nullptr || rq.z == nullptr || rq.zd == nullptr) {
-    host_log(host, MH_LOG_ERROR,
-             "evaluate_mechanics: for a formulation after its setup, with z and zd");
+  if (h.role != InstanceHost::Role::formulation || request == nullptr || result == nullptr ||
+      rq.z == nullptr || rq.zd == nullptr) {
+    host_log(host, MH_LOG_ERROR, "evaluate_mechanics: for a formulation, with z and zd");
     return MH_ERROR;
   }
   Simulation::Engine& e = *h.engine;
@@ -487,7 +486,9 @@ mh_status Simulation::Engine::evaluate_mechanics(uint32_t flags, double t_eval, 
   data.z = zm;
   data.zd = zdm;
   forward_kinematics(model, data, data.z, data.zd);
-  const bool iterate = (flags & MH_EVAL_SUBSYSTEMS) != 0;
+  // The iterate's rows only inside a residual call (rows_target set); any
+  // other evaluation leaves them alone.
+  const bool iterate = (flags & MH_EVAL_SUBSYSTEMS) != 0 && rows_target != nullptr;
   if ((flags & (MH_EVAL_DYNAMICS | MH_EVAL_SUBSYSTEMS)) != 0) {
     reset_applied_forces(model, data);
     const mh_status st = evaluate_subsystems(t_eval, iterate ? rows_target : scratch_rows.data());

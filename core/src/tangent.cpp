@@ -81,6 +81,7 @@ mh_status Simulation::Engine::residual(double t_eval, const Eigen::VectorXd& xq,
   iterate_evaluated = false;
   const mh_status st = normalized(formulation.ops.residual(formulation.self, t_eval, xq.data(),
                                                            xd.data(), xdd.data(), rq.data()));
+  rows_target = nullptr;
   if (status_ok(st) && !iterate_evaluated) {
     last_plugin_error = "formulation '" + formulation_name +
                         "' broke the ABI contract: its residual did not call "

@@ -70,7 +70,8 @@ typedef struct mh_formulation {
   mh_status (*residual)(const struct mh_formulation* self, double t, const double* x,
                         const double* xd, const double* xdd, double* r);
 
-  /* Optional (NULL: the host differences `residual`, Eqs. 40-41). Analytic
+  /* Optional (NULL: the host differences `residual` along the integrator's
+   * map, x perturbed and xd, xdd following it, Eqs. 40-41). Analytic
    * blocks at the arguments of the last residual call, holding the subsystem
    * states fixed: dr_dx, dr_dxd, dr_dxdd, dense column-major n x n, zero on
    * entry. The formulation sets column_given[j] = 1 for each column j it wrote
@@ -87,7 +88,9 @@ typedef struct mh_formulation {
    * formulation may correct xd and xdd in place (e.g. the projections of Eqs.
    * 20-21), or redefine its unknowns (*flags |= MH_ACCEPT_REDEFINED, with x,
    * xd, xdd rewritten); the integrator continues from what it leaves there.
-   * *flags is 0 on entry. */
+   * *flags is 0 on entry. MH_DISCARD: the step is not accepted (nothing was
+   * committed) and the host treats it as a failed step. The coefficients are
+   * those of the step's map (every implicit integrator gives all three > 0). */
   mh_status (*accept)(const struct mh_formulation* self, double t,
                       const mh_step_coefficients* coefficients, double* x, double* xd, double* xdd,
                       uint32_t* flags);
@@ -96,7 +99,8 @@ typedef struct mh_formulation {
   mh_status (*coordinates)(const struct mh_formulation* self, double* z, double* zd, double* zdd);
 
   /* Optional: writes the values of the outputs it declared, at the accepted
-   * state, into outputs[index] (num_outputs: the run's total). */
+   * state (after start and after each accept), into outputs[index]
+   * (num_outputs: the run's total). */
   mh_status (*write_outputs)(const struct mh_formulation* self, double* outputs,
                              uint32_t num_outputs);
 

@@ -9,7 +9,7 @@
  *
  * Structs the plugin hands in (specs, results to fill) begin with struct_size
  * = sizeof of the plugin's SDK: the host reads and writes them only up to that
- * size (types.h). */
+ * size (types.h). The host copies every string of a spec during the call. */
 #ifndef MONOHYDRA_HOST_H
 #define MONOHYDRA_HOST_H
 
@@ -199,12 +199,13 @@ typedef struct mh_host {
    * order). The host's integrator ties its rates to it by its kind. */
   mh_status (*add_unknown)(const struct mh_host* host, const mh_unknown_spec* spec, int32_t* index);
 
-  /* -- formulation, after setup ---------------------------------------------- */
+  /* -- formulation, from its setup on --------------------------------------- */
   /* Evaluates the core's semirecursive kinematics and dynamics at (t, z, zd).
    * Inside mh_formulation.residual the formulation calls it with
    * MH_EVAL_SUBSYSTEMS exactly once, at the coordinates of the Newton iterate
-   * (which also fills the subsystem residual rows); other calls may come as
-   * often as needed and leave the subsystems untouched. */
+   * (which also fills the subsystem residual rows); other calls (also during
+   * setup, e.g. to partition Phi_z(z0)) may come as often as needed and leave
+   * the subsystems' rows untouched. */
   mh_status (*evaluate_mechanics)(const struct mh_host* host, const mh_mech_request* request,
                                   mh_mech_result* result);
 } mh_host;
