@@ -48,12 +48,13 @@ template <class T>
 const mh_formulation* create_formulation(const mh_host* host, const mh_formulation& ops) noexcept {
   T* data = nullptr;
   const mh_status made = guarded(host, "creating the formulation", [&] {
-    data = new T;
+    data = new (std::nothrow) T;  // T's constructor may still throw: guarded
     return MH_OK;
   });
-  auto* f = made == MH_OK ? new (std::nothrow) mh_formulation(ops) : nullptr;
+  if (made != MH_OK) return nullptr;
+  auto* f = data != nullptr ? new (std::nothrow) mh_formulation(ops) : nullptr;
   if (f == nullptr) {
-    if (made == MH_OK) host->log(host, MH_LOG_ERROR, "creating the formulation: out of memory");
+    host->log(host, MH_LOG_ERROR, "creating the formulation: out of memory");
     delete data;
     return nullptr;
   }
