@@ -1,9 +1,12 @@
 // The double-step semirecursive formulation (Sect. 2.2 and Sect. 4): coordinate
 // partitioning. Full pivoting on Phi_z picks the f independent coordinates z^i
-// (the Newton unknowns, x = z^i_{k+1}); every residual evaluation then takes two
-// steps: the dependent coordinates z^d from Phi(z) = 0 by Newton-Raphson, then
-// the reduced equations of motion M'' zdd^i = Q'' (Eq. 17) under the
-// trapezoidal rule with positions as primary unknowns (Eqs. 32-35, 38).
+// (the Newton unknowns x = z^i, second order: the host's integrator ties
+// xd = zd^i and xdd = zdd^i to them, by default the trapezoidal rule, Eqs.
+// 32-34); every residual evaluation then takes two steps: the dependent
+// coordinates z^d from Phi(z) = 0 by Newton-Raphson, then the reduced
+// equations of motion M'' zdd^i = Q'' (Eq. 17), the rows r = M'' zdd^i - Q''
+// (Eq. 38 without its dt^2/4). Outputs: independent1..independent_f (the
+// 1-based index of each independent coordinate in use) and repartitions.
 //
 // Files: coordinate_partition.* (the choice of z^i and of the rows kept),
 // dependent_coordinates.* (Newton on Phi(z) = 0), velocity_transformation.*
@@ -42,16 +45,19 @@ constexpr double kRepartitionGain = 2.0;
 
 struct DoubleStep {
   const mh_host* host = nullptr;
-  int N = 0;  // coordinates
-  int m = 0;  // constraint rows
-  int r = 0;  // rank of Phi_z: rows kept, dependent coordinates
-  int f = 0;  // degrees of freedom: independent coordinates, Newton unknowns
-  double dt = 0.0;
-  double tolerance = 0.0;  // on x = z^i; NaN until start when the option is absent
+  int N = 0;               // coordinates
+  int m = 0;               // constraint rows
+  int r = 0;               // rank of Phi_z: rows kept, dependent coordinates
+  int f = 0;               // degrees of freedom: independent coordinates, Newton unknowns
+  double t0 = 0.0;         // the initial time (mech_info)
+  double t_k = 0.0;        // the last accepted time (start, accept)
+  double tolerance = 0.0;  // on x = z^i: the option, else the model's position tolerance
   double position_tolerance = kDefaultPositionTolerance;
   int max_position_iterations = kDefaultMaxPositionIterations;
   double repartition_rcond = kDefaultRepartitionRcond;
   std::vector<std::string> names;
+  std::vector<bool> is_angle;
+  Eigen::VectorXd z0, zd0;         // N: the host's assembled initial state (mech_info)
   std::string independent_option;  // the user's initial z^i, when given
 
   Partition partition, candidate;
@@ -67,12 +73,17 @@ struct DoubleStep {
   double det_sign = 0.0;
 
   Eigen::VectorXd z, zd, zdd;           // accepted at t_k, all N coordinates
-  Eigen::VectorXd zd_hat, zdd_hat;      // f: Eq. (34) for z^i
-  Eigen::VectorXd z_pred;               // N: z_k + zd_k dt + zdd_k dt^2 / 2
+  Eigen::VectorXd z_pred;               // N: z_k + zd_k h + zdd_k h^2 / 2
   Eigen::VectorXd z_it, zd_it, zdd_it;  // N: at the last evaluated iterate
-  Eigen::VectorXd x_it;                 // f: that iterate's x
+  Eigen::VectorXd x_it, xd_it, xdd_it;  // f: that iterate's x, xd, xdd
   Eigen::VectorXd zdd_i;                // f: scratch
   bool iterate_valid = false;
+
+  // Outputs: names (the host may keep the pointers) and indices.
+  std::vector<std::string> output_names;  // independent1..independent_f
+  std::vector<int32_t> independent_out;   // f
+  int32_t repartitions_out = -1;
+  int repartitions = 0;
 };
 
 DoubleStep& self(const mh_formulation* f) {
@@ -85,15 +96,8 @@ void log_error(const DoubleStep& s, const std::string& message) {
 
 // Runs an operation with no exception crossing the C boundary.
 template <class Op>
-mh_status guarded(const DoubleStep& s, const char* what, Op&& op) {
-  try {
-    return op();
-  } catch (const std::exception& e) {
-    log_error(s, std::string(what) + ": " + e.what());
-  } catch (...) {
-    log_error(s, std::string(what) + ": unknown exception");
-  }
-  return MH_ERROR;
+mh_status guarded(const DoubleStep& s, const char* what, Op&& op) noexcept {
+  return monohydra::guarded(s.host, what, std::forward<Op>(op));
 }
 
 // ---------------------------------------------------------------- setup ----
@@ -163,7 +167,7 @@ bool parse_independent(DoubleStep& s, std::vector<int>& out) {
 void size_buffers(DoubleStep& s) {
   for (Eigen::VectorXd* v : {&s.z, &s.zd, &s.zdd, &s.z_pred, &s.z_it, &s.zd_it, &s.zdd_it})
     v->setZero(s.N);
-  for (Eigen::VectorXd* v : {&s.zd_hat, &s.zdd_hat, &s.x_it, &s.zdd_i}) v->setZero(s.f);
+  for (Eigen::VectorXd* v : {&s.x_it, &s.xd_it, &s.xdd_it, &s.zdd_i}) v->setZero(s.f);
   s.dependent.resize(s.m, s.N, s.r);
   s.transform.resize(s.N, s.r);
   s.transform.set_partition(s.partition);
@@ -172,7 +176,29 @@ void size_buffers(DoubleStep& s) {
   size_partition(s.candidate, s.N, s.r);
 }
 
-mh_status setup(const mh_formulation* fo, uint32_t* num_unknowns) {
+// The unknowns x = z^i (second order, named after the coordinates chosen now)
+// and the outputs.
+mh_status declare(DoubleStep& s) {
+  for (int k = 0; k < s.f; ++k) {
+    const auto i = static_cast<size_t>(s.partition.independent[static_cast<size_t>(k)]);
+    const mh_unknown_spec spec = monohydra::unknown_spec(
+        s.names[i].c_str(), s.is_angle[i] ? "rad" : "m", MH_UNKNOWN_SECOND_ORDER, s.tolerance);
+    int32_t index = -1;
+    if (s.host->add_unknown(s.host, &spec, &index) != MH_OK) return MH_ERROR;
+  }
+  s.output_names.clear();
+  for (int k = 1; k <= s.f; ++k) s.output_names.push_back("independent" + std::to_string(k));
+  s.independent_out.assign(static_cast<size_t>(s.f), -1);
+  for (size_t k = 0; k < s.independent_out.size(); ++k) {
+    const mh_output_spec spec =
+        monohydra::output_spec(s.output_names[k].c_str(), "", MH_OUTPUT_COORDINATE);
+    if (s.host->add_output(s.host, &spec, &s.independent_out[k]) != MH_OK) return MH_ERROR;
+  }
+  const mh_output_spec spec = monohydra::output_spec("repartitions", "", MH_OUTPUT_COUNTER);
+  return s.host->add_output(s.host, &spec, &s.repartitions_out);
+}
+
+mh_status setup(const mh_formulation* fo) noexcept {
   DoubleStep& s = self(fo);
   return guarded(s, "setup", [&]() -> mh_status {
     mh_mech_info info{};
@@ -190,17 +216,23 @@ mh_status setup(const mh_formulation* fo, uint32_t* num_unknowns) {
                 "the coordinates of closed loops; use open-loop for a tree");
       return MH_ERROR;
     }
-    if (info.z0 == nullptr || info.zd0 == nullptr || info.coordinate_names == nullptr) {
+    if (info.z0 == nullptr || info.zd0 == nullptr || info.coordinate_names == nullptr ||
+        info.coordinate_is_angle == nullptr) {
       log_error(s,
                 "the host gave no assembled initial coordinates (mech_info z0, zd0): "
                 "they are needed to choose the independent coordinates");
       return MH_ERROR;
     }
     s.names.assign(info.coordinate_names, info.coordinate_names + s.N);
+    s.is_angle.assign(info.coordinate_is_angle, info.coordinate_is_angle + s.N);
+    s.t0 = info.t0;
+    s.z0 = Eigen::Map<const Eigen::VectorXd>(info.z0, s.N);
+    s.zd0 = Eigen::Map<const Eigen::VectorXd>(info.zd0, s.N);
+    if (std::isnan(s.tolerance)) s.tolerance = info.position_tolerance;  // the default
 
     // Full pivoting on Phi_z(z0) chooses z^d and z^i (Sect. 2.2).
     mh_mech_result rs{};
-    const mh_status st = evaluate(s.host, MH_EVAL_CONSTRAINTS, 0.0, info.z0, info.zd0, rs);
+    const mh_status st = evaluate(s.host, MH_EVAL_CONSTRAINTS, s.t0, info.z0, info.zd0, rs);
     if (st >= MH_DISCARD) return st;
     s.full_lu = Eigen::FullPivLU<Eigen::MatrixXd>(s.m, s.N);
     s.r = factor_full_pivoting(Eigen::Map<const Eigen::MatrixXd>(rs.phi_z, s.m, s.N), s.full_lu);
@@ -244,8 +276,7 @@ mh_status setup(const mh_formulation* fo, uint32_t* num_unknowns) {
     log(s.host, MH_LOG_INFO,
         "independent coordinates: " + coordinate_list(s.partition.independent, s.names) + origin);
     size_buffers(s);
-    *num_unknowns = static_cast<uint32_t>(s.f);
-    return MH_OK;
+    return declare(s);
   });
 }
 
@@ -298,52 +329,58 @@ mh_status two_steps(DoubleStep& s, double t, uint32_t flags) {
   return MH_OK;
 }
 
-// The iterate x = z^i_{k+1}: rates and accelerations by Eq. (33), z^d from the
-// estimate of step k, then the two steps and zdd^d (Eq. 15).
-mh_status evaluate_iterate(DoubleStep& s, double t, const double* x, uint32_t flags) {
-  const double dt = s.dt;
+// The iterate x = z^i with the integrator's xd = zd^i, xdd = zdd^i (Eq. 33 for
+// the trapezoidal rule), z^d from the step's estimate, then the two steps and
+// zdd^d (Eq. 15).
+mh_status evaluate_iterate(DoubleStep& s, double t, const double* x, const double* xd,
+                           const double* xdd, uint32_t flags) {
   s.iterate_valid = false;
   s.z_it = s.z_pred;  // the dependent entries start from the estimate
   for (int k = 0; k < s.f; ++k) {
     const int i = s.partition.independent[static_cast<size_t>(k)];
     s.z_it[i] = x[k];
-    s.zd_it[i] = (2.0 / dt) * x[k] + s.zd_hat[k];           // Eq. (33)
-    s.zdd_it[i] = (4.0 / (dt * dt)) * x[k] + s.zdd_hat[k];  // Eq. (33)
+    s.zd_it[i] = xd[k];
+    s.zdd_it[i] = xdd[k];
   }
   const mh_status st = two_steps(s, t, flags);
   if (st >= MH_DISCARD) return st;
   s.transform.accelerations(s.partition, s.zdd_it);  // Eq. (15)
   s.x_it = Eigen::Map<const Eigen::VectorXd>(x, s.f);
+  s.xd_it = Eigen::Map<const Eigen::VectorXd>(xd, s.f);
+  s.xdd_it = Eigen::Map<const Eigen::VectorXd>(xdd, s.f);
   s.iterate_valid = true;
   return MH_OK;
 }
 
+// True when the last evaluated iterate was at (x, xd, xdd).
+bool is_last_iterate(const DoubleStep& s, const double* x, const double* xd, const double* xdd) {
+  using Map = Eigen::Map<const Eigen::VectorXd>;
+  return s.iterate_valid && s.x_it == Map(x, s.f) && s.xd_it == Map(xd, s.f) &&
+         s.xdd_it == Map(xdd, s.f);
+}
+
+// x, xd, xdd (f each) from the accepted z, zd, zdd on the current partition.
+void write_unknowns(const DoubleStep& s, double* x, double* xd, double* xdd) {
+  for (int k = 0; k < s.f; ++k) {
+    const int i = s.partition.independent[static_cast<size_t>(k)];
+    x[k] = s.z[i];
+    xd[k] = s.zd[i];
+    xdd[k] = s.zdd[i];
+  }
+}
+
 // ------------------------------------------------------------- start ----
 
-mh_status start(const mh_formulation* fo, double t0, double dt, const double* z0, const double* zd0,
-                double* abs_tolerance) {
+mh_status start(const mh_formulation* fo, double* x0, double* xd0, double* xdd0) noexcept {
   DoubleStep& s = self(fo);
   return guarded(s, "start", [&]() -> mh_status {
-    if (!(dt > 0.0)) {
-      log_error(s, "the time step must be positive");
-      return MH_ERROR;
-    }
-    s.dt = dt;
-    if (std::isnan(s.tolerance)) {  // default: the model's position tolerance now
-      mh_mech_info info{};
-      info.struct_size = sizeof(info);
-      if (s.host->mech_info(s.host, &info) != MH_OK) return MH_ERROR;
-      s.tolerance = info.position_tolerance;
-    }
-    for (int k = 0; k < s.f; ++k) abs_tolerance[k] = s.tolerance;
-
     // Consistent initial state on this partition: z^d from Phi(z) = 0 with
     // z^i = z0^i (the host assembled z0, so this only polishes it), zd^d by
     // Eq. (13), then zdd^i from M'' zdd^i = Q'' (Eq. 17) and zdd^d by Eq. (15).
     s.det_sign = 0.0;  // no reference yet
-    s.z_it = Eigen::Map<const Eigen::VectorXd>(z0, s.N);
-    s.zd_it = Eigen::Map<const Eigen::VectorXd>(zd0, s.N);
-    const mh_status st = two_steps(s, t0, 0u);
+    s.z_it = s.z0;
+    s.zd_it = s.zd0;
+    const mh_status st = two_steps(s, s.t0, 0u);
     if (st >= MH_DISCARD) {
       log_error(s, "the initial state is not consistent on the chosen partition");
       return MH_ERROR;
@@ -359,8 +396,7 @@ mh_status start(const mh_formulation* fo, double t0, double dt, const double* z0
     for (int k = 0; k < s.f; ++k)
       s.zdd_it[s.partition.independent[static_cast<size_t>(k)]] = s.zdd_i[k];
     s.transform.accelerations(s.partition, s.zdd_it);  // Eq. (15)
-    const double moved =
-        (s.z_it - Eigen::Map<const Eigen::VectorXd>(z0, s.N)).lpNorm<Eigen::Infinity>();
+    const double moved = (s.z_it - s.z0).lpNorm<Eigen::Infinity>();
     if (moved > s.tolerance)
       log(s.host, MH_LOG_INFO,
           "start: dependent coordinates moved by up to " + fmt(moved) + " to close the loops");
@@ -370,50 +406,51 @@ mh_status start(const mh_formulation* fo, double t0, double dt, const double* z0
     s.iterate_valid = false;
     s.ill_conditioned_reported = false;
     s.det_sign = s.dependent.lu().determinant() > 0.0 ? 1.0 : -1.0;
+    s.t_k = s.t0;
+    s.repartitions = 0;
+    write_unknowns(s, x0, xd0, xdd0);
     return MH_OK;
   });
 }
 
 // ------------------------------------------------------------ the step ----
 
-mh_status predict(const mh_formulation* fo, double, double* x) {
+// The step to t_next begins from the accepted state at t_k: the estimate of
+// z_{k+1} the dependent Newton starts from (after Eq. 34), with h = t_next - t_k.
+mh_status begin_step(const mh_formulation* fo, double t_next, const double*, const double*,
+                     const double*) noexcept {
   DoubleStep& s = self(fo);
-  return guarded(s, "predict", [&]() -> mh_status {
+  return guarded(s, "begin_step", [&]() -> mh_status {
     const NoHeapScope no_heap;
-    const double dt = s.dt;
-    for (int k = 0; k < s.f; ++k) {
-      const int i = s.partition.independent[static_cast<size_t>(k)];
-      x[k] = s.z[i] + dt * s.zd[i] + 0.5 * dt * dt * s.zdd[i];  // after Eq. (34)
-      s.zd_hat[k] = -((2.0 / dt) * s.z[i] + s.zd[i]);           // Eq. (34)
-      s.zdd_hat[k] = -((4.0 / (dt * dt)) * s.z[i] + (4.0 / dt) * s.zd[i] + s.zdd[i]);  // Eq. (34)
-    }
-    // The estimate of z^d_{k+1} the dependent Newton starts from (after Eq. 34).
-    s.z_pred = s.z + dt * s.zd + (0.5 * dt * dt) * s.zdd;
+    const double h = t_next - s.t_k;
+    s.z_pred = s.z + h * s.zd + (0.5 * h * h) * s.zdd;
     s.iterate_valid = false;
     return MH_OK;
   });
 }
 
-mh_status residual(const mh_formulation* fo, double t_next, const double* x, double* r) {
+mh_status residual(const mh_formulation* fo, double t, const double* x, const double* xd,
+                   const double* xdd, double* r) noexcept {
   DoubleStep& s = self(fo);
   return guarded(s, "residual", [&]() -> mh_status {
     const NoHeapScope no_heap;
-    const mh_status st = evaluate_iterate(s, t_next, x, MH_EVAL_SUBSYSTEMS);
+    const mh_status st = evaluate_iterate(s, t, x, xd, xdd, MH_EVAL_SUBSYSTEMS);
     if (st >= MH_DISCARD) return st;
     for (int k = 0; k < s.f; ++k)
       s.zdd_i[k] = s.zdd_it[s.partition.independent[static_cast<size_t>(k)]];
-    // Eq. (38): dt^2/4 (M'' zdd^i - Q''), the mechanical rows of Eq. (35).
+    // Eq. (17) as rows (Eq. 38 without dt^2/4): M'' zdd^i - Q''.
     Eigen::Map<Eigen::VectorXd> rows(r, s.f);
-    rows = s.transform.Q_reduced();
-    rows.noalias() -= s.transform.M_reduced() * s.zdd_i;
-    rows *= -0.25 * s.dt * s.dt;
+    rows.noalias() = s.transform.M_reduced() * s.zdd_i;
+    rows -= s.transform.Q_reduced();
     return MH_OK;
   });
 }
 
 // After an accepted step: is Phi_z^d still well conditioned? If not, choose the
-// independent coordinates again by full pivoting at the accepted z.
-mh_status check_partition(DoubleStep& s, double t) {
+// independent coordinates again by full pivoting at the accepted z;
+// *changed tells whether it did.
+mh_status check_partition(DoubleStep& s, double t, bool* changed) {
+  *changed = false;
   s.block_lu.compute(s.dependent.phi_z_d());  // at the accepted z (r x r, no reallocation)
   const double ratio = pivot_ratio(s.block_lu);
   if (ratio >= s.repartition_rcond) return MH_OK;
@@ -466,39 +503,68 @@ mh_status check_partition(DoubleStep& s, double t) {
   s.block_lu.compute(s.block);
   s.det_sign = s.block_lu.determinant() > 0.0 ? 1.0 : -1.0;
   s.ill_conditioned_reported = false;
+  ++s.repartitions;
+  *changed = true;
   log(s.host, MH_LOG_WARNING, message);
   return MH_OK;
 }
 
-mh_status accept(const mh_formulation* fo, double t_next, const double* x) {
+// The step converged: commit the full z, zd, zdd (the next step's estimate),
+// then check the partition. A re-partition redefines the unknowns: x, xd, xdd
+// become the new independent coordinates' z, zd, zdd.
+mh_status accept(const mh_formulation* fo, double t, const mh_step_coefficients*, double* x,
+                 double* xd, double* xdd, uint32_t* flags) noexcept {
   DoubleStep& s = self(fo);
   return guarded(s, "accept", [&]() -> mh_status {
     const NoHeapScope no_heap;
-    // The host's last residual call was at the converged x; should it not have
-    // been, evaluate x again (without the subsystems' rows: they are recorded).
-    if (!s.iterate_valid || s.x_it != Eigen::Map<const Eigen::VectorXd>(x, s.f)) {
-      const mh_status st = evaluate_iterate(s, t_next, x, 0u);
+    // The host's last residual call was at the converged iterate; should it not
+    // have been, evaluate it again (without the subsystems' rows: they are recorded).
+    if (!is_last_iterate(s, x, xd, xdd)) {
+      const mh_status st = evaluate_iterate(s, t, x, xd, xdd, 0u);
       if (st >= MH_DISCARD) return st;
     }
-    // The full z, zd, zdd at t_{k+1} seed the next step's hats and estimate.
     s.z = s.z_it;
     s.zd = s.zd_it;
     s.zdd = s.zdd_it;
+    s.t_k = t;
     s.iterate_valid = false;
     s.det_sign = s.dependent.lu().determinant() > 0.0 ? 1.0 : -1.0;
-    return check_partition(s, t_next);
+    bool changed = false;
+    const mh_status st = check_partition(s, t, &changed);
+    if (st >= MH_DISCARD) return st;
+    if (changed) {
+      *flags |= MH_ACCEPT_REDEFINED;
+      write_unknowns(s, x, xd, xdd);
+    }
+    return st;
   });
 }
 
-mh_status coordinates(const mh_formulation* fo, double* z, double* zd, double* zdd) {
+mh_status coordinates(const mh_formulation* fo, double* z, double* zd, double* zdd) noexcept {
   const DoubleStep& s = self(fo);
-  Eigen::Map<Eigen::VectorXd>(z, s.N) = s.z;
-  Eigen::Map<Eigen::VectorXd>(zd, s.N) = s.zd;
-  Eigen::Map<Eigen::VectorXd>(zdd, s.N) = s.zdd;
-  return MH_OK;
+  return guarded(s, "coordinates", [&]() -> mh_status {
+    Eigen::Map<Eigen::VectorXd>(z, s.N) = s.z;
+    Eigen::Map<Eigen::VectorXd>(zd, s.N) = s.zd;
+    Eigen::Map<Eigen::VectorXd>(zdd, s.N) = s.zdd;
+    return MH_OK;
+  });
 }
 
-const void* get_extension(const mh_formulation*, const char*) {
+// The independent coordinates in use (1-based) and the re-partitions so far.
+mh_status write_outputs(const mh_formulation* fo, double* outputs, uint32_t num_outputs) noexcept {
+  const DoubleStep& s = self(fo);
+  return guarded(s, "write_outputs", [&]() -> mh_status {
+    const auto put = [&](int32_t index, double value) {
+      if (index >= 0 && static_cast<uint32_t>(index) < num_outputs) outputs[index] = value;
+    };
+    for (size_t k = 0; k < s.independent_out.size(); ++k)
+      put(s.independent_out[k], s.partition.independent[k] + 1.0);
+    put(s.repartitions_out, s.repartitions);
+    return MH_OK;
+  });
+}
+
+const void* get_extension(const mh_formulation*, const char*) noexcept {
   return nullptr;
 }
 
@@ -509,11 +575,12 @@ const mh_component_descriptor kDescriptor{
     "double-step",
     "Double-step semirecursive formulation (coordinate partitioning)",
     "monohydra",
-    "1.0.0",
+    "2.0.0",
     "Closed loops by coordinate partitioning (Sect. 2.2): full pivoting on Phi_z picks the "
-    "independent coordinates, the Newton unknowns; the dependent ones come from Phi(z) = 0 by "
-    "Newton-Raphson in every residual; reduced equations M'' zdd^i = Q'' (Eq. 17) under the "
-    "trapezoidal rule (Eqs. 32-35, 38)."};
+    "independent coordinates, the second-order Newton unknowns of the host's integrator; the "
+    "dependent ones come from Phi(z) = 0 by Newton-Raphson in every residual; reduced "
+    "equations M'' zdd^i = Q'' (Eq. 17). Outputs: independent1..independent_f, "
+    "repartitions."};
 
 // The instance's operations; every instance gets a copy with its own state.
 const mh_formulation kOps = [] {
@@ -522,12 +589,13 @@ const mh_formulation kOps = [] {
   f.descriptor = &kDescriptor;
   f.setup = setup;
   f.start = start;
-  f.predict = predict;
+  f.begin_step = begin_step;
   f.residual = residual;
   f.tangent = nullptr;  // forward differences by the host (Eqs. 40-41)
   f.iteration_done = nullptr;
   f.accept = accept;
   f.coordinates = coordinates;
+  f.write_outputs = write_outputs;
   f.destroy = monohydra::destroy_formulation<DoubleStep>;
   f.get_extension = get_extension;
   return f;

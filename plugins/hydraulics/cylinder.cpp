@@ -52,7 +52,6 @@ class Cylinder {
     a2_ = 0.25 * kPi * d2 * d2;
     a3_ = 0.25 * kPi * (d2 * d2 - d3 * d3);
     compliance_ = 1.0 / fluid + 1.0 / chamber;
-    if (!has_ports(h, "cylinder")) return MH_ERROR;
 
     double xa[3], xb[3];
     if (h->add_point(h, "a", &point_a_) != MH_OK || h->add_point(h, "b", &point_b_) != MH_OK ||
@@ -74,9 +73,11 @@ class Cylinder {
     states_.add(p_a_);
     if (add_hydraulic_port(h, "B", MH_PORT_FLOW, kNaN, kNaN, &p_b_) != MH_OK) return MH_ERROR;
     states_.add(p_b_);
-    if (h->add_output(h, "s", "m", &s_out_) != MH_OK ||
-        h->add_output(h, "sdot", "m/s", &sdot_out_) != MH_OK ||
-        h->add_output(h, "Fs", "N", &force_out_) != MH_OK)
+    const mh_output_spec s = monohydra::output_spec("s", "m");
+    const mh_output_spec sdot = monohydra::output_spec("sdot", "m/s");
+    const mh_output_spec force = monohydra::output_spec("Fs", "N");
+    if (h->add_output(h, &s, &s_out_) != MH_OK || h->add_output(h, &sdot, &sdot_out_) != MH_OK ||
+        h->add_output(h, &force, &force_out_) != MH_OK)
       return MH_ERROR;
     return MH_OK;
   }

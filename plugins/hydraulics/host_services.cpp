@@ -3,7 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "monohydra/cpp/subsystem_component.hpp"
+#include "monohydra/host.h"
 
 namespace hyd {
 
@@ -12,20 +12,6 @@ mh_status positive_option(const mh_host* host, const char* key, int required, do
   if (host->option_number(host, key, required, fallback, out) != MH_OK) return MH_ERROR;
   if (!(std::isfinite(*out) && *out > 0.0)) return host->option_error(host, key, expected);
   return MH_OK;
-}
-
-bool has_ports(const mh_host* host, const char* component) {
-  // point_position follows add_port in the table: a host that has it has both.
-  if (MONOHYDRA_HAS_FIELD(mh_host, host, point_position)) return true;
-  log_error(host, std::string(component) +
-                      " needs a host of ABI 1.1 or newer (hydraulic ports); this host is " +
-                      std::to_string(host->abi_version.major) + "." +
-                      std::to_string(host->abi_version.minor));
-  return false;
-}
-
-bool has_time_events(const mh_host* host) {
-  return MONOHYDRA_HAS_FIELD(mh_host, host, add_time_event);
 }
 
 mh_status add_hydraulic_port(const mh_host* host, const char* key, uint32_t role, double initial,

@@ -30,11 +30,11 @@ class PressureSource {
         positive_option(h, "flow_tolerance", 0, 1e-10, "a positive flow tolerance (m^3/s)",
                         &flow_tolerance) != MH_OK)
       return MH_ERROR;
-    if (!has_ports(h, "pressure-source")) return MH_ERROR;
     if (add_hydraulic_port(h, "p", MH_PORT_EFFORT, pressure_, tolerance, &p_) != MH_OK)
       return MH_ERROR;
     states_.add(p_);
-    if (h->add_state(h, "q", 0.0, flow_tolerance, "m^3/s", &q_) != MH_OK) return MH_ERROR;
+    const mh_state_spec q = monohydra::state_spec("q", "m^3/s", 0.0, flow_tolerance);
+    if (h->add_state(h, &q, &q_) != MH_OK) return MH_ERROR;
     states_.add(q_);
     return MH_OK;
   }

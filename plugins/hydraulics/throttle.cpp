@@ -32,12 +32,12 @@ class Throttle {
       return MH_ERROR;
     c_vt_ = cd * area * std::sqrt(2.0 / rho);  // Eq. 25
     law_ = OrificeFlow(p_tr);
-    if (!has_ports(h, "throttle")) return MH_ERROR;
     if (add_hydraulic_port(h, "a", MH_PORT_FLOW, kNaN, kNaN, &a_) != MH_OK) return MH_ERROR;
     states_.add(a_);
     if (add_hydraulic_port(h, "b", MH_PORT_FLOW, kNaN, kNaN, &b_) != MH_OK) return MH_ERROR;
     states_.add(b_);
-    if (h->add_output(h, "q", "m^3/s", &q_out_) != MH_OK) return MH_ERROR;
+    const mh_output_spec q = monohydra::output_spec("q", "m^3/s");
+    if (h->add_output(h, &q, &q_out_) != MH_OK) return MH_ERROR;
     return MH_OK;
   }
 

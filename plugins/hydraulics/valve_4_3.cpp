@@ -51,7 +51,6 @@ class Valve43 {
     if (!std::isfinite(u0))
       return h->option_error(h, "initial_spool", "a finite spool position (V)");
     law_ = OrificeFlow(p_tr);
-    if (!has_ports(h, "valve-4-3")) return MH_ERROR;
     if (add_hydraulic_port(h, "P", MH_PORT_FLOW, kNaN, kNaN, &p_) != MH_OK) return MH_ERROR;
     states_.add(p_);
     if (add_hydraulic_port(h, "T", MH_PORT_FLOW, kNaN, kNaN, &t_) != MH_OK) return MH_ERROR;
@@ -60,15 +59,20 @@ class Valve43 {
     states_.add(a_);
     if (add_hydraulic_port(h, "B", MH_PORT_FLOW, kNaN, kNaN, &b_) != MH_OK) return MH_ERROR;
     states_.add(b_);
-    if (h->add_state(h, "U", u0, tolerance, "V", &u_) != MH_OK) return MH_ERROR;
+    // The spool is the control signal the reference drives: its range is the
+    // reference's, [-U_max, U_max] with U_max = spool_limit (10 V by default).
+    mh_state_spec spool = monohydra::state_spec("U", "V", u0, tolerance);
+    spool.role = MH_ROLE_CONTROL_SIGNAL;
+    spool.range_min = -limit_;
+    spool.range_max = limit_;
+    if (h->add_state(h, &spool, &u_) != MH_OK) return MH_ERROR;
     states_.add(u_);
-    if (h->add_output(h, "U_ref", "V", &u_ref_out_) != MH_OK) return MH_ERROR;
+    const mh_output_spec u_ref = monohydra::output_spec("U_ref", "V");
+    if (h->add_output(h, &u_ref, &u_ref_out_) != MH_OK) return MH_ERROR;
     // The reference's steps: the host lands a step end on each and restarts the
-    // rates there. A host without time events still runs, only less accurately.
-    if (has_time_events(h)) {
-      for (double t : reference_.jump_times())
-        if (h->add_time_event(h, t) != MH_OK) return MH_ERROR;
-    }
+    // integrator there.
+    for (double t : reference_.jump_times())
+      if (h->add_time_event(h, t) != MH_OK) return MH_ERROR;
     return MH_OK;
   }
 
@@ -142,7 +146,8 @@ const mh_component_descriptor Valve43::kDescriptor{
     "U < 0 (Eq. 26). Options: flow_coefficient (m^3/(s sqrt(Pa) V)), time_constant (s), "
     "reference (rows [t (s), U_ref (V)], linear between rows, a repeated time is a step), "
     "transition_pressure (Pa, default 2e5), initial_spool (V, default 0), tolerance (V, default "
-    "1e-7), spool_limit (V, default 10). Output U_ref (V)."};
+    "1e-7), spool_limit (V, default 10). Output U_ref (V). U is a control signal of range "
+    "[-spool_limit, spool_limit]."};
 
 }  // namespace
 

@@ -34,7 +34,6 @@ class Volume {
         h->option_number(h, "initial_pressure", 0, initial, &initial) != MH_OK)
       return MH_ERROR;
     capacitance_ = volume * (1.0 / fluid + 1.0 / wall);
-    if (!has_ports(h, "volume")) return MH_ERROR;
     if (add_hydraulic_port(h, "p", MH_PORT_FLOW, initial, tolerance, &p_) != MH_OK) return MH_ERROR;
     states_.add(p_);
     return MH_OK;

@@ -33,8 +33,9 @@ class Maxwell {
     if (l0_ < 0.0) return h->option_error(h, "free_length", "a non-negative length (m)");
     if (!(tol > 0.0)) return h->option_error(h, "tolerance", "a positive tolerance (m)");
     int32_t a = -1, b = -1;
+    const mh_state_spec delta = monohydra::state_spec("delta", "m", delta0, tol);
     if (h->add_point(h, "a", &a) != MH_OK || h->add_point(h, "b", &b) != MH_OK ||
-        h->add_state(h, "delta", delta0, tol, "m", &delta_) != MH_OK)
+        h->add_state(h, &delta, &delta_) != MH_OK)
       return MH_ERROR;
     return MH_OK;
   }

@@ -1,21 +1,22 @@
 // The penalty-based semirecursive formulation (Sect. 2.3 and Sect. 4): the
 // index-3 augmented Lagrangian with mass-orthogonal projections of Cuadrado
-// et al. [9, 10] in relative joint coordinates. All N coordinates z_{k+1} are
-// the Newton unknowns; the trapezoidal rule ties zd and zdd to them (Eqs.
-// 32-34); the residual is Eq. (39),
+// et al. [9, 10] in relative joint coordinates. All N coordinates z are
+// second-order Newton unknowns; the host's integrator ties zd and zdd at the
+// step's end to them (the trapezoidal rule, Eqs. 32-34, by default); the
+// residual is Eq. (18), i.e. Eq. (39) without its dt^2/4 factor,
 //
-//   r = dt^2/4 (M' zdd + Phi_z^T alpha Phi + Phi_z^T lambda - Q'),
+//   r = M' zdd + Phi_z^T (alpha Phi + lambda) - Q',
 //
 // the multipliers are updated after every Newton update (Eq. 19), and the
-// converged velocities and accelerations are projected (Eqs. 20-21,
-// projections.hpp). This file holds the instance, its ops, the factory and
-// the entry symbol.
+// converged velocities and accelerations are projected in place (Eqs. 20-21,
+// projections.hpp). Outputs: the multipliers lambda1..lambda_m and the
+// constraint velocity violation phi_dot_norm = ||Phi_z zd||. This file holds
+// the instance, its ops, the factory and the entry symbol.
 #include <Eigen/Core>
-#include <cmath>
 #include <cstdio>
-#include <exception>
-#include <new>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "constraint_terms.hpp"
 #include "initial_accelerations.hpp"
@@ -34,32 +35,34 @@ struct Penalty {
   double alpha = 1e11;      // penalty factor, one for every constraint (Eq. 18)
   double tol = 1e-7;        // Newton tolerance on every z_i (rad or m)
   bool projections = true;  // Eqs. (20)-(21)
-  // Sizes.
+  // Sizes and the initial time (setup, from mech_info).
   int N = 0;  // coordinates = Newton unknowns
   int m = 0;  // constraint rows
-  double dt = 0.0;
-  // Accepted at t_k (velocities and accelerations as projected).
+  double t0 = 0.0;
+  // Accepted (velocities and accelerations as projected); z0, zd0 after setup.
   Eigen::VectorXd z, zd, zdd;
   Eigen::VectorXd lambda_k;  // multipliers at t_k: lambda_{k+1}^(0) (Eq. 19)
   // The step being solved.
   Eigen::VectorXd lambda;            // lambda_{k+1}^(h), Eq. (19)
-  Eigen::VectorXd zd_hat, zdd_hat;   // Eq. (34)
-  Eigen::VectorXd zd_it, zdd_it;     // Eq. (33) at the iterate
   Eigen::VectorXd multiplier_force;  // alpha Phi + lambda (m)
   // M' and Phi_z of the last residual call and the x they belong to: accept()
-  // reuses them for the projections when it is called at that same x (the
-  // host's converged iterate is the x of its last residual call).
+  // reuses them for the projections and phi_dot_norm when it is called at that
+  // same x (the host's converged iterate is the x of its last residual call).
   Eigen::VectorXd x_last;
   Eigen::MatrixXd M_last, phi_z_last;
   bool last_valid = false;
-  // accept()'s results before they are committed.
+  // accept()'s rates: the integrator's zd', zdd' and the projected ones,
+  // before they are committed and written back.
   Eigen::VectorXd zd_prime, zdd_prime, zd_new, zdd_new;
   Projector projector;
+  // Outputs: their names (the host may keep the pointers), indices and the
+  // values at the accepted state, cached by start and accept.
+  std::vector<std::string> output_names;  // lambda1..lambda_m
+  std::vector<int32_t> lambda_out;        // m
+  int32_t phi_dot_out = -1;
+  Eigen::VectorXd phi_dot;  // m: Phi_z zd at the accepted state
+  double phi_dot_norm = 0.0;
 };
-
-Penalty& self(const mh_formulation* f) {
-  return *static_cast<Penalty*>(f->plugin_data);
-}
 
 void log(const Penalty& s, mh_log_level level, const std::string& msg) {
   s.host->log(s.host, level, msg.c_str());
@@ -71,23 +74,9 @@ std::string num(double v) {
   return buf;
 }
 
-// Runs an op; no exception crosses the C boundary.
 template <class Body>
 mh_status guarded(const mh_formulation* f, const char* op, Body&& body) noexcept {
-  try {
-    return body(self(f));
-  } catch (const std::exception& e) {
-    try {
-      log(self(f), MH_LOG_ERROR, std::string(op) + ": " + e.what());
-    } catch (...) {
-    }
-  } catch (...) {
-    try {
-      log(self(f), MH_LOG_ERROR, std::string(op) + ": unknown exception");
-    } catch (...) {
-    }
-  }
-  return MH_ERROR;
+  return monohydra::guarded_op<Penalty>(f, op, std::forward<Body>(body));
 }
 
 #ifdef EIGEN_RUNTIME_NO_MALLOC
@@ -109,7 +98,29 @@ mh_status evaluate(Penalty& s, uint32_t flags, double t, const double* z, const 
   return s.host->evaluate_mechanics(s.host, &rq, &out);
 }
 
-mh_status setup(const mh_formulation* f, uint32_t* num_unknowns) {
+// phi_dot_norm = ||Phi_z zd|| (Phi_z at the accepted z, m x N).
+void cache_phi_dot(Penalty& s, const ConstMatrixMap& phi_z, const Eigen::VectorXd& zd) {
+  s.phi_dot.noalias() = phi_z * zd;
+  s.phi_dot_norm = s.phi_dot.norm();
+}
+
+mh_status declare_outputs(Penalty& s) {
+  s.output_names.clear();
+  for (int i = 1; i <= s.m; ++i) s.output_names.push_back("lambda" + std::to_string(i));
+  s.lambda_out.assign(static_cast<size_t>(s.m), -1);
+  for (int i = 0; i < s.m; ++i) {
+    // Generalized constraint forces (N or N m, by the row's constraint).
+    const mh_output_spec spec =
+        monohydra::output_spec(s.output_names[static_cast<size_t>(i)].c_str(), "");
+    if (s.host->add_output(s.host, &spec, &s.lambda_out[static_cast<size_t>(i)]) != MH_OK)
+      return MH_ERROR;
+  }
+  // The constraint velocity violation (rad/s or m/s by the row).
+  const mh_output_spec spec = monohydra::output_spec("phi_dot_norm", "1/s");
+  return s.host->add_output(s.host, &spec, &s.phi_dot_out);
+}
+
+mh_status setup(const mh_formulation* f) noexcept {
   return guarded(f, "setup", [&](Penalty& s) {
     mh_mech_info info{};
     info.struct_size = sizeof(info);
@@ -117,9 +128,14 @@ mh_status setup(const mh_formulation* f, uint32_t* num_unknowns) {
       log(s, MH_LOG_ERROR, "setup: the host gave no mechanism information");
       return MH_ERROR;
     }
+    if (info.z0 == nullptr || info.zd0 == nullptr || info.coordinate_names == nullptr ||
+        info.coordinate_is_angle == nullptr) {
+      log(s, MH_LOG_ERROR, "setup: the host gave no coordinate names or initial state");
+      return MH_ERROR;
+    }
     s.N = static_cast<int>(info.num_coordinates);
     s.m = static_cast<int>(info.num_constraints);
-    s.dt = info.dt;
+    s.t0 = info.t0;
     s.tol = info.position_tolerance;
     if (s.host->option_number(s.host, "alpha", 0, s.alpha, &s.alpha) != MH_OK) return MH_ERROR;
     if (!(s.alpha > 0.0)) return s.host->option_error(s.host, "alpha", "a positive number");
@@ -133,32 +149,33 @@ mh_status setup(const mh_formulation* f, uint32_t* num_unknowns) {
     s.projections = projections == 1.0;
 
     const Eigen::Index N = s.N, m = s.m;
-    for (Eigen::VectorXd* v : {&s.z, &s.zd, &s.zdd, &s.zd_hat, &s.zdd_hat, &s.zd_it, &s.zdd_it,
-                               &s.x_last, &s.zd_prime, &s.zdd_prime, &s.zd_new, &s.zdd_new})
+    for (Eigen::VectorXd* v : {&s.zdd, &s.x_last, &s.zd_prime, &s.zdd_prime, &s.zd_new, &s.zdd_new})
       v->setZero(N);
-    for (Eigen::VectorXd* v : {&s.lambda_k, &s.lambda, &s.multiplier_force}) v->setZero(m);
+    for (Eigen::VectorXd* v : {&s.lambda_k, &s.lambda, &s.multiplier_force, &s.phi_dot})
+      v->setZero(m);
+    s.z = ConstVectorMap(info.z0, N);
+    s.zd = ConstVectorMap(info.zd0, N);
     s.M_last.setZero(N, N);
     s.phi_z_last.setZero(m, N);
     s.projector.resize(s.N, s.m);
-    *num_unknowns = info.num_coordinates;
-    return MH_OK;
+    // The unknowns: every z_i, second order, in the coordinates' order.
+    for (int i = 0; i < s.N; ++i) {
+      const mh_unknown_spec spec = monohydra::unknown_spec(
+          info.coordinate_names[i], info.coordinate_is_angle[i] != 0 ? "rad" : "m",
+          MH_UNKNOWN_SECOND_ORDER, s.tol);
+      int32_t index = -1;
+      if (s.host->add_unknown(s.host, &spec, &index) != MH_OK) return MH_ERROR;
+    }
+    return declare_outputs(s);
   });
 }
 
-mh_status start(const mh_formulation* f, double t0, double dt, const double* z0, const double* zd0,
-                double* abs_tolerance) {
+mh_status start(const mh_formulation* f, double* x0, double* xd0, double* xdd0) noexcept {
   return guarded(f, "start", [&](Penalty& s) {
-    if (!(dt > 0.0)) {
-      log(s, MH_LOG_ERROR, "start: the time step must be positive");
-      return MH_ERROR;
-    }
-    s.dt = dt;
-    s.z = Eigen::Map<const Eigen::VectorXd>(z0, s.N);
-    s.zd = Eigen::Map<const Eigen::VectorXd>(zd0, s.N);
     s.last_valid = false;
     mh_mech_result rs;
     const mh_status st =
-        evaluate(s, MH_EVAL_DYNAMICS | MH_EVAL_CONSTRAINTS, t0, s.z.data(), s.zd.data(), rs);
+        evaluate(s, MH_EVAL_DYNAMICS | MH_EVAL_CONSTRAINTS, s.t0, s.z.data(), s.zd.data(), rs);
     if (st >= MH_DISCARD) return MH_ERROR;
     const ConstVectorMap phi(rs.phi, s.m);
     mh_status result = MH_OK;
@@ -195,7 +212,10 @@ mh_status start(const mh_formulation* f, double t0, double dt, const double* z0,
       return MH_ERROR;
     }
     s.lambda_k = s.lambda;
-    for (int i = 0; i < s.N; ++i) abs_tolerance[i] = s.tol;
+    cache_phi_dot(s, ConstMatrixMap(rs.phi_z, s.m, s.N), s.zd);
+    VectorMap(x0, s.N) = s.z;
+    VectorMap(xd0, s.N) = s.zd;
+    VectorMap(xdd0, s.N) = s.zdd;
     log(s, MH_LOG_DEBUG,
         "start: alpha = " + num(s.alpha) + ", tolerance = " + num(s.tol) + ", projections " +
             (s.projections ? "on" : "off") + "; initial multipliers in " +
@@ -205,43 +225,38 @@ mh_status start(const mh_formulation* f, double t0, double dt, const double* z0,
   });
 }
 
-mh_status predict(const mh_formulation* f, double, double* x) {
-  return guarded(f, "predict", [&](Penalty& s) {
+// A step begins from the accepted state: lambda_{k+1}^(0) = lambda_k (Eq. 19's start).
+mh_status begin_step(const mh_formulation* f, double, const double*, const double*,
+                     const double*) noexcept {
+  return guarded(f, "begin_step", [&](Penalty& s) {
     [[maybe_unused]] const NoMalloc no_malloc;
-    const double dt = s.dt;
-    VectorMap(x, s.N) = s.z + dt * s.zd + (0.5 * dt * dt) * s.zdd;
-    s.zd_hat = -((2.0 / dt) * s.z + s.zd);                               // Eq. (34)
-    s.zdd_hat = -((4.0 / (dt * dt)) * s.z + (4.0 / dt) * s.zd + s.zdd);  // Eq. (34)
-    s.lambda = s.lambda_k;  // lambda_{k+1}^(0) = lambda_k (Eq. 19's starting value)
+    s.lambda = s.lambda_k;
+    s.last_valid = false;
     return MH_OK;
   });
 }
 
-mh_status residual(const mh_formulation* f, double t_next, const double* x, double* r) {
+mh_status residual(const mh_formulation* f, double t, const double* x, const double* xd,
+                   const double* xdd, double* r) noexcept {
   return guarded(f, "residual", [&](Penalty& s) {
     [[maybe_unused]] const NoMalloc no_malloc;
-    const double dt = s.dt;
-    const ConstVectorMap xz(x, s.N);
-    s.zd_it = (2.0 / dt) * xz + s.zd_hat;           // Eq. (33)
-    s.zdd_it = (4.0 / (dt * dt)) * xz + s.zdd_hat;  // Eq. (33)
     mh_mech_result rs;
     s.last_valid = false;
-    const mh_status st = evaluate(s, MH_EVAL_DYNAMICS | MH_EVAL_CONSTRAINTS | MH_EVAL_SUBSYSTEMS,
-                                  t_next, x, s.zd_it.data(), rs);
+    const mh_status st =
+        evaluate(s, MH_EVAL_DYNAMICS | MH_EVAL_CONSTRAINTS | MH_EVAL_SUBSYSTEMS, t, x, xd, rs);
     if (st >= MH_DISCARD) return st;
     const ConstMatrixMap M(rs.M, s.N, s.N);
     const ConstVectorMap Q(rs.Q, s.N);
     const ConstVectorMap phi(rs.phi, s.m);
     const ConstMatrixMap phi_z(rs.phi_z, s.m, s.N);
-    // Eqs. (36), (39): dt^2/4 (M' zdd + Phi_z^T (alpha Phi + lambda) - Q').
+    // Eq. (18) (Eq. 39 without dt^2/4): M' zdd + Phi_z^T (alpha Phi + lambda) - Q'.
     s.multiplier_force = s.alpha * phi + s.lambda;
     VectorMap rr(r, s.N);
-    rr.noalias() = M * s.zdd_it;
+    rr.noalias() = M * ConstVectorMap(xdd, s.N);
     add_constraint_forces(rr, phi_z, s.multiplier_force, 1.0);
     rr -= Q;
-    rr *= 0.25 * dt * dt;
-    if (s.projections && s.m > 0) {  // kept for the projections in accept()
-      s.x_last = xz;
+    if (s.m > 0) {  // kept for the projections and phi_dot_norm in accept()
+      s.x_last = ConstVectorMap(x, s.N);
       s.M_last = M;
       s.phi_z_last = phi_z;
       s.last_valid = true;
@@ -250,21 +265,19 @@ mh_status residual(const mh_formulation* f, double t_next, const double* x, doub
   });
 }
 
-// No analytic tangent (the host's forward differences, Eq. 41, do it). The
-// cheap path for later performance work: dr/dx ~= M' + dt/2 C + dt^2/4 K +
-// dt^2/4 Phi_z^T alpha Phi_z, with C = -dQ'/dzd and K = -dQ'/dz (+ the
-// derivatives of M' zdd and of Phi_z^T (alpha Phi + lambda) through Phi_z,
-// usually dropped). Its dominant, exactly known part is
-// M' + dt^2/4 Phi_z^T alpha Phi_z; the C and K of the hydraulic forces need the
-// subsystems' Jacobians, which the host holds.
+// No analytic tangent (the host differences the residual, Eqs. 40-41). The
+// cheap path for later performance work: dr/dx = K' + c_v C' + c_a M' +
+// Phi_z^T alpha Phi_z with C = -dQ'/dzd and K = -dQ'/dz (+ the derivatives of
+// M' zdd and of Phi_z^T (alpha Phi + lambda) through Phi_z, usually dropped).
+// Its dominant, exactly known part is c_a M' + Phi_z^T alpha Phi_z; the C and
+// K of the hydraulic forces need the subsystems' Jacobians, which the host holds.
 
-mh_status iteration_done(const mh_formulation* f, double t_next, const double* x) {
+mh_status iteration_done(const mh_formulation* f, double t, const double* x, const double* xd,
+                         const double*) noexcept {
   return guarded(f, "iteration_done", [&](Penalty& s) {
     [[maybe_unused]] const NoMalloc no_malloc;
-    const ConstVectorMap xz(x, s.N);
-    s.zd_it = (2.0 / s.dt) * xz + s.zd_hat;  // Eq. (33); Phi itself does not depend on it
     mh_mech_result rs;
-    const mh_status st = evaluate(s, MH_EVAL_CONSTRAINTS, t_next, x, s.zd_it.data(), rs);
+    const mh_status st = evaluate(s, MH_EVAL_CONSTRAINTS, t, x, xd, rs);  // Phi: of z only
     if (st >= MH_DISCARD) return st;
     const ConstVectorMap phi(rs.phi, s.m);
     if (!phi.allFinite()) {
@@ -276,28 +289,35 @@ mh_status iteration_done(const mh_formulation* f, double t_next, const double* x
   });
 }
 
-mh_status accept(const mh_formulation* f, double t_next, const double* x) {
+// The step converged at x with the integrator's xd = zd', xdd = zdd': project
+// them in place (Eqs. 20-21) and commit z, zd, zdd and lambda_k.
+mh_status accept(const mh_formulation* f, double t, const mh_step_coefficients* c, double* x,
+                 double* xd, double* xdd, uint32_t*) noexcept {
   return guarded(f, "accept", [&](Penalty& s) {
     [[maybe_unused]] const NoMalloc no_malloc;
-    const double dt = s.dt;
     const ConstVectorMap xz(x, s.N);
-    s.zd_prime = (2.0 / dt) * xz + s.zd_hat;           // Eq. (33): zd'
-    s.zdd_prime = (4.0 / (dt * dt)) * xz + s.zdd_hat;  // Eq. (33): zdd'
+    if (s.m > 0 && (!s.last_valid || s.x_last != xz)) {
+      // M' and Phi_z depend on z only: from the last residual call when it was at x.
+      mh_mech_result rs;
+      const mh_status st = evaluate(s, MH_EVAL_DYNAMICS | MH_EVAL_CONSTRAINTS, t, x, xd, rs);
+      if (st >= MH_DISCARD) return st;
+      s.M_last = ConstMatrixMap(rs.M, s.N, s.N);
+      s.phi_z_last = ConstMatrixMap(rs.phi_z, s.m, s.N);
+      s.x_last = xz;
+      s.last_valid = true;
+    }
+    s.zd_prime = ConstVectorMap(xd, s.N);    // zd' of the integrator
+    s.zdd_prime = ConstVectorMap(xdd, s.N);  // zdd'
     if (s.projections && s.m > 0) {
-      // W = M' (see projections.hpp). M' and Phi_z depend on z only: take them
-      // from the last residual call when it was at this x.
-      if (!s.last_valid || s.x_last != xz) {
-        mh_mech_result rs;
-        const mh_status st =
-            evaluate(s, MH_EVAL_DYNAMICS | MH_EVAL_CONSTRAINTS, t_next, x, s.zd_prime.data(), rs);
-        if (st >= MH_DISCARD) return st;
-        s.M_last = ConstMatrixMap(rs.M, s.N, s.N);
-        s.phi_z_last = ConstMatrixMap(rs.phi_z, s.m, s.N);
-        s.x_last = xz;
-        s.last_valid = true;
+      // W = M' (see projections.hpp; W = M' + C c_v/c_a + K/c_a comes with the
+      // host's derivative service). The paper's dt^2/4 is 1 / c_a.
+      if (c == nullptr || !(c->dxdd_dx_second > 0.0)) {
+        log(s, MH_LOG_ERROR, "accept: the host gave no step coefficients for the projections");
+        return MH_ERROR;
       }
       if (!s.projector.factorize(ConstMatrixMap(s.M_last.data(), s.N, s.N),
-                                 ConstMatrixMap(s.phi_z_last.data(), s.m, s.N), dt, s.alpha)) {
+                                 ConstMatrixMap(s.phi_z_last.data(), s.m, s.N),
+                                 1.0 / c->dxdd_dx_second, s.alpha)) {
         log(s, MH_LOG_ERROR,
             "accept: W + dt^2/4 Phi_z^T alpha Phi_z is not positive definite; the projections "
             "(Eqs. 20-21) cannot be made");
@@ -306,7 +326,7 @@ mh_status accept(const mh_formulation* f, double t_next, const double* x) {
       s.projector.project_velocities(s.zd_prime, s.zd_new);  // Eq. (20)
       // Eq. (21) needs Phidot_z zd at the projected velocities.
       mh_mech_result rs;
-      const mh_status st = evaluate(s, MH_EVAL_CONSTRAINTS, t_next, x, s.zd_new.data(), rs);
+      const mh_status st = evaluate(s, MH_EVAL_CONSTRAINTS, t, x, s.zd_new.data(), rs);
       if (st >= MH_DISCARD) return st;
       s.projector.project_accelerations(s.zdd_prime, ConstVectorMap(rs.phi_dot_zd, s.m),
                                         s.zdd_new);  // Eq. (21)
@@ -318,16 +338,19 @@ mh_status accept(const mh_formulation* f, double t_next, const double* x) {
       log(s, MH_LOG_ERROR, "accept: the projected velocities or accelerations are not finite");
       return MH_DISCARD;
     }
-    // Commit: the projected rates are the history of the next step's hats.
+    // Commit, and hand the projected rates back: the integrator's history.
+    VectorMap(xd, s.N) = s.zd_new;
+    VectorMap(xdd, s.N) = s.zdd_new;
     s.z = xz;
     s.zd = s.zd_new;
     s.zdd = s.zdd_new;
     s.lambda_k = s.lambda;
+    if (s.m > 0) cache_phi_dot(s, ConstMatrixMap(s.phi_z_last.data(), s.m, s.N), s.zd);
     return MH_OK;
   });
 }
 
-mh_status coordinates(const mh_formulation* f, double* z, double* zd, double* zdd) {
+mh_status coordinates(const mh_formulation* f, double* z, double* zd, double* zdd) noexcept {
   return guarded(f, "coordinates", [&](Penalty& s) {
     VectorMap(z, s.N) = s.z;
     VectorMap(zd, s.N) = s.zd;
@@ -336,7 +359,19 @@ mh_status coordinates(const mh_formulation* f, double* z, double* zd, double* zd
   });
 }
 
-const void* get_extension(const mh_formulation*, const char*) {
+// The multipliers lambda_k and ||Phi_z zd|| at the accepted state, as cached.
+mh_status write_outputs(const mh_formulation* f, double* outputs, uint32_t num_outputs) noexcept {
+  return guarded(f, "write_outputs", [&](Penalty& s) {
+    const auto put = [&](int32_t index, double value) {
+      if (index >= 0 && static_cast<uint32_t>(index) < num_outputs) outputs[index] = value;
+    };
+    for (int i = 0; i < s.m; ++i) put(s.lambda_out[static_cast<size_t>(i)], s.lambda_k[i]);
+    put(s.phi_dot_out, s.phi_dot_norm);
+    return MH_OK;
+  });
+}
+
+const void* get_extension(const mh_formulation*, const char*) noexcept {
   return nullptr;
 }
 
@@ -345,11 +380,12 @@ const mh_component_descriptor kDescriptor{
     "penalty",
     "Penalty-based semirecursive formulation (index-3 augmented Lagrangian with projections)",
     "monohydra",
-    "1.0.0",
+    "2.0.0",
     "Closed loops by cut joints: M' zdd + Phi_z^T (alpha Phi + lambda) = Q' (Eq. 18) with "
-    "all relative coordinates as unknowns of the trapezoidal rule, multipliers updated per "
-    "Newton iteration (Eq. 19) and mass-orthogonal projections of velocities and "
-    "accelerations (Eqs. 20-21). Options: alpha, tolerance, projections."};
+    "all relative coordinates as second-order unknowns of the host's integrator, multipliers "
+    "updated per Newton iteration (Eq. 19) and mass-orthogonal projections of velocities and "
+    "accelerations (Eqs. 20-21). Options: alpha, tolerance, projections. Outputs: "
+    "lambda1..lambda_m, phi_dot_norm."};
 
 // The instance's operations; every instance gets a copy with its own state.
 const mh_formulation kOps = [] {
@@ -358,12 +394,13 @@ const mh_formulation kOps = [] {
   f.descriptor = &kDescriptor;
   f.setup = setup;
   f.start = start;
-  f.predict = predict;
+  f.begin_step = begin_step;
   f.residual = residual;
-  f.tangent = nullptr;  // forward differences by the host, Eq. (41): see the note above
+  f.tangent = nullptr;  // differences by the host, Eqs. (40-41): see the note above
   f.iteration_done = iteration_done;
   f.accept = accept;
   f.coordinates = coordinates;
+  f.write_outputs = write_outputs;
   f.destroy = monohydra::destroy_formulation<Penalty>;
   f.get_extension = get_extension;
   return f;

@@ -13,9 +13,9 @@ void Projector::resize(int N, int m) {
   rhs_.setZero(N);
 }
 
-bool Projector::factorize(const ConstMatrixMap& W, const ConstMatrixMap& phi_z, double dt,
+bool Projector::factorize(const ConstMatrixMap& W, const ConstMatrixMap& phi_z, double step_factor,
                           double alpha) {
-  c_alpha_ = 0.25 * dt * dt * alpha;
+  c_alpha_ = step_factor * alpha;  // dt^2/4 alpha (trapezoidal), alpha / c_a in general
   W_ = W;
   phi_z_ = phi_z;
   // Eqs. (20)-(21), left-hand side: W + dt^2/4 Phi_z^T alpha Phi_z (one alpha

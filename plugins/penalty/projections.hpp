@@ -7,9 +7,14 @@
 //   [W + dt^2/4 Phi_z^T alpha Phi_z] zd  = W zd'                                  Eq. (20)
 //   [W + dt^2/4 Phi_z^T alpha Phi_z] zdd = W zdd' - dt^2/4 Phi_z^T alpha Phidot_z zd   Eq. (21)
 //
-// W: the paper's W = M + dt/2 C + dt^2/4 K. Here W = M' (the caller passes
-// it): the damping and stiffness matrices C and K of the whole system are not
-// available through the ABI v1 (see docs/formulations-penalty.md).
+// dt^2/4 is the trapezoidal rule's d x / d xdd: for any integrator of the host
+// it is 1 / c_a with c_a = mh_step_coefficients.dxdd_dx_second, which the
+// caller passes as `step_factor`.
+//
+// W: the paper's W = M + dt/2 C + dt^2/4 K, i.e. W = M' + C c_v / c_a + K / c_a
+// (c_v = dxd_dx_second). Here W = M' (the caller passes it): the damping and
+// stiffness matrices C and K of the whole system come with the host's
+// derivative service, not yet in the ABI (see docs/formulations-penalty.md).
 #pragma once
 
 #include <Eigen/Cholesky>
@@ -29,13 +34,14 @@ class Projector {
   // N coordinates, m constraint rows.
   void resize(int N, int m);
 
-  // Factorizes [W + c Phi_z^T Phi_z] with c = dt^2/4 alpha, keeping W for the
-  // right-hand sides. W is N x N, phi_z m x N. Returns false when the matrix is
-  // not numerically positive definite (e.g. W singular and Phi_z rank
-  // deficient in the same direction).
-  bool factorize(const ConstMatrixMap& W, const ConstMatrixMap& phi_z, double dt, double alpha);
+  // Factorizes [W + c Phi_z^T Phi_z] with c = step_factor alpha (step_factor:
+  // the paper's dt^2/4, 1 / c_a), keeping W for the right-hand sides. W is N x N, phi_z m x N.
+  // Returns false when the matrix is not numerically positive definite (e.g. W singular and Phi_z
+  // rank deficient in the same direction).
+  bool factorize(const ConstMatrixMap& W, const ConstMatrixMap& phi_z, double step_factor,
+                 double alpha);
 
-  // Eq. (20): zd from the trapezoidal rule's zd' (N each). zd may not alias zd_prime.
+  // Eq. (20): zd from the integrator's zd' (N each). zd may not alias zd_prime.
   void project_velocities(const Eigen::VectorXd& zd_prime, Eigen::VectorXd& zd);
 
   // Eq. (21): zdd from zdd' and Phidot_z zd evaluated at the projected zd (m).
@@ -44,7 +50,7 @@ class Projector {
                              Eigen::VectorXd& zdd);
 
  private:
-  double c_alpha_ = 0.0;   // dt^2/4 alpha
+  double c_alpha_ = 0.0;   // dt^2/4 alpha = alpha / c_a
   Eigen::MatrixXd W_;      // N x N
   Eigen::MatrixXd phi_z_;  // m x N, of the last factorize()
   Eigen::MatrixXd A_;      // N x N, W + c_alpha Phi_z^T Phi_z

@@ -57,14 +57,21 @@ TEST(PluginRegistry, RefusesALibraryWithoutTheEntrySymbol) {
 TEST(PluginRegistry, RefusesAPluginOfAnIncompatibleAbiMajorVersion) {
   const std::string path = std::string(MH_FIXTURE_DIR) + "/mh_fixture_future_abi.so";
   EXPECT_EQ(load_error(path), "'" + path +
-                                  "' was built for monohydra ABI 99.0, this host speaks ABI 1.1 "
+                                  "' was built for monohydra ABI 99.0, this host speaks ABI 2.0 "
+                                  "(major versions must match)");
+}
+
+TEST(PluginRegistry, RefusesAnAbi1PluginNamingBothVersions) {
+  const std::string path = std::string(MH_FIXTURE_DIR) + "/mh_fixture_major_one.so";
+  EXPECT_EQ(load_error(path), "'" + path +
+                                  "' was built for monohydra ABI 1.1, this host speaks ABI 2.0 "
                                   "(major versions must match)");
 }
 
 TEST(PluginRegistry, ScanRecordsRefusalsAndKeepsGoing) {
   PluginRegistry r;
   r.scan({MH_FIXTURE_DIR, MH_PLUGIN_DIR});
-  EXPECT_EQ(r.refusals().size(), 3u);
+  EXPECT_EQ(r.refusals().size(), 4u);
   EXPECT_NO_THROW(r.find(ComponentKind::formulation, "open-loop"));
 }
 

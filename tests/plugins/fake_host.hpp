@@ -1,7 +1,8 @@
 // A stand-in for the core's host, to drive one subsystem instance through the
 // C ABI without the core: options from maps, states and ports numbered in a
 // shared FakeNetwork (ports joined by node name share one state), points at
-// given positions, and every option error, log line and time event recorded.
+// given positions, and every option error, log line, time event, state spec
+// and output spec recorded (the 2.0 host table).
 #pragma once
 
 #include <gtest/gtest.h>
@@ -46,17 +47,27 @@ struct PortRecord {
 struct StateRecord {
   std::string name, unit;
   double initial = 0.0, abs_tolerance = 0.0;
+  std::string role;  // "" for none
+  double range_min = 0.0, range_max = 0.0;
+  int32_t index = -1;
+};
+
+struct OutputRecord {
+  std::string name, unit;
+  uint32_t kind = MH_OUTPUT_SIGNAL;
+  std::string role;  // "" for none
+  double range_min = 0.0, range_max = 0.0;
   int32_t index = -1;
 };
 
 class FakeHost {
  public:
-  // `struct_size` below sizeof(mh_host) plays an older host (e.g. ABI 1.0).
+  // `struct_size` below sizeof(mh_host) plays a host whose table ends earlier.
   explicit FakeHost(FakeNetwork& network, std::string name = "instance",
                     uint32_t struct_size = sizeof(mh_host))
       : network_(&network), name_(std::move(name)) {
     table.struct_size = struct_size;
-    table.abi_version = {1, struct_size >= sizeof(mh_host) ? 1u : 0u, 0};
+    table.abi_version = MH_ABI_VERSION_INIT;
     table.host_data = this;
     table.log = log;
     table.option_number = option_number;
@@ -67,12 +78,13 @@ class FakeHost {
     table.add_state = add_state;
     table.find_state = find_state;
     table.add_point = add_point;
-    table.evaluate_mechanics = nullptr;
     table.get_extension = get_extension;
     table.add_output = add_output;
     table.add_port = add_port;
     table.point_position = point_position;
     table.add_time_event = add_time_event;
+    table.add_unknown = nullptr;         // formulations only
+    table.evaluate_mechanics = nullptr;  // formulations only
   }
   FakeHost(const FakeHost&) = delete;
   FakeHost& operator=(const FakeHost&) = delete;
@@ -94,7 +106,8 @@ class FakeHost {
   std::vector<PortRecord> ports;
   std::vector<StateRecord> states;
   std::vector<std::string> points;
-  std::map<std::string, int32_t> outputs;
+  std::map<std::string, int32_t> outputs;  // name -> index
+  std::vector<OutputRecord> output_specs;  // in declaration order
 
   const PortRecord& port(const std::string& key) const {
     for (const PortRecord& p : ports)
@@ -103,11 +116,20 @@ class FakeHost {
     static const PortRecord none;
     return none;
   }
-  int32_t state(const std::string& name) const {
+  int32_t state(const std::string& name) const { return state_record(name).index; }
+  const StateRecord& state_record(const std::string& name) const {
     for (const StateRecord& s : states)
-      if (s.name == name) return s.index;
+      if (s.name == name) return s;
     ADD_FAILURE() << "no state " << name;
-    return -1;
+    static const StateRecord none;
+    return none;
+  }
+  const OutputRecord& output(const std::string& name) const {
+    for (const OutputRecord& o : output_specs)
+      if (o.name == name) return o;
+    ADD_FAILURE() << "no output " << name;
+    static const OutputRecord none;
+    return none;
   }
   std::string all_logs() const {
     std::string text;
@@ -167,11 +189,14 @@ class FakeHost {
     return MH_ERROR;
   }
   static mh_status mech_info(const mh_host*, mh_mech_info*) { return MH_ERROR; }
-  static mh_status add_state(const mh_host* h, const char* name, double initial, double tol,
-                             const char* unit, int32_t* index) {
+  static std::string text(const char* s) { return s != nullptr ? s : ""; }
+  static mh_status add_state(const mh_host* h, const mh_state_spec* spec, int32_t* index) {
     FakeHost& f = self(h);
-    *index = f.network_->new_state(f.name_ + "." + name, initial);
-    f.states.push_back({name, unit, initial, tol, *index});
+    if (spec == nullptr || spec->struct_size < sizeof(mh_state_spec) || spec->name == nullptr)
+      return MH_ERROR;
+    *index = f.network_->new_state(f.name_ + "." + spec->name, spec->initial);
+    f.states.push_back({spec->name, text(spec->unit), spec->initial, spec->abs_tolerance,
+                        text(spec->role), spec->range_min, spec->range_max, *index});
     f.touch(*index);
     return MH_OK;
   }
@@ -184,10 +209,14 @@ class FakeHost {
     return MH_OK;
   }
   static const void* get_extension(const mh_host*, const char*) { return nullptr; }
-  static mh_status add_output(const mh_host* h, const char* name, const char*, int32_t* index) {
+  static mh_status add_output(const mh_host* h, const mh_output_spec* spec, int32_t* index) {
     FakeHost& f = self(h);
+    if (spec == nullptr || spec->struct_size < sizeof(mh_output_spec) || spec->name == nullptr)
+      return MH_ERROR;
     *index = f.network_->num_outputs++;
-    f.outputs[name] = *index;
+    f.outputs[spec->name] = *index;
+    f.output_specs.push_back({spec->name, text(spec->unit), spec->kind, text(spec->role),
+                              spec->range_min, spec->range_max, *index});
     return MH_OK;
   }
   static mh_status add_port(const mh_host* h, const mh_port_spec* spec, int32_t* index) {

@@ -54,7 +54,7 @@ TEST(HydraulicPlugin, OneLibraryListsTheFiveComponents) {
     ids.push_back(c.id);
     EXPECT_EQ(c.kind, ComponentKind::subsystem);
     EXPECT_EQ(c.abi_version.major, MH_ABI_VERSION_MAJOR);
-    EXPECT_EQ(c.abi_version.minor, 1u);
+    EXPECT_EQ(c.abi_version.minor, MH_ABI_VERSION_MINOR);
   }
   EXPECT_EQ(ids, (std::vector<std::string>{"pressure-source", "volume", "throttle", "valve-4-3",
                                            "cylinder"}));
@@ -325,6 +325,21 @@ TEST(HydraulicValve43, DeclaresFourFlowPortsAndTheSpoolState) {
   EXPECT_EQ(f.host.states[0].abs_tolerance, 1e-7);
 }
 
+TEST(HydraulicValve43, TheSpoolIsAControlSignalOverTheReferenceRange) {
+  ValveFixture f;  // spool_limit absent: the case studies' 10 V
+  const StateRecord& u = f.host.state_record("U");
+  EXPECT_EQ(u.role, MH_ROLE_CONTROL_SIGNAL);
+  EXPECT_EQ(u.range_min, -10.0);
+  EXPECT_EQ(u.range_max, 10.0);
+  // The reference output is a plain signal.
+  EXPECT_EQ(f.host.output("U_ref").kind, static_cast<uint32_t>(MH_OUTPUT_SIGNAL));
+  EXPECT_EQ(f.host.output("U_ref").role, "");
+
+  ValveFixture g({0.0, 12.0, 1.0, -30.0}, 5.0);  // spool_limit 5 V
+  EXPECT_EQ(g.host.state_record("U").range_min, -5.0);
+  EXPECT_EQ(g.host.state_record("U").range_max, 5.0);
+}
+
 // The case study's Q_d1 (into V1 = A) and Q_3d (out of V3 = B), as printed there.
 double q_d1(double u, double p1) {
   return u >= 0 ? kCvd * u * orifice(kPumpPressure - p1) : kCvd * u * orifice(p1 - kTankPressure);
@@ -460,16 +475,6 @@ TEST(HydraulicTimeTable, ReferenceIsClippedToTheSpoolLimit) {
   ValveFixture g({0.0, 12.0, 1.0, -30.0}, 5.0);
   EXPECT_EQ(g.reference(0.0), 5.0);
   EXPECT_EQ(g.reference(1.0), -5.0);
-}
-
-TEST(HydraulicTimeTable, HostWithoutTimeEventsStillRunsTheValve) {
-  FakeNetwork net;
-  FakeHost host(net, "valve", static_cast<uint32_t>(offsetof(mh_host, add_time_event)));
-  host.numbers = {{"flow_coefficient", kCvd}, {"time_constant", kTau}};
-  host.tables["reference"] = {2u, kFourBarReference};
-  Instance valve("valve-4-3", host);
-  EXPECT_EQ(valve.setup(), MH_OK) << host.all_logs();
-  EXPECT_TRUE(host.time_events.empty());
 }
 
 // ---------------------------------------------------------------------------
@@ -750,19 +755,6 @@ TEST(HydraulicOptions, UnsortedReferenceNamesTheRowThatGoesBack) {
   ASSERT_EQ(host.expected.size(), 1u);
   EXPECT_NE(host.expected[0].find("sorted by time"), std::string::npos) << host.expected[0];
   EXPECT_NE(host.expected[0].find("row 3"), std::string::npos) << host.expected[0];
-}
-
-TEST(HydraulicOptions, AnAbi10HostIsRefusedWithAClearMessage) {
-  for (const char* id : {"pressure-source", "volume", "throttle", "valve-4-3", "cylinder"}) {
-    FakeNetwork net;
-    FakeHost host(net, id, static_cast<uint32_t>(offsetof(mh_host, add_port)));
-    base_options(id, host);
-    Instance instance(id, host);
-    EXPECT_EQ(instance.setup(), MH_ERROR) << id;
-    EXPECT_NE(host.all_logs().find("needs a host of ABI 1.1 or newer"), std::string::npos)
-        << id << ": " << host.all_logs();
-    EXPECT_TRUE(host.ports.empty()) << id;
-  }
 }
 
 }  // namespace

@@ -1,7 +1,8 @@
 // The SDK's C++ helper (monohydra/cpp/subsystem_component.hpp): optional
 // operations found at compile time, exceptions turned into logged errors at
 // the boundary, the factory over a list of components, and the struct_size
-// check for fields of a later minor ABI.
+// check for fields of a later minor ABI; the spec builders; the formulation
+// helper's guard (monohydra/cpp/formulation_plugin.hpp).
 #include <gtest/gtest.h>
 
 #include <cstddef>
@@ -9,6 +10,7 @@
 #include <string>
 
 #include "fake_host.hpp"
+#include "monohydra/cpp/formulation_plugin.hpp"
 #include "monohydra/cpp/subsystem_component.hpp"
 
 namespace mh::test {
@@ -23,7 +25,10 @@ class Minimal {
   ~Minimal() { --g_alive; }
   Minimal(const Minimal&) = delete;
   Minimal& operator=(const Minimal&) = delete;
-  mh_status setup() { return host_->add_state(host_, "x", 1.0, 1e-6, "m", &x_); }
+  mh_status setup() {
+    const mh_state_spec x = monohydra::state_spec("x", "m", 1.0, 1e-6);
+    return host_->add_state(host_, &x, &x_);
+  }
   mh_status evaluate(const mh_subsystem_eval& eval) const {
     eval.residual[x_] += eval.ydot[x_] + 2.0 * eval.y[x_];
     return MH_OK;
@@ -199,13 +204,76 @@ TEST(SdkSubsystemComponent, FactoryListsCreatesByIdAndAnswersOnlyItsFactoryId) {
 TEST(SdkSubsystemComponent, HasFieldComparesTheTablesStructSize) {
   mh_host host{};
   host.struct_size = sizeof(mh_host);
-  EXPECT_TRUE(MONOHYDRA_HAS_FIELD(mh_host, &host, add_time_event));
-  host.struct_size = static_cast<uint32_t>(offsetof(mh_host, add_time_event));
-  EXPECT_FALSE(MONOHYDRA_HAS_FIELD(mh_host, &host, add_time_event));
-  EXPECT_TRUE(MONOHYDRA_HAS_FIELD(mh_host, &host, point_position));
-  host.struct_size = static_cast<uint32_t>(offsetof(mh_host, add_port));  // an ABI 1.0 host
-  EXPECT_FALSE(MONOHYDRA_HAS_FIELD(mh_host, &host, add_port));
-  EXPECT_TRUE(MONOHYDRA_HAS_FIELD(mh_host, &host, add_output));
+  EXPECT_TRUE(MONOHYDRA_HAS_FIELD(mh_host, &host, evaluate_mechanics));
+  // A table that ends before its last field (as a 2.0 table would before a
+  // field a later 2.x appends).
+  host.struct_size = static_cast<uint32_t>(offsetof(mh_host, evaluate_mechanics));
+  EXPECT_FALSE(MONOHYDRA_HAS_FIELD(mh_host, &host, evaluate_mechanics));
+  EXPECT_TRUE(MONOHYDRA_HAS_FIELD(mh_host, &host, add_unknown));
+}
+
+TEST(SdkSpecs, FillStructSizeAndLeaveRoleAndRangeEmpty) {
+  const mh_state_spec state = monohydra::state_spec("p", "Pa", 1e5, 1e-2);
+  EXPECT_EQ(state.struct_size, sizeof(mh_state_spec));
+  EXPECT_STREQ(state.name, "p");
+  EXPECT_STREQ(state.unit, "Pa");
+  EXPECT_EQ(state.initial, 1e5);
+  EXPECT_EQ(state.abs_tolerance, 1e-2);
+  EXPECT_EQ(state.role, nullptr);
+  EXPECT_EQ(state.range_min, 0.0);
+  EXPECT_EQ(state.range_max, 0.0);
+  const mh_output_spec output = monohydra::output_spec("repartitions", "", MH_OUTPUT_COUNTER);
+  EXPECT_EQ(output.struct_size, sizeof(mh_output_spec));
+  EXPECT_EQ(output.kind, static_cast<uint32_t>(MH_OUTPUT_COUNTER));
+  EXPECT_EQ(output.role, nullptr);
+  EXPECT_EQ(monohydra::output_spec("s", "m").kind, static_cast<uint32_t>(MH_OUTPUT_SIGNAL));
+  const mh_unknown_spec unknown =
+      monohydra::unknown_spec("z1", "rad", MH_UNKNOWN_SECOND_ORDER, 1e-7);
+  EXPECT_EQ(unknown.struct_size, sizeof(mh_unknown_spec));
+  EXPECT_EQ(unknown.kind, static_cast<uint32_t>(MH_UNKNOWN_SECOND_ORDER));
+  EXPECT_EQ(unknown.abs_tolerance, 1e-7);
+}
+
+// The formulation helper's guard: an exception in an op is logged with the
+// op's name and becomes MH_ERROR; one in the constructor makes create fail.
+struct FormulationState {
+  const mh_host* host = nullptr;
+  int calls = 0;
+};
+struct ThrowingFormulationState {
+  ThrowingFormulationState() { throw std::runtime_error("no memory for Eigen"); }
+  const mh_host* host = nullptr;
+};
+
+TEST(SdkFormulationPlugin, GuardedOpLogsTheOpsNameAndReturnsError) {
+  FakeNetwork net;
+  FakeHost host(net);
+  mh_formulation ops{};
+  ops.struct_size = sizeof(mh_formulation);
+  const mh_formulation* f = monohydra::create_formulation<FormulationState>(&host.table, ops);
+  ASSERT_NE(f, nullptr);
+  EXPECT_EQ(monohydra::guarded_op<FormulationState>(f, "begin_step",
+                                                    [](FormulationState& s) {
+                                                      ++s.calls;
+                                                      return MH_OK;
+                                                    }),
+            MH_OK);
+  EXPECT_EQ(
+      monohydra::guarded_op<FormulationState>(
+          f, "residual", [](FormulationState&) -> mh_status { throw std::runtime_error("boom"); }),
+      MH_ERROR);
+  EXPECT_EQ(monohydra::guarded_op<FormulationState>(
+                f, "accept", [](FormulationState&) -> mh_status { throw 7; }),
+            MH_ERROR);
+  EXPECT_EQ(static_cast<const FormulationState*>(f->plugin_data)->calls, 1);
+  ASSERT_EQ(host.logs.size(), 2u);
+  EXPECT_EQ(host.logs[0], "residual: boom");
+  EXPECT_EQ(host.logs[1], "accept: unknown C++ exception");
+  monohydra::destroy_formulation<FormulationState>(f);
+
+  EXPECT_EQ(monohydra::create_formulation<ThrowingFormulationState>(&host.table, ops), nullptr);
+  ASSERT_EQ(host.logs.size(), 3u);
+  EXPECT_EQ(host.logs[2], "creating the formulation: no memory for Eigen");
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 /* point-load: a constant force, fixed in the world frame, acting at one body
  * point (a payload, a cable pulling steadily). Written in C11 against the
- * installed SDK only, as docs/plugin-guide.md walks through it. */
+ * installed SDK 2.0 only, as docs/plugin-guide.md walks through it. It has no
+ * states and no outputs: setup only reads its option and attaches to a point. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -72,6 +73,7 @@ static const mh_subsystem* create(const mh_subsystem_factory* f, const mh_host* 
   if (d == NULL || s == NULL) {
     free(d);
     free(s);
+    host->log(host, MH_LOG_ERROR, "point-load: out of memory");
     return NULL;
   }
   d->host = host;
@@ -98,7 +100,7 @@ static int init(const char* path) {
 }
 static void deinit(void) {}
 static const void* get_factory(const char* id) {
-  return strcmp(id, MH_SUBSYSTEM_FACTORY_ID) == 0 ? &factory_ : NULL;
+  return id != NULL && strcmp(id, MH_SUBSYSTEM_FACTORY_ID) == 0 ? &factory_ : NULL;
 }
 
 MH_PLUGIN_EXPORT const mh_plugin_entry mh_entry = {MH_ABI_VERSION_INIT, init, deinit, get_factory};

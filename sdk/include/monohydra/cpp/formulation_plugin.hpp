@@ -1,7 +1,15 @@
 // monohydra SDK, optional C++17 helper: the part of a formulation plugin that
 // is the same in every one. A formulation writes its operations as free
 // functions over its own state type T (which has a `const mh_host* host`
-// member), lists them in an mh_formulation "ops" table, and writes
+// member), each body inside monohydra::guarded_op so that no exception crosses
+// into the host,
+//
+//   mh_status residual(const mh_formulation* f, double t, const double* x, const double* xd,
+//                      const double* xdd, double* r) noexcept {
+//     return monohydra::guarded_op<MyState>(f, "residual", [&](MyState& s) { ... });
+//   }
+//
+// lists them in an mh_formulation "ops" table, and writes
 //
 //   const mh_formulation* create(const mh_host* host) {
 //     return monohydra::create_formulation<MyState>(host, kOps);
@@ -9,28 +17,45 @@
 //   MONOHYDRA_FORMULATION_PLUGIN(my_ns::kDescriptor, my_ns::create)
 //
 // at global scope; the ops table's destroy can be monohydra::destroy_formulation<MyState>.
-// The macro defines the factory (one component) and the entry symbol.
+// The macro defines the factory (one component) and the entry symbol. setup
+// declares unknowns and outputs with the spec structs of host.h
+// (monohydra/cpp/specs.hpp fills them: unknown_spec, output_spec).
 #ifndef MONOHYDRA_CPP_FORMULATION_PLUGIN_HPP
 #define MONOHYDRA_CPP_FORMULATION_PLUGIN_HPP
 
 #include <cstring>
 #include <new>
 
+#include "monohydra/cpp/guarded.hpp"
+#include "monohydra/cpp/specs.hpp"
 #include "monohydra/entry.h"
 #include "monohydra/formulation.h"
 
 namespace monohydra {
 
+// Runs `op(T&)` on the instance `f` made by create_formulation<T>; an escaping
+// exception is logged through the instance's host as "<what>: <text>" and
+// turns into MH_ERROR (monohydra/cpp/guarded.hpp).
+template <class T, class Op>
+mh_status guarded_op(const mh_formulation* f, const char* what, Op&& op) noexcept {
+  T& state = *static_cast<T*>(f->plugin_data);
+  return guarded(state.host, what, [&] { return op(state); });
+}
+
 // A new instance: a copy of `ops` with a fresh T as its plugin_data. NULL
-// (after logging) when memory runs out.
+// (after logging) when memory runs out or T's constructor throws.
 template <class T>
 const mh_formulation* create_formulation(const mh_host* host, const mh_formulation& ops) noexcept {
-  auto* data = new (std::nothrow) T;
-  auto* f = new (std::nothrow) mh_formulation(ops);
-  if (data == nullptr || f == nullptr) {
+  T* data = nullptr;
+  const mh_status made = guarded(host, "creating the formulation", [&] {
+    data = new (std::nothrow) T;  // T's constructor may still throw: guarded
+    return MH_OK;
+  });
+  if (made != MH_OK) return nullptr;
+  auto* f = data != nullptr ? new (std::nothrow) mh_formulation(ops) : nullptr;
+  if (f == nullptr) {
+    host->log(host, MH_LOG_ERROR, "creating the formulation: out of memory");
     delete data;
-    delete f;
-    host->log(host, MH_LOG_ERROR, "out of memory creating the formulation");
     return nullptr;
   }
   data->host = host;
@@ -49,7 +74,8 @@ void destroy_formulation(const mh_formulation* f) noexcept {
 
 // The factory of one formulation and the plugin's entry symbol. `descriptor`
 // is an mh_component_descriptor; `create` a function
-// const mh_formulation* (const mh_host*). Use once per plugin, at global scope.
+// const mh_formulation* (const mh_host*), called inside a guard. Use once per
+// plugin, at global scope.
 #define MONOHYDRA_FORMULATION_PLUGIN(descriptor, create)                                           \
   namespace {                                                                                      \
   uint32_t monohydra_formulation_count(const mh_formulation_factory*) {                            \
@@ -62,7 +88,12 @@ void destroy_formulation(const mh_formulation* f) noexcept {
   const mh_formulation* monohydra_formulation_create(const mh_formulation_factory*,                \
                                                      const mh_host* host, const char* id) {        \
     if (host == nullptr || id == nullptr || std::strcmp(id, (descriptor).id) != 0) return nullptr; \
-    return create(host);                                                                           \
+    const mh_formulation* made = nullptr;                                                          \
+    ::monohydra::guarded(host, "create", [&] {                                                     \
+      made = create(host);                                                                         \
+      return MH_OK;                                                                                \
+    });                                                                                            \
+    return made;                                                                                   \
   }                                                                                                \
   const mh_formulation_factory monohydra_formulation_factory{                                      \
       sizeof(mh_formulation_factory), monohydra_formulation_count,                                 \

@@ -21,6 +21,9 @@
 //   mh_status accept(const mh_subsystem_eval& eval);
 //   const void* extension(const char* id);                // NULL if not supported
 //
+// setup declares states and outputs with the spec structs of host.h
+// (mh_state_spec, mh_output_spec; monohydra/cpp/specs.hpp fills them).
+//
 // The library then lists its components once:
 //
 //   MONOHYDRA_SUBSYSTEM_PLUGIN(monohydra::subsystem_component<Spring>(),
@@ -34,20 +37,21 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
-#include <exception>
 #include <memory>
 #include <new>
 #include <string>
 #include <type_traits>
 #include <utility>
 
+#include "monohydra/cpp/guarded.hpp"
+#include "monohydra/cpp/specs.hpp"
 #include "monohydra/entry.h"
 #include "monohydra/subsystem.h"
 
 // True when the table `table` of C type `type` (e.g. a host's mh_host) is
 // large enough to hold `field`: fields a later minor ABI appended are only
 // there when the other side was built against that minor version or newer.
-//   if (!MONOHYDRA_HAS_FIELD(mh_host, host, add_port)) ...
+//   if (MONOHYDRA_HAS_FIELD(mh_host, host, some_2_1_service)) ...
 #define MONOHYDRA_HAS_FIELD(type, table, field) \
   ((table)->struct_size >= offsetof(type, field) + sizeof(type::field))
 
@@ -83,31 +87,7 @@ struct HasExtension<
     T, std::void_t<decltype(std::declval<T&>().extension(std::declval<const char*>()))>>
     : std::true_type {};
 
-// Logs "<what>: <reason>" without throwing (a failed allocation logs `what` alone).
-inline void log_failure(const mh_host* host, const char* what, const char* reason) noexcept {
-  if (host == nullptr || host->log == nullptr) return;
-  try {
-    host->log(host, MH_LOG_ERROR, (std::string(what) + ": " + reason).c_str());
-  } catch (...) {
-    host->log(host, MH_LOG_ERROR, what);
-  }
-}
-
 }  // namespace detail
-
-// Runs `op` (returning mh_status); an exception escaping it is logged through
-// `host` as "<what>: <exception text>" and turns into MH_ERROR.
-template <class Op>
-mh_status guarded(const mh_host* host, const char* what, Op&& op) noexcept {
-  try {
-    return std::forward<Op>(op)();
-  } catch (const std::exception& e) {
-    detail::log_failure(host, what, e.what());
-  } catch (...) {
-    detail::log_failure(host, what, "unknown C++ exception");
-  }
-  return MH_ERROR;
-}
 
 // One component of a library: its descriptor and how to create an instance.
 struct SubsystemComponent {
