@@ -56,8 +56,8 @@ double spectral_radius(const std::map<std::string, double>& options, double hw, 
       }
     }
   std::vector<double> A(9), rhs(b, b + 3);
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) A[static_cast<size_t>(3 * i + j)] = N[i][j];
+  for (size_t i = 0; i < 3; ++i)
+    for (size_t j = 0; j < 3; ++j) A[3 * i + j] = N[i][j];
   solve_dense(A, rhs);
   double radius = 0.0;
   for (const auto& r : cubic_roots(rhs[0], rhs[1], rhs[2])) radius = std::max(radius, std::abs(r));
