@@ -105,6 +105,7 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
   e.y.conservativeResize(e.n_s);
   e.state_tol.conservativeResize(e.n_s);
   e.scratch_rows.setZero(e.n_s);
+  e.outputs.setZero(e.n_o);  // the subsystems' so far; the formulation's are appended below
   e.classify_states();
 
   // The formulation. Options in the model file belong to the model's
@@ -137,7 +138,7 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
   e.formulation_host->in_setup = false;
   if (!status_ok(fst)) throw_setup_failure(e, file.formulation.mark, fwho);
   e.check_unread_options(*e.formulation_host);
-  e.outputs.setZero(e.n_o);
+  e.outputs.conservativeResize(e.n_o);
   e.outputs_k.setZero(e.n_o);
 
   // The integrator, over every unknown: the formulation's, then the states.

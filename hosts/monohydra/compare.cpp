@@ -22,12 +22,12 @@ namespace fs = std::filesystem;
 namespace mh::cli {
 namespace {
 
-// A run's label as a file name: anything but [A-Za-z0-9._-] becomes '_'.
+// A run's label as a file name: anything but [A-Za-z0-9._+-] becomes '_'.
 std::string file_stem(const std::string& label) {
   std::string out = label;
   for (char& ch : out) {
     const bool ok = (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') ||
-                    (ch >= '0' && ch <= '9') || ch == '.' || ch == '_' || ch == '-';
+                    (ch >= '0' && ch <= '9') || ch == '.' || ch == '_' || ch == '-' || ch == '+';
     if (!ok) ch = '_';
   }
   return out;

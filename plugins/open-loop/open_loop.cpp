@@ -72,12 +72,14 @@ mh_status start(const mh_formulation* f, double* x0, double* xd0, double* xdd0) 
     if (s.host->evaluate_mechanics(s.host, &rq, &rs) >= MH_DISCARD) return MH_ERROR;
     const Eigen::Map<const Eigen::MatrixXd> M(rs.M, s.N, s.N);
     const ConstVectorMap Q(rs.Q, s.N);
-    const Eigen::LLT<Eigen::MatrixXd> llt(M);
-    if (llt.info() != Eigen::Success) {
+    // LDLT (pivoted), as the penalty formulation's start: without cut joints
+    // both give the same accelerations to the bit.
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(M);
+    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0.0)) {
       log_error(s, "the mass matrix M' is singular at the initial state (a massless body?)");
       return MH_ERROR;
     }
-    s.zdd = llt.solve(Q);  // Eq. (12)
+    s.zdd = ldlt.solve(Q);  // Eq. (12)
     VectorMap(x0, s.N) = s.z;
     VectorMap(xd0, s.N) = s.zd;
     VectorMap(xdd0, s.N) = s.zdd;

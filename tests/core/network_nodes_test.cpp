@@ -61,15 +61,18 @@ TEST(NetworkNodes, PortsNamingOneNodeShareOneEffortState) {
   const double C = 1e-4 * (1.0 / 5e8 + 1.0 / 1.5e9);
   const double Cv = 0.7 * 1e-5 * std::sqrt(2.0 / 850.0);
   const double ps = 1e7, u0 = std::sqrt(ps - 1e5);
-  sim.settings().dt = 1e-5;
-  sim.start();
-  for (int k = 0; k < 200; ++k) sim.step();
+  RunChoices fine;
+  fine.dt = 1e-5;
+  Simulation sim_fine(file, test::build_plugins(), fine);
+  sim_fine.start();
+  for (int k = 0; k < 200; ++k) sim_fine.step();
   const double u = u0 - Cv * 2e-3 / (2.0 * C);
   const double p_exact = ps - u * u;  // 6.49 MPa at 2 ms
-  const double p1 = sim.states()[sim.state_index("n1")];
+  const double p1 = sim_fine.states()[sim_fine.state_index("n1")];
   EXPECT_NEAR(p1, p_exact, 1e-4 * ps);
-  EXPECT_DOUBLE_EQ(sim.states()[sim.state_index("supply")], ps);
-  EXPECT_NEAR(sim.states()[sim.state_index("pump.q")], Cv * std::sqrt(ps - p1), 1e-6 * Cv * u0);
+  EXPECT_DOUBLE_EQ(sim_fine.states()[sim_fine.state_index("supply")], ps);
+  EXPECT_NEAR(sim_fine.states()[sim_fine.state_index("pump.q")], Cv * std::sqrt(ps - p1),
+              1e-6 * Cv * u0);
 }
 
 TEST(NetworkNodes, AnUnconnectedPortIsRefusedNamingTheComponentAndPort) {

@@ -19,13 +19,15 @@ std::string load_error(const std::string& path) {
   return "";
 }
 
-TEST(PluginRegistry, FindsTheBuildsFormulationAndSubsystemsWithTheirAbiVersion) {
+TEST(PluginRegistry, FindsTheBuildsFormulationSubsystemsAndIntegratorsWithTheirAbiVersion) {
   const PluginRegistry& r = test::build_plugins();
   const ComponentInfo& f = r.find(ComponentKind::formulation, "open-loop");
   EXPECT_EQ(f.abi_version.major, MH_ABI_VERSION_MAJOR);
-  ASSERT_NE(f.formulation_factory, nullptr);
-  EXPECT_NE(r.find(ComponentKind::subsystem, "spring-damper").subsystem_factory, nullptr);
-  EXPECT_NE(r.find(ComponentKind::subsystem, "maxwell").subsystem_factory, nullptr);
+  ASSERT_NE(f.factory, nullptr);
+  EXPECT_NE(f.formulation_factory.create, nullptr);
+  EXPECT_NE(r.find(ComponentKind::subsystem, "spring-damper").subsystem_factory.create, nullptr);
+  EXPECT_NE(r.find(ComponentKind::subsystem, "maxwell").subsystem_factory.create, nullptr);
+  EXPECT_NE(r.find(ComponentKind::integrator, "trapezoidal").integrator_factory.create, nullptr);
   EXPECT_TRUE(r.refusals().empty());
 }
 
@@ -58,14 +60,14 @@ TEST(PluginRegistry, RefusesAPluginOfAnIncompatibleAbiMajorVersion) {
   const std::string path = std::string(MH_FIXTURE_DIR) + "/mh_fixture_future_abi.so";
   EXPECT_EQ(load_error(path), "'" + path +
                                   "' was built for monohydra ABI 99.0, this host speaks ABI 2.0 "
-                                  "(major versions must match)");
+                                  "(major versions must match: rebuild the plugin against SDK 2)");
 }
 
 TEST(PluginRegistry, RefusesAnAbi1PluginNamingBothVersions) {
   const std::string path = std::string(MH_FIXTURE_DIR) + "/mh_fixture_major_one.so";
   EXPECT_EQ(load_error(path), "'" + path +
                                   "' was built for monohydra ABI 1.1, this host speaks ABI 2.0 "
-                                  "(major versions must match)");
+                                  "(major versions must match: rebuild the plugin against SDK 2)");
 }
 
 TEST(PluginRegistry, ScanRecordsRefusalsAndKeepsGoing) {

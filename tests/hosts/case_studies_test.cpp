@@ -25,33 +25,35 @@ TEST(CaseStudies, TheShippedFileHoldsThePapersNumbers) {
   EXPECT_EQ(fs::path(fb.model_path).filename(), "fourbar.yaml");
   EXPECT_EQ(fb.report_dir, "out/fourbar");
   EXPECT_EQ(fb.formulations, (std::vector<std::string>{"double-step", "penalty"}));
-  EXPECT_EQ(fb.paper.independent_coordinate, "z3");
+  EXPECT_EQ(fb.paper.integrator, "trapezoidal");
+  EXPECT_EQ(fb.paper.run("double-step", "trapezoidal")->coordinates, "z3 throughout");
+  EXPECT_EQ(fb.paper.run("double-step", "bdf2"), nullptr);  // the paper ran trapezoidal only
   EXPECT_EQ(*fb.paper.max_actuator_work, 982.95);
   EXPECT_EQ(*fb.paper.peak_drift, 0.84);
   EXPECT_EQ(*fb.paper.peak_drift_percent, 0.09);
-  ASSERT_NE(fb.paper.run("double-step"), nullptr);
-  EXPECT_EQ(*fb.paper.run("double-step")->avg_iterations, 1.39);
-  EXPECT_EQ(*fb.paper.run("double-step")->max_iterations, 3.0);
-  EXPECT_EQ(*fb.paper.run("double-step")->total_seconds, 27.45);
-  EXPECT_EQ(*fb.paper.run("penalty")->avg_iterations, 1.56);
-  EXPECT_EQ(*fb.paper.run("penalty")->max_iterations, 4.0);
-  EXPECT_EQ(*fb.paper.run("penalty")->total_seconds, 21.54);
+  ASSERT_NE(fb.paper.run("double-step", "trapezoidal"), nullptr);
+  EXPECT_EQ(*fb.paper.run("double-step", "trapezoidal")->avg_iterations, 1.39);
+  EXPECT_EQ(*fb.paper.run("double-step", "trapezoidal")->max_iterations, 3.0);
+  EXPECT_EQ(*fb.paper.run("double-step", "trapezoidal")->total_seconds, 27.45);
+  EXPECT_EQ(*fb.paper.run("penalty", "trapezoidal")->avg_iterations, 1.56);
+  EXPECT_EQ(*fb.paper.run("penalty", "trapezoidal")->max_iterations, 4.0);
+  EXPECT_EQ(*fb.paper.run("penalty", "trapezoidal")->total_seconds, 21.54);
 
   EXPECT_EQ(qr.name, "quick-return");
   EXPECT_EQ(fs::path(qr.model_path).filename(), "quickreturn.yaml");
-  EXPECT_EQ(qr.paper.independent_coordinate, "z4");
+  EXPECT_EQ(qr.paper.run("double-step", "trapezoidal")->coordinates, "z4 throughout");
   EXPECT_EQ(*qr.paper.max_actuator_work, 357.47);
   EXPECT_EQ(*qr.paper.peak_drift, 0.23);
   EXPECT_EQ(*qr.paper.peak_drift_percent, 0.06);
-  EXPECT_EQ(*qr.paper.run("double-step")->avg_iterations, 1.49);
-  EXPECT_EQ(*qr.paper.run("double-step")->max_iterations, 3.0);
-  EXPECT_EQ(*qr.paper.run("double-step")->total_seconds, 29.03);
-  EXPECT_EQ(*qr.paper.run("penalty")->avg_iterations, 1.57);
-  EXPECT_EQ(*qr.paper.run("penalty")->max_iterations, 6.0);
-  EXPECT_EQ(*qr.paper.run("penalty")->total_seconds, 28.47);
-  EXPECT_EQ(qr.paper.run("open-loop"), nullptr);
+  EXPECT_EQ(*qr.paper.run("double-step", "trapezoidal")->avg_iterations, 1.49);
+  EXPECT_EQ(*qr.paper.run("double-step", "trapezoidal")->max_iterations, 3.0);
+  EXPECT_EQ(*qr.paper.run("double-step", "trapezoidal")->total_seconds, 29.03);
+  EXPECT_EQ(*qr.paper.run("penalty", "trapezoidal")->avg_iterations, 1.57);
+  EXPECT_EQ(*qr.paper.run("penalty", "trapezoidal")->max_iterations, 6.0);
+  EXPECT_EQ(*qr.paper.run("penalty", "trapezoidal")->total_seconds, 28.47);
+  EXPECT_EQ(qr.paper.run("open-loop", "trapezoidal"), nullptr);
   // The paper's colours for the open valve: purple, then cyan.
-  EXPECT_NE(fb.valve_shading, qr.valve_shading);
+  EXPECT_NE(fb.control_shading, qr.control_shading);
 }
 
 fs::path write(const std::string& name, const std::string& text) {

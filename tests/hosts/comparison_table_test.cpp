@@ -26,6 +26,7 @@ cli::RunRecord run(const std::string& formulation, double z_offset) {
 cli::RunRecord failed_at_setup(const std::string& formulation) {
   cli::RunRecord r;
   r.formulation = formulation;
+  r.label = formulation;
   r.failed = true;
   r.failure = "unknown formulation 'x' (found: a, b)";
   return r;
@@ -66,7 +67,8 @@ TEST(ComparisonTable, ThePapersNumbersStandBesideTheFormulationsItRan) {
   cli::PaperNumbers paper;
   paper.source = "the paper";
   paper.max_actuator_work = 982.95;
-  paper.runs.push_back({"b", 1.39, 3.0, 27.45});
+  paper.integrator = "trapezoidal";
+  paper.runs.push_back({"b", "", 1.39, 3.0, 27.45});
   const auto c = cli::summarize("m", "m.yaml", {run("a", 0.0), run("b", 0.0)});
   const cli::TextTable t = cli::comparison_table(c, &paper);
   EXPECT_EQ(t.header, (std::vector<std::string>{"quantity", "a", "paper", "b", "paper"}));

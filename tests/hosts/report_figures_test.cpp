@@ -11,10 +11,11 @@
 #include <sstream>
 
 #include "comparison_table.hpp"
+#include "control_intervals.hpp"
+#include "monohydra/host.h"
 #include "report_html.hpp"
 #include "synthetic_run.hpp"
 #include "test_support.hpp"
-#include "valve_intervals.hpp"
 
 namespace mh::test {
 namespace {
@@ -43,6 +44,15 @@ ModelFile hydraulic_fourbar() {
   return parse_model_text(yaml, "fourbar-hydraulic.yaml");
 }
 
+// The valve's spool as the valve declares it: a control signal of +-10 V.
+VariableInfo control_signal() {
+  VariableInfo v;
+  v.role = MH_ROLE_CONTROL_SIGNAL;
+  v.range_min = -10.0;
+  v.range_max = 10.0;
+  return v;
+}
+
 cli::RunRecord hydraulic_run(const std::string& formulation, double wobble) {
   SyntheticRun s;
   s.formulation = formulation;
@@ -60,7 +70,7 @@ cli::RunRecord hydraulic_run(const std::string& formulation, double wobble) {
   s.states = {{"p1", "Pa", [](size_t, double t) { return 5.0e6 + 1e5 * t; }},
               {"p2", "Pa", [](size_t, double t) { return 5.0e6 + 2e5 * t; }},
               {"p3", "Pa", [wobble](size_t, double) { return 3.5e6 + wobble; }},
-              {"U", "V", u}};
+              {"U", "V", u, control_signal()}};
   s.outputs = {{"s", "m", [](size_t, double) { return 1.414; }},
                {"sdot", "m/s", nullptr},
                {"Fs", "N", [](size_t, double) { return 11029.38; }}};
@@ -77,7 +87,8 @@ class HydraulicReport : public ::testing::Test {
       : file(hydraulic_fourbar()),
         c(cli::summarize("four-bar", "fourbar-hydraulic.yaml",
                          {hydraulic_run("double-step", 0.0), hydraulic_run("penalty", 1.0)})),
-        open(cli::valve_open_intervals(*c.reference_run(), cli::valve_columns(file))),
+        open(cli::control_on_intervals(*c.reference_run(),
+                                       cli::control_columns(*c.reference_run()))),
         figures(cli::report_figures(file, c, open, "#d8c8f0")) {}
   std::string svgs(const std::string& id) const {
     for (const auto& f : figures)
@@ -119,7 +130,7 @@ TEST_F(HydraulicReport, TimePlotsShadeTheTwoValveOpenings) {
   for (const char* id : {"fig-coordinates", "fig-pressures", "fig-energies", "fig-drift",
                          "fig-constraints", "fig-iterations", "fig-step-time"})
     EXPECT_EQ(count(svgs(id), "<rect class=\"shade\""), 2u) << id;
-  EXPECT_NE(svgs("fig-drift").find("valve open (|U| &gt; 0.1 V)"), std::string::npos);
+  EXPECT_NE(svgs("fig-drift").find("control signal on (&gt; 1 % of its range)"), std::string::npos);
 }
 
 TEST_F(HydraulicReport, MechanismDrawsTheCylinderBetweenItsPointsAtEverySecond) {

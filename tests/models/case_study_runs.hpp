@@ -39,15 +39,14 @@ inline std::vector<int> pressure_columns(const Simulation& sim) {
 // Runs `model` with `formulation` at `dt` to `t_end`, recording every
 // `record_every` seconds.
 inline CaseRun run_case(const std::string& model, const std::string& formulation, double dt = 1e-3,
-                        double t_end = 10.0, double record_every = 1e-2) {
+                        double t_end = 10.0, double record_every = 1e-2,
+                        const std::string& integrator = "") {
   const ModelFile file = load_model_file(source_path("models/" + model));
   CaseRun r;
-  Simulation sim(file, build_plugins(), formulation,
+  Simulation sim(file, build_plugins(), RunChoices{formulation, integrator, dt, t_end},
                  [&r](mh_log_level level, const std::string&, const std::string& msg) {
                    if (level >= MH_LOG_INFO) r.log += msg + "\n";
                  });
-  sim.settings().dt = dt;
-  sim.settings().t_end = t_end;
   sim.start();
   const std::vector<int> cols = pressure_columns(sim);
   const auto pressures = [&] {

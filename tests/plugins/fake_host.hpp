@@ -258,7 +258,8 @@ class Instance {
  public:
   Instance(const std::string& id, FakeHost& host) : host_(&host) {
     const ComponentInfo& info = build_plugins().find(ComponentKind::subsystem, id);
-    api_ = info.subsystem_factory->create(info.subsystem_factory, &host.table, id.c_str());
+    api_ = info.subsystem_factory.create(static_cast<const mh_subsystem_factory*>(info.factory),
+                                         &host.table, id.c_str());
   }
   ~Instance() {
     if (api_ != nullptr) api_->destroy(api_);
