@@ -2,6 +2,7 @@
 #pragma once
 
 #include <memory>
+#include <sstream>
 #include <string>
 
 #include "monohydra/core/model_file.hpp"
@@ -21,6 +22,13 @@ inline const PluginRegistry& build_plugins() {
 
 inline std::string source_path(const std::string& relative) {
   return std::string(MH_SOURCE_DIR) + "/" + relative;
+}
+
+// For RecordProperty: an error or a measured number, in a readable form.
+inline std::string scientific(double x) {
+  std::ostringstream out;
+  out << std::scientific << x;
+  return out.str();
 }
 
 }  // namespace mh::test

@@ -14,8 +14,10 @@
 #include <string>
 #include <vector>
 
+#include "monohydra/core/constraint_derivatives.hpp"
 #include "monohydra/core/constraints.hpp"
 #include "monohydra/core/data.hpp"
+#include "monohydra/core/dynamics_derivatives.hpp"
 #include "monohydra/core/linear_solver.hpp"
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/simulation.hpp"
@@ -56,6 +58,9 @@ struct SubsystemInstance {
   std::vector<int> slots;       // touched x touched: value slots in the tangent
   std::vector<double> d_dy, d_dydot;
   double power = 0.0;  // sum F . v at the last evaluation
+  // Point-force derivatives (3P x 3P, column-major) and the buffers that
+  // difference them when the plugin gives none (mechanics_derivatives.cpp).
+  std::vector<double> dF_dp, dF_dv, p_pert, v_pert, f_base;
 };
 
 // A node of a network (e.g. a hydraulic node): the ports the model joined under
@@ -132,6 +137,13 @@ struct Simulation::Engine {
   Eigen::MatrixXd phi_z;
   Eigen::VectorXd z0, zd0;
 
+  // Derivatives of the mechanics (host service mech_derivatives, ABI 2.1).
+  std::unique_ptr<DynamicsDerivativesWorkspace> dyn_ws;
+  std::unique_ptr<ConstraintDerivativesWorkspace> con_ws;
+  std::vector<PointForceTerm> force_terms;  // one per (point, other point) of each instance
+  Eigen::MatrixXd K, C, dPhizT_v_dz, dA_dz, dA_dzd;
+  Eigen::VectorXd saved_outputs, rows_discard, zdd_eval, v_eval;
+
   // Newton over x = [formulation unknowns; subsystem states].
   int n = 0;
   Eigen::VectorXd x, xd, xdd, r, r_pert, dx, tol, eps;
@@ -190,6 +202,10 @@ struct Simulation::Engine {
   void begin_step(double t_next, double h);
   void rates_of(const Eigen::VectorXd& xq, Eigen::VectorXd& xdq, Eigen::VectorXd& xddq) const;
   void restart_integrator();  // from x, xd, xdd at t
+
+  // mechanics_derivatives.cpp
+  void size_derivatives();
+  mh_status mechanics_derivatives(const mh_mech_derivatives_request& rq);
 
   // tangent.cpp
   void build_pattern();

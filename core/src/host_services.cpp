@@ -333,6 +333,35 @@ mh_status host_evaluate_mechanics(const mh_host* host, const mh_mech_request* re
   return s;
 }
 
+mh_status host_mech_derivatives(const mh_host* host, const mh_mech_derivatives_request* request,
+                                mh_mech_derivatives* result) {
+  InstanceHost& h = self(host);
+  const mh_mech_derivatives_request rq = read_struct(request);
+  const bool needs_zdd = (rq.flags & (MH_DERIV_DYNAMICS | MH_DERIV_CONSTRAINT_ACCELERATIONS)) != 0;
+  const bool needs_v = (rq.flags & MH_DERIV_CONSTRAINT_FORCES) != 0;
+  Simulation::Engine& e = *h.engine;
+  if (h.role != InstanceHost::Role::formulation || h.in_setup || request == nullptr ||
+      result == nullptr || rq.z == nullptr || rq.zd == nullptr ||
+      (needs_zdd && rq.zdd == nullptr) || (needs_v && e.m > 0 && rq.v == nullptr)) {
+    host_log(host, MH_LOG_ERROR,
+             "mech_derivatives: for a formulation after its setup, with z, zd, and zdd or v "
+             "where the flags need them");
+    return MH_ERROR;
+  }
+  const mh_status s = e.mechanics_derivatives(rq);
+  mh_mech_derivatives out{};
+  out.struct_size = sizeof(out);
+  const bool con = e.m > 0;
+  out.K = (rq.flags & MH_DERIV_DYNAMICS) != 0 ? e.K.data() : nullptr;
+  out.C = (rq.flags & MH_DERIV_DYNAMICS) != 0 ? e.C.data() : nullptr;
+  out.dPhizT_v_dz = needs_v && con ? e.dPhizT_v_dz.data() : nullptr;
+  const bool acc = (rq.flags & MH_DERIV_CONSTRAINT_ACCELERATIONS) != 0 && con;
+  out.dA_dz = acc ? e.dA_dz.data() : nullptr;
+  out.dA_dzd = acc ? e.dA_dzd.data() : nullptr;
+  if (!write_struct(result, out)) return MH_ERROR;
+  return s;
+}
+
 mh_status host_add_port(const mh_host* host, const mh_port_spec* spec, int32_t* index) {
   InstanceHost& h = self(host);
   if (setup_only(h, "add_port", true, false) != MH_OK) return MH_ERROR;
@@ -404,6 +433,7 @@ void Simulation::Engine::make_host(InstanceHost& h, const std::string& source,
   h.table.add_time_event = host_add_time_event;
   h.table.add_unknown = host_add_unknown;
   h.table.evaluate_mechanics = host_evaluate_mechanics;
+  h.table.mech_derivatives = host_mech_derivatives;
 }
 
 int Simulation::Engine::add_state_record(const VariableInfo& info, double initial,

@@ -192,6 +192,7 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
     output_units_.push_back(v.unit);
   }
   e.build_pattern();
+  e.size_derivatives();
 }
 
 Simulation::~Simulation() = default;
@@ -331,6 +332,30 @@ Eigen::MatrixXd Simulation::finite_difference_tangent() {
   }
   e.residual(t_next, e.x, e.r);
   return J;
+}
+
+Simulation::MechanicsDerivatives Simulation::mechanics_derivatives(const Eigen::VectorXd& z,
+                                                                   const Eigen::VectorXd& zd,
+                                                                   const Eigen::VectorXd& zdd) {
+  Engine& e = *engine_;
+  mh_mech_derivatives_request rq{};
+  rq.struct_size = sizeof(rq);
+  rq.flags = MH_DERIV_DYNAMICS;
+  rq.t = e.t;
+  rq.z = z.data();
+  rq.zd = zd.data();
+  rq.zdd = zdd.data();
+  if (!status_ok(e.mechanics_derivatives(rq)))
+    throw SimulationError(e.t, e.step, "mech_derivatives failed: " + e.last_plugin_error);
+  return {e.K, e.C};
+}
+
+Eigen::VectorXd Simulation::dynamics_residual(const Eigen::VectorXd& z, const Eigen::VectorXd& zd,
+                                              const Eigen::VectorXd& zdd) {
+  Engine& e = *engine_;
+  if (!status_ok(e.evaluate_mechanics(MH_EVAL_DYNAMICS, e.t, z.data(), zd.data())))
+    throw SimulationError(e.t, e.step, "evaluation failed: " + e.last_plugin_error);
+  return e.data.M * zdd - e.data.Q;
 }
 
 }  // namespace mh

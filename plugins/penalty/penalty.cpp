@@ -35,6 +35,9 @@ struct Penalty {
   double alpha = 1e11;      // penalty factor, one for every constraint (Eq. 18)
   double tol = 1e-7;        // Newton tolerance on every z_i (rad or m)
   bool projections = true;  // Eqs. (20)-(21)
+  // W of the projections: M' + C c_v/c_a + K/c_a (the paper's, needs the
+  // host's mech_derivatives, ABI 2.1) or M' alone.
+  bool tangent_projection_matrix = true;
   // Sizes and the initial time (setup, from mech_info).
   int N = 0;  // coordinates = Newton unknowns
   int m = 0;  // constraint rows
@@ -50,6 +53,7 @@ struct Penalty {
   // same x (the host's converged iterate is the x of its last residual call).
   Eigen::VectorXd x_last;
   Eigen::MatrixXd M_last, phi_z_last;
+  Eigen::MatrixXd W;  // the projections' W (N x N)
   bool last_valid = false;
   // accept()'s rates: the integrator's zd', zdd' and the projected ones,
   // before they are committed and written back.
@@ -63,6 +67,13 @@ struct Penalty {
   Eigen::VectorXd phi_dot;  // m: Phi_z zd at the accepted state
   double phi_dot_norm = 0.0;
 };
+
+// Whether the host offers mech_derivatives (ABI 2.1): its table reaches the field.
+bool has_mech_derivatives(const mh_host* host) {
+  return host->struct_size >=
+             offsetof(mh_host, mech_derivatives) + sizeof(host->mech_derivatives) &&
+         host->mech_derivatives != nullptr;
+}
 
 void log(const Penalty& s, mh_log_level level, const std::string& msg) {
   s.host->log(s.host, level, msg.c_str());
@@ -147,6 +158,21 @@ mh_status setup(const mh_formulation* f) noexcept {
     if (projections != 0.0 && projections != 1.0)
       return s.host->option_error(s.host, "projections", "1 (on) or 0 (off)");
     s.projections = projections == 1.0;
+    const char* matrix = "tangent";
+    if (s.host->option_string(s.host, "projection_matrix", 0, matrix, &matrix) != MH_OK)
+      return MH_ERROR;
+    const std::string matrix_name = matrix != nullptr ? matrix : "";
+    if (matrix_name != "tangent" && matrix_name != "mass")
+      return s.host->option_error(s.host, "projection_matrix",
+                                  "tangent (W = M' + dt/2 C + dt^2/4 K, Eqs. 20-21) or mass "
+                                  "(W = M')");
+    s.tangent_projection_matrix = matrix_name == "tangent";
+    if (s.tangent_projection_matrix && !has_mech_derivatives(s.host)) {
+      log(s, MH_LOG_ERROR,
+          "setup: projection_matrix: tangent needs the host service mech_derivatives (ABI 2.1); "
+          "this host is older: use projection_matrix: mass");
+      return MH_ERROR;
+    }
 
     const Eigen::Index N = s.N, m = s.m;
     for (Eigen::VectorXd* v : {&s.zdd, &s.x_last, &s.zd_prime, &s.zdd_prime, &s.zd_new, &s.zdd_new})
@@ -156,6 +182,7 @@ mh_status setup(const mh_formulation* f) noexcept {
     s.z = ConstVectorMap(info.z0, N);
     s.zd = ConstVectorMap(info.zd0, N);
     s.M_last.setZero(N, N);
+    s.W.setZero(N, N);
     s.phi_z_last.setZero(m, N);
     s.projector.resize(s.N, s.m);
     // The unknowns: every z_i, second order, in the coordinates' order.
@@ -309,18 +336,34 @@ mh_status accept(const mh_formulation* f, double t, const mh_step_coefficients* 
     s.zd_prime = ConstVectorMap(xd, s.N);    // zd' of the integrator
     s.zdd_prime = ConstVectorMap(xdd, s.N);  // zdd'
     if (s.projections && s.m > 0) {
-      // W = M' (see projections.hpp; W = M' + C c_v/c_a + K/c_a comes with the
-      // host's derivative service). The paper's dt^2/4 is 1 / c_a.
+      // The paper's dt^2/4 is 1 / c_a, its dt/2 c_v / c_a (projections.hpp).
       if (c == nullptr || !(c->dxdd_dx_second > 0.0)) {
         log(s, MH_LOG_ERROR, "accept: the host gave no step coefficients for the projections");
         return MH_ERROR;
       }
-      if (!s.projector.factorize(ConstMatrixMap(s.M_last.data(), s.N, s.N),
+      s.W = s.M_last;
+      if (s.tangent_projection_matrix) {
+        // W = M' + dt/2 C + dt^2/4 K at the converged z, zd', zdd' (Eqs. 20-21).
+        mh_mech_derivatives_request rq{};
+        rq.struct_size = sizeof(rq);
+        rq.flags = MH_DERIV_DYNAMICS;
+        rq.t = t;
+        rq.z = x;
+        rq.zd = xd;
+        rq.zdd = xdd;
+        mh_mech_derivatives d{};
+        d.struct_size = sizeof(d);
+        const mh_status st = s.host->mech_derivatives(s.host, &rq, &d);
+        if (st >= MH_DISCARD) return st;
+        s.W += (c->dxd_dx_second / c->dxdd_dx_second) * ConstMatrixMap(d.C, s.N, s.N);
+        s.W += (1.0 / c->dxdd_dx_second) * ConstMatrixMap(d.K, s.N, s.N);
+      }
+      if (!s.projector.factorize(ConstMatrixMap(s.W.data(), s.N, s.N),
                                  ConstMatrixMap(s.phi_z_last.data(), s.m, s.N),
                                  1.0 / c->dxdd_dx_second, s.alpha)) {
         log(s, MH_LOG_ERROR,
-            "accept: W + dt^2/4 Phi_z^T alpha Phi_z is not positive definite; the projections "
-            "(Eqs. 20-21) cannot be made");
+            "accept: W + dt^2/4 Phi_z^T alpha Phi_z is singular; the projections (Eqs. 20-21) "
+            "cannot be made");
         return MH_DISCARD;
       }
       s.projector.project_velocities(s.zd_prime, s.zd_new);  // Eq. (20)

@@ -12,21 +12,21 @@
 // caller passes as `step_factor`.
 //
 // W: the paper's W = M + dt/2 C + dt^2/4 K, i.e. W = M' + C c_v / c_a + K / c_a
-// (c_v = dxd_dx_second). Here W = M' (the caller passes it): the damping and
-// stiffness matrices C and K of the whole system come with the host's
-// derivative service, not yet in the ABI (see docs/formulations-penalty.md).
+// (c_v = dxd_dx_second), with K and C from the host's mech_derivatives (ABI
+// 2.1); or W = M' (option projection_matrix: mass). The caller forms W. With
+// K and C, W is in general not symmetric: the matrix is factorized by LU.
 #pragma once
 
-#include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <Eigen/LU>
 
 namespace mh_penalty {
 
 using ConstMatrixMap = Eigen::Map<const Eigen::MatrixXd>;
 using ConstVectorMap = Eigen::Map<const Eigen::VectorXd>;
 
-// The projection matrix [W + dt^2/4 Phi_z^T alpha Phi_z] (N x N, symmetric
-// positive definite when W is), factorized once per step and applied to both
+// The projection matrix [W + dt^2/4 Phi_z^T alpha Phi_z] (N x N), factorized
+// once per step and applied to both
 // right-hand sides. Sized once by resize(); factorize() and the projections do
 // not allocate.
 class Projector {
@@ -36,8 +36,8 @@ class Projector {
 
   // Factorizes [W + c Phi_z^T Phi_z] with c = step_factor alpha (step_factor:
   // the paper's dt^2/4, 1 / c_a), keeping W for the right-hand sides. W is N x N, phi_z m x N.
-  // Returns false when the matrix is not numerically positive definite (e.g. W singular and Phi_z
-  // rank deficient in the same direction).
+  // Returns false when the matrix is numerically singular (e.g. W singular and Phi_z rank
+  // deficient in the same direction).
   bool factorize(const ConstMatrixMap& W, const ConstMatrixMap& phi_z, double step_factor,
                  double alpha);
 
@@ -54,7 +54,7 @@ class Projector {
   Eigen::MatrixXd W_;      // N x N
   Eigen::MatrixXd phi_z_;  // m x N, of the last factorize()
   Eigen::MatrixXd A_;      // N x N, W + c_alpha Phi_z^T Phi_z
-  Eigen::LLT<Eigen::MatrixXd> llt_;
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
   Eigen::VectorXd rhs_;  // N
 };
 

@@ -22,6 +22,7 @@
 #include "monohydra/core/data.hpp"
 #include "monohydra/core/kinematics.hpp"
 #include "monohydra/core/model.hpp"
+#include "test_support.hpp"
 #include "random_tree.hpp"
 
 namespace mh {
@@ -45,6 +46,7 @@ constexpr double kPi = 3.14159265358979323846;
 using test::random_tree;
 using test::random_vector;
 using test::Rng;
+using test::scientific;
 
 // ------------------------------------------------- independent reference model
 
@@ -262,13 +264,6 @@ void semirecursive(const Model& model, Data& data, const Eigen::VectorXd& z,
 
 double relative_error(const Eigen::MatrixXd& got, const Eigen::MatrixXd& expected) {
   return (got - expected).norm() / std::max(1.0, expected.norm());
-}
-
-// For RecordProperty: the errors reached, in a readable form.
-std::string scientific(double x) {
-  std::ostringstream out;
-  out << std::scientific << x;
-  return out.str();
 }
 
 constexpr unsigned kSeeds[] = {11u, 23u, 37u, 41u, 59u};

@@ -16,6 +16,7 @@
 
 #include "monohydra/core/data.hpp"
 #include "monohydra/core/model.hpp"
+#include "test_support.hpp"
 #include "random_tree.hpp"
 
 namespace mh {
@@ -27,6 +28,7 @@ constexpr double kPi = 3.14159265358979323846;
 using test::random_tree;
 using test::random_vector;
 using test::Rng;
+using test::scientific;
 
 struct RandomCase {
   Model model;
@@ -44,13 +46,6 @@ RandomCase random_case(unsigned seed) {
   c.zdd = random_vector(rng, n, -5.0, 5.0);
   for (int j = kGround; j < n; ++j) c.points.push_back(BodyPoint{j, rng.vector(-1.0, 1.0)});
   return c;
-}
-
-// For RecordProperty: the errors reached, in a readable form.
-std::string scientific(double x) {
-  std::ostringstream out;
-  out << std::scientific << x;
-  return out.str();
 }
 
 constexpr unsigned kSeeds[] = {11u, 23u, 37u, 41u, 59u};

@@ -130,6 +130,37 @@ typedef struct mh_unknown_spec {
   double abs_tolerance; /* on its Newton increment, > 0 */
 } mh_unknown_spec;
 
+/* What mech_derivatives computes (bit flags, ABI 2.1). */
+#define MH_DERIV_DYNAMICS 0x1u /* K and C of the dynamics */
+#define MH_DERIV_CONSTRAINT_FORCES \
+  0x2u /* d(Phi_z^T v)/dz for the request's v: the constraint forces' stiffness */
+#define MH_DERIV_CONSTRAINT_ACCELERATIONS \
+  0x4u /* dA/dz and dA/dzd of A = Phi_z zdd + Phi_z_dot zd */
+
+/* A request for derivatives of the mechanics at (t, z, zd, zdd) (ABI 2.1). */
+typedef struct mh_mech_derivatives_request {
+  uint32_t struct_size;
+  uint32_t flags;    /* MH_DERIV_* */
+  double t;          /* s */
+  const double* z;   /* N */
+  const double* zd;  /* N */
+  const double* zdd; /* N (MH_DERIV_DYNAMICS, MH_DERIV_CONSTRAINT_ACCELERATIONS) */
+  const double* v;   /* m (MH_DERIV_CONSTRAINT_FORCES), e.g. alpha Phi + lambda */
+} mh_mech_derivatives_request;
+
+/* Results, owned by the host, valid until the next call; dense, column-major;
+ * NULL for what was not requested (ABI 2.1). */
+typedef struct mh_mech_derivatives {
+  uint32_t struct_size;
+  const double* K;            /* N x N: d(M' zdd - Q')/dz, with every subsystem force at
+                                 the host's current states (their point-force derivatives
+                                 from point_force_jacobian, or differences) */
+  const double* C;            /* N x N: d(M' zdd - Q')/dzd = -dQ'/dzd */
+  const double* dPhizT_v_dz;  /* N x N: d(Phi_z^T v)/dz */
+  const double* dA_dz;        /* m x N */
+  const double* dA_dzd;       /* m x N */
+} mh_mech_derivatives;
+
 typedef struct mh_host {
   uint32_t struct_size;   /* sizeof(mh_host) of the host's SDK: check before using
                              fields added by a later minor version */
@@ -208,6 +239,17 @@ typedef struct mh_host {
    * the subsystems' rows untouched. */
   mh_status (*evaluate_mechanics)(const struct mh_host* host, const mh_mech_request* request,
                                   mh_mech_result* result);
+
+  /* -- ABI 2.1 (check struct_size before use) ------------------------------- */
+  /* -- formulation, after setup -- */
+  /* Analytic derivatives of the semirecursive dynamics and of the constraint
+   * terms (computed recursively in the core, not by differences of the
+   * dynamics): e.g. the projections' W = M' + C dxd_dx/dxdd_dx + K/dxdd_dx
+   * (Eqs. 20-21), or an analytic tangent. Leaves the subsystems' rows and
+   * outputs untouched. */
+  mh_status (*mech_derivatives)(const struct mh_host* host,
+                                const mh_mech_derivatives_request* request,
+                                mh_mech_derivatives* result);
 } mh_host;
 
 #ifdef __cplusplus

@@ -117,6 +117,17 @@ class Simulation {
   // them) and the one forward differences alone give, both at the current
   // iterate of the next step, dense (to test analytic blocks).
   Eigen::MatrixXd assembled_tangent();
+  // What the host service mech_derivatives gives a formulation (ABI 2.1) at
+  // (z, zd, zdd) with the current subsystem states: K = d(M' zdd - Q')/dz and
+  // C = d(M' zdd - Q')/dzd, every subsystem force included; and M' zdd - Q'
+  // itself, to test them against differences.
+  struct MechanicsDerivatives {
+    Eigen::MatrixXd K, C;
+  };
+  MechanicsDerivatives mechanics_derivatives(const Eigen::VectorXd& z, const Eigen::VectorXd& zd,
+                                             const Eigen::VectorXd& zdd);
+  Eigen::VectorXd dynamics_residual(const Eigen::VectorXd& z, const Eigen::VectorXd& zd,
+                                    const Eigen::VectorXd& zdd);
   Eigen::MatrixXd finite_difference_tangent();
   int num_unknowns() const;
   int num_mechanical_unknowns() const;

@@ -1,0 +1,102 @@
+/* monohydra SDK: the Integrator interface (the time-step formula).
+ *
+ * The host owns the step and applies its integrator to every Newton unknown,
+ * mechanical or not; formulations and subsystems never see a step formula.
+ * An implicit integrator is an affine map, per step, from the unknowns x at
+ * the step's end to their rates there:
+ *
+ *   xd  = c.dxd_dx_second  x + xd_offset    (second-order unknowns)
+ *   xdd = c.dxdd_dx_second x + xdd_offset
+ *   xd  = c.dxd_dx_first   x + xd_offset    (first-order unknowns)
+ *
+ * (algebraic unknowns have no rate), so the host solves r(x, xd(x), xdd(x)) = 0
+ * by Newton with the tangent dr/dx + dxd_dx dr/dxd + dxdd_dx dr/dxdd. The
+ * integrator keeps its own history (the accepted x, xd, xdd it was told).
+ *
+ * The host drives it:
+ *   setup -> restart(t0) -> [ begin_step -> (Newton) -> accept ]* ,
+ *   with restart again after a time event or when a formulation redefines its
+ *   unknowns; a step that fails is abandoned and the next begin_step starts
+ *   again from the last accept or restart.
+ *
+ * Explicit multi-stage methods (mh_integrator.method = MH_METHOD_EXPLICIT)
+ * are reserved for a later minor version, which appends their stage
+ * operations; a 2.0 host refuses them by name. */
+#ifndef MONOHYDRA_INTEGRATOR_H
+#define MONOHYDRA_INTEGRATOR_H
+
+#include "monohydra/formulation.h"
+#include "monohydra/host.h"
+#include "monohydra/types.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define MH_INTEGRATOR_FACTORY_ID "monohydra.integrator-factory/2"
+
+#define MH_METHOD_IMPLICIT_AFFINE 0u /* the map above, solved by the host's Newton */
+#define MH_METHOD_EXPLICIT 1u        /* reserved (see above) */
+
+/* The problem, handed once at setup (after every command-line override). */
+typedef struct mh_integrator_problem {
+  uint32_t struct_size;
+  uint32_t num_unknowns; /* n */
+  const uint8_t* kinds;  /* n: mh_unknown_kind of each unknown */
+  double t0;             /* s */
+  double dt;             /* the run's step (s); a step may be shorter (retries, the end) */
+} mh_integrator_problem;
+
+/* One step's map, written by begin_step into host-owned arrays of n. */
+typedef struct mh_step_map {
+  uint32_t struct_size;
+  mh_step_coefficients coefficients; /* h, dxd_dx_*, dxdd_dx_second */
+  double* x_predicted;               /* n: the Newton iteration's first x */
+  double* xd_offset;                 /* n: see above (ignored for algebraic unknowns) */
+  double* xdd_offset;                /* n: see above (second-order unknowns only) */
+} mh_step_map;
+
+typedef struct mh_integrator {
+  uint32_t struct_size; /* sizeof(mh_integrator) of the plugin's SDK */
+  const mh_component_descriptor* descriptor;
+  void* plugin_data;
+  uint32_t method; /* MH_METHOD_* */
+
+  /* Reads options (host option_*) and sizes itself for the problem. */
+  mh_status (*setup)(const struct mh_integrator* self, const mh_integrator_problem* problem);
+
+  /* Forgets the history and starts from (x, xd, xdd) at t (n each; xd, xdd of
+   * unknowns without them are 0): at t0, after a time event, and when a
+   * formulation redefines its unknowns. */
+  mh_status (*restart)(const struct mh_integrator* self, double t, const double* x,
+                       const double* xd, const double* xdd);
+
+  /* The map of the step from the last accepted (or restarted) time to
+   * t_next = t + h. */
+  mh_status (*begin_step)(const struct mh_integrator* self, double t_next, double h,
+                          mh_step_map* map);
+
+  /* The step to t converged; x, xd, xdd are the accepted values (the map's,
+   * or a formulation's corrections of them). */
+  mh_status (*accept)(const struct mh_integrator* self, double t, const double* x, const double* xd,
+                      const double* xdd);
+
+  void (*destroy)(const struct mh_integrator* self);
+  const void* (*get_extension)(const struct mh_integrator* self, const char* id);
+} mh_integrator;
+
+typedef struct mh_integrator_factory {
+  uint32_t struct_size;
+  uint32_t (*count)(const struct mh_integrator_factory* factory);
+  const mh_component_descriptor* (*descriptor)(const struct mh_integrator_factory* factory,
+                                               uint32_t index);
+  /* Creates the integrator `id`; NULL on failure, after logging through host. */
+  const mh_integrator* (*create)(const struct mh_integrator_factory* factory, const mh_host* host,
+                                 const char* id);
+} mh_integrator_factory;
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* MONOHYDRA_INTEGRATOR_H */

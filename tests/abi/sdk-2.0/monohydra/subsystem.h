@@ -1,0 +1,90 @@
+/* monohydra SDK: the Subsystem interface (springs, dampers, hydraulic volumes,
+ * valves, cylinders, ...).
+ *
+ * A subsystem instance may own states y (e.g. a pressure) and may be attached
+ * to body points. Its equations are written in residual form: every state i has
+ * one residual row, the SUM of the contributions of every instance that touches
+ * it, and the step solves sum = 0 with y_{k+1} and ydot_{k+1} tied by the
+ * host's integrator (the trapezoidal rule by default, Eqs. 32-34). An instance adds to the rows of
+ * the states it touches (its own, and others found with find_state) and applies forces at its
+ * points; the host turns those into generalized forces (Eq. 10).
+ *
+ * The sparsity of the shared tangent follows from setup: an instance's rows
+ * depend on the states it touches and, if it has points, on the mechanical
+ * unknowns; the mechanical rows depend on its states if it has points. */
+#ifndef MONOHYDRA_SUBSYSTEM_H
+#define MONOHYDRA_SUBSYSTEM_H
+
+#include "monohydra/host.h"
+#include "monohydra/types.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define MH_SUBSYSTEM_FACTORY_ID "monohydra.subsystem-factory/2"
+
+typedef struct mh_subsystem_eval {
+  uint32_t struct_size;
+  double t;              /* s */
+  uint32_t num_states;   /* length of y, ydot and residual */
+  const double* y;       /* every subsystem state, by global index */
+  const double* ydot;    /* their rates */
+  double* residual;      /* every state's row: add this instance's contributions */
+  uint32_t num_points;   /* this instance's points */
+  const double* point_p; /* 3 per point: world position (m) */
+  const double* point_v; /* 3 per point: world velocity (m/s) */
+  double* point_f;       /* 3 per point: force on the body at the point (N, world);
+                            zero on entry */
+  uint32_t num_outputs;  /* length of outputs */
+  double* outputs;       /* every instance's outputs, by index: write your own */
+} mh_subsystem_eval;
+
+typedef struct mh_subsystem {
+  uint32_t struct_size; /* sizeof(mh_subsystem) of the plugin's SDK */
+  const mh_component_descriptor* descriptor;
+  void* plugin_data;
+
+  /* Reads options, declares states (add_state), ports (add_port) and outputs
+   * (add_output), finds other instances' states (find_state) and attaches to
+   * points (add_point). Instances are set up in
+   * model order; find_state only finds states of instances set up before. */
+  mh_status (*setup)(const struct mh_subsystem* self);
+
+  /* Adds this instance's contributions to the residual rows and its point
+   * forces, at the state and kinematics in `eval`. Pure: no history changes. */
+  mh_status (*evaluate)(const struct mh_subsystem* self, const mh_subsystem_eval* eval);
+
+  /* Optional (NULL: forward differences). Partial derivatives of this instance's
+   * contributions with respect to the states it touches, ordered as it received
+   * them from add_state and find_state (first call order, no repeats): n x n,
+   * row-major, into d_dy (wrt y) and d_dydot (wrt ydot); both zero on entry. */
+  mh_status (*jacobian)(const struct mh_subsystem* self, const mh_subsystem_eval* eval,
+                        double* d_dy, double* d_dydot);
+
+  /* Optional: energy stored in the instance (J) and the power it dissipates (W,
+   * >= 0), for the energy balance. */
+  mh_status (*energy)(const struct mh_subsystem* self, const mh_subsystem_eval* eval,
+                      double* stored, double* dissipation);
+
+  /* Optional: the step converged at `eval` (e.g. update hysteresis). */
+  mh_status (*accept)(const struct mh_subsystem* self, const mh_subsystem_eval* eval);
+
+  void (*destroy)(const struct mh_subsystem* self);
+  const void* (*get_extension)(const struct mh_subsystem* self, const char* id);
+} mh_subsystem;
+
+typedef struct mh_subsystem_factory {
+  uint32_t struct_size;
+  uint32_t (*count)(const struct mh_subsystem_factory* factory);
+  const mh_component_descriptor* (*descriptor)(const struct mh_subsystem_factory* factory,
+                                               uint32_t index);
+  const mh_subsystem* (*create)(const struct mh_subsystem_factory* factory, const mh_host* host,
+                                const char* id);
+} mh_subsystem_factory;
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* MONOHYDRA_SUBSYSTEM_H */
