@@ -17,17 +17,33 @@ typedef struct abi_layout {
 _Static_assert(offsetof(mh_host, struct_size) == 0, "mh_host starts with struct_size");
 _Static_assert(offsetof(mh_formulation, struct_size) == 0, "struct_size first");
 _Static_assert(offsetof(mh_subsystem, struct_size) == 0, "struct_size first");
+_Static_assert(offsetof(mh_integrator, struct_size) == 0, "struct_size first");
 _Static_assert(offsetof(mh_plugin_entry, abi_version) == 0, "entry starts with its version");
 _Static_assert(sizeof(mh_status) == sizeof(int), "status is an int-sized enum");
 
 const abi_layout mh_c_layouts[] = {
-    LAYOUT(mh_version),           LAYOUT(mh_component_descriptor),
-    LAYOUT(mh_plugin_entry),      LAYOUT(mh_mech_info),
-    LAYOUT(mh_mech_request),      LAYOUT(mh_mech_result),
-    LAYOUT(mh_port_spec),         LAYOUT(mh_host),
-    LAYOUT(mh_formulation),       LAYOUT(mh_formulation_factory),
-    LAYOUT(mh_subsystem_eval),    LAYOUT(mh_subsystem),
+    LAYOUT(mh_version),
+    LAYOUT(mh_component_descriptor),
+    LAYOUT(mh_plugin_entry),
+    LAYOUT(mh_mech_info),
+    LAYOUT(mh_mech_request),
+    LAYOUT(mh_mech_result),
+    LAYOUT(mh_port_spec),
+    LAYOUT(mh_host),
+    LAYOUT(mh_formulation),
+    LAYOUT(mh_formulation_factory),
+    LAYOUT(mh_subsystem_eval),
+    LAYOUT(mh_subsystem),
     LAYOUT(mh_subsystem_factory),
+    LAYOUT(mh_integrator),
+    LAYOUT(mh_integrator_factory),
+    LAYOUT(mh_step_map),
+    LAYOUT(mh_step_coefficients),
+    LAYOUT(mh_state_spec),
+    LAYOUT(mh_output_spec),
+    LAYOUT(mh_unknown_spec),
+    LAYOUT(mh_mech_derivatives_request),
+    LAYOUT(mh_mech_derivatives),
 };
 const size_t mh_c_layout_count = sizeof(mh_c_layouts) / sizeof(mh_c_layouts[0]);
 const size_t mh_c_offset_host_evaluate = offsetof(mh_host, evaluate_mechanics);

@@ -25,13 +25,28 @@ extern const size_t mh_c_offset_subsystem_get_extension;
 
 TEST(AbiLayout, CAndCxxSeeTheSameSizesAndAlignments) {
   const abi_layout cxx[] = {
-      CXX_LAYOUT(mh_version),           CXX_LAYOUT(mh_component_descriptor),
-      CXX_LAYOUT(mh_plugin_entry),      CXX_LAYOUT(mh_mech_info),
-      CXX_LAYOUT(mh_mech_request),      CXX_LAYOUT(mh_mech_result),
-      CXX_LAYOUT(mh_port_spec),         CXX_LAYOUT(mh_host),
-      CXX_LAYOUT(mh_formulation),       CXX_LAYOUT(mh_formulation_factory),
-      CXX_LAYOUT(mh_subsystem_eval),    CXX_LAYOUT(mh_subsystem),
+      CXX_LAYOUT(mh_version),
+      CXX_LAYOUT(mh_component_descriptor),
+      CXX_LAYOUT(mh_plugin_entry),
+      CXX_LAYOUT(mh_mech_info),
+      CXX_LAYOUT(mh_mech_request),
+      CXX_LAYOUT(mh_mech_result),
+      CXX_LAYOUT(mh_port_spec),
+      CXX_LAYOUT(mh_host),
+      CXX_LAYOUT(mh_formulation),
+      CXX_LAYOUT(mh_formulation_factory),
+      CXX_LAYOUT(mh_subsystem_eval),
+      CXX_LAYOUT(mh_subsystem),
       CXX_LAYOUT(mh_subsystem_factory),
+      CXX_LAYOUT(mh_integrator),
+      CXX_LAYOUT(mh_integrator_factory),
+      CXX_LAYOUT(mh_step_map),
+      CXX_LAYOUT(mh_step_coefficients),
+      CXX_LAYOUT(mh_state_spec),
+      CXX_LAYOUT(mh_output_spec),
+      CXX_LAYOUT(mh_unknown_spec),
+      CXX_LAYOUT(mh_mech_derivatives_request),
+      CXX_LAYOUT(mh_mech_derivatives),
   };
   ASSERT_EQ(mh_c_layout_count, sizeof(cxx) / sizeof(cxx[0]));
   for (size_t i = 0; i < mh_c_layout_count; ++i) {
@@ -47,16 +62,29 @@ TEST(AbiLayout, FunctionTablesKeepTheirFieldOffsets) {
   EXPECT_EQ(mh_c_offset_subsystem_get_extension, offsetof(mh_subsystem, get_extension));
 }
 
-TEST(AbiLayout, VersionIsOneOne) {
+TEST(AbiLayout, VersionIsTwoOne) {
   const mh_version v = MH_ABI_VERSION_INIT;
-  EXPECT_EQ(v.major, 1u);
+  EXPECT_EQ(v.major, 2u);
   EXPECT_EQ(v.minor, 1u);
 }
 
-// ABI 1.1 only appended: every 1.0 field keeps its offset, the new ones follow.
-TEST(AbiLayout, MinorOneAppendsHostServicesAfterEveryOneZeroField) {
-  EXPECT_GT(offsetof(mh_host, add_port), offsetof(mh_host, add_output));
-  EXPECT_GT(offsetof(mh_host, point_position), offsetof(mh_host, add_port));
-  EXPECT_GT(offsetof(mh_host, add_time_event), offsetof(mh_host, point_position));
-  EXPECT_EQ(sizeof(mh_host), offsetof(mh_host, add_time_event) + sizeof(void*));
+// ABI 2.1 only appended: every 2.0 field keeps its offset (the frozen 2.0
+// headers' sizes, recorded by abi_layout_sdk20.c), the new ones follow.
+extern "C" {
+extern const size_t mh_sdk20_sizeof_host;
+extern const size_t mh_sdk20_sizeof_subsystem;
+extern const size_t mh_sdk20_sizeof_formulation;
+extern const size_t mh_sdk20_sizeof_integrator;
+extern const size_t mh_sdk20_offset_host_evaluate;
+extern const size_t mh_sdk20_offset_subsystem_get_extension;
+}
+
+TEST(AbiLayout, MinorOneAppendsAfterEveryTwoZeroField) {
+  EXPECT_EQ(offsetof(mh_host, evaluate_mechanics), mh_sdk20_offset_host_evaluate);
+  EXPECT_EQ(offsetof(mh_host, mech_derivatives), mh_sdk20_sizeof_host);
+  EXPECT_EQ(sizeof(mh_host), mh_sdk20_sizeof_host + sizeof(void*));
+  EXPECT_EQ(offsetof(mh_subsystem, get_extension), mh_sdk20_offset_subsystem_get_extension);
+  EXPECT_EQ(offsetof(mh_subsystem, point_force_jacobian), mh_sdk20_sizeof_subsystem);
+  EXPECT_EQ(sizeof(mh_formulation), mh_sdk20_sizeof_formulation);  // unchanged in 2.1
+  EXPECT_EQ(sizeof(mh_integrator), mh_sdk20_sizeof_integrator);
 }

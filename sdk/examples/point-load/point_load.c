@@ -1,6 +1,6 @@
 /* point-load: a constant force, fixed in the world frame, acting at one body
  * point (a payload, a cable pulling steadily). Written in C11 against the
- * installed SDK 2.0 only, as docs/plugin-guide.md walks through it. It has no
+ * installed SDK 2.1 only, as docs/plugin-guide.md walks through it. It has no
  * states and no outputs: setup only reads its option and attaches to a point. */
 #include <stdlib.h>
 #include <string.h>
