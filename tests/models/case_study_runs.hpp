@@ -27,7 +27,12 @@ struct CaseRun {
   double max_phi = 0.0;
   double iterations = 0.0;  // average per step
   int max_iterations = 0;
-  std::string log;  // info lines of the run
+  // The coordinates the formulation declared in use (outputs of kind
+  // MH_OUTPUT_COORDINATE) at t = 0, by name; how many steps changed them; its
+  // counters (MH_OUTPUT_COUNTER) at the end.
+  std::vector<std::string> coordinates_in_use;
+  int coordinate_changes = 0;
+  std::map<std::string, double> counters;
 };
 
 inline std::vector<int> pressure_columns(const Simulation& sim) {
@@ -43,11 +48,16 @@ inline CaseRun run_case(const std::string& model, const std::string& formulation
                         const std::string& integrator = "") {
   const ModelFile file = load_model_file(source_path("models/" + model));
   CaseRun r;
-  Simulation sim(file, build_plugins(), RunChoices{formulation, integrator, dt, t_end},
-                 [&r](mh_log_level level, const std::string&, const std::string& msg) {
-                   if (level >= MH_LOG_INFO) r.log += msg + "\n";
-                 });
+  Simulation sim(file, build_plugins(), RunChoices{formulation, integrator, dt, t_end});
   sim.start();
+  std::vector<int> coordinate_outputs;
+  for (size_t i = 0; i < sim.output_info().size(); ++i) {
+    if (sim.output_info()[i].kind != MH_OUTPUT_COORDINATE) continue;
+    coordinate_outputs.push_back(static_cast<int>(i));
+    const double k = sim.outputs()[static_cast<Eigen::Index>(i)];
+    r.coordinates_in_use.push_back(sim.coordinate_names()[static_cast<size_t>(k) - 1]);
+  }
+  Eigen::VectorXd in_use = sim.outputs();
   const std::vector<int> cols = pressure_columns(sim);
   const auto pressures = [&] {
     Eigen::VectorXd p(4);
@@ -66,6 +76,10 @@ inline CaseRun run_case(const std::string& model, const std::string& formulation
   long total = 0;
   for (long k = 1; k <= steps; ++k) {
     sim.step();
+    bool changed = false;
+    for (int i : coordinate_outputs) changed = changed || sim.outputs()[i] != in_use[i];
+    if (changed) ++r.coordinate_changes;
+    in_use = sim.outputs();
     const int it = sim.last_step().iterations;
     total += it;
     r.max_iterations = std::max(r.max_iterations, it);
@@ -87,6 +101,9 @@ inline CaseRun run_case(const std::string& model, const std::string& formulation
     }
   }
   r.iterations = static_cast<double>(total) / static_cast<double>(steps);
+  for (size_t i = 0; i < sim.output_info().size(); ++i)
+    if (sim.output_info()[i].kind == MH_OUTPUT_COUNTER)
+      r.counters[sim.output_info()[i].qualified] = sim.outputs()[static_cast<Eigen::Index>(i)];
   return r;
 }
 

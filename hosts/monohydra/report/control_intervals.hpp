@@ -1,5 +1,6 @@
 // When a control signal is on, to shade those intervals in the report's time
-// plots as the paper shades its valve's open intervals (Sect. 6.1). Which
+// plots as the paper shades the intervals in which its control input is on
+// (Sect. 6.1). Which
 // columns are control signals, and their scale, is what their components
 // declared (role MH_ROLE_CONTROL_SIGNAL with a range): a signal is on while
 // its magnitude exceeds 1 % of max(|range_min|, |range_max|).

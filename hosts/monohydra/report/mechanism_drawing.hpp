@@ -1,8 +1,8 @@
 // The mechanism drawn at several instants in one SVG (the paper's Fig. 6),
 // projected on the XY plane, from the model alone: every body from its joint
 // point to its other points, cut joints, ground points and each subsystem's
-// points (a line between the two points of a two-point element such as a
-// cylinder). How each body is drawn: docs/compare.md.
+// points (a line between the two points of a two-point element, e.g. an
+// actuator). How each body is drawn: docs/compare.md.
 #pragma once
 
 #include <Eigen/Core>

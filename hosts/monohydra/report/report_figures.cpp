@@ -96,7 +96,7 @@ std::vector<ReportFigure> report_figures(const ModelFile& file, const Comparison
                   "point to their other points; squares are bodies centred on their joint; " +
                   "circles on the bodies are joints, open circles cut joints, triangles ground " +
                   "points, dashed lines the ground guides of sliders, orange lines subsystems " +
-                  "between two points (the cylinder).";
+                  "between two points (e.g. an actuator).";
     }
     figs.push_back(f);
   }
