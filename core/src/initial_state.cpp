@@ -104,9 +104,19 @@ void Simulation::Engine::solve_algebraic_and_equilibrium() {
       if (state_names[static_cast<size_t>(k)] == name ||
           state_qualified[static_cast<size_t>(k)] == name)
         found = k;
-    if (found < 0)
+    if (found < 0) {
+      std::string known;
+      for (size_t k = 0; k < state_qualified.size(); ++k) {
+        const std::string& column = state_names[k];
+        const std::string& q = state_qualified[k];
+        known += (known.empty() ? "" : ", ") +
+                 (column.empty() || column == q ? q : column + " (" + q + ")");
+      }
       throw InputError(file->equilibrium_marks[i], "equilibrium.free",
-                       "a state's result column or 'instance.state' name, got '" + name + "'");
+                       "unknown state '" + name +
+                           "' (expected a state's result column or 'instance.state' name: " +
+                           (known.empty() ? std::string("the model has no states") : known) + ")");
+    }
     if (is_unknown[static_cast<size_t>(found)] == 0) unknowns.push_back(found);
     is_unknown[static_cast<size_t>(found)] = 1;
   }
