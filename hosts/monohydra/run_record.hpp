@@ -3,6 +3,7 @@
 // computed from.
 #pragma once
 
+#include <csignal>
 #include <functional>
 #include <optional>
 #include <string>
@@ -10,6 +11,7 @@
 
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/plugin_registry.hpp"
+#include "monohydra/core/run_limits.hpp"
 #include "monohydra/core/simulation.hpp"
 
 namespace mh::cli {
@@ -39,6 +41,7 @@ struct RunRecord {
   // "independent coordinates: z3" and "re-partitioned at ..."), "" if nothing.
   std::string independent_coordinates;
   int repartitions = 0;
+  int stopped_by = 0;  // the signal that stopped the run between two steps, 0 if none
 
   size_t rows() const { return columns.empty() ? 0 : columns.front().size(); }
   int column(const std::string& name) const;  // -1 when absent
@@ -52,6 +55,9 @@ struct RecordOptions {
   std::string csv_path;         // write the CSV here when not empty
   LogSink log;
   std::function<void(double)> progress;  // fraction done, about 100 calls
+  RunLimits limits;  // checked before the first step; the CSV counts towards max_output_bytes
+  // Non-zero (a signal number, see stop_signals.hpp): stop after the current row.
+  const volatile std::sig_atomic_t* stop = nullptr;
 };
 
 // Runs `formulation` on the model from t = 0 to t_end. Never throws for a run
