@@ -3,6 +3,7 @@
 // problem becomes an InputError with the file, line, field and expectation.
 #include "monohydra/core/model_file.hpp"
 
+#include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
 #include <Eigen/Eigenvalues>
@@ -987,26 +988,65 @@ YAML::Node MapView::require(const std::string& key, const std::string& hint) con
 
 }  // namespace
 
+namespace {
+// Where a document's first content is, if it has any. yaml-cpp 0.7's LoadAll
+// never returns on a stray top-level ',' (its parser yields empty documents
+// forever without consuming it; found by tests/fuzz), so documents are read
+// one at a time and only the first two are looked at.
+class FirstContent : public YAML::EventHandler {
+ public:
+  std::optional<YAML::Mark> mark;
+  void OnDocumentStart(const YAML::Mark&) override {}
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark& m, YAML::anchor_t) override { see(m); }
+  void OnScalar(const YAML::Mark& m, const std::string&, YAML::anchor_t,
+                const std::string&) override {
+    see(m);
+  }
+  void OnSequenceStart(const YAML::Mark& m, const std::string&, YAML::anchor_t,
+                       YAML::EmitterStyle::value) override {
+    see(m);
+  }
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark& m, const std::string&, YAML::anchor_t,
+                  YAML::EmitterStyle::value) override {
+    see(m);
+  }
+  void OnMapEnd() override {}
+
+ private:
+  void see(const YAML::Mark& m) {
+    if (!mark) mark = m;
+  }
+};
+
+SourceMark source_mark(const std::string& file, const YAML::Mark& m) {
+  SourceMark mark;
+  mark.file = file;
+  if (!m.is_null() && m.line >= 0) {
+    mark.line = m.line + 1;
+    mark.column = m.column >= 0 ? m.column + 1 : 0;
+  }
+  return mark;
+}
+}  // namespace
+
 ModelFile parse_model_text(const std::string& yaml_text, const std::string& file_label,
                            const std::string& base_dir) {
-  std::vector<YAML::Node> documents;
+  YAML::Node root;
   try {
-    documents = YAML::LoadAll(yaml_text);
+    std::istringstream in(yaml_text);
+    YAML::Parser reader(in);
+    FirstContent first, second;
+    if (reader.HandleNextDocument(first) && reader.HandleNextDocument(second) && second.mark)
+      throw InputError(source_mark(file_label, *second.mark), "",
+                       "expected a single YAML document, found more than one");
+    root = YAML::Load(yaml_text);
   } catch (const YAML::Exception& e) {
-    SourceMark mark;
-    mark.file = file_label;
-    if (!e.mark.is_null() && e.mark.line >= 0) {
-      mark.line = e.mark.line + 1;
-      mark.column = e.mark.column >= 0 ? e.mark.column + 1 : 0;
-    }
-    throw InputError(mark, "", "malformed YAML: " + e.msg);
+    throw InputError(source_mark(file_label, e.mark), "", "malformed YAML: " + e.msg);
   }
   Parser parser(file_label);
-  if (documents.size() > 1) {
-    parser.fail(documents[1], "",
-                "expected a single YAML document, found " + std::to_string(documents.size()));
-  }
-  const YAML::Node root = documents.empty() ? YAML::Node() : documents.front();
   return parser.parse(root, base_dir);
 }
 
