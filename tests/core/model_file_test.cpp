@@ -931,5 +931,12 @@ TEST(ModelFileLimits, FileCutMidLineIsRefusedAsCutShort) {
   std::filesystem::remove(path);
 }
 
+TEST(ModelFileLimits, DeeplyNestedInputIsAnErrorNotAStackOverflow) {
+  const std::optional<InputError> e = error_of(std::string(200000, '[') + "\n");
+  ASSERT_TRUE(e.has_value());
+  EXPECT_NE(std::string(e->what()).find("model.yaml:2:1: malformed YAML: "), std::string::npos)
+      << e->what();
+}
+
 }  // namespace
 }  // namespace mh
