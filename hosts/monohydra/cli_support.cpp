@@ -10,7 +10,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <iterator>
 
 namespace mh::cli {
 
@@ -41,11 +40,26 @@ bool parse_limit(const std::string& flag, const std::string& text, RunLimits& li
 void drop_partial_last_line(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return;
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec) return;
+  // Backwards in blocks from the end to the last '\n': the CSV may be GBs.
   std::ifstream in(path, std::ios::binary);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const auto last = text.rfind('\n');
-  const std::uintmax_t keep = last == std::string::npos ? 0 : last + 1;
-  if (keep < text.size()) std::filesystem::resize_file(path, keep, ec);
+  std::uintmax_t end = size;
+  char block[4096];
+  while (end > 0) {
+    const std::uintmax_t start = end > sizeof block ? end - sizeof block : 0;
+    const auto n = static_cast<std::streamsize>(end - start);
+    in.seekg(static_cast<std::streamoff>(start));
+    if (!in.read(block, n)) return;
+    for (std::streamsize i = n; i > 0; --i)
+      if (block[i - 1] == '\n') {
+        const std::uintmax_t keep = start + static_cast<std::uintmax_t>(i);
+        if (keep < size) std::filesystem::resize_file(path, keep, ec);
+        return;
+      }
+    end = start;
+  }
+  std::filesystem::resize_file(path, 0, ec);  // not one whole line
 }
 
 void log_to_stderr(mh_log_level level, const std::string& source, const std::string& msg) {
