@@ -115,9 +115,19 @@ void Simulation::Engine::solve_algebraic_and_equilibrium() {
       if (state_info[static_cast<size_t>(k)].name == name ||
           state_info[static_cast<size_t>(k)].qualified == name)
         found = k;
-    if (found < 0)
+    if (found < 0) {
+      std::string known;
+      for (const VariableInfo& v : state_info) {
+        const std::string& column = v.name;
+        const std::string& q = v.qualified;
+        known += (known.empty() ? "" : ", ") +
+                 (column.empty() || column == q ? q : column + " (" + q + ")");
+      }
       throw InputError(file->equilibrium_marks[i], "equilibrium.free",
-                       "a state's result column or 'instance.state' name, got '" + name + "'");
+                       "unknown state '" + name +
+                           "' (expected a state's result column or 'instance.state' name: " +
+                           (known.empty() ? std::string("the model has no states") : known) + ")");
+    }
     if (is_unknown[static_cast<size_t>(found)] == 0) unknowns.push_back(found);
     is_unknown[static_cast<size_t>(found)] = 1;
   }

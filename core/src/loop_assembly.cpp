@@ -45,10 +45,18 @@ void Simulation::Engine::assemble_loops() {
       closed = true;
       break;
     }
+    // Every body fixed: nothing can move, and an m x 0 matrix must not reach the QR.
+    if (nf == 0) break;
     free_part(phi_z);
     const Eigen::VectorXd dz = A.completeOrthogonalDecomposition().solve(-phi);
     for (int c = 0; c < nf; ++c) z0[free_cols[static_cast<size_t>(c)]] += dz[c];
   }
+  if (!closed && nf == 0)
+    throw InputError(file->assembly_mark, "assembly.fixed",
+                     "lists every body, so nothing can move to close the loops: the constraint "
+                     "residual is " +
+                         std::to_string(residual) +
+                         " (leave at least one body of each loop out of assembly.fixed)");
   if (!closed)
     throw InputError(SourceMark{file->path, 0, 0}, "cut_joints",
                      "the loops cannot be closed from the given z0: the constraint residual "
@@ -57,8 +65,18 @@ void Simulation::Engine::assemble_loops() {
                          " after 50 Newton iterations (check the cut joints' points and the "
                          "initial coordinates)");
   // Consistent rates: remove the part of zd0 that violates Phi_z zd = 0.
-  free_part(phi_z);
   const Eigen::VectorXd vel = phi_z * zd0;
+  if (nf == 0) {
+    const double rate_residual = vel.lpNorm<Eigen::Infinity>();
+    if (rate_residual > 1e-10 * std::max(1.0, zd0.lpNorm<Eigen::Infinity>()))
+      throw InputError(file->assembly_mark, "assembly.fixed",
+                       "lists every body, so nothing can move to make the initial rates "
+                       "consistent with the loops: Phi_z zd0 is " +
+                           std::to_string(rate_residual) +
+                           " (leave at least one body of each loop out of assembly.fixed)");
+    return;
+  }
+  free_part(phi_z);
   const Eigen::VectorXd correction = A.completeOrthogonalDecomposition().solve(-vel);
   for (int c = 0; c < nf; ++c) zd0[free_cols[static_cast<size_t>(c)]] += correction[c];
 }

@@ -3,6 +3,7 @@
 // problem becomes an InputError with the file, line, field and expectation.
 #include "monohydra/core/model_file.hpp"
 
+#include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
 #include <Eigen/Eigenvalues>
@@ -12,6 +13,7 @@
 #include <charconv>
 #include <climits>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -29,6 +31,13 @@ namespace fs = std::filesystem;
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr const char* kGroundName = "ground";
+// Magnitudes beyond these are typos (a missing exponent sign, a unit slip):
+// refused with the range rather than left to overflow the solver.
+constexpr double kMaxMass = 1e12;   // kg, and kg m^2 for inertias
+constexpr double kMaxLength = 1e6;  // m
+constexpr std::uintmax_t kMaxFileBytes = 64u << 20;
+// Result columns every run writes; a state, output or node may not take them.
+const char* const kFixedColumns[] = {"t", "KE", "PE", "W", "drift", "phi_norm", "iters"};
 
 std::string join(const std::vector<std::string>& items) {
   std::string out;
@@ -218,6 +227,22 @@ class Parser {
     return checked_number(node, field, "a non-negative finite number",
                           [](double v) { return v >= 0; });
   }
+  // A number whose magnitude is at most `limit` (unit in the message).
+  double bounded(double value, const YAML::Node& node, const std::string& field, double limit,
+                 const char* unit) const {
+    if (std::abs(value) > limit)
+      fail(node, field,
+           "expected a magnitude up to " + format_number(limit) + " " + unit + ", got " +
+               describe(node));
+    return value;
+  }
+  Eigen::Vector3d length3(const YAML::Node& node, const std::string& field) const {
+    Eigen::Vector3d v = vector3(node, field);
+    for (std::size_t i = 0; i < 3; ++i)
+      bounded(v[static_cast<Eigen::Index>(i)], node[i], index_field(field, i), kMaxLength, "m");
+    return v;
+  }
+
   int integer_at_least(const YAML::Node& node, const std::string& field, int minimum) const {
     const std::string what = "an integer >= " + std::to_string(minimum);
     const double value = checked_number(node, field, what.c_str(), [minimum](double v) {
@@ -270,7 +295,8 @@ class Parser {
     if (!node[0].IsSequence()) {
       for (std::size_t i = 0; i < 3; ++i) {
         const auto k = static_cast<Eigen::Index>(i);
-        inertia(k, k) = non_negative(node[i], index_field(field, i));
+        inertia(k, k) = bounded(non_negative(node[i], index_field(field, i)), node[i],
+                                index_field(field, i), kMaxMass, "kg m^2");
       }
       return inertia;
     }
@@ -282,7 +308,8 @@ class Parser {
       }
       for (std::size_t j = 0; j < 3; ++j) {
         inertia(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) =
-            number(row[j], index_field(row_field, j));
+            bounded(number(row[j], index_field(row_field, j)), row[j], index_field(row_field, j),
+                    kMaxMass, "kg m^2");
       }
     }
     const double scale = std::max(1.0, inertia.cwiseAbs().maxCoeff());
@@ -316,7 +343,7 @@ class Parser {
     spec.mark = mark(node);
     const YAML::Node body_node = map.require("body");
     spec.point.body = body_index(body_node, map.field("body"));
-    if (auto at = map.get("at")) spec.point.p_B = vector3(*at, map.field("at"));
+    if (auto at = map.get("at")) spec.point.p_B = length3(*at, map.field("at"));
     return spec;
   }
 
@@ -610,7 +637,7 @@ class Parser {
       fail(type_node, joint.field("type"),
            "unknown joint type '" + type + "' (expected one of: revolute, prismatic)");
     }
-    if (auto at = joint.get("at")) b.joint_P = vector3(*at, joint.field("at"));
+    if (auto at = joint.get("at")) b.joint_P = length3(*at, joint.field("at"));
     if (auto axis_node = joint.get("axis")) b.axis_P = axis(*axis_node, joint.field("axis"));
 
     if (auto orientation_node = map.get("orientation")) {
@@ -622,7 +649,9 @@ class Parser {
       b.R_P_B0 = Eigen::AngleAxisd(angle, u).toRotationMatrix();
     }
 
-    b.mass = positive(map.require("mass"), map.field("mass"));
+    const YAML::Node mass_node = map.require("mass");
+    b.mass = bounded(positive(mass_node, map.field("mass")), mass_node, map.field("mass"), kMaxMass,
+                     "kg");
 
     std::optional<Eigen::Vector3d> shape_com;
     std::optional<Eigen::Matrix3d> shape_inertia;
@@ -634,7 +663,9 @@ class Parser {
         fail(shape_type, shape.field("type"),
              "unknown shape type '" + kind + "' (expected one of: beam, cuboid)");
       }
-      const double length = positive(shape.require("length"), shape.field("length"));
+      const YAML::Node length_node = shape.require("length");
+      const double length = bounded(positive(length_node, shape.field("length")), length_node,
+                                    shape.field("length"), kMaxLength, "m");
       const double ml2 = b.mass * length * length;
       if (kind == "beam") {
         shape_com = Eigen::Vector3d(0.5 * length, 0.0, 0.0);
@@ -646,7 +677,7 @@ class Parser {
     }
     const std::string without_shape = "required when no shape is given";
     if (auto com = map.get("com")) {
-      b.com_B = vector3(*com, map.field("com"));
+      b.com_B = length3(*com, map.field("com"));
     } else if (shape_com) {
       b.com_B = *shape_com;
     } else {
@@ -661,7 +692,10 @@ class Parser {
     }
 
     const double coordinate_scale = b.joint == JointType::revolute ? angle_scale_ : 1.0;
-    if (auto z0 = map.get("z0")) b.z0 = number(*z0, map.field("z0")) * coordinate_scale;
+    if (auto z0 = map.get("z0")) {
+      b.z0 = number(*z0, map.field("z0")) * coordinate_scale;
+      if (b.joint == JointType::prismatic) bounded(b.z0, *z0, map.field("z0"), kMaxLength, "m");
+    }
     if (auto zd0 = map.get("zd0")) b.zd0 = number(*zd0, map.field("zd0")) * coordinate_scale;
     return raw;
   }
@@ -686,6 +720,7 @@ class Parser {
   void parse_assembly(const YAML::Node& node, ModelFile& file) const {
     const MapView map(*this, node, "assembly", {"fixed"});
     if (auto fixed = map.get("fixed")) {
+      file.assembly_mark = mark(*fixed);
       if (!fixed->IsSequence())
         fail(*fixed, "assembly.fixed", "expected a list of body names, got " + describe(*fixed));
       for (std::size_t i = 0; i < fixed->size(); ++i) {
@@ -757,6 +792,14 @@ class Parser {
       fail(node, field,
            "expected a column name without commas, quotes or spaces, got '" + column + "'");
     }
+    for (const char* fixed : kFixedColumns)
+      if (column == fixed)
+        fail(node, field, "'" + column + "' is a column every run writes; pick another name");
+    for (std::size_t i = 0; i < body_file_names_.size(); ++i)
+      if (column == "z" + std::to_string(i + 1))
+        fail(node, field,
+             "'" + column + "' is the coordinate column of body '" + body_file_names_[i] +
+                 "'; pick another name");
     check_unique(columns, column, node, field, "result column");
     return column;
   }
@@ -833,6 +876,7 @@ class Parser {
           const MapView cols(*this, entry.value, entry_field, {});
           for (const Entry& s : cols.entries()) {
             const std::string column_field = cols.field(s.key);
+            spec.column_marks[entry.key + "." + s.key] = mark(s.key_node);
             if (s.value.IsNull()) {
               target[s.key] = "";
               continue;
@@ -893,8 +937,14 @@ class Parser {
     const MapView map(*this, node, "solver", {"dt", "t_end", "max_iterations", "tol_position"});
     SolverSettings settings;
     settings.mark = mark(node);
-    if (auto dt = map.get("dt")) settings.dt = positive(*dt, "solver.dt");
-    if (auto t_end = map.get("t_end")) settings.t_end = non_negative(*t_end, "solver.t_end");
+    if (auto dt = map.get("dt")) {
+      settings.dt = positive(*dt, "solver.dt");
+      settings.dt_mark = mark(*dt);
+    }
+    if (auto t_end = map.get("t_end")) {
+      settings.t_end = non_negative(*t_end, "solver.t_end");
+      settings.t_end_mark = mark(*t_end);
+    }
     if (auto iterations = map.get("max_iterations")) {
       settings.max_iterations = integer_at_least(*iterations, "solver.max_iterations", 1);
     }
@@ -963,29 +1013,71 @@ YAML::Node MapView::require(const std::string& key, const std::string& hint) con
 
 }  // namespace
 
+namespace {
+// Where a document's first content is, if it has any. yaml-cpp 0.7's LoadAll
+// never returns on a stray top-level ',' (its parser yields empty documents
+// forever without consuming it; found by tests/fuzz), so documents are read
+// one at a time and only the first two are looked at.
+class FirstContent : public YAML::EventHandler {
+ public:
+  std::optional<YAML::Mark> mark;
+  void OnDocumentStart(const YAML::Mark&) override {}
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark& m, YAML::anchor_t) override { see(m); }
+  void OnScalar(const YAML::Mark& m, const std::string&, YAML::anchor_t,
+                const std::string&) override {
+    see(m);
+  }
+  void OnSequenceStart(const YAML::Mark& m, const std::string&, YAML::anchor_t,
+                       YAML::EmitterStyle::value) override {
+    see(m);
+  }
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark& m, const std::string&, YAML::anchor_t,
+                  YAML::EmitterStyle::value) override {
+    see(m);
+  }
+  void OnMapEnd() override {}
+
+ private:
+  void see(const YAML::Mark& m) {
+    if (!mark) mark = m;
+  }
+};
+
+SourceMark source_mark(const std::string& file, const YAML::Mark& m) {
+  SourceMark mark;
+  mark.file = file;
+  if (!m.is_null() && m.line >= 0) {
+    mark.line = m.line + 1;
+    mark.column = m.column >= 0 ? m.column + 1 : 0;
+  }
+  return mark;
+}
+}  // namespace
+
 ModelFile parse_model_text(const std::string& yaml_text, const std::string& file_label,
                            const std::string& base_dir) {
-  std::vector<YAML::Node> documents;
+  YAML::Node root;
   try {
-    documents = YAML::LoadAll(yaml_text);
+    std::istringstream in(yaml_text);
+    YAML::Parser reader(in);
+    FirstContent first, second;
+    if (reader.HandleNextDocument(first) && reader.HandleNextDocument(second) && second.mark)
+      throw InputError(source_mark(file_label, *second.mark), "",
+                       "expected a single YAML document, found more than one");
+    root = YAML::Load(yaml_text);
   } catch (const YAML::Exception& e) {
-    SourceMark mark;
-    mark.file = file_label;
-    if (!e.mark.is_null() && e.mark.line >= 0) {
-      mark.line = e.mark.line + 1;
-      mark.column = e.mark.column >= 0 ? e.mark.column + 1 : 0;
-    }
-    throw InputError(mark, "", "malformed YAML: " + e.msg);
+    throw InputError(source_mark(file_label, e.mark), "", "malformed YAML: " + e.msg);
   }
   Parser parser(file_label);
-  if (documents.size() > 1) {
-    parser.fail(documents[1], "",
-                "expected a single YAML document, found " + std::to_string(documents.size()));
-  }
-  const YAML::Node root = documents.empty() ? YAML::Node() : documents.front();
   return parser.parse(root, base_dir);
 }
 
+// A model file is a regular text file of at most 64 MiB that ends with a line
+// break: /dev/zero, a FIFO or a binary are refused before yaml-cpp reads them
+// (it would grow without bound), and a file cut mid-line is caught.
 ModelFile load_model_file(const std::string& path) {
   SourceMark mark;
   mark.file = path;
@@ -995,16 +1087,38 @@ ModelFile load_model_file(const std::string& path) {
   if (fs::is_directory(file, ec)) {
     throw InputError(mark, "", "cannot open the model file: it is a folder");
   }
+  if (!fs::is_regular_file(file, ec)) {
+    throw InputError(mark, "",
+                     "cannot read the model file: not a regular file (a device, FIFO or socket)");
+  }
+  const std::uintmax_t size = fs::file_size(file, ec);
+  if (ec || size > kMaxFileBytes) {
+    throw InputError(mark, "",
+                     "the model file is " + std::to_string(size) +
+                         " bytes, above the limit of 67108864 bytes (64 MiB)");
+  }
   std::ifstream in(file, std::ios::binary);
   if (!in) {
     throw InputError(mark, "", std::string("cannot open the model file: ") + std::strerror(errno));
   }
-  std::ostringstream text;
-  text << in.rdbuf();
+  // One byte more than its size, to notice a file that grows while read.
+  std::string text(static_cast<std::size_t>(size) + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
   if (in.bad()) throw InputError(mark, "", "cannot read the model file");
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  if (text.size() > size) throw InputError(mark, "", "the model file changed while being read");
+  if (const auto nul = text.find('\0'); nul != std::string::npos)
+    throw InputError(mark, "",
+                     "not a text file: it holds a NUL byte at offset " + std::to_string(nul));
+  if (!text.empty() && text.back() != '\n') {
+    mark.line = static_cast<int>(std::count(text.begin(), text.end(), '\n')) + 1;
+    throw InputError(mark, "",
+                     "the file does not end with a line break, so it may have been cut short "
+                     "(end its last line with one)");
+  }
   fs::path base = file.parent_path();
   if (base.empty()) base = ".";
-  return parse_model_text(text.str(), path, base.string());
+  return parse_model_text(text, path, base.string());
 }
 
 }  // namespace mh

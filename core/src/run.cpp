@@ -1,9 +1,16 @@
 #include "monohydra/core/run.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <sstream>
+#include <stdexcept>
+
+#include "monohydra/core/run_limits.hpp"
 
 namespace mh {
 namespace {
@@ -12,6 +19,12 @@ void put(std::ostream& out, double v) {
   char buf[32];
   const auto res = std::to_chars(buf, buf + sizeof(buf), v);
   out.write(buf, res.ptr - buf);
+}
+
+std::string short_time(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
 }
 }  // namespace
 
@@ -51,36 +64,101 @@ void write_csv_row(std::ostream& out, const Simulation& sim) {
   out << ',' << sim.last_step().iterations << '\n';
 }
 
+namespace {
+class CsvWriteError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// A row goes out in one write so that a stop never leaves half of it; a
+// failed write (disk full, /dev/full) is reported at once with errno's reason.
+void write_checked(std::ostream& out, const std::string& text, const std::string& name) {
+  errno = 0;
+  out.write(text.data(), static_cast<std::streamsize>(text.size()));
+  if (!out) {
+    const int err = errno;
+    throw CsvWriteError("cannot write the results to '" + name +
+                        "': " + (err != 0 ? std::strerror(err) : "write failed"));
+  }
+}
+
+std::string where(const RunSummary& s) {
+  return "t = " + short_time(s.end_time) + " s, step " + std::to_string(s.steps) + " of " +
+         std::to_string(s.steps_asked);
+}
+}  // namespace
+
 RunSummary run(Simulation& sim, std::ostream* csv, const std::function<void(double)>& progress) {
+  RunOptions options;
+  options.progress = progress;
+  return run(sim, csv, options);
+}
+
+RunSummary run(Simulation& sim, std::ostream* csv, const RunOptions& options) {
   RunSummary summary;
   const auto t0 = std::chrono::steady_clock::now();
+  const std::string csv_name = options.csv_name.empty() ? "the CSV" : options.csv_name;
+  std::ostringstream line;
+  const auto write_row = [&] {
+    if (csv == nullptr) return;
+    line.str("");
+    write_csv_row(line, sim);
+    write_checked(*csv, line.str(), csv_name);
+  };
+  const auto stopped = [&] { return options.stop != nullptr && *options.stop != 0; };
   try {
+    summary.steps_asked = planned_steps(sim.settings());
+    if (summary.steps_asked < 0)
+      throw InputError(sim.settings().mark, "solver",
+                       "t_end / dt = " + short_time(sim.settings().t_end) + " / " +
+                           short_time(sim.settings().dt) +
+                           " is not a number of steps from 1 to 2^53");
     sim.start();
     if (csv != nullptr) {
-      write_csv_header(*csv, sim);
-      write_csv_row(*csv, sim);
+      line.str("");
+      write_csv_header(line, sim);
+      write_checked(*csv, line.str(), csv_name);
     }
-    const double dt = sim.settings().dt;
-    const double t_end = sim.settings().t_end;
-    const long total = std::lround(t_end / dt);
+    write_row();
+    const long total = summary.steps_asked;
     const long report_every = std::max(1L, total / 100);
-    for (long k = 0; k < total; ++k) {
+    for (long k = 0; k < total && !stopped(); ++k) {
       sim.step();
       ++summary.steps;
+      summary.end_time = sim.time();
       const int it = sim.last_step().iterations;
       summary.iterations += it;
       summary.max_iterations = std::max(summary.max_iterations, it);
       summary.max_abs_drift = std::max(summary.max_abs_drift, std::abs(sim.drift()));
       summary.max_phi_norm = std::max(summary.max_phi_norm, sim.phi_norm());
-      if (csv != nullptr) write_csv_row(*csv, sim);
-      if (progress && (k + 1) % report_every == 0)
-        progress(static_cast<double>(k + 1) / static_cast<double>(total));
+      write_row();
+      if (options.progress && (k + 1) % report_every == 0)
+        options.progress(static_cast<double>(k + 1) / static_cast<double>(total));
+    }
+    if (csv != nullptr) {
+      errno = 0;
+      csv->flush();
+      if (!*csv)
+        throw CsvWriteError("cannot write the results to '" + csv_name +
+                            "': " + (errno != 0 ? std::strerror(errno) : "write failed"));
+    }
+    if (summary.steps < total) {
+      summary.end = RunEnd::interrupted;
+      summary.stop_signal = static_cast<int>(*options.stop);
+      summary.failure = "stopped at " + where(summary);
     }
   } catch (const SimulationError& err) {
-    summary.failed = true;
+    summary.end = RunEnd::simulation_failed;
     summary.failure = err.what();
+  } catch (const InputError& err) {  // e.g. an unknown state under equilibrium.free
+    summary.end = RunEnd::bad_input;
+    summary.failure = err.what();
+  } catch (const CsvWriteError& err) {
+    summary.end = RunEnd::write_failed;
+    summary.failure = "stopped at " + where(summary) + ": " + err.what();
   }
-  if (csv != nullptr) csv->flush();
+  summary.failed = summary.end != RunEnd::completed;
+  if (csv != nullptr && summary.end != RunEnd::write_failed) csv->flush();
   summary.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return summary;

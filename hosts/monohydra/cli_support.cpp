@@ -2,22 +2,64 @@
 
 #include <unistd.h>
 
+#include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
-#include <exception>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
 
 namespace mh::cli {
 
+// strtod, not stod: stod throws for a subnormal like 1e-320 and for 1e400,
+// which then read as "not a number"; both are numbers that the settings
+// check refuses with their accepted range.
 std::optional<double> parse_number(const std::string& flag, const std::string& text) {
-  try {
-    size_t used = 0;
-    const double v = std::stod(text, &used);
-    if (used == text.size()) return v;
-  } catch (const std::exception&) {
+  if (!text.empty() && std::isspace(static_cast<unsigned char>(text.front())) == 0) {
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (end == text.c_str() + text.size()) return v;
   }
   std::cerr << "monohydra: " << flag << " expects a number, got '" << text << "'\n";
   return std::nullopt;
+}
+
+bool parse_limit(const std::string& flag, const std::string& text, RunLimits& limits) {
+  const std::optional<double> v = parse_number(flag, text);
+  if (!v) return false;
+  if (!std::isfinite(*v) || !(*v >= 1.0)) {
+    std::cerr << "monohydra: " << flag << " expects a finite number >= 1, got '" << text << "'\n";
+    return false;
+  }
+  (flag == "--max-steps" ? limits.max_steps : limits.max_output_bytes) = *v;
+  return true;
+}
+
+void drop_partial_last_line(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return;
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec) return;
+  // Backwards in blocks from the end to the last '\n': the CSV may be GBs.
+  std::ifstream in(path, std::ios::binary);
+  std::uintmax_t end = size;
+  char block[4096];
+  while (end > 0) {
+    const std::uintmax_t start = end > sizeof block ? end - sizeof block : 0;
+    const auto n = static_cast<std::streamsize>(end - start);
+    in.seekg(static_cast<std::streamoff>(start));
+    if (!in.read(block, n)) return;
+    for (std::streamsize i = n; i > 0; --i)
+      if (block[i - 1] == '\n') {
+        const std::uintmax_t keep = start + static_cast<std::uintmax_t>(i);
+        if (keep < size) std::filesystem::resize_file(path, keep, ec);
+        return;
+      }
+    end = start;
+  }
+  std::filesystem::resize_file(path, 0, ec);  // not one whole line
 }
 
 void log_to_stderr(mh_log_level level, const std::string& source, const std::string& msg) {

@@ -1,16 +1,24 @@
-// What the subcommands share: number arguments, the log sink that prints a
+// What the subcommands share: number and limit arguments, the log sink that prints a
 // plugin's warnings and errors, and the progress bar on a terminal.
 #pragma once
 
 #include <optional>
 #include <string>
 
+#include "monohydra/core/run_limits.hpp"
 #include "monohydra/types.h"
 
 namespace mh::cli {
 
 // The number in `text`, or nullopt after telling the user that `flag` expects one.
 std::optional<double> parse_number(const std::string& flag, const std::string& text);
+
+// --max-steps N or --max-output-bytes N into `limits`; false after telling the user.
+bool parse_limit(const std::string& flag, const std::string& text, RunLimits& limits);
+
+// After a failed write: cuts the file back to its last whole line (a full disk
+// may have taken half a row).
+void drop_partial_last_line(const std::string& path);
 
 // Prints warnings and errors to stderr (a LogSink).
 void log_to_stderr(mh_log_level level, const std::string& source, const std::string& msg);

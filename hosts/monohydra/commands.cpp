@@ -11,6 +11,8 @@
 #include "monohydra/core/plugin_registry.hpp"
 #include "monohydra/core/run.hpp"
 #include "monohydra/core/simulation.hpp"
+#include "run_setup.hpp"
+#include "stop_signals.hpp"
 
 namespace fs = std::filesystem;
 
@@ -23,16 +25,22 @@ const char* kUsage =
     "                          reference.yaml), the paper's numbers beside ours; reports in out/\n"
     "  plugins                 list every plugin found, its components and ABI version\n"
     "  run MODEL.yaml [--formulation NAME] [--integrator NAME] [--dt S] [--t-end S]\n"
-    "                 [--out FILE.csv]\n"
+    "                 [--out FILE.csv] [LIMITS]\n"
     "                          simulate MODEL.yaml; CSV columns: t, z1..zN, states,\n"
     "                          outputs, KE, PE, W, drift, phi_norm, iters\n"
     "  compare MODEL.yaml [--formulations A,B,...] [--integrators C,D,...] [--report DIR]\n"
-    "                     [--dt S] [--t-end S]\n"
+    "                     [--dt S] [--t-end S] [LIMITS]\n"
     "                          run every formulation with every integrator on MODEL.yaml\n"
     "                          (default: the model file's compare: lists, else its own\n"
     "                          choice) and print their numbers side by side; --report\n"
     "                          writes DIR/report.html with the paper's figures and each\n"
     "                          run's CSV, named after what varies\n"
+    "  validate MODEL.yaml [--formulation NAME] [--integrator NAME] [--dt S] [--t-end S]\n"
+    "                      [LIMITS]\n"
+    "                          load MODEL.yaml and set the run up without stepping: OK or the\n"
+    "                          error (exit 0 or 1)\n"
+    "  LIMITS: --max-steps N (default 1e8), --max-output-bytes N (default 1e10)\n"
+    "SIGINT or SIGTERM stops a run after its current row (exit 130 or 143).\n"
     "plugins are searched in $MONOHYDRA_PLUGIN_PATH, beside the executable, the install\n"
     "prefix and the model file's plugin_paths.\n";
 
@@ -40,27 +48,57 @@ std::string version_text(const mh_version& v) {
   return std::to_string(v.major) + "." + std::to_string(v.minor) + "." + std::to_string(v.patch);
 }
 
-int simulate(const std::string& model_path, const RunChoices& choices,
-             const std::string& out_path) {
-  ModelFile file;
-  try {
-    file = load_model_file(model_path);
-  } catch (const InputError& err) {
-    std::cerr << "monohydra: " << err.what() << '\n';
-    return 2;
+// run's and validate's arguments; an exit code when they are wrong.
+std::optional<int> parse_run_args(const std::vector<std::string>& args, const char* command,
+                                  RunRequest& request, std::string* out) {
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    const bool has_value = i + 1 < args.size();
+    const bool takes_value = a == "--formulation" || a == "--integrator" || a == "--dt" ||
+                             a == "--t-end" ||
+                             a == "--max-steps" || a == "--max-output-bytes" ||
+                             (a == "--out" && out != nullptr);
+    if (takes_value && !has_value) {
+      std::cerr << "monohydra: " << a << " expects a value\n";
+      return 2;
+    }
+    if (a == "--formulation") {
+      request.formulation = args[++i];
+    } else if (a == "--integrator") {
+      request.integrator = args[++i];
+    } else if (a == "--out" && out != nullptr) {
+      *out = args[++i];
+    } else if (a == "--dt") {
+      request.dt = parse_number(a, args[++i]);
+      if (!request.dt) return 2;
+    } else if (a == "--t-end") {
+      request.t_end = parse_number(a, args[++i]);
+      if (!request.t_end) return 2;
+    } else if (a == "--max-steps" || a == "--max-output-bytes") {
+      if (!parse_limit(a, args[++i], request.limits)) return 2;
+    } else if (!a.empty() && a[0] == '-') {
+      std::cerr << "monohydra: unknown option '" << a << "'\n";
+      return usage(2);
+    } else if (request.model_path.empty()) {
+      request.model_path = a;
+    } else {
+      std::cerr << "monohydra: one model file at a time (got '" << request.model_path << "' and '"
+                << a << "')\n";
+      return 2;
+    }
   }
-  PluginRegistry registry;
-  auto search = file.plugin_paths;
-  for (const auto& p : PluginRegistry::default_search_path()) search.push_back(p);
-  registry.scan(search);
-  std::unique_ptr<Simulation> sim;
-  try {
-    sim = std::make_unique<Simulation>(file, registry, choices, log_to_stderr);
-  } catch (const std::exception& err) {
-    std::cerr << "monohydra: " << err.what() << '\n';
-    for (const auto& r : registry.refusals()) std::cerr << "  (refused: " << r << ")\n";
-    return 2;
+  if (request.model_path.empty()) {
+    std::cerr << "monohydra: " << command << " needs a model file\n";
+    return usage(2);
   }
+  return std::nullopt;
+}
+
+int simulate(RunRequest request, const std::string& out_path) {
+  request.csv = !out_path.empty();
+  const auto prepared = prepare_run(request);
+  if (!prepared) return 2;
+  Simulation& sim = *prepared->sim;
   std::ofstream csv;
   if (!out_path.empty()) {
     const fs::path parent = fs::path(out_path).parent_path();
@@ -73,12 +111,26 @@ int simulate(const std::string& model_path, const RunChoices& choices,
     }
   }
   ProgressBar bar;
-  const RunSummary s = mh::run(*sim, out_path.empty() ? nullptr : &csv, std::ref(bar));
+  RunOptions options;
+  options.progress = std::ref(bar);
+  options.stop = install_stop_handlers();
+  options.csv_name = out_path;
+  const RunSummary s = mh::run(sim, out_path.empty() ? nullptr : &csv, options);
+  if (s.end == RunEnd::write_failed) {
+    csv.close();
+    drop_partial_last_line(out_path);
+  }
   if (bar.enabled && s.failed) std::fputc('\n', stderr);
-  std::cout << "model:        " << file.model.name << " (" << model_path << ")\n"
-            << "formulation:  " << sim->formulation_name() << "\n"
-            << "integrator:   " << sim->integrator_name() << "\n"
-            << "steps:        " << s.steps << " of dt = " << sim->settings().dt << " s\n"
+  if (s.end == RunEnd::bad_input) {  // nothing ran: the error alone
+    std::cerr << "monohydra: " << s.failure << '\n';
+    return 2;
+  }
+  std::cout << "model:        " << prepared->file.model.name << " (" << request.model_path << ")\n"
+            << "formulation:  " << sim.formulation_name() << "\n"
+            << "integrator:   " << sim.integrator_name() << "\n"
+            << "steps:        " << s.steps << " of " << s.steps_asked
+            << " asked (dt = " << sim.settings().dt << " s, t_end = " << sim.settings().t_end
+            << " s)\n"
             << "Newton:       "
             << (s.steps > 0 ? static_cast<double>(s.iterations) / static_cast<double>(s.steps)
                             : 0.0)
@@ -86,8 +138,24 @@ int simulate(const std::string& model_path, const RunChoices& choices,
             << "peak |drift|: " << s.max_abs_drift << " J\n"
             << "wall time:    " << s.wall_seconds << " s\n";
   if (!out_path.empty()) std::cout << "results:      " << out_path << "\n";
-  if (s.failed) {
-    std::cerr << "monohydra: simulation failed at " << s.failure << '\n';
+  switch (s.end) {
+    case RunEnd::completed:
+      break;
+    case RunEnd::simulation_failed:
+      std::cerr << "monohydra: simulation failed at " << s.failure << '\n';
+      return 1;
+    case RunEnd::bad_input:  // reported above
+    case RunEnd::write_failed:
+      std::cerr << "monohydra: " << s.failure << '\n';
+      return 1;
+    case RunEnd::interrupted:
+      std::cerr << "monohydra: interrupted by " << signal_name(s.stop_signal) << ": " << s.failure
+                << (out_path.empty() ? "" : "; every row up to there is in '" + out_path + "'")
+                << '\n';
+      return exit_status_for_signal(s.stop_signal);
+  }
+  if (s.steps != s.steps_asked) {  // never report a run that did not reach t_end as done
+    std::cerr << "monohydra: the run did " << s.steps << " of " << s.steps_asked << " steps\n";
     return 1;
   }
   return 0;
@@ -128,45 +196,30 @@ int plugins(const std::vector<std::string>& args) {
 }
 
 int run(const std::vector<std::string>& args) {
-  std::string model, out;
-  RunChoices choices;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    const bool has_value = i + 1 < args.size();
-    if ((a == "--formulation" || a == "--integrator" || a == "--dt" || a == "--t-end" ||
-         a == "--out") &&
-        !has_value) {
-      std::cerr << "monohydra: " << a << " expects a value\n";
-      return 2;
-    }
-    if (a == "--formulation") {
-      choices.formulation = args[++i];
-    } else if (a == "--integrator") {
-      choices.integrator = args[++i];
-    } else if (a == "--out") {
-      out = args[++i];
-    } else if (a == "--dt") {
-      choices.dt = parse_number(a, args[++i]);
-      if (!choices.dt) return 2;
-    } else if (a == "--t-end") {
-      choices.t_end = parse_number(a, args[++i]);
-      if (!choices.t_end) return 2;
-    } else if (!a.empty() && a[0] == '-') {
-      std::cerr << "monohydra: unknown option '" << a << "'\n";
-      return usage(2);
-    } else if (model.empty()) {
-      model = a;
-    } else {
-      std::cerr << "monohydra: one model file at a time (got '" << model << "' and '" << a
-                << "')\n";
-      return 2;
-    }
+  RunRequest request;
+  std::string out;
+  if (const auto code = parse_run_args(args, "run", request, &out)) return *code;
+  return simulate(request, out);
+}
+
+// Exit 0 and "OK" when `run` would start, 1 and the error when not.
+int validate(const std::vector<std::string>& args) {
+  RunRequest request;
+  if (const auto code = parse_run_args(args, "validate", request, nullptr)) return *code;
+  const auto prepared = prepare_run(request);
+  if (!prepared) return 1;
+  try {
+    prepared->sim->start();  // closes the loops, solves the initial states
+  } catch (const std::exception& err) {
+    std::cerr << "monohydra: " << err.what() << '\n';
+    return 1;
   }
-  if (model.empty()) {
-    std::cerr << "monohydra: run needs a model file\n";
-    return usage(2);
-  }
-  return simulate(model, choices, out);
+  std::cout << "OK: " << request.model_path << " (" << prepared->file.model.name << ", "
+            << prepared->sim->formulation_name() << ", " << prepared->sim->integrator_name()
+            << "): " << prepared->steps
+            << " steps of dt = " << prepared->sim->settings().dt << " s, " << prepared->columns
+            << " columns\n";
+  return 0;
 }
 
 }  // namespace mh::cli

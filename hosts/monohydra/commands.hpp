@@ -6,12 +6,14 @@
 
 namespace mh::cli {
 
-// Each returns the process exit code: 0 success, 1 the simulation failed
-// (results up to the failure are kept), 2 bad usage or bad input.
+// Each returns the process exit code: 0 success, 1 the simulation failed or its
+// results could not be written (results up to there are kept), 2 bad usage or
+// bad input, 128 + N stopped by signal N (130 SIGINT, 143 SIGTERM).
 int plugins(const std::vector<std::string>& args);
 int run(const std::vector<std::string>& args);
-int compare(const std::vector<std::string>& args);  // compare.cpp
-int run_default();                                  // default_job.cpp
+int validate(const std::vector<std::string>& args);  // 0 OK, 1 the error, 2 bad usage
+int compare(const std::vector<std::string>& args);   // compare.cpp
+int run_default();                                   // default_job.cpp
 int usage(int code);
 
 }  // namespace mh::cli

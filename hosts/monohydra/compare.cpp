@@ -16,6 +16,7 @@
 #include "report_figures.hpp"
 #include "report_html.hpp"
 #include "run_record.hpp"
+#include "stop_signals.hpp"
 
 namespace fs = std::filesystem;
 
@@ -100,6 +101,16 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
     std::cerr << "monohydra: --dt must be positive and --t-end non-negative\n";
     return 2;
   }
+  try {  // steps and limits before any formulation runs (rows are kept in memory)
+    SolverSettings settings = file.solver;
+    if (job.dt) settings.dt = *job.dt;
+    if (job.t_end) settings.t_end = *job.t_end;
+    check_run_settings(file, settings, job.limits, 0,
+                       SettingOrigins{job.dt.has_value(), job.t_end.has_value()});
+  } catch (const InputError& err) {
+    std::cerr << "monohydra: " << err.what() << '\n';
+    return 2;
+  }
   if (!job.report_dir.empty()) {
     std::error_code ec;
     fs::create_directories(job.report_dir, ec);
@@ -126,6 +137,8 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
       RecordOptions options;
       options.dt = job.dt;
       options.t_end = job.t_end;
+      options.limits = job.limits;
+      options.stop = install_stop_handlers();
       options.log = [&label](mh_log_level level, const std::string& source,
                              const std::string& msg) {
         log_to_stderr(level, "[" + label + "] " + source, msg);
@@ -146,9 +159,12 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
       if (runs.back().failed)
         std::cerr << "monohydra: " << label << " failed on " << name << ": " << runs.back().failure
                   << '\n';
+      if (runs.back().stopped_by != 0) break;
     }
+    if (!runs.empty() && runs.back().stopped_by != 0) break;
   }
 
+  const int stopped_by = runs.back().stopped_by;
   const Comparison c = summarize(name, job.model_path, std::move(runs));
   const PaperNumbers* paper = job.study != nullptr ? &job.study->paper : nullptr;
   const TextTable table = comparison_table(c, paper);
@@ -196,6 +212,10 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
     for (const auto& r : c.runs)
       if (!r.csv_path.empty()) out << "csv:    " << r.csv_path << '\n';
   }
+  if (stopped_by != 0) {
+    std::cerr << "monohydra: interrupted by " << signal_name(stopped_by) << '\n';
+    return exit_status_for_signal(stopped_by);
+  }
   return c.any_failed() ? 1 : 0;
 }
 
@@ -205,7 +225,7 @@ int compare(const std::vector<std::string>& args) {
     const std::string& a = args[i];
     const bool has_value = i + 1 < args.size();
     if ((a == "--formulations" || a == "--integrators" || a == "--report" || a == "--dt" ||
-         a == "--t-end") &&
+         a == "--t-end" || a == "--max-steps" || a == "--max-output-bytes") &&
         !has_value) {
       std::cerr << "monohydra: " << a << " expects a value\n";
       return 2;
@@ -222,6 +242,8 @@ int compare(const std::vector<std::string>& args) {
     } else if (a == "--t-end") {
       job.t_end = parse_number(a, args[++i]);
       if (!job.t_end) return 2;
+    } else if (a == "--max-steps" || a == "--max-output-bytes") {
+      if (!parse_limit(a, args[++i], job.limits)) return 2;
     } else if (!a.empty() && a[0] == '-') {
       std::cerr << "monohydra: unknown option '" << a << "'\n";
       return usage(2);

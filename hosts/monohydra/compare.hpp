@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "case_studies.hpp"
+#include "monohydra/core/run_limits.hpp"
 
 namespace mh::cli {
 
@@ -21,6 +22,7 @@ struct CompareJob {
   std::string report_dir;    // "" for no report and no CSVs
   std::optional<double> dt;  // override the model file's solver settings
   std::optional<double> t_end;
+  RunLimits limits;                  // --max-steps, --max-output-bytes
   const CaseStudy* study = nullptr;  // the paper's numbers beside ours, when set
 };
 

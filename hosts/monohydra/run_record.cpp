@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "monohydra/core/run.hpp"
+#include "monohydra/core/run_limits.hpp"
 
 namespace mh::cli {
 namespace {
@@ -99,6 +100,13 @@ RunRecord record_run(const ModelFile& file, const PluginRegistry& registry,
   rec.label = rec.formulation;
   std::unique_ptr<Simulation> sim;
   try {
+    // The settings are checked before any plugin reads them (the output's
+    // size once the columns are known, below).
+    SolverSettings planned = file.solver;
+    if (options.dt) planned.dt = *options.dt;
+    if (options.t_end) planned.t_end = *options.t_end;
+    check_run_settings(file, planned, options.limits, 0,
+                       SettingOrigins{options.dt.has_value(), options.t_end.has_value()});
     sim = std::make_unique<Simulation>(
         file, registry, RunChoices{formulation, integrator, options.dt, options.t_end},
         options.log);
@@ -110,6 +118,17 @@ RunRecord record_run(const ModelFile& file, const PluginRegistry& registry,
   rec.dt = sim->settings().dt;
   rec.t_end = sim->settings().t_end;
   name_columns(file, *sim, rec);
+  long total = 0;
+  try {
+    check_column_names(file, *sim);
+    // Every row is kept in memory too: count it like a CSV.
+    total = check_run_settings(file, sim->settings(), options.limits, rec.names.size(),
+                               SettingOrigins{options.dt.has_value(), options.t_end.has_value()});
+  } catch (const InputError& err) {
+    rec.failed = true;
+    rec.failure = err.what();
+    return rec;
+  }
 
   std::ofstream csv;
   if (!options.csv_path.empty()) {
@@ -135,17 +154,29 @@ RunRecord record_run(const ModelFile& file, const PluginRegistry& registry,
       csv << header << ',' << kWallColumn << '\n';
       write_row(csv, line, *sim, wall);
     }
-    const long total = std::lround(rec.t_end / rec.dt);
     const long report_every = std::max(1L, total / 100);
     for (long k = 0; k < total; ++k) {
+      if (options.stop != nullptr && *options.stop != 0) {
+        rec.stopped_by = static_cast<int>(*options.stop);
+        rec.failed = true;
+        rec.failure = "interrupted at t = " + std::to_string(sim->time()) + " s, step " +
+                      std::to_string(k) + " of " + std::to_string(total);
+        rec.failure_time = sim->time();
+        break;
+      }
       t0 = Clock::now();
       sim->step();
       wall = seconds_since(t0);
       record_row(*sim, wall, rec);
-      if (csv.is_open()) write_row(csv, line, *sim, wall);
+      if (csv.is_open()) {
+        write_row(csv, line, *sim, wall);
+        if (!csv) throw std::runtime_error("cannot write '" + options.csv_path + "'");
+      }
       if (options.progress && (k + 1) % report_every == 0)
         options.progress(static_cast<double>(k + 1) / static_cast<double>(total));
     }
+    if (csv.is_open() && !csv.flush())
+      throw std::runtime_error("cannot write '" + options.csv_path + "'");
   } catch (const SimulationError& err) {
     rec.failed = true;
     rec.failure = err.what();

@@ -3,6 +3,7 @@
 // computed from.
 #pragma once
 
+#include <csignal>
 #include <functional>
 #include <optional>
 #include <string>
@@ -10,6 +11,7 @@
 
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/plugin_registry.hpp"
+#include "monohydra/core/run_limits.hpp"
 #include "monohydra/core/simulation.hpp"
 
 namespace mh::cli {
@@ -37,6 +39,7 @@ struct RunRecord {
   int num_coordinates = 0;                   // z1..zN are columns 1..N
   int num_states = 0;                        // written states follow them
   std::string csv_path;                      // "" when no CSV was written
+  int stopped_by = 0;  // the signal that stopped the run between two steps, 0 if none
 
   size_t rows() const { return columns.empty() ? 0 : columns.front().size(); }
   int column(const std::string& name) const;  // -1 when absent
@@ -50,6 +53,9 @@ struct RecordOptions {
   std::string csv_path;         // write the CSV here when not empty
   LogSink log;
   std::function<void(double)> progress;  // fraction done, about 100 calls
+  RunLimits limits;  // checked before the first step; the CSV counts towards max_output_bytes
+  // Non-zero (a signal number, see stop_signals.hpp): stop after the current row.
+  const volatile std::sig_atomic_t* stop = nullptr;
 };
 
 // Runs the model with the formulation and integrator `choices` name (dt and

@@ -3,11 +3,13 @@
 #include "monohydra/core/model_file.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <optional>
+#include <sstream>
 #include <string>
 
 namespace mh {
@@ -771,7 +773,7 @@ TEST(ModelFileErrors, BadSolverSettings) {
                "expected an integer >= 1, got '2.5'");
   expect_error(valid_body("solver: {tol_position: 0}\n"), 8, "solver.tol_position",
                "expected a positive finite number");
-  // t_end = 0 is allowed (evaluate the initial state only).
+  // t_end = 0 reads (the initial state alone); a run refuses it (run_limits_test.cpp).
   EXPECT_DOUBLE_EQ(parse_model_text(valid_body("solver: {t_end: 0}\n"), kLabel).solver.t_end, 0.0);
 }
 
@@ -842,6 +844,98 @@ TEST(ModelFileCircuits, NodeColumnsAreUniqueAmongResultColumns) {
 TEST(ModelFileCircuits, EquilibriumNeedsAListOfStates) {
   expect_error(kCircuitHead + "    ports: {a: n1, b: n2}\nequilibrium: {free: p1}\n", 7,
                "equilibrium.free", "expected a non-empty list");
+}
+
+// --- magnitudes, result columns, files that are not models -------------------
+
+TEST(ModelFileLimits, MassAboveOneTeraKilogramIsRefusedWithTheRange) {
+  expect_message(
+      one_body("    mass: 1e13\n    shape: {type: beam, length: 1}\n"),
+      "model.yaml:6:11: bodies[0].mass: expected a magnitude up to 1e+12 kg, got '1e13'");
+}
+
+TEST(ModelFileLimits, InertiaAboveTheLimitIsRefused) {
+  expect_message(one_body("    mass: 1\n    com: [0, 0, 0]\n    inertia: [1, 1e300, 1]\n"),
+                 "model.yaml:8:18: bodies[0].inertia[1]: expected a magnitude up to 1e+12 kg m^2, "
+                 "got '1e300'");
+}
+
+TEST(ModelFileLimits, LengthsAboveAThousandKilometresAreRefused) {
+  expect_message(one_body("    mass: 1\n    shape: {type: beam, length: 2e6}\n"),
+                 "model.yaml:7:33: bodies[0].shape.length: expected a magnitude up to 1e+06 m, got "
+                 "'2e6'");
+  expect_error(valid_body("cut_joints:\n  - {name: c, type: spherical, a: {body: b, at: [0, -1e7, "
+                          "0]}, b: {body: ground}}\n"),
+               9, "cut_joints[0].a.at[1]", "expected a magnitude up to 1e+06 m, got '-1e7'");
+}
+
+TEST(ModelFileLimits, StateColumnMayNotTakeACoordinateColumn) {
+  expect_message(valid_body("subsystems:\n  - {name: s, type: t, states: {U: z1}}\n"),
+                 "model.yaml:9:36: subsystems[0].states.U: 'z1' is the coordinate column of body "
+                 "'b'; pick another name");
+}
+
+TEST(ModelFileLimits, OutputColumnMayNotTakeAColumnEveryRunWrites) {
+  expect_error(valid_body("subsystems:\n  - {name: s, type: t, outputs: {e: KE}}\n"), 9,
+               "subsystems[0].outputs.e", "'KE' is a column every run writes; pick another name");
+}
+
+std::string load_error(const std::string& path) {
+  try {
+    load_model_file(path);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+std::filesystem::path scratch_file(const std::string& name, const std::string& text) {
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("monohydra-model-file-test-" + std::to_string(::getpid()) + "-" + name);
+  std::ofstream(path, std::ios::binary) << text;
+  return path;
+}
+
+TEST(ModelFileLimits, DeviceLikeDevZeroIsRefusedBeforeReading) {
+  EXPECT_EQ(load_error("/dev/zero"),
+            "/dev/zero: cannot read the model file: not a regular file (a device, FIFO or socket)");
+}
+
+TEST(ModelFileLimits, FileAbove64MiBIsRefusedBeforeParsing) {
+  const auto path = scratch_file("big.yaml", "");
+  std::filesystem::resize_file(path, (64u << 20) + 1);  // sparse: no 64 MiB written
+  EXPECT_EQ(load_error(path.string()), path.string() +
+                                           ": the model file is 67108865 bytes, above the limit "
+                                           "of 67108864 bytes (64 MiB)");
+  std::filesystem::remove(path);
+}
+
+TEST(ModelFileLimits, BinaryFileIsRefusedAsNotText) {
+  const auto path = scratch_file("binary.yaml", std::string("units: {}\n\0\x01\n", 13));
+  EXPECT_EQ(load_error(path.string()),
+            path.string() + ": not a text file: it holds a NUL byte at offset 10");
+  std::filesystem::remove(path);
+}
+
+TEST(ModelFileLimits, FileCutMidLineIsRefusedAsCutShort) {
+  // The double pendulum cut inside its solver line: "t_end: 10" would read as "t_end: 1".
+  std::ifstream in(std::string(MH_SOURCE_DIR) + "/models/double-pendulum.yaml");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string text = ss.str();
+  const auto path = scratch_file("cut.yaml", text.substr(0, text.size() - 3));
+  const std::string error = load_error(path.string());
+  EXPECT_EQ(error, path.string() +
+                       ":25: the file does not end with a line break, so it may have been cut "
+                       "short (end its last line with one)");
+  std::filesystem::remove(path);
+}
+
+TEST(ModelFileLimits, DeeplyNestedInputIsAnErrorNotAStackOverflow) {
+  const std::optional<InputError> e = error_of(std::string(200000, '[') + "\n");
+  ASSERT_TRUE(e.has_value());
+  EXPECT_NE(std::string(e->what()).find("model.yaml:2:1: malformed YAML: "), std::string::npos)
+      << e->what();
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // The monohydra command line, run as a user runs it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -117,6 +118,227 @@ TEST(MonohydraCli, NonNumericFlagValueIsAUsageError) {
   const CliResult r = run_cli("run " + model("double-pendulum.yaml") + " --dt nope");
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.output.find("--dt expects a number, got 'nope'"), std::string::npos) << r.output;
+}
+
+// --- reliability: results never lost or faked, settings checked first ---------
+
+using mh::test::run_shell;
+
+bool contains(const CliResult& r, const std::string& text) {
+  return r.output.find(text) != std::string::npos;
+}
+
+// A shipped model with `from` replaced by `to`, written to the scratch folder.
+std::filesystem::path edited_model(const std::string& name, const std::string& from,
+                                   const std::string& to, const std::string& as) {
+  std::string text = mh::test::read_text(model(name));
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  const auto path = temp_dir() / as;
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(MonohydraCliReliability, CsvToAFullDeviceExitsOneAndNamesTheFile) {
+  const CliResult r =
+      run_cli("run " + model("double-pendulum.yaml") + " --t-end 0.5 --out /dev/full");
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_TRUE(contains(r,
+                       "of 500: cannot write the results to '/dev/full': No space left on "
+                       "device"))
+      << r.output;
+}
+
+TEST(MonohydraCliReliability, StdoutToAFullDeviceExitsOne) {
+  const CliResult r = run_shell("( MONOHYDRA_PLUGIN_PATH= " + std::string(MH_EXECUTABLE) + " run " +
+                                model("double-pendulum.yaml") + " --t-end 0.01 >/dev/full )");
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_TRUE(contains(r, "monohydra: cannot write to standard output: No space left on device"))
+      << r.output;
+}
+
+// Stops a long run with `signal` once its CSV has 200 rows.
+CliResult interrupted_run(const std::string& signal, const std::filesystem::path& csv) {
+  return run_shell("( MONOHYDRA_PLUGIN_PATH= " + std::string(MH_EXECUTABLE) + " run " +
+                   model("double-pendulum.yaml") + " --t-end 1e4 --out " + csv.string() +
+                   " & p=$!; for i in $(seq 600); do [ \"$(cat " + csv.string() +
+                   " 2>/dev/null | wc -l)\" -ge 200 ] && break; sleep 0.05; done; kill -" + signal +
+                   " $p; wait $p )");
+}
+
+void expect_whole_rows(const std::filesystem::path& csv) {
+  const std::string text = mh::test::read_text(csv);
+  ASSERT_FALSE(text.empty());
+  EXPECT_EQ(text.back(), '\n');
+  const auto lines = read_lines(csv);
+  const auto commas = [](const std::string& l) { return std::count(l.begin(), l.end(), ','); };
+  for (const auto& l : lines) ASSERT_EQ(commas(l), commas(lines.front())) << l;
+}
+
+TEST(MonohydraCliReliability, SigintStopsAfterAWholeRowSaysWhereAndExits130) {
+  const auto csv = temp_dir() / "sigint.csv";
+  const CliResult r = interrupted_run("INT", csv);
+  EXPECT_EQ(r.code, 130) << r.output;
+  EXPECT_TRUE(contains(r, "monohydra: interrupted by SIGINT: stopped at t = ")) << r.output;
+  EXPECT_TRUE(contains(r, " of 10000000; every row up to there is in '" + csv.string() + "'"))
+      << r.output;
+  expect_whole_rows(csv);
+}
+
+TEST(MonohydraCliReliability, SigtermStopsAfterAWholeRowAndExits143) {
+  const auto csv = temp_dir() / "sigterm.csv";
+  const CliResult r = interrupted_run("TERM", csv);
+  EXPECT_EQ(r.code, 143) << r.output;
+  EXPECT_TRUE(contains(r, "monohydra: interrupted by SIGTERM: stopped at t = ")) << r.output;
+  expect_whole_rows(csv);
+}
+
+TEST(MonohydraCliReliability, StepCountOverflowIsRefusedBeforeRunning) {
+  const CliResult r = run_cli("run " + model("double-pendulum.yaml") + " --t-end 1e19");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_TRUE(contains(r,
+                       "monohydra: command line: --t-end: t_end / dt = 1e+19 / 0.001 = 1e+22 "
+                       "steps, above the limit of 1e+08 steps (raise it with --max-steps N)"))
+      << r.output;
+  EXPECT_FALSE(contains(r, "steps:")) << r.output;  // no run summary: nothing ran
+}
+
+TEST(MonohydraCliReliability, InfiniteEndTimeIsRefused) {
+  const CliResult r = run_cli("run " + model("double-pendulum.yaml") + " --t-end inf");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_TRUE(contains(r,
+                       "--t-end: expected a positive finite end time in s (a run of zero steps "
+                       "is an error), got inf"))
+      << r.output;
+}
+
+TEST(MonohydraCliReliability, HugeEndTimeInTheModelIsRefusedAtItsLine) {
+  const auto path = edited_model("double-pendulum.yaml", "t_end: 10", "t_end: 1e300", "t.yaml");
+  const CliResult r = run_cli("run " + path.string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_TRUE(contains(r, path.string() + ":25:28: solver.t_end: t_end / dt = 1e+300 / 0.001"))
+      << r.output;
+}
+
+TEST(MonohydraCliReliability, SubnormalTimeStepIsANumberRefusedWithItsRange) {
+  const CliResult r = run_cli("run " + model("double-pendulum.yaml") + " --dt 1e-320");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_FALSE(contains(r, "expects a number")) << r.output;
+  EXPECT_TRUE(contains(r,
+                       "--dt: expected a time step from 1e-09 s to t_end = 10 s, got "
+                       "9.99989e-321"))
+      << r.output;
+}
+
+TEST(MonohydraCliReliability, TinyTimeStepThatWouldRunForeverIsRefused) {
+  const auto path = edited_model("double-pendulum.yaml", "dt: 0.001", "dt: 1e-12", "dt.yaml");
+  const CliResult r = run_cli("run " + path.string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_TRUE(contains(r, path.string() + ":25:14: solver.dt: expected a time step from 1e-09 s "
+                                          "to t_end = 10 s, got 1e-12"))
+      << r.output;
+}
+
+TEST(MonohydraCliReliability, MaxStepsFlagMovesTheStepLimit) {
+  const std::string args = "run " + model("double-pendulum.yaml") + " --t-end 0.25";
+  const CliResult refused = run_cli(args + " --max-steps 100");
+  EXPECT_EQ(refused.code, 2) << refused.output;
+  EXPECT_TRUE(contains(refused, "= 250 steps, above the limit of 100 steps")) << refused.output;
+  const CliResult ran = run_cli(args + " --max-steps 250");
+  EXPECT_EQ(ran.code, 0) << ran.output;
+  EXPECT_TRUE(contains(ran, "steps:        250 of 250 asked")) << ran.output;
+}
+
+TEST(MonohydraCliReliability, OutputAboveTheLimitIsRefusedWithTheEstimate) {
+  const auto csv = temp_dir() / "big.csv";
+  const CliResult r =
+      run_cli("run " + model("double-pendulum.yaml") + " --t-end 1e5 --out " + csv.string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_TRUE(contains(r,
+                       "the CSV would take about 1.8e+10 bytes (1e+08 rows x 9 columns x ~20 "
+                       "bytes), above the limit of 1e+10 bytes (raise it with "
+                       "--max-output-bytes N)"))
+      << r.output;
+  EXPECT_FALSE(std::filesystem::exists(csv));
+}
+
+TEST(MonohydraCliReliability, CompareRefusesAnOverflowingRunInsteadOfReportingZeroSteps) {
+  const CliResult r = run_cli("compare " + model("double-pendulum.yaml") +
+                              " --formulations open-loop --t-end 1e12");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_TRUE(contains(r, "1e+15 steps, above the limit of 1e+08 steps")) << r.output;
+  EXPECT_FALSE(contains(r, "status")) << r.output;
+}
+
+TEST(MonohydraCliReliability, ValidateSaysOkWithoutRunning) {
+  const CliResult r = run_cli("validate " + model("fourbar.yaml"));
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(r.output, "OK: " + model("fourbar.yaml") +
+                          " (fourbar, double-step, trapezoidal): 10000 steps of dt = 0.001 s, 19 columns\n");
+}
+
+TEST(MonohydraCliReliability, ValidateExitsOneWithTheError) {
+  const CliResult r = run_cli("validate " + model("fourbar.yaml") + " --dt 1e-12");
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_TRUE(contains(r, "--dt: expected a time step from 1e-09 s")) << r.output;
+}
+
+TEST(MonohydraCliReliability, DevZeroAsModelIsRefusedBeforeReading) {
+  const CliResult r = run_cli("validate /dev/zero");
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_TRUE(contains(r, "/dev/zero: cannot read the model file: not a regular file")) << r.output;
+}
+
+TEST(MonohydraCliReliability, ModelCutInHalfIsRefused) {
+  const std::string text = mh::test::read_text(model("fourbar.yaml"));
+  const auto path = temp_dir() / "half.yaml";
+  const std::string half = text.substr(0, text.rfind('\n', text.size() / 2) + 1);
+  std::ofstream(path) << half;
+  const CliResult r = run_cli("validate " + path.string());
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_TRUE(contains(r, path.string() + ":")) << r.output;
+  EXPECT_FALSE(contains(r, "OK:")) << r.output;
+}
+
+TEST(MonohydraCliReliability, AssemblyFixingEveryBodyIsAnErrorNotACrash) {
+  const auto path = edited_model("crank-rocker.yaml", "assembly: {fixed: [crank]}",
+                                 "assembly: {fixed: [crank, coupler, rocker]}", "fixed.yaml");
+  const CliResult r = run_cli("run " + path.string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_TRUE(contains(r, path.string() + ":35:19: assembly.fixed: lists every body, so nothing "
+                                          "can move"))
+      << r.output;
+}
+
+TEST(MonohydraCliReliability, UnknownEquilibriumStateIsAnErrorNotAnAbort) {
+  const auto path = edited_model("fourbar.yaml", "equilibrium: {free: [p1, p2]}",
+                                 "equilibrium: {free: [p1, p2, nosuch]}", "eq.yaml");
+  const CliResult r = run_cli("run " + path.string() + " --t-end 0.01");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_TRUE(contains(r, path.string() + ":99:30: equilibrium.free: unknown state 'nosuch' "
+                                          "(expected a state's result column or "
+                                          "'instance.state' name: p1 (n1), p2 (n2)"))
+      << r.output;
+}
+
+TEST(MonohydraCliReliability, UnknownStatesKeyIsRefused) {
+  const auto path =
+      edited_model("fourbar.yaml", "states: {U: U}", "states: {U: U, nosuch: x}", "st.yaml");
+  const CliResult r = run_cli("run " + path.string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_TRUE(contains(r, path.string() + ":63:20: subsystems[3].states.nosuch: unknown state "
+                                          "'nosuch' (the valve-4-3 'valve' declares no such "
+                                          "state)"))
+      << r.output;
+}
+
+TEST(MonohydraCliReliability, StateColumnNamedLikeACoordinateIsRefused) {
+  const auto path = edited_model("fourbar.yaml", "states: {U: U}", "states: {U: z1}", "z1.yaml");
+  const CliResult r = run_cli("run " + path.string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_TRUE(contains(r, "subsystems[3].states.U: 'z1' is the coordinate column of body"))
+      << r.output;
 }
 
 }  // namespace

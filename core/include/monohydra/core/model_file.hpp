@@ -46,6 +46,7 @@ struct SubsystemSpec {
   std::map<std::string, PortSpec> ports;    // ports/<key>: node
   std::map<std::string, std::string> state_names;   // states/<local>: column ("" hidden)
   std::map<std::string, std::string> output_names;  // outputs/<local>: column ("" hidden)
+  std::map<std::string, SourceMark> column_marks;   // "states.<local>", "outputs.<local>"
   SourceMark mark;
 };
 
@@ -62,12 +63,14 @@ struct SolverSettings {
   int max_iterations = 25;     // Newton iterations per step before giving up
   double tol_position = 1e-7;  // rad or m: Newton increment tolerance on coordinates
   SourceMark mark;
+  SourceMark dt_mark, t_end_mark;  // where the file writes them (line 0: it does not)
 };
 
 struct ModelFile {
   std::string path;  // as given
   Model model;
   std::vector<SourceMark> body_marks;  // parallel to model.bodies
+  SourceMark assembly_mark;            // assembly.fixed (the file alone when absent)
   std::vector<SubsystemSpec> subsystems;
   ComponentChoice formulation{"open-loop", {}, {}};
   ComponentChoice integrator{"trapezoidal", {}, {}};

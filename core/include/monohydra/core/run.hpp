@@ -1,8 +1,9 @@
 // Running a simulation to its end time, writing one CSV row per accepted
-// step. A failing step stops the run with its time, step and reason; every row
-// written before it stays in the file.
+// step. A failing step, a failed write or a stop request ends the run with its
+// time, step and reason; every row written before it stays in the file, whole.
 #pragma once
 
+#include <csignal>
 #include <functional>
 #include <ostream>
 #include <string>
@@ -16,19 +17,42 @@ namespace mh {
 void write_csv_header(std::ostream& out, const Simulation& sim);
 void write_csv_row(std::ostream& out, const Simulation& sim);
 
+// How a run ended; only `completed` reached t_end.
+enum class RunEnd {
+  completed,
+  simulation_failed,  // a step failed (SimulationError)
+  bad_input,          // the model or settings cannot run (InputError at start, no steps)
+  write_failed,       // the CSV could not be written: stopped at once
+  interrupted,        // RunOptions::stop was set (a signal): stopped between two steps
+};
+
 struct RunSummary {
-  long steps = 0;
+  long steps = 0;          // steps done
+  long steps_asked = 0;    // round(t_end / dt)
   long iterations = 0;     // Newton iterations, all steps
   int max_iterations = 0;  // in one step
   double max_abs_drift = 0.0;
   double max_phi_norm = 0.0;
   double wall_seconds = 0.0;
-  bool failed = false;
-  std::string failure;  // SimulationError::what() when failed
+  double end_time = 0.0;  // s: the time of the last row (the last accepted state)
+  RunEnd end = RunEnd::completed;
+  int stop_signal = 0;  // the value *RunOptions::stop had when interrupted
+  bool failed = false;  // end != completed
+  std::string failure;  // why, when failed: SimulationError::what(), the write error, ...
+};
+
+struct RunOptions {
+  // Called with the fraction done, at most ~100 times; may be empty.
+  std::function<void(double)> progress;
+  // When it points at a non-zero value (a signal handler's flag), the run stops
+  // after the row of the current step: no CSV row is ever cut.
+  const volatile std::sig_atomic_t* stop = nullptr;
+  std::string csv_name;  // names the CSV in write errors
 };
 
 // start()s the simulation and steps it to settings().t_end. `csv` may be null.
-// `progress` (may be empty) is called with the fraction done, at most ~100 times.
+// Every write is checked: a failed one stops the run (RunEnd::write_failed).
+RunSummary run(Simulation& sim, std::ostream* csv, const RunOptions& options);
 RunSummary run(Simulation& sim, std::ostream* csv,
                const std::function<void(double)>& progress = nullptr);
 

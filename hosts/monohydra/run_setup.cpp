@@ -1,0 +1,60 @@
+#include "run_setup.hpp"
+
+#include <algorithm>
+#include <iostream>
+#include <sstream>
+
+#include "cli_support.hpp"
+#include "monohydra/core/run.hpp"
+
+namespace mh::cli {
+
+std::unique_ptr<PreparedRun> prepare_run(const RunRequest& request) {
+  auto p = std::make_unique<PreparedRun>();
+  try {
+    p->file = load_model_file(request.model_path);
+  } catch (const InputError& err) {
+    std::cerr << "monohydra: " << err.what() << '\n';
+    return nullptr;
+  }
+  auto search = p->file.plugin_paths;
+  for (const auto& path : PluginRegistry::default_search_path()) search.push_back(path);
+  p->registry.scan(search);
+  const SettingOrigins origins{request.dt.has_value(), request.t_end.has_value()};
+  try {
+    // The settings are checked before any plugin reads them (the output's
+    // size once the columns are known, below).
+    SolverSettings planned = p->file.solver;
+    if (request.dt) planned.dt = *request.dt;
+    if (request.t_end) planned.t_end = *request.t_end;
+    check_run_settings(p->file, planned, request.limits, 0, origins);
+  } catch (const InputError& err) {
+    std::cerr << "monohydra: " << err.what() << '\n';
+    return nullptr;
+  }
+  try {
+    p->sim = std::make_unique<Simulation>(
+        p->file, p->registry,
+        RunChoices{request.formulation, request.integrator, request.dt, request.t_end},
+        log_to_stderr);
+  } catch (const std::exception& err) {
+    std::cerr << "monohydra: " << err.what() << '\n';
+    for (const auto& r : p->registry.refusals()) std::cerr << "  (refused: " << r << ")\n";
+    return nullptr;
+  }
+  std::ostringstream header;
+  write_csv_header(header, *p->sim);
+  const std::string text = header.str();
+  p->columns = static_cast<std::size_t>(std::count(text.begin(), text.end(), ',')) + 1;
+  try {
+    check_column_names(p->file, *p->sim);
+    p->steps = check_run_settings(
+        p->file, p->sim->settings(), request.limits, request.csv ? p->columns : 0, origins);
+  } catch (const InputError& err) {
+    std::cerr << "monohydra: " << err.what() << '\n';
+    return nullptr;
+  }
+  return p;
+}
+
+}  // namespace mh::cli

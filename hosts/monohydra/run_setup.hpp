@@ -1,0 +1,40 @@
+// Everything a run needs, loaded and checked before its first step: the model,
+// its plugins, the simulation set up, the result column names and the run's
+// size (steps, CSV bytes). `run` and `validate` share it, so validate refuses
+// exactly what run would.
+#pragma once
+
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "monohydra/core/model_file.hpp"
+#include "monohydra/core/plugin_registry.hpp"
+#include "monohydra/core/run_limits.hpp"
+#include "monohydra/core/simulation.hpp"
+
+namespace mh::cli {
+
+struct RunRequest {
+  std::string model_path;
+  std::string formulation;  // "" for the model file's
+  std::string integrator;   // "" for the model file's
+  std::optional<double> dt;
+  std::optional<double> t_end;
+  bool csv = false;  // the run writes a CSV (counted in the output limit)
+  RunLimits limits;
+};
+
+struct PreparedRun {
+  ModelFile file;
+  PluginRegistry registry;
+  std::unique_ptr<Simulation> sim;  // refers to file and registry: keep them together
+  long steps = 0;                   // the steps the run will ask for
+  std::size_t columns = 0;          // of the CSV
+};
+
+// The prepared run, or null after telling the user why on stderr.
+std::unique_ptr<PreparedRun> prepare_run(const RunRequest& request);
+
+}  // namespace mh::cli

@@ -1,0 +1,40 @@
+#include "stop_signals.hpp"
+
+#include <signal.h>
+
+#include <cstdio>
+
+namespace mh::cli {
+namespace {
+
+volatile std::sig_atomic_t g_stop = 0;
+
+extern "C" void on_stop_signal(int signal) {
+  g_stop = signal;
+}
+
+}  // namespace
+
+const volatile std::sig_atomic_t* install_stop_handlers() {
+  static const bool installed = [] {
+    struct sigaction action {};
+    action.sa_handler = on_stop_signal;
+    sigemptyset(&action.sa_mask);
+    action.sa_flags = SA_RESTART;  // a write under way completes: no cut row
+    sigaction(SIGINT, &action, nullptr);
+    sigaction(SIGTERM, &action, nullptr);
+    return true;
+  }();
+  (void)installed;
+  return &g_stop;
+}
+
+const char* signal_name(int signal) {
+  if (signal == SIGINT) return "SIGINT";
+  if (signal == SIGTERM) return "SIGTERM";
+  static char buf[32];
+  std::snprintf(buf, sizeof buf, "signal %d", signal);
+  return buf;
+}
+
+}  // namespace mh::cli
