@@ -119,6 +119,7 @@ struct Simulation::Engine {
   Eigen::VectorXd y_k, ydot_k;           // accepted at t_k
   Eigen::VectorXd state_tol;
   std::vector<char> algebraic;  // states whose rate no row involves (constructor)
+  std::vector<int> rate_states, rate_rows;  // the others, and the rows that involve rates
   std::vector<Node> nodes;
   std::vector<double> time_events;  // sorted, unique (constructor)
   size_t next_event = 0;            // the first event after the accepted time

@@ -51,39 +51,44 @@ static Eigen::MatrixXd rate_jacobian(Simulation::Engine& e, double t_eval) {
 // once, at the initial configuration.
 void Simulation::Engine::classify_states() {
   algebraic.assign(static_cast<size_t>(n_s), 0);
+  rate_states.clear();
+  rate_rows.clear();
   if (n_s == 0) return;
   forward_kinematics(model, data, z0, zd0);
   ydot.setZero(n_s);
   const Eigen::MatrixXd J = rate_jacobian(*this, 0.0);
-  for (int c = 0; c < n_s; ++c)
-    if (J.col(c).lpNorm<Eigen::Infinity>() == 0.0) algebraic[static_cast<size_t>(c)] = 1;
+  for (int c = 0; c < n_s; ++c) {
+    if (J.col(c).lpNorm<Eigen::Infinity>() == 0.0)
+      algebraic[static_cast<size_t>(c)] = 1;
+    else
+      rate_states.push_back(c);
+  }
+  for (int r0 = 0; r0 < n_s; ++r0)
+    if (J.row(r0).lpNorm<Eigen::Infinity>() > 0.0) rate_rows.push_back(r0);
+  if (rate_states.size() != rate_rows.size())
+    fail("the state rates cannot be found: " + std::to_string(rate_rows.size()) +
+         " subsystem rows involve rates, but " + std::to_string(rate_states.size()) +
+         " states have rates that rows involve");
 }
 
 // ydot: the state rows are F(ydot, y) = 0 at the current kinematics; Newton
-// with a forward-difference Jacobian. Algebraic states keep ydot = 0.
+// with a forward-difference Jacobian, over the rates and rows the structure
+// found at t0 (classify_states): which rows involve rates does not change
+// during a run, and deciding it anew from differences at every time event
+// would let round-off move a state between the classes.
 void Simulation::Engine::solve_initial_rates(double t_eval) {
   if (n_s == 0) return;
   Eigen::VectorXd f0(n_s);
+  const int k = static_cast<int>(rate_states.size());
+  Eigen::MatrixXd Jr(k, k);
+  Eigen::VectorXd fr(k);
   for (int it = 0; it < 20; ++it) {
     const Eigen::MatrixXd J = rate_jacobian(*this, t_eval);
     rows_at(*this, t_eval, f0);
-    std::vector<int> rates, rows_used;
-    for (int c = 0; c < n_s; ++c)
-      if (J.col(c).lpNorm<Eigen::Infinity>() > 0.0) rates.push_back(c);
-    for (int r0 = 0; r0 < n_s; ++r0)
-      if (J.row(r0).lpNorm<Eigen::Infinity>() > 0.0) rows_used.push_back(r0);
-    if (rates.size() != rows_used.size()) {
-      fail("the state rates cannot be found: " + std::to_string(rows_used.size()) +
-           " subsystem rows involve rates, but " + std::to_string(rates.size()) +
-           " states have rates that rows involve");
-    }
-    const int k = static_cast<int>(rates.size());
-    Eigen::MatrixXd Jr(k, k);
-    Eigen::VectorXd fr(k);
     for (int a = 0; a < k; ++a) {
-      fr[a] = f0[rows_used[static_cast<size_t>(a)]];
+      fr[a] = f0[rate_rows[static_cast<size_t>(a)]];
       for (int b = 0; b < k; ++b)
-        Jr(a, b) = J(rows_used[static_cast<size_t>(a)], rates[static_cast<size_t>(b)]);
+        Jr(a, b) = J(rate_rows[static_cast<size_t>(a)], rate_states[static_cast<size_t>(b)]);
     }
     Eigen::FullPivLU<Eigen::MatrixXd> lu(Jr);
     if (!lu.isInvertible())
@@ -92,7 +97,7 @@ void Simulation::Engine::solve_initial_rates(double t_eval) {
           "rate (is each state's own term missing?)");
     const Eigen::VectorXd dr = lu.solve(-fr);
     Eigen::VectorXd step_ydot = Eigen::VectorXd::Zero(n_s);
-    for (int b = 0; b < k; ++b) step_ydot[rates[static_cast<size_t>(b)]] = dr[b];
+    for (int b = 0; b < k; ++b) step_ydot[rate_states[static_cast<size_t>(b)]] = dr[b];
     ydot += step_ydot;
     if (step_ydot.norm() <= 1e-12 * (1.0 + ydot.norm())) break;
   }
