@@ -28,9 +28,9 @@ void Simulation::Engine::start_energy_balance() {
   check(evaluate_subsystems(t, scratch_rows.data()), "subsystem evaluation");
   power_k = power;
   if (formulation.ops.write_outputs != nullptr)
-    check(normalized(formulation.ops.write_outputs(formulation.self, outputs.data(),
-                                                   static_cast<uint32_t>(n_o))),
-          "formulation write_outputs");
+    check(
+        formulation.ops.write_outputs(formulation.self, outputs.data(), static_cast<uint32_t>(n_o)),
+        "formulation write_outputs");
   outputs_k = outputs;
   energy_terms(stored0, dissipation_k);
   stored = stored0;

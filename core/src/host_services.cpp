@@ -251,15 +251,12 @@ mh_status host_add_output(const mh_host* host, const mh_output_spec* spec_in, in
       from_subsystem ? e.subsystems[static_cast<size_t>(h.subsystem)].spec : nullptr;
   const std::string local = text(spec.name);
   const std::string qualified = (from_subsystem ? owner->name : e.formulation_name) + "." + local;
-  const bool kind_ok = spec.kind == MH_OUTPUT_SIGNAL || spec.kind == MH_OUTPUT_COORDINATE ||
-                       spec.kind == MH_OUTPUT_COUNTER;
-  if (spec_in == nullptr || index == nullptr || local.empty() || !kind_ok ||
+  // A kind this host does not know (from a later minor version) is kept and
+  // shown as a signal: the output still reaches the results.
+  if (spec_in == nullptr || index == nullptr || local.empty() ||
       !valid_range(spec.range_min, spec.range_max)) {
     host_log(host, MH_LOG_ERROR,
-             ("add_output '" + local +
-              "': expected a name, a kind (MH_OUTPUT_SIGNAL, _COORDINATE or _COUNTER) and an "
-              "ordered range")
-                 .c_str());
+             ("add_output '" + local + "': expected a name and an ordered range").c_str());
     return MH_ERROR;
   }
   for (const auto& v : e.output_info)

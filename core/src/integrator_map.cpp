@@ -12,7 +12,7 @@ void Simulation::Engine::begin_step(double t_next, double h) {
   map.x_predicted = x_pred.data();
   map.xd_offset = xd_off.data();
   map.xdd_offset = xdd_off.data();
-  check(normalized(integrator.ops.begin_step(integrator.self, t_next, h, &map)),
+  check(integrator.ops.begin_step(integrator.self, t_next, h, &map),
         "integrator '" + integrator_name + "' begin_step");
 }
 
@@ -38,7 +38,7 @@ void Simulation::Engine::rates_of(const Eigen::VectorXd& xq, Eigen::VectorXd& xd
 }
 
 void Simulation::Engine::restart_integrator() {
-  check(normalized(integrator.ops.restart(integrator.self, t, x.data(), xd.data(), xdd.data())),
+  check(integrator.ops.restart(integrator.self, t, x.data(), xd.data(), xdd.data()),
         "integrator '" + integrator_name + "' restart");
 }
 

@@ -23,11 +23,15 @@ void Simulation::Engine::fail(const std::string& reason) const {
 
 std::string Simulation::Engine::status_reason(mh_status s, const std::string& what) const {
   const int v = static_cast<int>(s);
-  std::string reason = what + (v == MH_DISCARD ? " was discarded"
-                               : v == MH_FATAL ? " failed fatally"
-                               : v <= MH_FATAL ? " failed"
-                                               : " returned the unknown status " +
-                                                     std::to_string(v) + " (taken as an error)");
+  std::string reason = what;
+  if (v < MH_OK || v > MH_FATAL)
+    reason += " returned the unknown status " + std::to_string(v) + " (taken as an error)";
+  else if (v == MH_DISCARD)
+    reason += " was discarded";
+  else if (v == MH_FATAL)
+    reason += " failed fatally";
+  else
+    reason += " failed";
   if (!last_plugin_error.empty()) reason += ": " + last_plugin_error;
   return reason;
 }
@@ -61,9 +65,9 @@ void Simulation::Engine::start() {
   x.setZero();
   xd.setZero();
   xdd.setZero();
-  check(normalized(formulation.ops.start(formulation.self, x.data(), xd.data(), xdd.data())),
+  check(formulation.ops.start(formulation.self, x.data(), xd.data(), xdd.data()),
         "formulation start");
-  check(normalized(formulation.ops.coordinates(formulation.self, z.data(), zd.data(), zdd.data())),
+  check(formulation.ops.coordinates(formulation.self, z.data(), zd.data(), zdd.data()),
         "formulation coordinates");
   tol.resize(n);
   tol.head(n_m) = unknown_tol;
@@ -120,8 +124,7 @@ void Simulation::Engine::prepare_step(double t_next) {
   x = x_pred;
   rates_of(x, xd, xdd);
   if (formulation.ops.begin_step != nullptr)
-    check(normalized(formulation.ops.begin_step(formulation.self, t_next, x.data(), xd.data(),
-                                                xdd.data())),
+    check(formulation.ops.begin_step(formulation.self, t_next, x.data(), xd.data(), xdd.data()),
           "formulation begin_step");
 }
 
@@ -129,24 +132,24 @@ void Simulation::Engine::prepare_step(double t_next) {
 // subsystems' rows, powers and outputs are the step's.
 void Simulation::Engine::accept_step(double t_next, bool event) {
   uint32_t flags = 0;
-  check(normalized(formulation.ops.accept(formulation.self, t_next, &map.coefficients, x.data(),
-                                          xd.data(), xdd.data(), &flags)),
+  check(formulation.ops.accept(formulation.self, t_next, &map.coefficients, x.data(), xd.data(),
+                               xdd.data(), &flags),
         "formulation accept");
-  check(normalized(formulation.ops.coordinates(formulation.self, z.data(), zd.data(), zdd.data())),
+  check(formulation.ops.coordinates(formulation.self, z.data(), zd.data(), zdd.data()),
         "formulation coordinates");
   y = x.tail(n_s);
   ydot = xd.tail(n_s);
   if (formulation.ops.write_outputs != nullptr)
-    check(normalized(formulation.ops.write_outputs(formulation.self, outputs.data(),
-                                                   static_cast<uint32_t>(n_o))),
-          "formulation write_outputs");
+    check(
+        formulation.ops.write_outputs(formulation.self, outputs.data(), static_cast<uint32_t>(n_o)),
+        "formulation write_outputs");
   outputs_k = outputs;  // of the converged iterate's evaluation
   update_energy_balance(settings.dt);
   for (auto& s : subsystems) {
     if (s.api.ops.accept == nullptr) continue;
     mh_subsystem_eval ev = subsystem_eval(t_next, scratch_rows.data());
     point_at(ev, s);
-    check(normalized(s.api.ops.accept(s.api.self, &ev)), "subsystem '" + s.spec->name + "' accept");
+    check(s.api.ops.accept(s.api.self, &ev), "subsystem '" + s.spec->name + "' accept");
   }
   t = t_next;
   ++step;
@@ -161,7 +164,7 @@ void Simulation::Engine::accept_step(double t_next, bool event) {
   if (event || (flags & MH_ACCEPT_REDEFINED) != 0) {
     restart_integrator();
   } else {
-    check(normalized(integrator.ops.accept(integrator.self, t, x.data(), xd.data(), xdd.data())),
+    check(integrator.ops.accept(integrator.self, t, x.data(), xd.data(), xdd.data()),
           "integrator '" + integrator_name + "' accept");
   }
   measure_mechanism();

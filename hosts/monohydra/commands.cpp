@@ -41,8 +41,8 @@ const char* kUsage =
     "                          error (exit 0 or 1)\n"
     "  LIMITS: --max-steps N (default 1e8), --max-output-bytes N (default 1e10)\n"
     "SIGINT or SIGTERM stops a run after its current row (exit 130 or 143).\n"
-    "plugins are searched in $MONOHYDRA_PLUGIN_PATH, beside the executable, the install\n"
-    "prefix and the model file's plugin_paths.\n";
+    "plugins are searched in the model file's plugin_paths, then $MONOHYDRA_PLUGIN_PATH,\n"
+    "beside the executable and the install prefix; the first library offering an id wins.\n";
 
 std::string version_text(const mh_version& v) {
   return std::to_string(v.major) + "." + std::to_string(v.minor) + "." + std::to_string(v.patch);
@@ -55,8 +55,7 @@ std::optional<int> parse_run_args(const std::vector<std::string>& args, const ch
     const std::string& a = args[i];
     const bool has_value = i + 1 < args.size();
     const bool takes_value = a == "--formulation" || a == "--integrator" || a == "--dt" ||
-                             a == "--t-end" ||
-                             a == "--max-steps" || a == "--max-output-bytes" ||
+                             a == "--t-end" || a == "--max-steps" || a == "--max-output-bytes" ||
                              (a == "--out" && out != nullptr);
     if (takes_value && !has_value) {
       std::cerr << "monohydra: " << a << " expects a value\n";
@@ -216,9 +215,8 @@ int validate(const std::vector<std::string>& args) {
   }
   std::cout << "OK: " << request.model_path << " (" << prepared->file.model.name << ", "
             << prepared->sim->formulation_name() << ", " << prepared->sim->integrator_name()
-            << "): " << prepared->steps
-            << " steps of dt = " << prepared->sim->settings().dt << " s, " << prepared->columns
-            << " columns\n";
+            << "): " << prepared->steps << " steps of dt = " << prepared->sim->settings().dt
+            << " s, " << prepared->columns << " columns\n";
   return 0;
 }
 

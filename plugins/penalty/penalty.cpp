@@ -427,7 +427,8 @@ const mh_component_descriptor kDescriptor{
     "Closed loops by cut joints: M' zdd + Phi_z^T (alpha Phi + lambda) = Q' (Eq. 18) with "
     "all relative coordinates as second-order unknowns of the host's integrator, multipliers "
     "updated per Newton iteration (Eq. 19) and mass-orthogonal projections of velocities and "
-    "accelerations (Eqs. 20-21). Options: alpha, tolerance, projections. Outputs: "
+    "accelerations (Eqs. 20-21). Options: alpha, tolerance, projections, projection_matrix "
+    "(tangent: W = M' + dt/2 C + dt^2/4 K; mass: W = M'). Outputs: "
     "lambda1..lambda_m, phi_dot_norm."};
 
 // The instance's operations; every instance gets a copy with its own state.

@@ -44,7 +44,8 @@ typedef struct mh_integrator_problem {
   uint32_t num_unknowns; /* n */
   const uint8_t* kinds;  /* n: mh_unknown_kind of each unknown */
   double t0;             /* s */
-  double dt;             /* the run's step (s); a step may be shorter (retries, the end) */
+  double dt;             /* the run's step (s); begin_step's h is the step actually taken
+                            (this host always takes dt; be ready for a shorter h) */
 } mh_integrator_problem;
 
 /* One step's map, written by begin_step into host-owned arrays of n. */

@@ -56,7 +56,8 @@ typedef enum mh_unknown_kind {
 } mh_unknown_kind;
 
 /* What an output's value means, so hosts can show it without knowing the
- * component (mh_output_spec.kind). */
+ * component (mh_output_spec.kind). A host shows a kind it does not know (one
+ * a later minor version added) as a signal. */
 typedef enum mh_output_kind {
   MH_OUTPUT_SIGNAL = 0,     /* a quantity over time in `unit`: plotted, written to results */
   MH_OUTPUT_COORDINATE = 1, /* the 1-based index of a joint coordinate in use (e.g. an
