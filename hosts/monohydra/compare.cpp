@@ -190,6 +190,7 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
     page.facts.push_back("formulations: " + joined(formulations));
     page.facts.push_back("integrators: " + joined(integrators));
     std::vector<std::string> control_names;
+    control_names.reserve(controls.size());
     for (const auto& col : controls) control_names.push_back(col.name);
     if (controls.empty())
       page.facts.push_back("control signals: the model declares none, so no interval is shaded");
