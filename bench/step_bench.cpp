@@ -1,4 +1,4 @@
-// Cost of the shared trapezoidal Newton step: whole 10 s runs of the shipped
+// Cost of the shared Newton step (trapezoidal unless named): whole 10 s runs of the shipped
 // models (the target: 10 s at dt = 1 ms in at most 20 ms), and one step of an
 // open chain of N bodies (the target: close to linear in N).
 #include <benchmark/benchmark.h>
@@ -22,11 +22,12 @@ const mh::PluginRegistry& plugins() {
   return *r;
 }
 
-void run_model(benchmark::State& state, const std::string& model, const std::string& formulation) {
+void run_model(benchmark::State& state, const std::string& model, const std::string& formulation,
+               const std::string& integrator = "") {
   const mh::ModelFile file = mh::load_model_file(std::string(MH_SOURCE_DIR) + "/models/" + model);
   long steps = 0;
   for (auto _ : state) {
-    mh::Simulation sim(file, plugins(), formulation);
+    mh::Simulation sim(file, plugins(), mh::RunChoices{formulation, integrator, {}, {}});
     const mh::RunSummary s = mh::run(sim, nullptr);
     if (s.failed) state.SkipWithError(s.failure.c_str());
     steps += s.steps;
@@ -60,6 +61,21 @@ BENCHMARK_CAPTURE(BM_CaseStudy10s, quickreturn_double_step, "quickreturn.yaml", 
     ->Unit(benchmark::kMillisecond)
     ->Iterations(3);
 BENCHMARK_CAPTURE(BM_CaseStudy10s, quickreturn_penalty, "quickreturn.yaml", "penalty")
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
+
+// The same under the other shipped integrators (SDK 2.0): one step costs the
+// same map and Newton iteration, so differences are in iterations per step.
+void BM_CaseStudyIntegrator10s(benchmark::State& state, const char* model, const char* formulation,
+                               const char* integrator) {
+  run_model(state, model, formulation, integrator);
+}
+BENCHMARK_CAPTURE(BM_CaseStudyIntegrator10s, fourbar_penalty_generalized_alpha, "fourbar.yaml",
+                  "penalty", "generalized-alpha")
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
+BENCHMARK_CAPTURE(BM_CaseStudyIntegrator10s, fourbar_penalty_bdf2, "fourbar.yaml", "penalty",
+                  "bdf2")
     ->Unit(benchmark::kMillisecond)
     ->Iterations(3);
 
