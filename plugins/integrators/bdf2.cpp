@@ -122,10 +122,6 @@ mh_status accept(const mh_integrator* s, double t, const double* x, const double
   });
 }
 
-const void* get_extension(const mh_integrator*, const char*) {
-  return nullptr;
-}
-
 const mh_component_descriptor kDescriptor{
     sizeof(mh_component_descriptor),
     "bdf2",
@@ -136,24 +132,10 @@ const mh_component_descriptor kDescriptor{
     "again on xd: second order, L-stable (strong damping of stiff components); backward Euler "
     "on the first step after a restart."};
 
-const mh_integrator kOps = [] {
-  mh_integrator f{};
-  f.struct_size = sizeof(mh_integrator);
-  f.descriptor = &kDescriptor;
-  f.method = MH_METHOD_IMPLICIT_AFFINE;
-  f.setup = setup;
-  f.restart = restart;
-  f.begin_step = begin_step;
-  f.accept = accept;
-  f.destroy = monohydra::destroy_integrator<Bdf2>;
-  f.get_extension = get_extension;
-  return f;
-}();
+const mh_integrator kOps = implicit_ops<Bdf2>(kDescriptor, setup, restart, begin_step, accept);
 
 const mh_integrator* create(const mh_host* host) {
-  const mh_integrator* made = monohydra::create_integrator<Bdf2>(host, kOps);
-  if (made != nullptr) static_cast<Bdf2*>(made->plugin_data)->id = kDescriptor.id;
-  return made;
+  return create_named<Bdf2>(host, kOps);
 }
 
 }  // namespace

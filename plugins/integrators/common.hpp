@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "monohydra/cpp/integrator_plugin.hpp"
 #include "monohydra/integrator.h"
 
 namespace integ {
@@ -43,5 +44,34 @@ mh_status check_begin_step(const Common& c, double t_next, double h,
 // accept: checks that a step is open and the accepted state (non-NULL, finite).
 mh_status check_accept(const Common& c, double t, const double* x, const double* xd,
                        const double* xdd) noexcept;
+
+// The operations of an implicit integrator T (its state derives from Common):
+// the same table for every integrator of this library but for its four ops.
+template <class T>
+mh_integrator implicit_ops(const mh_component_descriptor& descriptor,
+                           decltype(mh_integrator::setup) setup,
+                           decltype(mh_integrator::restart) restart,
+                           decltype(mh_integrator::begin_step) begin_step,
+                           decltype(mh_integrator::accept) accept) {
+  mh_integrator f{};
+  f.struct_size = sizeof(mh_integrator);
+  f.descriptor = &descriptor;
+  f.method = MH_METHOD_IMPLICIT_AFFINE;
+  f.setup = setup;
+  f.restart = restart;
+  f.begin_step = begin_step;
+  f.accept = accept;
+  f.destroy = monohydra::destroy_integrator<T>;
+  f.get_extension = [](const mh_integrator*, const char*) -> const void* { return nullptr; };
+  return f;
+}
+
+// A new instance of T with the ops, named after its descriptor in messages.
+template <class T>
+const mh_integrator* create_named(const mh_host* host, const mh_integrator& ops) {
+  const mh_integrator* made = monohydra::create_integrator<T>(host, ops);
+  if (made != nullptr) static_cast<T*>(made->plugin_data)->id = ops.descriptor->id;
+  return made;
+}
 
 }  // namespace integ

@@ -146,10 +146,6 @@ mh_status accept(const mh_integrator* s, double t, const double* x, const double
   });
 }
 
-const void* get_extension(const mh_integrator*, const char*) {
-  return nullptr;
-}
-
 const mh_component_descriptor kDescriptor{
     sizeof(mh_component_descriptor),
     "generalized-alpha",
@@ -160,24 +156,11 @@ const mh_component_descriptor kDescriptor{
     "first-order unknowns): second order, numerical dissipation set by the option rho_inf "
     "(spectral radius at infinity, default 0.8)."};
 
-const mh_integrator kOps = [] {
-  mh_integrator f{};
-  f.struct_size = sizeof(mh_integrator);
-  f.descriptor = &kDescriptor;
-  f.method = MH_METHOD_IMPLICIT_AFFINE;
-  f.setup = setup;
-  f.restart = restart;
-  f.begin_step = begin_step;
-  f.accept = accept;
-  f.destroy = monohydra::destroy_integrator<GeneralizedAlpha>;
-  f.get_extension = get_extension;
-  return f;
-}();
+const mh_integrator kOps =
+    implicit_ops<GeneralizedAlpha>(kDescriptor, setup, restart, begin_step, accept);
 
 const mh_integrator* create(const mh_host* host) {
-  const mh_integrator* made = monohydra::create_integrator<GeneralizedAlpha>(host, kOps);
-  if (made != nullptr) static_cast<GeneralizedAlpha*>(made->plugin_data)->id = kDescriptor.id;
-  return made;
+  return create_named<GeneralizedAlpha>(host, kOps);
 }
 
 }  // namespace

@@ -101,10 +101,6 @@ mh_status accept(const mh_integrator* s, double t, const double* x, const double
   });
 }
 
-const void* get_extension(const mh_integrator*, const char*) {
-  return nullptr;
-}
-
 const mh_component_descriptor kDescriptor{
     sizeof(mh_component_descriptor),
     "trapezoidal",
@@ -114,24 +110,11 @@ const mh_component_descriptor kDescriptor{
     "The implicit trapezoidal rule with positions and pressures as primary unknowns (Eqs. "
     "32-34): second order, A-stable, no numerical dissipation."};
 
-const mh_integrator kOps = [] {
-  mh_integrator f{};
-  f.struct_size = sizeof(mh_integrator);
-  f.descriptor = &kDescriptor;
-  f.method = MH_METHOD_IMPLICIT_AFFINE;
-  f.setup = setup;
-  f.restart = restart;
-  f.begin_step = begin_step;
-  f.accept = accept;
-  f.destroy = monohydra::destroy_integrator<Trapezoidal>;
-  f.get_extension = get_extension;
-  return f;
-}();
+const mh_integrator kOps =
+    implicit_ops<Trapezoidal>(kDescriptor, setup, restart, begin_step, accept);
 
 const mh_integrator* create(const mh_host* host) {
-  const mh_integrator* made = monohydra::create_integrator<Trapezoidal>(host, kOps);
-  if (made != nullptr) static_cast<Trapezoidal*>(made->plugin_data)->id = kDescriptor.id;
-  return made;
+  return create_named<Trapezoidal>(host, kOps);
 }
 
 }  // namespace
