@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <string>
 
+#include "constraint_eval.hpp"
 #include "monohydra/core/kinematics.hpp"
 #include "monohydra/core/model_file.hpp"
 #include "random_tree.hpp"
@@ -22,20 +23,8 @@ using test::random_tree;
 using test::random_vector;
 using test::Rng;
 
-struct Eval {
-  Eigen::VectorXd phi, phi_dot;
-  Eigen::MatrixXd phi_z;
-};
-
-Eval evaluate(const Model& model, Constraints& cs, const Eigen::VectorXd& z,
-              const Eigen::VectorXd& zd) {
-  Data data(model);
-  forward_kinematics(model, data, z, zd);
-  Eval e{Eigen::VectorXd(cs.size()), Eigen::VectorXd(cs.size()),
-         Eigen::MatrixXd(cs.size(), model.num_coordinates())};
-  evaluate_constraints(model, data, cs, e.phi, e.phi_z, e.phi_dot);
-  return e;
-}
+using Eval = test::ConstraintEval;
+using test::evaluate;
 
 Eigen::VectorXd accelerations(const Model& model, Constraints& cs, const Eigen::VectorXd& z,
                               const Eigen::VectorXd& zd, const Eigen::VectorXd& zdd) {

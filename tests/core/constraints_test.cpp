@@ -8,6 +8,7 @@
 #include <cmath>
 #include <random>
 
+#include "constraint_eval.hpp"
 #include "monohydra/core/kinematics.hpp"
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/simulation.hpp"
@@ -17,20 +18,8 @@
 namespace mh {
 namespace {
 
-struct Eval {
-  Eigen::VectorXd phi, phi_dot;
-  Eigen::MatrixXd phi_z;
-};
-
-Eval evaluate(const Model& model, Constraints& cs, const Eigen::VectorXd& z,
-              const Eigen::VectorXd& zd) {
-  Data data(model);
-  forward_kinematics(model, data, z, zd);
-  Eval e{Eigen::VectorXd(cs.size()), Eigen::VectorXd(cs.size()),
-         Eigen::MatrixXd(cs.size(), model.num_coordinates())};
-  evaluate_constraints(model, data, cs, e.phi, e.phi_z, e.phi_dot);
-  return e;
-}
+using Eval = test::ConstraintEval;
+using test::evaluate;
 
 Constraints build_at(const Model& model, const Eigen::VectorXd& z) {
   Data data(model);

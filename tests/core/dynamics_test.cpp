@@ -22,8 +22,8 @@
 #include "monohydra/core/data.hpp"
 #include "monohydra/core/kinematics.hpp"
 #include "monohydra/core/model.hpp"
-#include "test_support.hpp"
 #include "random_tree.hpp"
+#include "test_support.hpp"
 
 namespace mh {
 namespace {
