@@ -27,6 +27,12 @@
 
 namespace mh {
 
+// A failed step that a shorter step may cure (see Engine::fail_step).
+class StepFailure : public SimulationError {
+ public:
+  using SimulationError::SimulationError;
+};
+
 // A number for a message: 6 significant digits.
 inline std::string short_number(double v) {
   std::ostringstream os;
@@ -118,7 +124,7 @@ struct Simulation::Engine {
   Eigen::VectorXd y, ydot;               // current (iterate or accepted)
   Eigen::VectorXd y_k, ydot_k;           // accepted at t_k
   Eigen::VectorXd state_tol;
-  std::vector<char> algebraic;  // states whose rate no row involves (constructor)
+  std::vector<char> algebraic;              // states whose rate no row involves (constructor)
   std::vector<int> rate_states, rate_rows;  // the others, and the rows that involve rates
   std::vector<Node> nodes;
   std::vector<double> time_events;  // sorted, unique (constructor)
@@ -221,8 +227,10 @@ struct Simulation::Engine {
   // time_step.cpp
   void start();
   void step_once();
-  void prepare_step(double t_next);
-  void accept_step(double t_next, bool event);
+  void advance(double t_to, int halvings_left);
+  void attempt(double t_next);
+  void prepare_step(double t_next, double h);
+  void accept_step(double t_next, bool event, double h);
 
   // energy_balance.cpp
   void energy_terms(double& stored_out, double& dissipation_out);
@@ -231,13 +239,20 @@ struct Simulation::Engine {
   void measure_mechanism();  // KE, PE, phi_norm at the accepted z, zd
 
   [[noreturn]] void fail(const std::string& reason) const;
+  // A failure of this step that a shorter one may cure (Newton, a discarded
+  // evaluation): retried by advance() while halvings are left.
+  [[noreturn]] void fail_step(const std::string& reason) const;
   std::string status_reason(mh_status s, const std::string& what) const;
   std::string unknown_name(int i) const;
   // Throws SimulationError naming the plugin and the operation when `s` is
   // not a success (one place for every plugin call of the step).
   void check(mh_status s, const std::string& what) const {
-    if (!status_ok(s)) fail(status_reason(s, what));
+    if (status_ok(s)) return;
+    if (s == MH_DISCARD) fail_step(status_reason(s, what));
+    fail(status_reason(s, what));
   }
+  // The plugin that made state row `row` non-finite at the kinematics in data.
+  std::string nonfinite_source(int row);
 };
 
 }  // namespace mh

@@ -15,14 +15,16 @@ void Simulation::Engine::newton_solve(double t_eval, double t_next) {
   stats.residual_norms.push_back(r.lpNorm<Eigen::Infinity>());
   double worst = 0.0;
   int worst_i = 0;
-  while (stats.iterations < settings.max_iterations) {
+  for (int its = 0; its < settings.max_iterations; ++its) {
     if (!r.allFinite()) {
       int bad = 0;
       while (bad < n && std::isfinite(r[bad])) ++bad;
-      fail("the residual is not finite in the row of " + unknown_name(bad));
+      fail_step(
+          "the residual is not finite in the row of " + unknown_name(bad) + ", written by " +
+          (bad < n_m ? "formulation '" + formulation_name + "'" : nonfinite_source(bad - n_m)));
     }
     check(assemble_tangent(t_eval), "tangent assembly");
-    if (!linear_solver->factor(values.data())) fail(linear_solver->error());
+    if (!linear_solver->factor(values.data())) fail_step(linear_solver->error());
     dx = -r;
     linear_solver->solve(dx.data());  // Eq. (37)
     x += dx;
@@ -47,9 +49,24 @@ void Simulation::Engine::newton_solve(double t_eval, double t_next) {
     stats.residual_norms.push_back(r.lpNorm<Eigen::Infinity>());
     if (worst <= 1.0) return;
   }
-  fail("Newton did not converge in " + std::to_string(settings.max_iterations) +
-       " iterations; the largest increment was " + short_number(worst) +
-       " times the tolerance, in " + unknown_name(worst_i));
+  fail_step("Newton did not converge in " + std::to_string(settings.max_iterations) +
+            " iterations; the largest increment was " + short_number(worst) +
+            " times the tolerance, in " + unknown_name(worst_i));
+}
+
+// Evaluates the subsystems one by one at the current kinematics, states and
+// rates into a scratch row set, and names the first that writes a non-finite
+// value into `row` (only when a step has already failed: no cost otherwise).
+std::string Simulation::Engine::nonfinite_source(int row) {
+  mh_subsystem_eval ev = subsystem_eval(attempt_t, scratch_rows.data());
+  for (auto& s : subsystems) {
+    scratch_rows.setZero();
+    point_at(ev, s);
+    const mh_status st = normalized(s.api.ops.evaluate(s.api.self, &ev));
+    if (status_ok(st) && !std::isfinite(scratch_rows[row]))
+      return "subsystem '" + s.spec->name + "' (" + s.spec->type + ")";
+  }
+  return "the subsystems' sum (no single instance wrote a non-finite value)";
 }
 
 }  // namespace mh

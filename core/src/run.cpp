@@ -129,6 +129,7 @@ RunSummary run(Simulation& sim, std::ostream* csv, const RunOptions& options) {
       const int it = sim.last_step().iterations;
       summary.iterations += it;
       summary.max_iterations = std::max(summary.max_iterations, it);
+      summary.retries += sim.last_step().retries;
       summary.max_abs_drift = std::max(summary.max_abs_drift, std::abs(sim.drift()));
       summary.max_phi_norm = std::max(summary.max_phi_norm, sim.phi_norm());
       write_row();

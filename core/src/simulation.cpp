@@ -305,7 +305,7 @@ int Simulation::tangent_nonzeros() const {
 Eigen::MatrixXd Simulation::assembled_tangent() {
   Engine& e = *engine_;
   const double t_next = e.t + e.settings.dt;
-  e.prepare_step(t_next);
+  e.prepare_step(t_next, e.settings.dt);
   if (!status_ok(e.residual(t_next, e.x, e.r)) || !status_ok(e.assemble_tangent(t_next)))
     throw SimulationError(e.t, e.step, "tangent assembly failed: " + e.last_plugin_error);
   Eigen::MatrixXd J = Eigen::MatrixXd::Zero(e.n, e.n);
@@ -320,7 +320,7 @@ Eigen::MatrixXd Simulation::assembled_tangent() {
 Eigen::MatrixXd Simulation::finite_difference_tangent() {
   Engine& e = *engine_;
   const double t_next = e.t + e.settings.dt;
-  e.prepare_step(t_next);
+  e.prepare_step(t_next, e.settings.dt);
   Eigen::MatrixXd J(e.n, e.n);
   e.residual(t_next, e.x, e.r);
   for (int c = 0; c < e.n; ++c) {

@@ -21,6 +21,10 @@ void Simulation::Engine::fail(const std::string& reason) const {
   throw SimulationError(attempt_t, attempt_step, reason);
 }
 
+void Simulation::Engine::fail_step(const std::string& reason) const {
+  throw StepFailure(attempt_t, attempt_step, reason);
+}
+
 std::string Simulation::Engine::status_reason(mh_status s, const std::string& what) const {
   const int v = static_cast<int>(s);
   std::string reason = what;
@@ -91,15 +95,47 @@ void Simulation::Engine::start() {
 
 void Simulation::Engine::step_once() {
   if (!started) fail("step() before start()");
-  const double h = settings.dt;
   // t from the step count, not by summing dt: no round-off creep over 1e4 steps.
-  const double t_next = static_cast<double>(step + 1) * h;
-  attempt_t = t_next;  // failures name the step being attempted
+  const double t_next = static_cast<double>(step + 1) * settings.dt;
   attempt_step = step + 1;
-  last_plugin_error.clear();
   stats.iterations = 0;
+  stats.retries = 0;
   stats.increment_norms.clear();
   stats.residual_norms.clear();
+  advance(t_next, settings.max_step_halvings);
+  ++step;
+}
+
+// From the accepted t to t_to in one step; when that step fails for a reason
+// a shorter step may cure (Newton, a discarded evaluation) and halvings are
+// left, in two halves instead. Every accepted (sub-)step is a complete step:
+// the formulation, the integrator and the subsystems accept it.
+void Simulation::Engine::advance(double t_to, int halvings_left) {
+  const size_t events_before = next_event;
+  try {
+    attempt(t_to);
+  } catch (const StepFailure& failure) {
+    if (halvings_left <= 0) {
+      if (stats.retries == 0) throw;
+      throw SimulationError(
+          failure.time(), failure.step(),
+          failure.reason() + " (after " + std::to_string(stats.retries) +
+              " halvings of the step, the most the model allows: " + "solver.max_step_halvings = " +
+              std::to_string(settings.max_step_halvings) + ")");
+    }
+    next_event = events_before;
+    ++stats.retries;
+    const double t_mid = 0.5 * (t + t_to);
+    advance(t_mid, halvings_left - 1);
+    advance(t_to, halvings_left - 1);
+  }
+}
+
+// One step from the accepted t to t_next.
+void Simulation::Engine::attempt(double t_next) {
+  const double h = t_next - t;
+  attempt_t = t_next;  // failures name the step being attempted
+  last_plugin_error.clear();
 
   // A time event inside the step, or at its end: the end is evaluated at the
   // event's left limit, and the integrator restarts after it (right limit).
@@ -112,15 +148,15 @@ void Simulation::Engine::step_once() {
     ++next_event;
   }
 
-  prepare_step(t_next);
+  prepare_step(t_next, h);
   newton_solve(t_eval, t_next);
-  accept_step(t_next, event);
+  accept_step(t_next, event, h);
 }
 
 // The integrator's map and prediction for the step to t_next, told to the
 // formulation.
-void Simulation::Engine::prepare_step(double t_next) {
-  begin_step(t_next, settings.dt);
+void Simulation::Engine::prepare_step(double t_next, double h) {
+  begin_step(t_next, h);
   x = x_pred;
   rates_of(x, xd, xdd);
   if (formulation.ops.begin_step != nullptr)
@@ -130,7 +166,7 @@ void Simulation::Engine::prepare_step(double t_next) {
 
 // The last residual call evaluated the converged iterate: its rates, the
 // subsystems' rows, powers and outputs are the step's.
-void Simulation::Engine::accept_step(double t_next, bool event) {
+void Simulation::Engine::accept_step(double t_next, bool event, double h) {
   uint32_t flags = 0;
   check(formulation.ops.accept(formulation.self, t_next, &map.coefficients, x.data(), xd.data(),
                                xdd.data(), &flags),
@@ -144,7 +180,7 @@ void Simulation::Engine::accept_step(double t_next, bool event) {
         formulation.ops.write_outputs(formulation.self, outputs.data(), static_cast<uint32_t>(n_o)),
         "formulation write_outputs");
   outputs_k = outputs;  // of the converged iterate's evaluation
-  update_energy_balance(settings.dt);
+  update_energy_balance(h);
   for (auto& s : subsystems) {
     if (s.api.ops.accept == nullptr) continue;
     mh_subsystem_eval ev = subsystem_eval(t_next, scratch_rows.data());
@@ -152,7 +188,6 @@ void Simulation::Engine::accept_step(double t_next, bool event) {
     check(s.api.ops.accept(s.api.self, &ev), "subsystem '" + s.spec->name + "' accept");
   }
   t = t_next;
-  ++step;
   forward_kinematics(model, data, z, zd);
   if (event) {
     solve_initial_rates(std::nextafter(t, HUGE_VAL));

@@ -134,6 +134,7 @@ int simulate(RunRequest request, const std::string& out_path) {
             << (s.steps > 0 ? static_cast<double>(s.iterations) / static_cast<double>(s.steps)
                             : 0.0)
             << " iterations per step on average, " << s.max_iterations << " at most\n"
+            << "retries:      " << s.retries << " halvings of failed steps\n"
             << "peak |drift|: " << s.max_abs_drift << " J\n"
             << "wall time:    " << s.wall_seconds << " s\n";
   if (!out_path.empty()) std::cout << "results:      " << out_path << "\n";

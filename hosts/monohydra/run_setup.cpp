@@ -48,8 +48,8 @@ std::unique_ptr<PreparedRun> prepare_run(const RunRequest& request) {
   p->columns = static_cast<std::size_t>(std::count(text.begin(), text.end(), ',')) + 1;
   try {
     check_column_names(p->file, *p->sim);
-    p->steps = check_run_settings(
-        p->file, p->sim->settings(), request.limits, request.csv ? p->columns : 0, origins);
+    p->steps = check_run_settings(p->file, p->sim->settings(), request.limits,
+                                  request.csv ? p->columns : 0, origins);
   } catch (const InputError& err) {
     std::cerr << "monohydra: " << err.what() << '\n';
     return nullptr;

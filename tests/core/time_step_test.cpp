@@ -3,6 +3,8 @@
 
 #include <cmath>
 
+#include "monohydra/core/model_file.hpp"
+#include "monohydra/core/run.hpp"
 #include "monohydra/core/simulation.hpp"
 #include "test_support.hpp"
 
@@ -82,6 +84,60 @@ TEST(TrapezoidalStep, StartsAtRestWithTheStaticAccelerationOfAPendulum) {
   EXPECT_NEAR(sim.zdd()[0], expected, 1e-12);
   EXPECT_EQ(sim.kinetic_energy(), 0.0);
   EXPECT_EQ(sim.drift(), 0.0);
+}
+
+}  // namespace
+}  // namespace mh
+
+namespace mh {
+namespace {
+
+// solver.max_step_halvings: a step whose Newton iteration fails is retried as
+// two halves. With two Newton iterations allowed, the four-bar's steps at the
+// valve's opening (which need three) fail; halving them lets the run through,
+// and the result stays within the trapezoidal rule's error of the normal run.
+TEST(TimeStep, AFailedStepIsRetriedAsTwoHalvesUpToTheModelsLimit) {
+  ModelFile file = load_model_file(test::source_path("models/fourbar.yaml"));
+  file.solver.t_end = 1.5;  // the valve opens at 1 s
+  Simulation reference(file, test::build_plugins());
+  const RunSummary ref = run(reference, nullptr);
+  ASSERT_FALSE(ref.failed) << ref.failure;
+  ASSERT_EQ(ref.max_iterations, 3);  // some steps need three
+
+  file.solver.max_iterations = 2;
+  Simulation strict(file, test::build_plugins());
+  const RunSummary failed = run(strict, nullptr);
+  ASSERT_TRUE(failed.failed);
+  EXPECT_NE(failed.failure.find("Newton did not converge in 2 iterations"), std::string::npos)
+      << failed.failure;
+
+  file.solver.max_step_halvings = 4;
+  Simulation halving(file, test::build_plugins());
+  const RunSummary s = run(halving, nullptr);
+  ASSERT_FALSE(s.failed) << s.failure;
+  EXPECT_EQ(s.steps, ref.steps);
+  EXPECT_GT(s.retries, 0);
+  EXPECT_LE(s.max_iterations, 2 * (1 + 2 + 4 + 8 + 16));  // every attempt's iterations count
+  const double dz = (halving.z() - reference.z()).lpNorm<Eigen::Infinity>();
+  ::testing::Test::RecordProperty("retries", std::to_string(s.retries));
+  ::testing::Test::RecordProperty("dz", test::scientific(dz));
+  EXPECT_LT(dz, 1e-5);  // the 1 ms run's own error is ~6e-6 rad (docs/results.md)
+  EXPECT_LT(std::abs(halving.drift()), 1e-3 * std::abs(halving.work()) + 1e-6);
+}
+
+// When every halving fails too, the message says how many were tried.
+TEST(TimeStep, AStepThatFailsAtEveryHalvingSaysHowManyWereTried) {
+  ModelFile file = load_model_file(test::source_path("models/fourbar.yaml"));
+  file.solver.t_end = 1.5;
+  file.solver.max_iterations = 1;  // one Newton iteration never meets the tolerance
+  file.solver.max_step_halvings = 2;
+  Simulation sim(file, test::build_plugins());
+  const RunSummary s = run(sim, nullptr);
+  ASSERT_TRUE(s.failed);
+  EXPECT_NE(s.failure.find("halvings of the step, the most the model allows: "
+                           "solver.max_step_halvings = 2)"),
+            std::string::npos)
+      << s.failure;
 }
 
 }  // namespace

@@ -61,6 +61,7 @@ struct SolverSettings {
   double dt = 1e-3;            // s
   double t_end = 10.0;         // s
   int max_iterations = 25;     // Newton iterations per step before giving up
+  int max_step_halvings = 0;   // a failed step is retried as two halves, this deep at most
   double tol_position = 1e-7;  // rad or m: Newton increment tolerance on coordinates
   SourceMark mark;
   SourceMark dt_mark, t_end_mark;  // where the file writes them (line 0: it does not)

@@ -31,6 +31,7 @@ struct RunSummary {
   long steps_asked = 0;    // round(t_end / dt)
   long iterations = 0;     // Newton iterations, all steps
   int max_iterations = 0;  // in one step
+  long retries = 0;        // halvings of failed steps (solver.max_step_halvings)
   double max_abs_drift = 0.0;
   double max_phi_norm = 0.0;
   double wall_seconds = 0.0;

@@ -35,7 +35,8 @@ using LogSink = std::function<void(mh_log_level, const std::string& source, cons
 
 // Per-step diagnostics of the Newton iteration.
 struct StepStats {
-  int iterations = 0;                   // linear solves this step
+  int iterations = 0;                   // linear solves this step (all its attempts)
+  int retries = 0;                      // halvings of the step (solver.max_step_halvings)
   std::vector<double> increment_norms;  // max_i |dx_i| / tol_i after each solve
   std::vector<double> residual_norms;   // ||r||_inf at the predictor and after each solve
 };
