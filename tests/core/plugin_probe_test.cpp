@@ -43,7 +43,7 @@ class ProbeCacheSetting {
 };
 
 fs::path scratch(const std::string& name) {
-  const auto dir =
+  auto dir =
       fs::temp_directory_path() / ("monohydra-probe-test-" + std::to_string(::getpid())) / name;
   fs::remove_all(dir);
   fs::create_directories(dir);

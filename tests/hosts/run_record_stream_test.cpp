@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 
@@ -32,8 +32,12 @@ RunRecord two_row_record() {
   return rec;
 }
 
+// Equal to the bit: -0.0 is not 0.0.
 bool same_bits(double a, double b) {
-  return std::memcmp(&a, &b, sizeof a) == 0;
+  uint64_t x = 0, y = 0;
+  std::memcpy(&x, &a, sizeof x);
+  std::memcpy(&y, &b, sizeof y);
+  return x == y;
 }
 
 std::string stream_of(const RunRecord& rec) {
