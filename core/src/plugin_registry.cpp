@@ -3,12 +3,16 @@
 #include <algorithm>
 #include <boost/dll/runtime_symbol_info.hpp>
 #include <boost/dll/shared_library.hpp>
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 
 #include "abi_struct.hpp"
 #include "monohydra/entry.h"
+#include "plugin_probe.hpp"
+#include "probe_cache.hpp"
 
 namespace fs = std::filesystem;
 
@@ -72,7 +76,11 @@ void list_components(const void* raw, ComponentKind kind, Factory ComponentInfo:
 
 }  // namespace
 
-PluginRegistry::PluginRegistry() = default;
+// Long enough for any honest init; a probe that takes longer is killed.
+constexpr std::chrono::milliseconds kProbeLimit{10'000};
+
+PluginRegistry::PluginRegistry()
+    : probe_cache_(std::make_unique<ProbeCache>(ProbeCache::default_file())) {}
 PluginRegistry::~PluginRegistry() {
   // Components first (they point into the libraries), then the libraries in
   // reverse order of loading.
@@ -96,10 +104,28 @@ std::vector<std::string> PluginRegistry::default_search_path() {
 }
 
 void PluginRegistry::load(const std::string& path) {
+  try {
+    load_library(path);
+  } catch (const PluginError&) {
+    probe_cache_->save();
+    throw;
+  }
+  probe_cache_->save();
+}
+
+void PluginRegistry::load_library(const std::string& path) {
   std::error_code fec;
   const std::string canonical = fs::weakly_canonical(path, fec).string();
   for (const auto& lib : libraries_)
     if (lib->path == canonical) return;
+
+  // Nothing of the library runs in this process before a child survived it.
+  std::optional<ProbeVerdict> verdict = probe_cache_->find(canonical);
+  if (!verdict) {
+    verdict = probe_library(canonical, kProbeLimit);
+    probe_cache_->remember(canonical, *verdict);
+  }
+  if (!verdict->usable) throw PluginError("'" + path + "' " + verdict->reason);
 
   auto lib = std::make_unique<Library>();
   lib->path = canonical;
@@ -157,12 +183,13 @@ void PluginRegistry::scan(const std::vector<std::string>& folders) {
     std::sort(files.begin(), files.end());
     for (const auto& f : files) {
       try {
-        load(f.string());
+        load_library(f.string());
       } catch (const PluginError& err) {
         refusals_.emplace_back(err.what());
       }
     }
   }
+  probe_cache_->save();
 }
 
 const ComponentInfo& PluginRegistry::find(ComponentKind kind, const std::string& id) const {

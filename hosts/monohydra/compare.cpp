@@ -5,12 +5,14 @@
 #include <functional>
 #include <iostream>
 #include <sstream>
+#include <utility>
 
 #include "cli_support.hpp"
 #include "commands.hpp"
 #include "comparison.hpp"
 #include "comparison_table.hpp"
 #include "control_intervals.hpp"
+#include "isolated_run.hpp"
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/plugin_registry.hpp"
 #include "report_figures.hpp"
@@ -153,7 +155,8 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
         std::error_code ec;
         fs::remove(options.csv_path, ec);  // no stale results of an earlier comparison
       }
-      runs.push_back(record_run(file, registry, formulation, integrator, options));
+      runs.push_back(
+          record_run_isolated(file, registry, formulation, integrator, std::move(options)));
       runs.back().label = label;
       if (bar.enabled && runs.back().failed && runs.back().rows() > 0) std::cerr << '\n';
       if (runs.back().failed)

@@ -27,6 +27,7 @@ std::string paper_number(const std::optional<double>& v) {
 
 std::string status(const RunRecord& r) {
   if (!r.failed) return "ok";
+  if (r.crashed_by != 0) return r.failure;  // "crashed (SIGSEGV) after t = 0.1 s"
   if (r.failure_time) return "FAILED at t = " + fmt("%g", *r.failure_time) + " s";
   return r.rows() == 0 ? "FAILED at setup" : "FAILED at start";
 }

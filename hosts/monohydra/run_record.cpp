@@ -146,6 +146,7 @@ RunRecord record_run(const ModelFile& file, const PluginRegistry& registry,
     sim->start();
     double wall = seconds_since(t0);
     record_row(*sim, wall, rec);
+    if (options.on_row) options.on_row(rec);
     if (csv.is_open()) {
       line.str("");
       write_csv_header(line, *sim);
@@ -153,6 +154,7 @@ RunRecord record_run(const ModelFile& file, const PluginRegistry& registry,
       header.pop_back();  // the header's '\n'
       csv << header << ',' << kWallColumn << '\n';
       write_row(csv, line, *sim, wall);
+      csv.flush();
     }
     const long report_every = std::max(1L, total / 100);
     for (long k = 0; k < total; ++k) {
@@ -168,8 +170,10 @@ RunRecord record_run(const ModelFile& file, const PluginRegistry& registry,
       sim->step();
       wall = seconds_since(t0);
       record_row(*sim, wall, rec);
+      if (options.on_row) options.on_row(rec);
       if (csv.is_open()) {
         write_row(csv, line, *sim, wall);
+        csv.flush();  // the rows before a crash stay on disk
         if (!csv) throw std::runtime_error("cannot write '" + options.csv_path + "'");
       }
       if (options.progress && (k + 1) % report_every == 0)

@@ -40,6 +40,7 @@ struct RunRecord {
   int num_states = 0;                        // written states follow them
   std::string csv_path;                      // "" when no CSV was written
   int stopped_by = 0;  // the signal that stopped the run between two steps, 0 if none
+  int crashed_by = 0;  // the signal that killed the run's process (isolated_run.hpp), 0 if none
 
   size_t rows() const { return columns.empty() ? 0 : columns.front().size(); }
   int column(const std::string& name) const;  // -1 when absent
@@ -56,6 +57,9 @@ struct RecordOptions {
   RunLimits limits;  // checked before the first step; the CSV counts towards max_output_bytes
   // Non-zero (a signal number, see stop_signals.hpp): stop after the current row.
   const volatile std::sig_atomic_t* stop = nullptr;
+  // Called with the record after each row it keeps (isolated_run.hpp streams
+  // the rows to the parent process as they come).
+  std::function<void(const RunRecord&)> on_row;
 };
 
 // Runs the model with the formulation and integrator `choices` name (dt and

@@ -32,6 +32,13 @@ const volatile std::sig_atomic_t* install_stop_handlers() {
 const char* signal_name(int signal) {
   if (signal == SIGINT) return "SIGINT";
   if (signal == SIGTERM) return "SIGTERM";
+  // The signals a crashing run dies from (isolated_run.hpp).
+  if (signal == SIGSEGV) return "SIGSEGV";
+  if (signal == SIGBUS) return "SIGBUS";
+  if (signal == SIGABRT) return "SIGABRT";
+  if (signal == SIGFPE) return "SIGFPE";
+  if (signal == SIGILL) return "SIGILL";
+  if (signal == SIGKILL) return "SIGKILL";
   static char buf[32];
   std::snprintf(buf, sizeof buf, "signal %d", signal);
   return buf;

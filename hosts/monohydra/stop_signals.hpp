@@ -10,7 +10,7 @@ namespace mh::cli {
 // Installs the handlers (once) and returns the flag: 0, or the signal number.
 const volatile std::sig_atomic_t* install_stop_handlers();
 
-// "SIGINT", "SIGTERM", or "signal N".
+// "SIGINT", "SIGTERM", "SIGSEGV" and the other crashes, or "signal N".
 const char* signal_name(int signal);
 
 // The shell's convention for a process ended by `signal`: 128 + signal.

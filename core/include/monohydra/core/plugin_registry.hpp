@@ -13,6 +13,8 @@
 
 namespace mh {
 
+class ProbeCache;
+
 // A library that could not be used as a plugin, and why.
 class PluginError : public std::runtime_error {
  public:
@@ -47,9 +49,11 @@ class PluginRegistry {
   // and the install prefix's plugin folder.
   static std::vector<std::string> default_search_path();
 
-  // Loads one library. Throws PluginError naming the file when it is not a
-  // shared library, lacks the entry symbol, was built for another ABI major
-  // version, fails to initialise, or offers a component id already loaded.
+  // Loads one library. It is first probed in a forked child (plugin_probe.hpp;
+  // verdicts cached, probe_cache.hpp): throws PluginError naming the file when
+  // the child crashed or hung, or when it is not a shared library, lacks the entry symbol, was
+  // built for another ABI major version, fails to initialise, or offers a component id already
+  // loaded.
   void load(const std::string& path);
   // Loads every shared library (*.so) in the folders, in order, skipping a
   // library already loaded from the same file. Libraries that refuse are
@@ -63,6 +67,8 @@ class PluginRegistry {
 
  private:
   struct Library;
+  void load_library(const std::string& path);
+  std::unique_ptr<ProbeCache> probe_cache_;
   std::vector<std::unique_ptr<Library>> libraries_;
   std::vector<ComponentInfo> components_;
   std::vector<std::string> refusals_;

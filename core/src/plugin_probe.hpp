@@ -1,0 +1,25 @@
+// A library is opened first in a forked child: a plugin that crashes or hangs
+// in dlopen, init or its factories takes the child down, not the host, as
+// audio hosts scan their plugins out of process.
+#pragma once
+
+#include <chrono>
+#include <string>
+
+namespace mh {
+
+struct ProbeVerdict {
+  bool usable = true;  // the child exited 0: the host may load it itself
+  std::string reason;  // when not: "crashed with SIGSEGV during probing", ...
+};
+
+// Forks; the child dlopens `path`, checks the entry, calls init, lists every
+// factory's components (count bounded) and deinit, then _exits 0. A library
+// that is not a plugin still exits 0: the host's own load names what is wrong.
+// The parent kills the child (SIGKILL) after `limit`.
+ProbeVerdict probe_library(const std::string& path, std::chrono::milliseconds limit);
+
+// "SIGSEGV", "SIGBUS", ... or "signal 42".
+std::string signal_abbreviation(int sig);
+
+}  // namespace mh

@@ -1,0 +1,93 @@
+#include "probe_cache.hpp"
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace mh {
+
+// One line per library: usable (0 or 1), size, mtime (ns), path, reason,
+// separated by tabs (paths with a tab or newline are not cached).
+std::string ProbeCache::default_file() {
+  if (const char* env = std::getenv("MONOHYDRA_PROBE_CACHE"); env != nullptr && *env != '\0')
+    return std::string(env) == "off" ? std::string() : std::string(env);
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg != nullptr && *xdg == '/')
+    return (fs::path(xdg) / "monohydra" / "probe-cache").string();
+  if (const char* home = std::getenv("HOME"); home != nullptr && *home == '/')
+    return (fs::path(home) / ".cache" / "monohydra" / "probe-cache").string();
+  return {};
+}
+
+ProbeCache::ProbeCache(std::string file) : file_(std::move(file)) {
+  if (file_.empty()) return;
+  std::ifstream in(file_);
+  for (std::string line; std::getline(in, line);) {
+    std::stringstream ss(line);
+    std::string usable, size, mtime, path, reason;
+    if (!std::getline(ss, usable, '\t') || !std::getline(ss, size, '\t') ||
+        !std::getline(ss, mtime, '\t') || !std::getline(ss, path, '\t'))
+      continue;
+    std::getline(ss, reason);
+    try {
+      Entry e{{std::stoull(size), std::stoll(mtime)}, {usable == "1", reason}};
+      entries_[path] = e;
+    } catch (const std::exception&) {  // a damaged line is probed again
+    }
+  }
+}
+
+std::optional<ProbeCache::Key> ProbeCache::key_of(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) return std::nullopt;
+  return Key{static_cast<std::uintmax_t>(st.st_size),
+             static_cast<std::int64_t>(st.st_mtim.tv_sec) * 1'000'000'000 + st.st_mtim.tv_nsec};
+}
+
+std::optional<ProbeVerdict> ProbeCache::find(const std::string& canonical_path) const {
+  if (file_.empty()) return std::nullopt;
+  const auto it = entries_.find(canonical_path);
+  if (it == entries_.end()) return std::nullopt;
+  const auto key = key_of(canonical_path);
+  if (!key || key->size != it->second.key.size || key->mtime_ns != it->second.key.mtime_ns)
+    return std::nullopt;
+  return it->second.verdict;
+}
+
+void ProbeCache::remember(const std::string& canonical_path, const ProbeVerdict& verdict) {
+  if (file_.empty() || canonical_path.find_first_of("\t\n") != std::string::npos) return;
+  const auto key = key_of(canonical_path);
+  if (!key) return;
+  entries_[canonical_path] = Entry{*key, verdict};
+  changed_ = true;
+}
+
+void ProbeCache::save() {
+  if (file_.empty() || !changed_) return;
+  changed_ = false;
+  std::error_code ec;
+  fs::create_directories(fs::path(file_).parent_path(), ec);
+  // Another process may save at the same time: write aside, then rename.
+  const std::string tmp = file_ + "." + std::to_string(::getpid()) + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::trunc);
+    if (!out) return;
+    for (const auto& [path, e] : entries_)
+      out << (e.verdict.usable ? '1' : '0') << '\t' << e.key.size << '\t' << e.key.mtime_ns << '\t'
+          << path << '\t' << e.verdict.reason << '\n';
+    if (!out.flush()) {
+      out.close();
+      fs::remove(tmp, ec);
+      return;
+    }
+  }
+  fs::rename(tmp, file_, ec);
+  if (ec) fs::remove(tmp, ec);
+}
+
+}  // namespace mh

@@ -1,0 +1,44 @@
+// Probing forks once per library; the verdicts are kept in a small file keyed
+// by (canonical path, size, mtime) so that start-up stays fast.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+
+#include "plugin_probe.hpp"
+
+namespace mh {
+
+class ProbeCache {
+ public:
+  // $MONOHYDRA_PROBE_CACHE: "off" for none, else the file to use; when unset,
+  // $XDG_CACHE_HOME/monohydra/probe-cache, else ~/.cache/monohydra/probe-cache.
+  static std::string default_file();
+
+  explicit ProbeCache(std::string file);  // "" for no cache
+  // The verdict kept for this library as it is now on disk, if any.
+  std::optional<ProbeVerdict> find(const std::string& canonical_path) const;
+  void remember(const std::string& canonical_path, const ProbeVerdict& verdict);
+  // Writes the file (atomically) when something new was remembered; a cache
+  // that cannot be written is silently not kept.
+  void save();
+
+ private:
+  struct Key {
+    std::uintmax_t size = 0;
+    std::int64_t mtime_ns = 0;
+  };
+  struct Entry {
+    Key key;
+    ProbeVerdict verdict;
+  };
+  static std::optional<Key> key_of(const std::string& path);
+
+  std::string file_;
+  std::map<std::string, Entry> entries_;  // by canonical path
+  bool changed_ = false;
+};
+
+}  // namespace mh

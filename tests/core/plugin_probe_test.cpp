@@ -1,0 +1,142 @@
+// A library that crashes or hangs while being loaded is refused, with the
+// reason, and the host lives on (core/src/plugin_probe.hpp); verdicts are
+// cached by path, size and mtime (core/src/probe_cache.hpp).
+#include "../../core/src/plugin_probe.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "monohydra/core/plugin_registry.hpp"
+
+namespace fs = std::filesystem;
+
+namespace mh {
+namespace {
+
+const std::string kFaulty = MH_FAULTY_PLUGIN_DIR;
+
+// Sets MONOHYDRA_PROBE_CACHE for one test and restores it after.
+class ProbeCacheSetting {
+ public:
+  explicit ProbeCacheSetting(const std::string& value) {
+    if (const char* old = std::getenv("MONOHYDRA_PROBE_CACHE"); old != nullptr) old_ = old;
+    setenv("MONOHYDRA_PROBE_CACHE", value.c_str(), 1);
+  }
+  ~ProbeCacheSetting() {
+    if (old_.empty())
+      unsetenv("MONOHYDRA_PROBE_CACHE");
+    else
+      setenv("MONOHYDRA_PROBE_CACHE", old_.c_str(), 1);
+  }
+  ProbeCacheSetting(const ProbeCacheSetting&) = delete;
+  ProbeCacheSetting& operator=(const ProbeCacheSetting&) = delete;
+
+ private:
+  std::string old_;
+};
+
+fs::path scratch(const std::string& name) {
+  auto dir =
+      fs::temp_directory_path() / ("monohydra-probe-test-" + std::to_string(::getpid())) / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string load_error(const std::string& path) {
+  PluginRegistry r;
+  try {
+    r.load(path);
+  } catch (const PluginError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(PluginProbe, RefusesALibraryThatCrashesInInitNamingTheSignal) {
+  const ProbeCacheSetting off("off");
+  const std::string path = kFaulty + "/crash_in_init.so";
+  EXPECT_EQ(load_error(path), "'" + path + "' crashed with SIGSEGV during probing");
+}
+
+TEST(PluginProbe, RefusesAFactoryThatCountsFourBillionComponentsWithoutWalkingThem) {
+  const ProbeCacheSetting off("off");
+  const std::string path = kFaulty + "/huge_count.so";
+  EXPECT_EQ(load_error(path),
+            "'" + path + "' claims 4294967295 formulation components (at most 10000)");
+}
+
+TEST(PluginProbe, RefusesALibraryCutToHalfItsSize) {
+  const ProbeCacheSetting off("off");
+  const std::string path = kFaulty + "/truncated_plugin.so";
+  EXPECT_EQ(load_error(path), "'" + path + "' crashed with SIGBUS during probing");
+}
+
+TEST(PluginProbe, KillsALibraryThatHangsInInitAfterTheTimeLimit) {
+  const std::string path = std::string(MH_HANGING_PLUGIN_DIR) + "/hang_in_init.so";
+  const auto t0 = std::chrono::steady_clock::now();
+  const ProbeVerdict v = probe_library(path, std::chrono::milliseconds(300));
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_FALSE(v.usable);
+  EXPECT_EQ(v.reason, "timed out after 300 ms during probing");
+  EXPECT_LT(seconds, 5.0);
+}
+
+TEST(PluginProbe, ScanOfTheFaultyFolderLoadsTheGoodPluginAndRefusesEachBadOne) {
+  const ProbeCacheSetting off("off");
+  PluginRegistry r;
+  r.scan({kFaulty});
+  ASSERT_EQ(r.components().size(), 1u);
+  EXPECT_EQ(r.components()[0].id, "crashing-formulation");
+  ASSERT_EQ(r.refusals().size(), 3u);
+  EXPECT_EQ(r.refusals()[0],
+            "'" + kFaulty + "/crash_in_init.so' crashed with SIGSEGV during probing");
+  EXPECT_EQ(r.refusals()[1], "'" + kFaulty +
+                                 "/huge_count.so' claims 4294967295 formulation components (at "
+                                 "most 10000)");
+  EXPECT_EQ(r.refusals()[2],
+            "'" + kFaulty + "/truncated_plugin.so' crashed with SIGBUS during probing");
+}
+
+TEST(PluginProbe, CachedVerdictIsUsedUntilTheLibraryChanges) {
+  const fs::path dir = scratch("cache");
+  const fs::path lib = dir / "copy.so";
+  fs::copy_file(kFaulty + "/crashing_formulation.so", lib);
+  const fs::path cache = dir / "probe-cache";
+  const ProbeCacheSetting file(cache.string());
+  ASSERT_EQ(load_error(lib.string()), "");  // probed, found usable, remembered
+
+  std::stringstream text;
+  text << std::ifstream(cache).rdbuf();
+  const std::string line = text.str();
+  ASSERT_EQ(line.rfind("1\t" + std::to_string(fs::file_size(lib)) + "\t", 0), 0u) << line;
+  ASSERT_NE(line.find("\t" + fs::canonical(lib).string() + "\t\n"), std::string::npos) << line;
+
+  // A forged verdict for the same (path, size, mtime) is believed: no probe ran.
+  std::string forged = line;
+  forged[0] = '0';
+  forged.insert(forged.size() - 1, "forged verdict");
+  std::ofstream(cache, std::ios::trunc) << forged;
+  EXPECT_EQ(load_error(lib.string()), "'" + lib.string() + "' forged verdict");
+
+  // Once the file changes, its verdict no longer applies: probed again.
+  fs::last_write_time(lib, fs::last_write_time(lib) + std::chrono::seconds(1));
+  EXPECT_EQ(load_error(lib.string()), "");
+}
+
+TEST(PluginProbe, UnwritableCacheIsNoCache) {
+  const ProbeCacheSetting file("/proc/monohydra-cannot-write/probe-cache");
+  const std::string path = kFaulty + "/crash_in_init.so";
+  EXPECT_EQ(load_error(path), "'" + path + "' crashed with SIGSEGV during probing");
+}
+
+}  // namespace
+}  // namespace mh

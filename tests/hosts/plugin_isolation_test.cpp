@@ -1,0 +1,95 @@
+// A plugin cannot take the command line down: `plugins` lists the libraries
+// that crash while loading as refused, and `compare` keeps every other run's
+// results, and the rows before, when a formulation crashes in its run.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "cli_runner.hpp"
+#include "printed_table.hpp"
+
+namespace mh::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kFaulty = MH_FAULTY_PLUGIN_DIR;
+// The faulty folder first, then the build's plugins; no probe cache.
+const std::string kEnv = "MONOHYDRA_PROBE_CACHE=off MONOHYDRA_PLUGIN_PATH=" + kFaulty + " ";
+
+TEST(PluginIsolation, PluginsListsTheGoodOnesAndEachCrashingLibraryAsRefusedWithItsReason) {
+  const CliResult r = run_cli("plugins", kEnv);
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(
+      r.output.find("  formulation  crashing-formulation Crashing formulation (test) (v1.0.0)"),
+      std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("  formulation  double-step"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("  integrator   trapezoidal"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("refused: '" + kFaulty +
+                          "/crash_in_init.so' crashed with SIGSEGV during probing\n"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("refused: '" + kFaulty +
+                          "/huge_count.so' claims 4294967295 formulation components (at most "
+                          "10000)\n"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("refused: '" + kFaulty +
+                          "/truncated_plugin.so' crashed with SIGBUS during probing\n"),
+            std::string::npos)
+      << r.output;
+}
+
+TEST(PluginIsolation, CompareKeepsTheOtherRunsAndTheRowsBeforeWhenAFormulationCrashes) {
+  const fs::path dir = scratch_dir("crashing");
+  const CliResult r = run_cli("compare " + shipped_model("fourbar-free.yaml") +
+                                  " --formulations double-step,crashing-formulation,penalty "
+                                  "--t-end 0.5 --report " +
+                                  (dir / "report").string(),
+                              kEnv);
+  EXPECT_EQ(r.code, 1) << r.output;
+  const PrintedTable t = parse_printed_table(r.output, "fourbar-free (");
+  ASSERT_TRUE(t.found) << r.output;
+  EXPECT_EQ(t.cell("status", "double-step"), "ok");
+  EXPECT_EQ(t.cell("status", "crashing-formulation"), "crashed (SIGSEGV) after t = 0.1 s");
+  EXPECT_EQ(t.cell("status", "penalty"), "ok");
+  EXPECT_EQ(t.cell("steps", "double-step"), "500");
+  EXPECT_EQ(t.cell("steps", "crashing-formulation"), "100");  // t = 0.001 .. 0.1
+  EXPECT_EQ(t.cell("steps", "penalty"), "500");
+  EXPECT_NE(r.output.find("monohydra: crashing-formulation failed on fourbar-free: crashed "
+                          "(SIGSEGV) after t = 0.1 s\n"),
+            std::string::npos)
+      << r.output;
+  // The CSVs hold every run's rows, the crashed one's up to its last row.
+  EXPECT_EQ(read_csv(dir / "report" / "double-step.csv").rows, 501u);
+  const Csv crashed = read_csv(dir / "report" / "crashing-formulation.csv");
+  ASSERT_EQ(crashed.rows, 101u);
+  EXPECT_NEAR(crashed["t"].back(), 0.1, 1e-12);
+  EXPECT_EQ(read_csv(dir / "report" / "penalty.csv").rows, 501u);
+  const std::string html = read_text(dir / "report" / "report.html");
+  EXPECT_NE(html.find("crashed (SIGSEGV) after t = 0.1 s"), std::string::npos);
+}
+
+// SIGTERM reaches the parent only; it passes it on to the run's process.
+TEST(PluginIsolation, SigtermToCompareStopsTheRunInItsProcessAndExits143) {
+  const fs::path dir = scratch_dir("sigterm");
+  const fs::path csv = dir / "double-step.csv";
+  const CliResult r = run_shell(
+      "( MONOHYDRA_PROBE_CACHE=off MONOHYDRA_PLUGIN_PATH= " + std::string(MH_EXECUTABLE) +
+      " compare " + shipped_model("fourbar-free.yaml") +
+      " --formulations double-step,penalty --t-end 1e4 --report " + dir.string() +
+      " & p=$!; for i in $(seq 600); do [ \"$(cat " + csv.string() +
+      " 2>/dev/null | wc -l)\" -ge 200 ] && break; sleep 0.05; done; kill -TERM $p; wait $p )");
+  EXPECT_EQ(r.code, 143) << r.output;
+  EXPECT_NE(r.output.find("monohydra: interrupted by SIGTERM\n"), std::string::npos) << r.output;
+  const PrintedTable t = parse_printed_table(r.output, "fourbar-free (");
+  ASSERT_TRUE(t.found) << r.output;
+  EXPECT_EQ(t.cell("status", "double-step").rfind("FAILED at t = ", 0), 0u) << r.output;
+  EXPECT_EQ(t.cell("status", "penalty"), "");  // never started
+  EXPECT_EQ(std::to_string(read_csv(csv).rows - 1), t.cell("steps", "double-step"));
+}
+
+}  // namespace
+}  // namespace mh::test

@@ -1,0 +1,91 @@
+// The record a run's child sends to compare comes back bit for bit, and a
+// stream cut by a crash still gives every whole row (run_record_stream.hpp).
+#include "run_record_stream.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <cstring>
+#include <limits>
+
+namespace mh::cli {
+namespace {
+
+RunRecord two_row_record() {
+  RunRecord rec;
+  rec.label = "penalty";
+  rec.formulation = "penalty";
+  rec.integrator = "trapezoidal";
+  rec.dt = 0.001;
+  rec.t_end = 0.3;
+  rec.names = {"t", "z1", "wall_s"};
+  rec.units = {"s", "rad", "s"};
+  rec.info.resize(3);
+  rec.info[1].name = "z1";
+  rec.info[1].qualified = "body1.z1";
+  rec.info[1].kind = 2;
+  rec.info[1].range_min = -1.5;
+  rec.info[1].range_max = 0.1;
+  rec.num_coordinates = 1;
+  rec.csv_path = "/tmp/x.csv";
+  rec.columns = {{0.0, 0.1}, {-0.0, 1.0 / 3.0}, {std::numeric_limits<double>::denorm_min(), 1e308}};
+  return rec;
+}
+
+// Equal to the bit: -0.0 is not 0.0.
+bool same_bits(double a, double b) {
+  uint64_t x = 0, y = 0;
+  std::memcpy(&x, &a, sizeof x);
+  std::memcpy(&y, &b, sizeof y);
+  return x == y;
+}
+
+std::string stream_of(const RunRecord& rec) {
+  std::string bytes;
+  append_record_description(bytes, rec, false);
+  for (size_t k = 0; k < rec.rows(); ++k) append_record_row(bytes, rec, k);
+  return bytes;
+}
+
+TEST(RunRecordStream, ACompleteRecordComesBackBitForBit) {
+  RunRecord rec = two_row_record();
+  rec.failed = true;
+  rec.failure = "t = 0.1 s, step 100: no convergence";
+  rec.failure_time = 0.1;
+  std::string bytes = stream_of(rec);
+  append_record_description(bytes, rec, true);
+  const DecodedRecord d = decode_record_stream(bytes);
+  EXPECT_TRUE(d.complete);
+  EXPECT_EQ(d.record.label, "penalty");
+  EXPECT_EQ(d.record.integrator, "trapezoidal");
+  EXPECT_TRUE(d.record.failed);
+  EXPECT_EQ(d.record.failure, "t = 0.1 s, step 100: no convergence");
+  ASSERT_TRUE(d.record.failure_time.has_value());
+  EXPECT_TRUE(same_bits(*d.record.failure_time, 0.1));
+  EXPECT_EQ(d.record.names, rec.names);
+  EXPECT_EQ(d.record.units, rec.units);
+  EXPECT_EQ(d.record.info[1].qualified, "body1.z1");
+  EXPECT_EQ(d.record.info[1].kind, 2u);
+  EXPECT_TRUE(same_bits(d.record.info[1].range_min, -1.5));
+  EXPECT_EQ(d.record.num_coordinates, 1);
+  EXPECT_EQ(d.record.csv_path, "/tmp/x.csv");
+  ASSERT_EQ(d.record.columns.size(), 3u);
+  for (size_t c = 0; c < 3; ++c) {
+    ASSERT_EQ(d.record.columns[c].size(), 2u);
+    for (size_t k = 0; k < 2; ++k)
+      EXPECT_TRUE(same_bits(d.record.columns[c][k], rec.columns[c][k])) << c << ", " << k;
+  }
+}
+
+TEST(RunRecordStream, AStreamCutInsideARowKeepsTheWholeRowsBeforeIt) {
+  const RunRecord rec = two_row_record();
+  const std::string bytes = stream_of(rec);
+  const DecodedRecord d = decode_record_stream(bytes.substr(0, bytes.size() - 5));
+  EXPECT_FALSE(d.complete);
+  ASSERT_EQ(d.record.rows(), 1u);
+  EXPECT_TRUE(same_bits(d.record.columns[1][0], -0.0));
+  EXPECT_EQ(d.record.label, "penalty");
+}
+
+}  // namespace
+}  // namespace mh::cli
