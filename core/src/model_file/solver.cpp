@@ -1,0 +1,28 @@
+// solver: the time step, end time, Newton iteration limit and position
+// tolerance.
+#include "parser.hpp"
+
+namespace mh::model_file_detail {
+
+SolverSettings Parser::solver(const YAML::Node& node) const {
+  const MapView map(*this, node, "solver", {"dt", "t_end", "max_iterations", "tol_position"});
+  SolverSettings settings;
+  settings.mark = mark(node);
+  if (auto dt = map.get("dt")) {
+    settings.dt = positive(*dt, "solver.dt");
+    settings.dt_mark = mark(*dt);
+  }
+  if (auto t_end = map.get("t_end")) {
+    settings.t_end = non_negative(*t_end, "solver.t_end");
+    settings.t_end_mark = mark(*t_end);
+  }
+  if (auto iterations = map.get("max_iterations")) {
+    settings.max_iterations = integer_at_least(*iterations, "solver.max_iterations", 1);
+  }
+  if (auto tol = map.get("tol_position")) {
+    settings.tol_position = positive(*tol, "solver.tol_position");
+  }
+  return settings;
+}
+
+}  // namespace mh::model_file_detail
