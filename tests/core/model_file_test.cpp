@@ -773,6 +773,14 @@ TEST(ModelFileErrors, BadSolverSettings) {
                "expected an integer >= 1, got '2.5'");
   expect_error(valid_body("solver: {tol_position: 0}\n"), 8, "solver.tol_position",
                "expected a positive finite number");
+  expect_error(valid_body("solver: {max_step_halvings: -1}\n"), 8, "solver.max_step_halvings",
+               "expected an integer >= 0, got '-1'");
+  expect_error(valid_body("solver: {max_step_halvings: 21}\n"), 8, "solver.max_step_halvings",
+               "expected an integer from 0 to 20");
+  EXPECT_EQ(parse_model_text(valid_body("solver: {max_step_halvings: 3}\n"), kLabel)
+                .solver.max_step_halvings,
+            3);
+  EXPECT_EQ(parse_model_text(valid_body(""), kLabel).solver.max_step_halvings, 0);  // default
   // t_end = 0 reads (the initial state alone); a run refuses it (run_limits_test.cpp).
   EXPECT_DOUBLE_EQ(parse_model_text(valid_body("solver: {t_end: 0}\n"), kLabel).solver.t_end, 0.0);
 }

@@ -1,11 +1,11 @@
-// solver: the time step, end time, Newton iteration limit and position
-// tolerance.
+// solver: the time step, end time, Newton iteration limit, position
+// tolerance and how often a failed step may be halved.
 #include "parser.hpp"
 
 namespace mh::model_file_detail {
 
 SolverSettings Parser::solver(const YAML::Node& node) const {
-  const MapView map(*this, node, "solver", {"dt", "t_end", "max_iterations", "tol_position"});
+  const MapView map(*this, node, "solver", {"dt", "t_end", "max_iterations", "tol_position", "max_step_halvings"});
   SolverSettings settings;
   settings.mark = mark(node);
   if (auto dt = map.get("dt")) {
@@ -18,6 +18,12 @@ SolverSettings Parser::solver(const YAML::Node& node) const {
   }
   if (auto iterations = map.get("max_iterations")) {
     settings.max_iterations = integer_at_least(*iterations, "solver.max_iterations", 1);
+  }
+  if (auto halvings = map.get("max_step_halvings")) {
+    settings.max_step_halvings = integer_at_least(*halvings, "solver.max_step_halvings", 0);
+    // 2^20 sub-steps of one step is beyond any useful retry; more is a typo.
+    if (settings.max_step_halvings > 20)
+      fail(*halvings, "solver.max_step_halvings", "expected an integer from 0 to 20");
   }
   if (auto tol = map.get("tol_position")) {
     settings.tol_position = positive(*tol, "solver.tol_position");
