@@ -12,5 +12,12 @@ function(monohydra_add_plugin target)
     CXX_VISIBILITY_PRESET hidden
     VISIBILITY_INLINES_HIDDEN ON)
   target_link_options(${target} PRIVATE
-    -Wl,--version-script=${CMAKE_CURRENT_FUNCTION_LIST_DIR}/plugin.map -Wl,--no-undefined)
+    -Wl,--version-script=${CMAKE_CURRENT_FUNCTION_LIST_DIR}/plugin.map)
+  # In monohydra's own sanitizer build (MONOHYDRA_SANITIZE) with clang, a
+  # module is not linked against the ASan/UBSan runtime: the instrumented
+  # executable that dlopens it provides those symbols, so --no-undefined would
+  # fail there. GCC links the runtime into the module and keeps the check.
+  if(NOT (MONOHYDRA_SANITIZE AND CMAKE_CXX_COMPILER_ID MATCHES "Clang"))
+    target_link_options(${target} PRIVATE -Wl,--no-undefined)
+  endif()
 endfunction()

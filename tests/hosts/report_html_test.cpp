@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <regex>
 #include <string>
 
 #include "cli_runner.hpp"
@@ -96,13 +95,21 @@ TEST_F(Report, NeedsNoNetwork) {
   EXPECT_EQ(text.find("<script"), std::string::npos);
   EXPECT_EQ(text.find("<link"), std::string::npos);
   EXPECT_EQ(text.find("src="), std::string::npos);
-  // The only URLs are the namespaces; links are relative.
-  const std::regex url("https?://([^\"]*)\"");
-  for (auto it = std::sregex_iterator(text.begin(), text.end(), url); it != std::sregex_iterator();
-       ++it) {
-    const std::string where = (*it)[1];
+  // The only URLs are the namespaces; links are relative. (A plain search,
+  // not std::regex: GCC 12 warns -Wmaybe-uninitialized inside libstdc++'s
+  // regex automaton in the sanitizer build, a false positive.)
+  size_t urls = 0;
+  for (size_t at = text.find("://"); at != std::string::npos; at = text.find("://", at + 3)) {
+    const bool http = at >= 4 && text.compare(at - 4, 4, "http") == 0;
+    const bool https = at >= 5 && text.compare(at - 5, 5, "https") == 0;
+    EXPECT_TRUE(http || https) << text.substr(at < 8 ? 0 : at - 8, 40);
+    const size_t end = text.find('"', at);
+    ASSERT_NE(end, std::string::npos) << text.substr(at);
+    const std::string where = text.substr(at + 3, end - at - 3);
     EXPECT_TRUE(where == "www.w3.org/1999/xhtml" || where == "www.w3.org/2000/svg") << where;
+    ++urls;
   }
+  EXPECT_GT(urls, 0u);
 }
 
 TEST_F(Report, ReportAndEverySvgAreWellFormedXml) {
