@@ -274,8 +274,9 @@ TEST(MonohydraCliReliability, CompareRefusesAnOverflowingRunInsteadOfReportingZe
 TEST(MonohydraCliReliability, ValidateSaysOkWithoutRunning) {
   const CliResult r = run_cli("validate " + model("fourbar.yaml"));
   EXPECT_EQ(r.code, 0) << r.output;
-  EXPECT_EQ(r.output, "OK: " + model("fourbar.yaml") +
-                          " (fourbar, double-step, trapezoidal): 10000 steps of dt = 0.001 s, 19 columns\n");
+  EXPECT_EQ(r.output,
+            "OK: " + model("fourbar.yaml") +
+                " (fourbar, double-step, trapezoidal): 10000 steps of dt = 0.001 s, 19 columns\n");
 }
 
 TEST(MonohydraCliReliability, ValidateExitsOneWithTheError) {

@@ -5,7 +5,8 @@
 namespace mh::model_file_detail {
 
 SolverSettings Parser::solver(const YAML::Node& node) const {
-  const MapView map(*this, node, "solver", {"dt", "t_end", "max_iterations", "tol_position", "max_step_halvings"});
+  const MapView map(*this, node, "solver",
+                    {"dt", "t_end", "max_iterations", "tol_position", "max_step_halvings"});
   SolverSettings settings;
   settings.mark = mark(node);
   if (auto dt = map.get("dt")) {

@@ -15,7 +15,8 @@ namespace mh::cli {
 
 struct ReportPage {
   std::string title;
-  std::vector<std::string> facts;  // lines under the title: model, settings, control-signal intervals
+  std::vector<std::string>
+      facts;  // lines under the title: model, settings, control-signal intervals
   const TextTable* table = nullptr;
   const std::vector<ReportFigure>* figures = nullptr;
   std::vector<std::string> csv_files;  // names relative to the report's folder

@@ -152,13 +152,13 @@ typedef struct mh_mech_derivatives_request {
  * NULL for what was not requested (ABI 2.1). */
 typedef struct mh_mech_derivatives {
   uint32_t struct_size;
-  const double* K;            /* N x N: d(M' zdd - Q')/dz, with every subsystem force at
-                                 the host's current states (their point-force derivatives
-                                 from point_force_jacobian, or differences) */
-  const double* C;            /* N x N: d(M' zdd - Q')/dzd = -dQ'/dzd */
-  const double* dPhizT_v_dz;  /* N x N: d(Phi_z^T v)/dz */
-  const double* dA_dz;        /* m x N */
-  const double* dA_dzd;       /* m x N */
+  const double* K;           /* N x N: d(M' zdd - Q')/dz, with every subsystem force at
+                                the host's current states (their point-force derivatives
+                                from point_force_jacobian, or differences) */
+  const double* C;           /* N x N: d(M' zdd - Q')/dzd = -dQ'/dzd */
+  const double* dPhizT_v_dz; /* N x N: d(Phi_z^T v)/dz */
+  const double* dA_dz;       /* m x N */
+  const double* dA_dzd;      /* m x N */
 } mh_mech_derivatives;
 
 typedef struct mh_host {

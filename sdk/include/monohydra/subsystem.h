@@ -79,8 +79,8 @@ typedef struct mh_subsystem {
    * to its points' world positions and velocities, at `eval`, states held:
    * 3P x 3P each (P = eval->num_points), column-major, row 3a+i = force on
    * point a, component i; column 3b+j = point b, component j. Zero on entry. */
-  mh_status (*point_force_jacobian)(const struct mh_subsystem* self,
-                                    const mh_subsystem_eval* eval, double* dF_dp, double* dF_dv);
+  mh_status (*point_force_jacobian)(const struct mh_subsystem* self, const mh_subsystem_eval* eval,
+                                    double* dF_dp, double* dF_dv);
 } mh_subsystem;
 
 typedef struct mh_subsystem_factory {
