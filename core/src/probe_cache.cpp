@@ -3,6 +3,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -26,6 +27,18 @@ std::string ProbeCache::default_file() {
 
 ProbeCache::ProbeCache(std::string file) : file_(std::move(file)) {
   if (file_.empty()) return;
+  // Only a regular file of a sane size is a cache: a device (/dev/zero reads
+  // forever, /dev/null would be replaced by the rename in save()), a FIFO
+  // (blocks on open) or a huge file is no cache at all. A missing one is
+  // created by save(), unless its name is taken by something else.
+  std::error_code ec;
+  const fs::file_status st = fs::status(file_, ec);
+  constexpr std::uintmax_t kMaxCacheBytes = 16u << 20;
+  if (!ec && fs::exists(st) &&
+      (!fs::is_regular_file(st) || fs::file_size(file_, ec) > kMaxCacheBytes || ec)) {
+    file_.clear();
+    return;
+  }
   std::ifstream in(file_);
   for (std::string line; std::getline(in, line);) {
     std::stringstream ss(line);

@@ -72,9 +72,11 @@ class CsvWriteError : public std::runtime_error {
 
 // A row goes out in one write so that a stop never leaves half of it; a
 // failed write (disk full, /dev/full) is reported at once with errno's reason.
-void write_checked(std::ostream& out, const std::string& text, const std::string& name) {
+void write_checked(std::ostream& out, const std::string& text, const std::string& name,
+                   bool flush = false) {
   errno = 0;
   out.write(text.data(), static_cast<std::streamsize>(text.size()));
+  if (flush) out.flush();
   if (!out) {
     const int err = errno;
     throw CsvWriteError("cannot write the results to '" + name +
@@ -104,6 +106,7 @@ RunSummary run(Simulation& sim, std::ostream* csv, const RunOptions& options) {
     line.str("");
     write_csv_row(line, sim);
     write_checked(*csv, line.str(), csv_name);
+    if (options.flush_rows) write_checked(*csv, "", csv_name, true);
   };
   const auto stopped = [&] { return options.stop != nullptr && *options.stop != 0; };
   try {

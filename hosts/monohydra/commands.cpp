@@ -1,6 +1,14 @@
 #include "commands.hpp"
 
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <csignal>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -93,11 +101,11 @@ std::optional<int> parse_run_args(const std::vector<std::string>& args, const ch
   return std::nullopt;
 }
 
-int simulate(RunRequest request, const std::string& out_path) {
-  request.csv = !out_path.empty();
-  const auto prepared = prepare_run(request);
-  if (!prepared) return 2;
-  Simulation& sim = *prepared->sim;
+// The run of a prepared model, in this process: the CSV, the summary, the
+// exit status.
+int run_prepared(PreparedRun& prepared, const RunRequest& request, const std::string& out_path,
+                 const volatile std::sig_atomic_t* stop, bool flush_rows) {
+  Simulation& sim = *prepared.sim;
   std::ofstream csv;
   if (!out_path.empty()) {
     const fs::path parent = fs::path(out_path).parent_path();
@@ -112,7 +120,8 @@ int simulate(RunRequest request, const std::string& out_path) {
   ProgressBar bar;
   RunOptions options;
   options.progress = std::ref(bar);
-  options.stop = install_stop_handlers();
+  options.stop = stop;
+  options.flush_rows = flush_rows;
   options.csv_name = out_path;
   const RunSummary s = mh::run(sim, out_path.empty() ? nullptr : &csv, options);
   if (s.end == RunEnd::write_failed) {
@@ -124,7 +133,7 @@ int simulate(RunRequest request, const std::string& out_path) {
     std::cerr << "monohydra: " << s.failure << '\n';
     return 2;
   }
-  std::cout << "model:        " << prepared->file.model.name << " (" << request.model_path << ")\n"
+  std::cout << "model:        " << prepared.file.model.name << " (" << request.model_path << ")\n"
             << "formulation:  " << sim.formulation_name() << "\n"
             << "integrator:   " << sim.integrator_name() << "\n"
             << "steps:        " << s.steps << " of " << s.steps_asked
@@ -159,6 +168,72 @@ int simulate(RunRequest request, const std::string& out_path) {
     return 1;
   }
   return 0;
+}
+
+// The time of the last whole row of a CSV (its first field), or NaN.
+double last_row_time(const std::string& path) {
+  std::ifstream in(path);
+  std::string line, last;
+  while (std::getline(in, line))
+    if (!line.empty()) last = line;
+  try {
+    return std::stod(last.substr(0, last.find(',')));
+  } catch (const std::exception&) {
+    return std::nan("");
+  }
+}
+
+// `run` steps in a child process: a plugin that crashes (a segfault in its
+// residual) ends the child, not this one, which then says where the run
+// stopped; the child flushes every CSV row, so every row it computed stays.
+// A stop signal this process gets is passed on to the child, which stops
+// after its current row. Without fork, the run is made here.
+int simulate(RunRequest request, const std::string& out_path) {
+  request.csv = !out_path.empty();
+  const auto prepared = prepare_run(request);
+  if (!prepared) return 2;
+  const volatile std::sig_atomic_t* stop = install_stop_handlers();
+  std::cout.flush();
+  std::cerr.flush();
+  std::fflush(nullptr);
+  const pid_t pid = ::fork();
+  if (pid < 0) return run_prepared(*prepared, request, out_path, stop, true);
+  if (pid == 0) {
+    int code = run_prepared(*prepared, request, out_path, stop, true);
+    errno = 0;
+    std::cout.flush();
+    if (!std::cout || std::fflush(stdout) != 0 || std::ferror(stdout) != 0) {
+      std::cerr << "monohydra: cannot write to standard output: "
+                << (errno != 0 ? std::strerror(errno) : "write failed") << '\n';
+      if (code == 0) code = 1;
+    }
+    std::cerr.flush();
+    std::_Exit(code);  // the parent owns everything else: no destructors, no atexit
+  }
+  int status = 0;
+  bool forwarded = false;
+  for (;;) {
+    const pid_t done = ::waitpid(pid, &status, WNOHANG);
+    if (done == pid) break;
+    if (done < 0 && errno != EINTR) return 70;
+    if (!forwarded && *stop != 0) {
+      ::kill(pid, static_cast<int>(*stop));  // the child stops after its row
+      forwarded = true;
+    }
+    ::usleep(20000);
+  }
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  const int sig = WIFSIGNALED(status) ? WTERMSIG(status) : 0;
+  std::string where;
+  if (!out_path.empty()) {
+    const double t = last_row_time(out_path);
+    where = std::isnan(t) ? "; '" + out_path + "' holds no row"
+                          : " after t = " + std::to_string(t) +
+                                " s; every row up to there is in '" + out_path + "'";
+  }
+  std::cerr << "monohydra: the run crashed (" << signal_name(sig) << ") in its formulation, "
+            << "integrator or a subsystem plugin" << where << '\n';
+  return 1;
 }
 
 }  // namespace

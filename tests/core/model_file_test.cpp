@@ -775,8 +775,8 @@ TEST(ModelFileErrors, BadSolverSettings) {
                "expected a positive finite number");
   expect_error(valid_body("solver: {max_step_halvings: -1}\n"), 8, "solver.max_step_halvings",
                "expected an integer >= 0, got '-1'");
-  expect_error(valid_body("solver: {max_step_halvings: 21}\n"), 8, "solver.max_step_halvings",
-               "expected an integer from 0 to 20");
+  expect_error(valid_body("solver: {max_step_halvings: 11}\n"), 8, "solver.max_step_halvings",
+               "expected an integer from 0 to 10");
   EXPECT_EQ(parse_model_text(valid_body("solver: {max_step_halvings: 3}\n"), kLabel)
                 .solver.max_step_halvings,
             3);

@@ -3,6 +3,8 @@
 // cached by path, size and mtime (core/src/probe_cache.hpp).
 #include "../../core/src/plugin_probe.hpp"
 
+#include <sys/stat.h>
+
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -136,6 +138,26 @@ TEST(PluginProbe, UnwritableCacheIsNoCache) {
   const ProbeCacheSetting file("/proc/monohydra-cannot-write/probe-cache");
   const std::string path = kFaulty + "/crash_in_init.so";
   EXPECT_EQ(load_error(path), "'" + path + "' crashed with SIGSEGV during probing");
+}
+
+// A cache path that is not a regular file is no cache: /dev/zero would be read
+// forever, /dev/null replaced by the rename of a save, a FIFO block the open.
+TEST(PluginProbe, ACachePathThatIsADeviceOrFifoIsNoCacheAndIsLeftAlone) {
+  const fs::path dir = scratch("device-cache");
+  const fs::path fifo = dir / "fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const fs::path link = dir / "zero";
+  fs::create_symlink("/dev/zero", link);
+  for (const std::string& path : {std::string("/dev/null"), std::string("/dev/zero"),
+                                  fifo.string(), link.string()}) {
+    SCOPED_TRACE(path);
+    const ProbeCacheSetting file(path);
+    const std::string lib = kFaulty + "/crash_in_init.so";
+    EXPECT_EQ(load_error(lib), "'" + lib + "' crashed with SIGSEGV during probing");
+  }
+  EXPECT_TRUE(fs::is_character_file("/dev/null"));
+  EXPECT_TRUE(fs::is_character_file("/dev/zero"));
+  EXPECT_TRUE(fs::is_fifo(fifo));
 }
 
 }  // namespace

@@ -72,6 +72,27 @@ TEST(PluginIsolation, CompareKeepsTheOtherRunsAndTheRowsBeforeWhenAFormulationCr
   EXPECT_NE(html.find("crashed (SIGSEGV) after t = 0.1 s"), std::string::npos);
 }
 
+// `run` steps in a child too: the crash ends the child, the host says where,
+// and the CSV keeps every row computed (it is flushed row by row).
+TEST(PluginIsolation, RunSaysWhereAFormulationCrashedAndKeepsEveryRowBefore) {
+  const fs::path dir = scratch_dir("run-crashing");
+  const fs::path csv = dir / "out.csv";
+  const CliResult r = run_cli("run " + shipped_model("fourbar-free.yaml") +
+                                  " --formulation crashing-formulation --t-end 0.5 --out " +
+                                  csv.string(),
+                              kEnv);
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("monohydra: the run crashed (SIGSEGV) in its formulation, integrator or "
+                          "a subsystem plugin after t = 0.100000 s; every row up to there is in '" +
+                          csv.string() + "'"),
+            std::string::npos)
+      << r.output;
+  const Csv rows = read_csv(csv);
+  ASSERT_EQ(rows.rows, 101u);  // t = 0 .. 0.1: none lost
+  EXPECT_NEAR(rows["t"].back(), 0.1, 1e-12);
+  EXPECT_EQ(read_text(csv).back(), '\n');
+}
+
 // SIGTERM reaches the parent only; it passes it on to the run's process.
 TEST(PluginIsolation, SigtermToCompareStopsTheRunInItsProcessAndExits143) {
   const fs::path dir = scratch_dir("sigterm");

@@ -22,9 +22,11 @@ SolverSettings Parser::solver(const YAML::Node& node) const {
   }
   if (auto halvings = map.get("max_step_halvings")) {
     settings.max_step_halvings = integer_at_least(*halvings, "solver.max_step_halvings", 0);
-    // 2^20 sub-steps of one step is beyond any useful retry; more is a typo.
-    if (settings.max_step_halvings > 20)
-      fail(*halvings, "solver.max_step_halvings", "expected an integer from 0 to 20");
+    // The depth of the halving: one step may take up to 2^(depth+1) - 1
+    // attempts, so 10 (2047 attempts, a few seconds at worst) bounds how long
+    // a hopeless step is retried before the run stops.
+    if (settings.max_step_halvings > 10)
+      fail(*halvings, "solver.max_step_halvings", "expected an integer from 0 to 10");
   }
   if (auto tol = map.get("tol_position")) {
     settings.tol_position = positive(*tol, "solver.tol_position");

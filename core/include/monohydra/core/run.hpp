@@ -49,6 +49,9 @@ struct RunOptions {
   // after the row of the current step: no CSV row is ever cut.
   const volatile std::sig_atomic_t* stop = nullptr;
   std::string csv_name;  // names the CSV in write errors
+  // Flush the CSV after every row: a process that dies (a plugin's segfault)
+  // keeps every row it computed. Costs one write per row.
+  bool flush_rows = false;
 };
 
 // start()s the simulation and steps it to settings().t_end. `csv` may be null.
