@@ -760,6 +760,27 @@ TEST(ModelFileErrors, MissingFile) {
   }
 }
 
+// gravity: [1e300, -9.81, 0] once ran to the end with the bodies frozen
+// (found by the mutation run, tests/mutation).
+TEST(ModelFileErrors, GravityAboveAThousandGIsRefusedWithTheRange) {
+  const std::string text =
+      "units: {length: m, mass: kg, time: s, angle: rad}\n"
+      "gravity: [1e300, -9.81, 0]\n"
+      "bodies:\n"
+      "  - {name: rod, parent: ground, joint: {type: revolute}, mass: 1,"
+      " shape: {type: beam, length: 1}}\n"
+      "solver: {dt: 0.001, t_end: 1}\n";
+  try {
+    parse_model_text(text, kLabel);
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(
+                  "gravity[0]: expected a magnitude up to 10000 m/s^2, got '1e300'"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(ModelFileErrors, BadSolverSettings) {
   expect_message(valid_body("solver: {dt: 0}\n"),
                  "model.yaml:8:14: solver.dt: expected a positive finite number, got '0'");

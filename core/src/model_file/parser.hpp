@@ -23,8 +23,9 @@ namespace mh::model_file_detail {
 inline constexpr const char* kGroundName = "ground";
 // Magnitudes beyond these are typos (a missing exponent sign, a unit slip):
 // refused with the range rather than left to overflow the solver.
-inline constexpr double kMaxMass = 1e12;   // kg, and kg m^2 for inertias
-inline constexpr double kMaxLength = 1e6;  // m
+inline constexpr double kMaxMass = 1e12;    // kg, and kg m^2 for inertias
+inline constexpr double kMaxLength = 1e6;   // m
+inline constexpr double kMaxGravity = 1e4;  // m/s^2: a thousand g, beyond any machine's test rig
 
 // Text for messages and field paths (values.cpp).
 std::string join(const std::vector<std::string>& items);

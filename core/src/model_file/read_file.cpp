@@ -40,7 +40,12 @@ ModelFile Parser::parse(const YAML::Node& root, const std::string& base_dir) {
   } else {
     file.model.name = fs::path(file_).stem().string();
   }
-  if (auto gravity = top.get("gravity")) file.model.gravity = vector3(*gravity, "gravity");
+  if (auto gravity = top.get("gravity")) {
+    file.model.gravity = vector3(*gravity, "gravity");
+    for (std::size_t i = 0; i < 3; ++i)
+      bounded(file.model.gravity[static_cast<Eigen::Index>(i)], (*gravity)[i],
+              index_field("gravity", i), kMaxGravity, "m/s^2");
+  }
   if (auto paths = top.get("plugin_paths")) file.plugin_paths = plugin_paths(*paths, base_dir);
 
   parse_bodies(top.require("bodies", "a list of bodies (may be empty: bodies: [])"), file);
