@@ -3,9 +3,8 @@
 // cached by path, size and mtime (core/src/probe_cache.hpp).
 #include "../../core/src/plugin_probe.hpp"
 
-#include <sys/stat.h>
-
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -148,8 +147,8 @@ TEST(PluginProbe, ACachePathThatIsADeviceOrFifoIsNoCacheAndIsLeftAlone) {
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   const fs::path link = dir / "zero";
   fs::create_symlink("/dev/zero", link);
-  for (const std::string& path : {std::string("/dev/null"), std::string("/dev/zero"),
-                                  fifo.string(), link.string()}) {
+  for (const std::string& path :
+       {std::string("/dev/null"), std::string("/dev/zero"), fifo.string(), link.string()}) {
     SCOPED_TRACE(path);
     const ProbeCacheSetting file(path);
     const std::string lib = kFaulty + "/crash_in_init.so";

@@ -77,10 +77,10 @@ TEST(PluginIsolation, CompareKeepsTheOtherRunsAndTheRowsBeforeWhenAFormulationCr
 TEST(PluginIsolation, RunSaysWhereAFormulationCrashedAndKeepsEveryRowBefore) {
   const fs::path dir = scratch_dir("run-crashing");
   const fs::path csv = dir / "out.csv";
-  const CliResult r = run_cli("run " + shipped_model("fourbar-free.yaml") +
-                                  " --formulation crashing-formulation --t-end 0.5 --out " +
-                                  csv.string(),
-                              kEnv);
+  const CliResult r =
+      run_cli("run " + shipped_model("fourbar-free.yaml") +
+                  " --formulation crashing-formulation --t-end 0.5 --out " + csv.string(),
+              kEnv);
   EXPECT_EQ(r.code, 1) << r.output;
   EXPECT_NE(r.output.find("monohydra: the run crashed (SIGSEGV) in its formulation, integrator or "
                           "a subsystem plugin after t = 0.100000 s; every row up to there is in '" +
