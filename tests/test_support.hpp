@@ -20,6 +20,17 @@ inline const PluginRegistry& build_plugins() {
   return *registry;
 }
 
+// Why a fresh registry refuses the library at `path` ("" when it loads).
+inline std::string load_error(const std::string& path) {
+  PluginRegistry r;
+  try {
+    r.load(path);
+  } catch (const PluginError& e) {
+    return e.what();
+  }
+  return "";
+}
+
 inline std::string source_path(const std::string& relative) {
   return std::string(MH_SOURCE_DIR) + "/" + relative;
 }

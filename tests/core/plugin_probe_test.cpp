@@ -15,6 +15,7 @@
 #include <string>
 
 #include "monohydra/core/plugin_registry.hpp"
+#include "test_support.hpp"
 
 namespace fs = std::filesystem;
 
@@ -51,15 +52,7 @@ fs::path scratch(const std::string& name) {
   return dir;
 }
 
-std::string load_error(const std::string& path) {
-  PluginRegistry r;
-  try {
-    r.load(path);
-  } catch (const PluginError& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::load_error;
 
 TEST(PluginProbe, RefusesALibraryThatCrashesInInitNamingTheSignal) {
   const ProbeCacheSetting off("off");

@@ -9,15 +9,7 @@
 namespace mh {
 namespace {
 
-std::string load_error(const std::string& path) {
-  PluginRegistry r;
-  try {
-    r.load(path);
-  } catch (const PluginError& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::load_error;
 
 TEST(PluginRegistry, FindsTheBuildsFormulationSubsystemsAndIntegratorsWithTheirAbiVersion) {
   const PluginRegistry& r = test::build_plugins();
