@@ -161,6 +161,12 @@ TEST(SweepCommand, OneWorkerAndEveryCoreGiveTheSameTableApartFromTiming) {
 
 TEST(SweepCommand, ThreeMpiRanksGiveTheSameTableAsOneWorker) {
   if (!have_program("mpirun")) GTEST_SKIP() << "no mpirun";
+#ifdef __SANITIZE_ADDRESS__
+  // .ci/sanitize fails on any report, and LeakSanitizer reports OpenMPI's own
+  // allocations (mpirun and libmpi keep theirs until exit); .ci/sweep-smoke
+  // runs the uninstrumented build under mpirun.
+  GTEST_SKIP() << "OpenMPI under LeakSanitizer";
+#endif
   const fs::path dir = study("mpi", kSmallStudy);
   const std::string s = (dir / "study.yaml").string();
   ASSERT_EQ(run_cli("sweep " + s + " --out " + (dir / "one").string() + " --jobs 1").code, 0);
