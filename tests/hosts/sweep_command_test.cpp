@@ -24,9 +24,9 @@ namespace fs = std::filesystem;
 // A study of the four-bar in a scratch folder.
 fs::path study(const std::string& name, const std::string& body) {
   const fs::path dir = scratch_dir("sweep-" + name);
-  std::ofstream(dir / "study.yaml") << "models:\n  - {name: " << name
-                                    << ", file: " << shipped_model("fourbar.yaml") << "}\n"
-                                    << body;
+  std::ofstream(dir / "study.yaml")
+      << "models:\n  - {name: " << name << ", file: " << shipped_model("fourbar.yaml") << "}\n"
+      << body;
   return dir;
 }
 
@@ -135,9 +135,9 @@ TEST(SweepCommand, ACrashingCaseIsACrashedRowAndTheStudyGoesOn) {
                              "set: {solver/t_end: 0.3}\n"
                              "parameters:\n"
                              "  formulation/name: [double-step, crashing-formulation, penalty]\n");
-  const auto r = run_cli("sweep " + (dir / "study.yaml").string() + " --out " +
-                             (dir / "out").string(),
-                         std::string("MONOHYDRA_PLUGIN_PATH=") + MH_FAULTY_PLUGIN_DIR + " ");
+  const auto r =
+      run_cli("sweep " + (dir / "study.yaml").string() + " --out " + (dir / "out").string(),
+              std::string("MONOHYDRA_PLUGIN_PATH=") + MH_FAULTY_PLUGIN_DIR + " ");
   ASSERT_EQ(r.code, 0) << r.output;
   const auto rows = table_without_timing(dir / "out" / "results.csv");
   ASSERT_EQ(rows.size(), 4u);
@@ -170,9 +170,10 @@ TEST(SweepCommand, ThreeMpiRanksGiveTheSameTableAsOneWorker) {
   const fs::path dir = study("mpi", kSmallStudy);
   const std::string s = (dir / "study.yaml").string();
   ASSERT_EQ(run_cli("sweep " + s + " --out " + (dir / "one").string() + " --jobs 1").code, 0);
-  const auto r = run_shell("MONOHYDRA_PLUGIN_PATH= mpirun --allow-run-as-root --oversubscribe "
-                           "-np 3 " + std::string(MH_EXECUTABLE) + " sweep " + s + " --out " +
-                           (dir / "mpi").string());
+  const auto r = run_shell(
+      "MONOHYDRA_PLUGIN_PATH= mpirun --allow-run-as-root --oversubscribe "
+      "-np 3 " +
+      std::string(MH_EXECUTABLE) + " sweep " + s + " --out " + (dir / "mpi").string());
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("on 2 MPI ranks"), std::string::npos) << r.output;
   EXPECT_EQ(table_without_timing(dir / "one" / "results.csv"),
@@ -220,8 +221,8 @@ TEST(SweepCommand, AStudyKilledBySigtermThenSigkillResumesToTheUninterruptedTabl
 
 TEST(SweepCommand, ABadStudyFileIsRefusedWithItsLineAndNothingRuns) {
   const fs::path dir = study("bad", "parameters:\n  solver/dtt: [0.001]\n");
-  const auto r = run_cli("sweep " + (dir / "study.yaml").string() + " --out " +
-                         (dir / "out").string());
+  const auto r =
+      run_cli("sweep " + (dir / "study.yaml").string() + " --out " + (dir / "out").string());
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.output.find("study.yaml:4:3: parameters/solver/dtt: not a value of model bad: "
                           "no solver setting 'dtt'"),

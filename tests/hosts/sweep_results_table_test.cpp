@@ -14,9 +14,9 @@ namespace {
 namespace fs = std::filesystem;
 
 Study small_study(const fs::path& dir) {
-  std::ofstream(dir / "study.yaml") << "models:\n  - {name: fourbar, file: "
-                                    << mh::test::shipped_model("fourbar.yaml")
-                                    << "}\nparameters:\n  solver/dt: [0.001, 0.002, 0.005]\n";
+  std::ofstream(dir / "study.yaml")
+      << "models:\n  - {name: fourbar, file: " << mh::test::shipped_model("fourbar.yaml")
+      << "}\nparameters:\n  solver/dt: [0.001, 0.002, 0.005]\n";
   return load_study((dir / "study.yaml").string());
 }
 
@@ -68,9 +68,7 @@ TEST(SweepResultsTable, ATableOfAnotherStudyIsRefused) {
   std::ofstream(dir / "results.csv") << "case,model,solver/t_end\n";
   EXPECT_THROW(ResultsTable(dir.string(), study, cases), std::runtime_error);
   fs::remove(dir / "results.csv");  // now the same columns, but case 1 with another dt
-  {
-    ResultsTable table(dir.string(), study, cases);
-  }
+  { ResultsTable table(dir.string(), study, cases); }
   std::ofstream(dir / "results.csv", std::ios::app) << "1,fourbar,0.003,ok,,10,1,1,1,0,0\n";
   EXPECT_THROW(ResultsTable(dir.string(), study, cases), std::runtime_error);
 }

@@ -1,10 +1,10 @@
 #include "case_expansion.hpp"
 
+#include <algorithm>
 #include <boost/random/lognormal_distribution.hpp>
 #include <boost/random/mersenne_twister.hpp>
 #include <boost/random/normal_distribution.hpp>
 #include <boost/random/uniform_real_distribution.hpp>
-#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <functional>
@@ -38,7 +38,9 @@ long count(const ParameterSpec& p, const YAML::Node& map) {
   return static_cast<long>(c);
 }
 
-YAML::Node scalar(double v) { return YAML::Node(number_text(v)); }
+YAML::Node scalar(double v) {
+  return YAML::Node(number_text(v));
+}
 
 std::vector<YAML::Node> range(const ParameterSpec& p, const YAML::Node& map) {
   for (const auto& kv : map) {
@@ -52,7 +54,8 @@ std::vector<YAML::Node> range(const ParameterSpec& p, const YAML::Node& map) {
   if (scale != "linear" && scale != "log") fail(p, "scale: expected linear or log");
   std::vector<YAML::Node> out;
   if (map["step"]) {
-    if (map["count"] || scale == "log") fail(p, "a range takes count (with scale) or step, not both");
+    if (map["count"] || scale == "log")
+      fail(p, "a range takes count (with scale) or step, not both");
     const double step = number(p, map, "step");
     if (step == 0.0 || (to - from) / step < 0.0)
       fail(p, "step: expected a non-zero step leading from 'from' towards 'to'");
@@ -99,8 +102,10 @@ std::vector<YAML::Node> draws(const ParameterSpec& p, const YAML::Node& map, std
     draw = [median, d = boost::random::normal_distribution<double>(0.0, sigma)](
                boost::random::mt19937_64& g) mutable { return median * std::exp(d(g)); };
   } else {
-    fail(p, "distribution: expected uniform {low, high}, normal {mean, std} or lognormal "
-            "{median, sigma}, got '" + dist + "'");
+    fail(p,
+         "distribution: expected uniform {low, high}, normal {mean, std} or lognormal "
+         "{median, sigma}, got '" +
+             dist + "'");
   }
   for (const auto& kv : map) {
     const std::string k = kv.first.Scalar();
@@ -138,8 +143,9 @@ std::vector<YAML::Node> parameter_values(const Study& study, std::size_t paramet
     // Each parameter its own stream: adding a parameter leaves the others' draws.
     return draws(p, v, study.seed * 1000003u + parameter);
   if (v.IsMap() && v["from"]) return range(p, v);
-  fail(p, "expected a value, a list, a range {from, to, count|step} or a draw "
-          "{distribution, count, ...}");
+  fail(p,
+       "expected a value, a list, a range {from, to, count|step} or a draw "
+       "{distribution, count, ...}");
 }
 
 std::vector<std::string> varied_paths(const Study& study) {
@@ -172,7 +178,8 @@ std::vector<Case> expand_cases(const Study& study) {
         if (values[i].size() != values[0].size())
           throw InputError(study.parameters[i].mark, "parameters/" + study.parameters[i].path,
                            "combine: zip takes the i-th value of each parameter together: "
-                           "expected " + std::to_string(values[0].size()) + " values, got " +
+                           "expected " +
+                               std::to_string(values[0].size()) + " values, got " +
                                std::to_string(values[i].size()));
       const std::size_t n = values.empty() ? 1 : values[0].size();
       for (std::size_t k = 0; k < n; ++k) {

@@ -14,8 +14,8 @@
 namespace mh::cli::sweep {
 
 struct Case {
-  int index = 0;  // 0, 1, ... in expansion order: the `case` column
-  int model = 0;  // into Study::models
+  int index = 0;     // 0, 1, ... in expansion order: the `case` column
+  int model = 0;     // into Study::models
   Overrides values;  // one per varied path, in the order of varied_paths()
 };
 

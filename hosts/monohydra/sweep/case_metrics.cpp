@@ -125,7 +125,8 @@ std::vector<std::optional<double>> case_metrics(
       std::vector<std::string> names = {spec.column};
       if (spec.column == "z") {
         names.clear();
-        for (int j = 1; j <= run.num_coordinates; ++j) names.push_back(run.names[static_cast<std::size_t>(j)]);
+        for (int j = 1; j <= run.num_coordinates; ++j)
+          names.push_back(run.names[static_cast<std::size_t>(j)]);
       }
       const auto it = references.find(spec.reference);
       std::optional<double> worst;

@@ -1,12 +1,11 @@
 #include "case_run.hpp"
 
+#include <fcntl.h>
 #include <poll.h>
 #include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
-
-#include <fcntl.h>
 
 #include <cctype>
 #include <cerrno>
@@ -50,7 +49,7 @@ void write_all(int fd, const std::string& bytes) {
 // The parser's message without the place in the text the overrides produced
 // (its lines are not the model file's): "FIELD: EXPECTATION".
 std::string input_reason(const InputError& err) {
-  const std::string what = err.what();
+  std::string what = err.what();
   if (!err.field().empty()) {
     const auto at = what.find(err.field() + ": ");
     if (at != std::string::npos) return what.substr(at);
@@ -157,8 +156,8 @@ std::string run_reference(SweepContext& ctx, const ReferenceJob& r) {
 
 std::string SweepContext::reference_csv(const ReferenceJob& r) const {
   return (fs::path(out_dir) / "references" /
-          (file_stem(r.name) + "-" + file_stem(study.models[static_cast<std::size_t>(r.model)].name) +
-           ".csv"))
+          (file_stem(r.name) + "-" +
+           file_stem(study.models[static_cast<std::size_t>(r.model)].name) + ".csv"))
       .string();
 }
 
@@ -210,8 +209,8 @@ CaseOutcome run_case(SweepContext& ctx, const Case& c) {
     file = case_model(ctx, c.model, c.values);
   } catch (const InputError& err) {
     outcome.status = "error";
-    outcome.reason = without_place(input_reason(err),
-                                   ctx.study.models[static_cast<std::size_t>(c.model)].path);
+    outcome.reason =
+        without_place(input_reason(err), ctx.study.models[static_cast<std::size_t>(c.model)].path);
     return outcome;
   } catch (const std::exception& err) {
     outcome.status = "error";

@@ -49,8 +49,14 @@ MH_EXPORT int mh_mpi_receive(int timeout_ms, int* source, int* tag, char** data,
   }
 }
 
-MH_EXPORT void mh_mpi_release(char* data) { free(data); }
+MH_EXPORT void mh_mpi_release(char* data) {
+  free(data);
+}
 
-MH_EXPORT int mh_mpi_stop(void) { return MPI_Finalize(); }
+MH_EXPORT int mh_mpi_stop(void) {
+  return MPI_Finalize();
+}
 
-MH_EXPORT void mh_mpi_abort(int code) { MPI_Abort(MPI_COMM_WORLD, code); }
+MH_EXPORT void mh_mpi_abort(int code) {
+  MPI_Abort(MPI_COMM_WORLD, code);
+}

@@ -6,8 +6,8 @@
 namespace mh::cli::sweep {
 namespace {
 
-const std::vector<std::string> kSolverKeys = {"dt", "t_end", "max_iterations",
-                                              "max_step_halvings", "tol_position"};
+const std::vector<std::string> kSolverKeys = {"dt", "t_end", "max_iterations", "max_step_halvings",
+                                              "tol_position"};
 
 bool is_component(const std::string& key) {
   return key == "formulation" || key == "integrator";
@@ -32,12 +32,11 @@ std::string keys_of(const YAML::Node& map) {
 long find_item(const YAML::Node& seq, const std::string& segment) {
   for (std::size_t i = 0; i < seq.size(); ++i) {
     const YAML::Node item = seq[i];
-    if (item.IsMap() && item["name"] && item["name"].IsScalar() &&
-        item["name"].Scalar() == segment)
+    if (item.IsMap() && item["name"] && item["name"].IsScalar() && item["name"].Scalar() == segment)
       return static_cast<long>(i);
   }
-  if (!segment.empty() && std::all_of(segment.begin(), segment.end(),
-                                      [](char c) { return c >= '0' && c <= '9'; })) {
+  if (!segment.empty() &&
+      std::all_of(segment.begin(), segment.end(), [](char c) { return c >= '0' && c <= '9'; })) {
     const long index = std::stol(segment);
     if (index < static_cast<long>(seq.size())) return index;
   }
@@ -74,7 +73,8 @@ std::string walk(YAML::Node root, const std::vector<std::string>& parts, const Y
       return "no solver setting '" + parts[1] +
              "' (there are dt, t_end, max_iterations, max_step_halvings, tol_position)";
     if (value != nullptr) {
-      if (!root["solver"] || !root["solver"].IsMap()) root["solver"] = YAML::Node(YAML::NodeType::Map);
+      if (!root["solver"] || !root["solver"].IsMap())
+        root["solver"] = YAML::Node(YAML::NodeType::Map);
       YAML::Node solver = root["solver"];
       solver[parts[1]] = YAML::Clone(*value);
     }

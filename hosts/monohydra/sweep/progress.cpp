@@ -45,7 +45,8 @@ void Progress::note(const std::string& text) {
 void Progress::draw(bool final) {
   const double elapsed =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  const double fraction = total_ == 0 ? 1.0 : static_cast<double>(done_) / static_cast<double>(total_);
+  const double fraction =
+      total_ == 0 ? 1.0 : static_cast<double>(done_) / static_cast<double>(total_);
   const int decile = static_cast<int>(fraction * 10.0);
   if (!tty_ && !final && decile == last_decile_) return;
   last_decile_ = decile;

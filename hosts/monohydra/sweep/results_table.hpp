@@ -25,11 +25,11 @@ inline const std::vector<std::string> kTimingColumns = {"cpu_s", "wall_s"};
 // bad parameter value, a missing column) or crashed (its process died).
 struct CaseOutcome {
   std::string status;
-  std::string reason;                         // "" when ok
-  std::optional<double> t_reached;            // s, the time of the last row
-  std::vector<std::optional<double>> metrics; // parallel to Study::metrics
-  double cpu_s = 0.0;                         // CPU time of the run (start and steps)
-  double wall_s = 0.0;                        // wall time of the same
+  std::string reason;                          // "" when ok
+  std::optional<double> t_reached;             // s, the time of the last row
+  std::vector<std::optional<double>> metrics;  // parallel to Study::metrics
+  double cpu_s = 0.0;                          // CPU time of the run (start and steps)
+  double wall_s = 0.0;                         // wall time of the same
 };
 
 std::vector<std::string> table_columns(const Study& study);

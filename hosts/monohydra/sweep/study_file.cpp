@@ -132,7 +132,8 @@ Study load_study(const std::string& path) {
     if (!e.mark.is_null()) m.line = e.mark.line + 1;
     throw InputError(m, "", "malformed YAML: " + e.msg);
   }
-  if (!root.IsMap()) throw InputError(file_mark, "", "expected a mapping (models, parameters, ...)");
+  if (!root.IsMap())
+    throw InputError(file_mark, "", "expected a mapping (models, parameters, ...)");
   r.keys(root, "",
          {"name", "models", "seed", "set", "parameters", "combine", "cases", "references",
           "metrics", "plots"});
@@ -181,7 +182,8 @@ Study load_study(const std::string& path) {
 
   if (root["parameters"]) {
     const YAML::Node params = root["parameters"];
-    if (!params.IsMap()) r.fail(params, "parameters", "expected a mapping of model paths to values");
+    if (!params.IsMap())
+      r.fail(params, "parameters", "expected a mapping of model paths to values");
     for (const auto& kv : params) {
       ParameterSpec p;
       p.path = kv.first.Scalar();
@@ -249,7 +251,7 @@ Study load_study(const std::string& path) {
     for (std::size_t i = 0; i < list.size(); ++i) {
       const std::string field = "plots[" + std::to_string(i) + "]";
       const YAML::Node item = list[i];
-      r.keys(item, field, {"x", "y", "log_x", "log_y", "title"});
+      r.keys(item, field, {"x", "y", "log_x", "log_y", "title", "model"});
       if (!item["x"] || !item["y"]) r.fail(item, field, "expected x: COLUMN and y: COLUMN");
       PlotRequest p;
       p.mark = r.mark(item);
@@ -258,6 +260,12 @@ Study load_study(const std::string& path) {
       p.log_x = item["log_x"] && item["log_x"].as<bool>(false);
       p.log_y = item["log_y"] && item["log_y"].as<bool>(false);
       p.title = item["title"] ? item["title"].Scalar() : p.y + " against " + p.x;
+      if (item["model"]) {
+        p.model = r.text(item["model"], field + "/model");
+        bool known = false;
+        for (const auto& m : study.models) known = known || m.name == p.model;
+        if (!known) r.fail(item["model"], field + "/model", "no model named '" + p.model + "'");
+      }
       study.plots.push_back(p);
     }
   }

@@ -25,7 +25,8 @@ struct BaseModel {
 struct ParameterSpec {
   std::string path;  // normalized model path, e.g. subsystems/valve/flow_coefficient
   SourceMark mark;
-  YAML::Node values;  // a list, a range {from, to, count|step, scale}, or a draw {distribution, ...}
+  YAML::Node
+      values;  // a list, a range {from, to, count|step, scale}, or a draw {distribution, ...}
 };
 
 // One value a case gives a parameter: the YAML scalar it sets and its text
@@ -46,6 +47,7 @@ struct PlotRequest {
   std::string x, y;  // results.csv columns (parameters or metrics)
   bool log_x = false, log_y = false;
   std::string title;
+  std::string model;  // only this model's rows ("" every model's)
   SourceMark mark;
 };
 

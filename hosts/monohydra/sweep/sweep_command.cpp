@@ -84,8 +84,8 @@ std::optional<int> check_plots(const sweep::Study& study) {
         std::string list;
         for (const auto& n : cols) list += (list.empty() ? "" : ", ") + n;
         std::cerr << "monohydra: "
-                  << InputError(p.mark, "plots", "no column '" + c + "' in the table (it has " +
-                                                     list + ")")
+                  << InputError(p.mark, "plots",
+                                "no column '" + c + "' in the table (it has " + list + ")")
                          .what()
                   << '\n';
         return 2;
@@ -144,9 +144,9 @@ int run_sweep(const std::vector<std::string>& args) {
       const auto& r = ctx.references[static_cast<std::size_t>(job.index)];
       const std::string what = "reference " + r.name + " of model " +
                                ctx.study.models[static_cast<std::size_t>(r.model)].name;
-      progress.note(result.empty() ? what + " ran: " + ctx.reference_csv(r)
-                                   : what + " did not run (" + result +
-                                         "): its error metrics stay empty");
+      progress.note(result.empty()
+                        ? what + " ran: " + ctx.reference_csv(r)
+                        : what + " did not run (" + result + "): its error metrics stay empty");
       return;
     }
     try {
@@ -159,8 +159,8 @@ int run_sweep(const std::vector<std::string>& args) {
   };
 
   int sig = 0;
-  const int workers = a.jobs > 0 ? a.jobs
-                                 : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int workers =
+      a.jobs > 0 ? a.jobs : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   if (mpi && mpi->size() > 1) {
     std::cerr << "sweep: " << ctx.cases.size() << " cases on " << mpi->size() - 1
               << " MPI ranks (rank 0 hands them out)\n";

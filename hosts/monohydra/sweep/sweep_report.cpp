@@ -58,10 +58,12 @@ bool numeric_column(const SweepTable& t, int c) {
 // One plot of column y against column x, a series per group of rows.
 std::string plot(const Study& study, const SweepTable& t, const std::string& x,
                  const std::string& y, bool log_x, bool log_y, const std::string& title,
-                 const std::string& id) {
+                 const std::string& id, const std::string& model = "") {
   const int cx = column_of(t, x), cy = column_of(t, y), cs = column_of(t, "status");
   // The series: model and the text-valued varied parameters other than x.
-  std::vector<int> group = {column_of(t, "model")};
+  const int cm = column_of(t, "model");
+  std::vector<int> group;
+  if (model.empty()) group.push_back(cm);
   for (const auto& p : varied_paths(study)) {
     const int c = column_of(t, p);
     if (c != cx && !numeric_column(t, c)) group.push_back(c);
@@ -70,6 +72,7 @@ std::string plot(const Study& study, const SweepTable& t, const std::string& x,
   std::vector<std::string> order;
   for (const auto& r : t.rows) {
     if (r[static_cast<std::size_t>(cs)] != "ok") continue;
+    if (!model.empty() && r[static_cast<std::size_t>(cm)] != model) continue;
     auto vx = number(r[static_cast<std::size_t>(cx)]);
     auto vy = number(r[static_cast<std::size_t>(cy)]);
     if (!vx || !vy || (log_x && *vx <= 0)) continue;
@@ -132,7 +135,7 @@ std::vector<std::string> sweep_figures(const Study& study, const SweepTable& t) 
   for (const auto& p : study.plots) {
     if (column_of(t, p.x) < 0 || column_of(t, p.y) < 0) continue;  // checked when loading
     svgs.push_back(plot(study, t, p.x, p.y, p.log_x, p.log_y, p.title,
-                        "study-plot-" + std::to_string(++n)));
+                        "study-plot-" + std::to_string(++n), p.model));
   }
   std::vector<std::string> ys;
   for (const auto& m : study.metrics) ys.push_back(m.header);
@@ -162,8 +165,9 @@ std::string write_sweep_report(const std::string& dir, const Study& study, const
   o << "<!DOCTYPE html>\n<html xmlns=\"http://www.w3.org/1999/xhtml\" lang=\"en\" "
        "xml:lang=\"en\">\n<head>\n<meta charset=\"utf-8\"/>\n<title>"
     << xml_escape(title) << "</title>\n<style>" << kStyle << "</style>\n</head>\n<body>\n<h1>"
-    << xml_escape(title) << "</h1>\n<ul class=\"facts\">\n<li>study file: "
-    << xml_escape(study.path) << "</li>\n<li>models:";
+    << xml_escape(title)
+    << "</h1>\n<ul class=\"facts\">\n<li>study file: " << xml_escape(study.path)
+    << "</li>\n<li>models:";
   for (const auto& m : study.models) o << ' ' << xml_escape(m.name + " (" + m.path + ")");
   std::map<std::string, int> statuses;
   const int cs = column_of(t, "status");
@@ -179,8 +183,11 @@ std::string write_sweep_report(const std::string& dir, const Study& study, const
     o << "<tr>";
     for (std::size_t i = 0; i < r.size(); ++i) {
       const bool bad = static_cast<int>(i) == cs && r[i] != "ok";
-      o << "<td" << (bad ? " class=\"failed\"" : !number(r[i]) ? " class=\"text\"" : "") << ">"
-        << xml_escape(r[i]) << "</td>";
+      o << "<td"
+        << (bad             ? " class=\"failed\""
+            : !number(r[i]) ? " class=\"text\""
+                            : "")
+        << ">" << xml_escape(r[i]) << "</td>";
     }
     o << "</tr>\n";
   }

@@ -28,7 +28,6 @@ SweepTable read_table(const std::string& csv_path);
 std::vector<std::string> sweep_figures(const Study& study, const SweepTable& table);
 
 // Writes DIR/report.html and DIR/figures/*.svg; returns the report's path.
-std::string write_sweep_report(const std::string& dir, const Study& study,
-                               const SweepTable& table);
+std::string write_sweep_report(const std::string& dir, const Study& study, const SweepTable& table);
 
 }  // namespace mh::cli::sweep
