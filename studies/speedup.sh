@@ -23,6 +23,7 @@ run_mode() {  # run_mode MODE DIR
   esac
 }
 
+load_before=$(cut -d' ' -f1-3 /proc/loadavg)
 for r in $(seq "$repeats"); do
   for m in "${modes[@]}"; do
     dir=$out/$m-$r
@@ -34,9 +35,12 @@ for r in $(seq "$repeats"); do
   done
 done
 
-python3 - "$out" "$repeats" "${modes[@]}" <<'PY'
+load_after=$(cut -d' ' -f1-3 /proc/loadavg)
+
+python3 - "$out" "$repeats" "$load_before" "$load_after" "${modes[@]}" <<'PY'
 import csv, statistics, sys
-out, repeats, modes = sys.argv[1], int(sys.argv[2]), sys.argv[3:]
+out, repeats, load_before, load_after = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4]
+modes = sys.argv[5:]
 def table(path):
     with open(path, newline="") as f:
         rows = list(csv.reader(f))
@@ -62,5 +66,6 @@ for m in modes:
     kind, n = m.split("-")
     label = f"--jobs {n}" if kind == "jobs" else f"mpirun -np {int(n) + 1}"
     print(f"| `{label}` | {n} | {w:.2f} | {one / w:.2f} | {statistics.median(cpu[m]):.2f} |")
-print(f"\n{len(base) - 1} cases; every table equal to --jobs 1's apart from cpu_s and wall_s.")
+print(f"\n{len(base) - 1} cases; every table equal to --jobs 1's apart from cpu_s and wall_s. "
+      f"Load average (1, 5, 15 min) before: {load_before}, after: {load_after}.")
 PY

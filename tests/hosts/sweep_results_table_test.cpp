@@ -46,6 +46,7 @@ TEST(SweepResultsTable, AResumedTableKeepsWholeRowsAndCutsATornLastLine) {
     std::ofstream(dir / "results.csv", std::ios::app) << "0,fourbar,0.001,ok,,1";
   }
   ResultsTable table(dir.string(), study, cases);
+  EXPECT_THROW(ResultsTable(dir.string(), study, cases), std::runtime_error);  // held
   EXPECT_TRUE(table.has(2));
   EXPECT_FALSE(table.has(0));
   EXPECT_EQ(table.rows(), 1u);

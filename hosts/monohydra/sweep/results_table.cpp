@@ -1,6 +1,7 @@
 #include "results_table.hpp"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -152,6 +153,13 @@ ResultsTable::ResultsTable(const std::string& dir, const Study& study,
   }
   fd_ = ::open(path_.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
   if (fd_ < 0) throw std::runtime_error("cannot write '" + path_ + "': " + std::strerror(errno));
+  // Two studies appending to one table would run every case twice.
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    ::close(fd_);
+    fd_ = -1;
+    throw std::runtime_error("'" + path_ +
+                             "' is being written by another monohydra sweep with the same --out");
+  }
 }
 
 ResultsTable::~ResultsTable() {

@@ -44,8 +44,9 @@ std::vector<std::string> split_csv_line(const std::string& line);
 class ResultsTable {
  public:
   // Opens DIR/results.csv, creating it with the header, or reading the rows
-  // it has. Throws std::runtime_error when it belongs to another study (other
-  // columns, or a row whose parameters differ from that case's).
+  // it has, and locks it (flock). Throws std::runtime_error when it belongs to
+  // another study (other columns, or a row whose parameters differ from that
+  // case's) or another sweep holds it.
   ResultsTable(const std::string& dir, const Study& study, const std::vector<Case>& cases);
   ~ResultsTable();
   ResultsTable(const ResultsTable&) = delete;
