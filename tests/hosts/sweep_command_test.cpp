@@ -180,6 +180,14 @@ TEST(SweepCommand, ThreeMpiRanksGiveTheSameTableAsOneWorker) {
             table_without_timing(dir / "mpi" / "results.csv"));
 }
 
+TEST(SweepCommand, TheExecutableDoesNotLinkLibmpiSoPlainRunsPayNothingForIt) {
+  if (!have_program("ldd")) GTEST_SKIP() << "no ldd";
+  const auto r = run_shell(std::string("ldd ") + MH_EXECUTABLE);
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("libyaml-cpp"), std::string::npos) << r.output;  // ldd did list
+  EXPECT_EQ(r.output.find("libmpi"), std::string::npos) << r.output;
+}
+
 TEST(SweepCommand, AStudyKilledBySigtermThenSigkillResumesToTheUninterruptedTable) {
   // 10 cases of about 0.2 s CPU each, on one worker: time to stop it twice.
   const fs::path dir = study("resume",
