@@ -105,7 +105,7 @@ const char* kSmallStudy =
 TEST(SweepCommand, EveryCaseIsARowAndFailingCasesAreRowsWithTheirReason) {
   const fs::path dir = study("rows", kSmallStudy);
   const auto r = run_cli("sweep " + (dir / "study.yaml").string() + " --out " +
-                         (dir / "out").string() + " --jobs 2 --report");
+                         (dir / "out").string() + " --jobs 2 --report --keep-csv");
   ASSERT_EQ(r.code, 0) << r.output;
   const auto rows = table_without_timing(dir / "out" / "results.csv");
   ASSERT_EQ(rows.size(), 5u);
@@ -125,6 +125,9 @@ TEST(SweepCommand, EveryCaseIsARowAndFailingCasesAreRowsWithTheirReason) {
   EXPECT_NE(rows[4].find("no-such-formulation"), std::string::npos) << rows[4];
   EXPECT_NE(r.output.find("cases:   2 error 2 ok"), std::string::npos) << r.output;
   EXPECT_TRUE(fs::exists(dir / "out" / "report.html"));
+  const Csv kept = read_csv(dir / "out" / "cases" / "case-1.csv");  // --keep-csv
+  ASSERT_EQ(kept.rows, 101u);                                       // t = 0 .. 0.2 s at dt = 2 ms
+  EXPECT_NEAR(kept["t"].back(), 0.2, 1e-12);
   if (have_program("xmllint")) {
     EXPECT_EQ(run_shell("xmllint --noout " + (dir / "out" / "report.html").string()).code, 0);
   }

@@ -10,6 +10,7 @@
 #include <cctype>
 #include <cerrno>
 #include <csignal>
+#include <cstdint>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
@@ -154,10 +155,22 @@ std::string run_reference(SweepContext& ctx, const ReferenceJob& r) {
 
 }  // namespace
 
+// The reference's CSV is named after what defines it too (FNV-1a of its
+// values, the study's fixed values and --dt/--t-end): a resumed study whose
+// reference changed runs it again instead of reading the old one.
 std::string SweepContext::reference_csv(const ReferenceJob& r) const {
+  std::string key;
+  for (const auto* overrides : {&study.set, &study.references.at(r.name)})
+    for (const auto& [path, value] : *overrides) key += path + "=" + value.Scalar() + ";";
+  if (dt) key += "dt=" + number_text(*dt) + ";";
+  if (t_end) key += "t_end=" + number_text(*t_end) + ";";
+  std::uint32_t hash = 2166136261u;
+  for (const char ch : key) hash = (hash ^ static_cast<unsigned char>(ch)) * 16777619u;
+  char hex[16];
+  std::snprintf(hex, sizeof hex, "%08x", hash);
   return (fs::path(out_dir) / "references" /
           (file_stem(r.name) + "-" +
-           file_stem(study.models[static_cast<std::size_t>(r.model)].name) + ".csv"))
+           file_stem(study.models[static_cast<std::size_t>(r.model)].name) + "-" + hex + ".csv"))
       .string();
 }
 
