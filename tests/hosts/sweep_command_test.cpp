@@ -241,6 +241,12 @@ TEST(SweepCommand, ABadStudyFileIsRefusedWithItsLineAndNothingRuns) {
       << r.output;
   EXPECT_FALSE(fs::exists(dir / "out" / "results.csv"));
   EXPECT_EQ(run_cli("sweep " + (dir / "study.yaml").string()).code, 2);  // no --out
+  const std::string ok_study = (study("args", kSmallStudy) / "study.yaml").string();
+  for (const char* bad : {"--jobs 0", "--jobs nan", "--jobs 1.5", "--dt -1", "--t-end nan"}) {
+    const auto b = run_cli("sweep " + ok_study + " --out " + (dir / "x").string() + " " + bad);
+    EXPECT_EQ(b.code, 2) << bad << ": " << b.output;
+    EXPECT_FALSE(fs::exists(dir / "x" / "results.csv")) << bad;
+  }
 }
 
 }  // namespace

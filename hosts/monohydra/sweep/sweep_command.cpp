@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -45,7 +46,7 @@ std::optional<int> parse(const std::vector<std::string>& args, SweepArgs& a,
     } else if (s == "--jobs") {
       const auto n = parse_number(s, args[++i]);
       if (!n) return 2;
-      if (*n < 1 || *n > 4096 || *n != static_cast<int>(*n)) {
+      if (!(*n >= 1 && *n <= 4096) || *n != std::floor(*n)) {  // NaN too
         std::cerr << "monohydra: --jobs expects a whole number from 1 to 4096\n";
         return 2;
       }
@@ -53,6 +54,11 @@ std::optional<int> parse(const std::vector<std::string>& args, SweepArgs& a,
     } else if (s == "--dt" || s == "--t-end") {
       const auto v = parse_number(s, args[++i]);
       if (!v) return 2;
+      if (!std::isfinite(*v) || !(*v > 0)) {
+        std::cerr << "monohydra: " << s << " expects a positive number of seconds, got '" << args[i]
+                  << "'\n";
+        return 2;
+      }
       (s == "--dt" ? ctx.dt : ctx.t_end) = *v;
     } else if (s == "--report") {
       a.report = true;
