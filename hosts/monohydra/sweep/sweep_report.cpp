@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -60,13 +61,18 @@ std::string plot(const Study& study, const SweepTable& t, const std::string& x,
                  const std::string& y, bool log_x, bool log_y, const std::string& title,
                  const std::string& id, const std::string& model = "") {
   const int cx = column_of(t, x), cy = column_of(t, y), cs = column_of(t, "status");
-  // The series: model and the text-valued varied parameters other than x.
+  // The series: the model and, against a parameter, every other parameter's
+  // value (a line is that parameter's effect alone); against a metric (a
+  // work-precision plot), the text-valued parameters (a line per method,
+  // through its step sizes).
+  const auto paths = varied_paths(study);
+  const bool against_parameter = std::find(paths.begin(), paths.end(), x) != paths.end();
   const int cm = column_of(t, "model");
   std::vector<int> group;
   if (model.empty()) group.push_back(cm);
-  for (const auto& p : varied_paths(study)) {
+  for (const auto& p : paths) {
     const int c = column_of(t, p);
-    if (c != cx && !numeric_column(t, c)) group.push_back(c);
+    if (c != cx && (against_parameter || !numeric_column(t, c))) group.push_back(c);
   }
   std::map<std::string, std::vector<std::pair<double, double>>> points;
   std::vector<std::string> order;
@@ -183,16 +189,21 @@ std::string write_sweep_report(const std::string& dir, const Study& study, const
     o << "<tr>";
     for (std::size_t i = 0; i < r.size(); ++i) {
       const bool bad = static_cast<int>(i) == cs && r[i] != "ok";
+      // Numbers to 4 digits here; results.csv has every digit.
+      const auto v = number(r[i]);
+      char shown[32];
+      if (v) std::snprintf(shown, sizeof shown, "%.4g", *v);
       o << "<td"
-        << (bad             ? " class=\"failed\""
-            : !number(r[i]) ? " class=\"text\""
-                            : "")
-        << ">" << xml_escape(r[i]) << "</td>";
+        << (bad  ? " class=\"failed\""
+            : !v ? " class=\"text\""
+                 : "")
+        << ">" << xml_escape(v ? std::string(shown) : r[i]) << "</td>";
     }
     o << "</tr>\n";
   }
-  o << "</table>\n<h2 id=\"figures\">Figures</h2>\n<p>One line per model and combination of the "
-       "named (non-numeric) parameters; only cases with status ok are drawn.</p>\n";
+  o << "</table>\n<h2 id=\"figures\">Figures</h2>\n<p>Against a parameter: one line per model "
+       "and values of the other parameters. Against a metric: one line per model and values of "
+       "the named (non-numeric) parameters. Only cases with status ok are drawn.</p>\n";
   const fs::path root(dir);
   std::error_code ec;
   fs::create_directories(root / "figures", ec);
