@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "sweep_command.hpp"
 
 namespace {
 int dispatch(const std::string& cmd, const std::vector<std::string>& args) {
@@ -16,6 +17,7 @@ int dispatch(const std::string& cmd, const std::vector<std::string>& args) {
   if (cmd == "run") return mh::cli::run(args);
   if (cmd == "compare") return mh::cli::compare(args);
   if (cmd == "validate") return mh::cli::validate(args);
+  if (cmd == "sweep") return mh::cli::run_sweep(args);
   if (cmd == "--help" || cmd == "-h" || cmd == "help") return mh::cli::usage(0);
   return mh::cli::usage(2);
 }

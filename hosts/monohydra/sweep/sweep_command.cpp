@@ -1,0 +1,207 @@
+#include "sweep_command.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <thread>
+
+#include "cli_support.hpp"
+#include "local_pool.hpp"
+#include "mpi_transport.hpp"
+#include "progress.hpp"
+#include "stop_signals.hpp"
+#include "sweep_report.hpp"
+
+namespace fs = std::filesystem;
+
+namespace mh::cli {
+namespace {
+
+struct SweepArgs {
+  std::string study, out;
+  int jobs = 0;  // 0: every core
+  bool report = false;
+};
+
+const char* kSweepUsage =
+    "usage: monohydra sweep STUDY.yaml --out DIR [--jobs N] [--dt S] [--t-end S] [--report]\n"
+    "                       [--keep-csv]\n";
+
+std::optional<int> parse(const std::vector<std::string>& args, SweepArgs& a,
+                         sweep::SweepContext& ctx) {
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& s = args[i];
+    const bool takes = s == "--out" || s == "--jobs" || s == "--dt" || s == "--t-end";
+    if (takes && i + 1 == args.size()) {
+      std::cerr << "monohydra: " << s << " expects a value\n";
+      return 2;
+    }
+    if (s == "--out") {
+      a.out = args[++i];
+    } else if (s == "--jobs") {
+      const auto n = parse_number(s, args[++i]);
+      if (!n) return 2;
+      if (!(*n >= 1 && *n <= 4096) || *n != std::floor(*n)) {  // NaN too
+        std::cerr << "monohydra: --jobs expects a whole number from 1 to 4096\n";
+        return 2;
+      }
+      a.jobs = static_cast<int>(*n);
+    } else if (s == "--dt" || s == "--t-end") {
+      const auto v = parse_number(s, args[++i]);
+      if (!v) return 2;
+      if (!std::isfinite(*v) || !(*v > 0)) {
+        std::cerr << "monohydra: " << s << " expects a positive number of seconds, got '" << args[i]
+                  << "'\n";
+        return 2;
+      }
+      (s == "--dt" ? ctx.dt : ctx.t_end) = *v;
+    } else if (s == "--report") {
+      a.report = true;
+    } else if (s == "--keep-csv") {
+      ctx.keep_csv = true;
+    } else if (!s.empty() && s[0] == '-') {
+      std::cerr << "monohydra: unknown option '" << s << "'\n" << kSweepUsage;
+      return 2;
+    } else if (a.study.empty()) {
+      a.study = s;
+    } else {
+      std::cerr << "monohydra: one study file at a time (got '" << a.study << "' and '" << s
+                << "')\n";
+      return 2;
+    }
+  }
+  if (a.study.empty() || a.out.empty()) {
+    std::cerr << "monohydra: sweep needs a study file and --out DIR\n" << kSweepUsage;
+    return 2;
+  }
+  return std::nullopt;
+}
+
+// The plots must name columns of the table.
+std::optional<int> check_plots(const sweep::Study& study) {
+  const auto cols = sweep::table_columns(study);
+  for (const auto& p : study.plots)
+    for (const auto& c : {p.x, p.y})
+      if (std::find(cols.begin(), cols.end(), c) == cols.end()) {
+        std::string list;
+        for (const auto& n : cols) list += (list.empty() ? "" : ", ") + n;
+        std::cerr << "monohydra: "
+                  << InputError(p.mark, "plots",
+                                "no column '" + c + "' in the table (it has " + list + ")")
+                         .what()
+                  << '\n';
+        return 2;
+      }
+  return std::nullopt;
+}
+
+}  // namespace
+
+int run_sweep(const std::vector<std::string>& args) {
+  SweepArgs a;
+  sweep::SweepContext ctx;
+  if (const auto code = parse(args, a, ctx)) return *code;
+  try {
+    ctx.study = sweep::load_study(a.study);
+    ctx.out_dir = a.out;
+    sweep::prepare_context(ctx);
+  } catch (const InputError& err) {
+    std::cerr << "monohydra: " << err.what() << '\n';
+    return 2;
+  }
+  if (const auto code = check_plots(ctx.study)) return *code;
+  const volatile std::sig_atomic_t* stop = install_stop_handlers();
+
+  std::unique_ptr<sweep::MpiTransport> mpi;
+  if (sweep::launched_by_mpirun()) {
+    try {
+      mpi = std::make_unique<sweep::MpiTransport>();
+    } catch (const std::exception& err) {
+      std::cerr << "monohydra: " << err.what() << '\n';
+      return 2;
+    }
+    if (mpi->rank() != 0 && mpi->size() > 1) {
+      const int sig = mpi->work(ctx, stop);
+      if (sig != 0) mpi->abort(exit_status_for_signal(sig));
+      return 0;
+    }
+  }
+
+  std::unique_ptr<sweep::ResultsTable> table;
+  try {
+    std::error_code ec;
+    fs::create_directories(fs::path(a.out) / "references", ec);
+    if (ec) throw std::runtime_error("cannot create '" + a.out + "': " + ec.message());
+    table = std::make_unique<sweep::ResultsTable>(a.out, ctx.study, ctx.cases);
+  } catch (const std::exception& err) {
+    std::cerr << "monohydra: " << err.what() << '\n';
+    if (mpi) mpi->abort(2);
+    return 2;
+  }
+  sweep::JobQueue queue(ctx, *table);
+  sweep::Progress progress(ctx.cases.size(), ctx.cases.size() - queue.cases_to_run());
+  int write_failure = 0;
+  const sweep::JobResult on_result = [&](const sweep::Job& job, const std::string& result) {
+    if (job.reference) {
+      const auto& r = ctx.references[static_cast<std::size_t>(job.index)];
+      const std::string what = "reference " + r.name + " of model " +
+                               ctx.study.models[static_cast<std::size_t>(r.model)].name;
+      progress.note(result.empty()
+                        ? what + " ran: " + ctx.reference_csv(r)
+                        : what + " did not run (" + result + "): its error metrics stay empty");
+      return;
+    }
+    try {
+      table->append(job.index, result);
+    } catch (const std::exception& err) {
+      if (write_failure == 0) std::cerr << "\nmonohydra: " << err.what() << '\n';
+      write_failure = 1;
+    }
+    progress.case_done(sweep::row_status(result, ctx.study));
+  };
+
+  int sig = 0;
+  const int workers =
+      a.jobs > 0 ? a.jobs : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  if (mpi && mpi->size() > 1) {
+    std::cerr << "sweep: " << ctx.cases.size() << " cases on " << mpi->size() - 1
+              << " MPI ranks (rank 0 hands them out)\n";
+    sig = mpi->coordinate(queue, on_result, stop);
+    if (sig != 0) mpi->abort(exit_status_for_signal(sig));
+  } else {
+    std::cerr << "sweep: " << ctx.cases.size() << " cases on " << workers << " local worker"
+              << (workers == 1 ? "" : "s") << '\n';
+    sig = sweep::run_local_pool(ctx, queue, workers, on_result, stop);
+  }
+  if (sig != 0) {
+    std::cerr << "\nmonohydra: interrupted by " << signal_name(sig) << ": " << table->rows()
+              << " of " << ctx.cases.size() << " cases have their row in '" << table->path()
+              << "'; run the same command again to run the others\n";
+    return exit_status_for_signal(sig);
+  }
+  progress.finish();
+  if (write_failure != 0) return 1;
+  try {
+    table->finish();
+    std::map<std::string, int> statuses;
+    for (const auto& [i, row] : table->row_texts()) ++statuses[sweep::row_status(row, ctx.study)];
+    std::cout << "study:   " << ctx.study.name << " (" << a.study << ")\ncases:  ";
+    for (const auto& [s, n] : statuses) std::cout << ' ' << n << ' ' << s;
+    std::cout << "\nresults: " << table->path() << '\n';
+    if (a.report) {
+      const auto t = sweep::read_table(table->path());
+      std::cout << "report:  " << sweep::write_sweep_report(a.out, ctx.study, t) << '\n';
+    }
+  } catch (const std::exception& err) {
+    std::cerr << "monohydra: " << err.what() << '\n';
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace mh::cli
