@@ -55,6 +55,7 @@ struct State {
   std::vector<std::string> output_names;
   std::vector<int32_t> lambda_out;
   int32_t phi_dot_out = -1;
+  Eigen::VectorXd phi_dot;  // m: Phi_z zd at the accepted state
   double phi_dot_norm = 0.0;
 };
 
@@ -132,6 +133,7 @@ mh_status setup(const mh_formulation* f) noexcept {
     s.zd = ConstVectorMap(info.zd0, s.N);
     s.zdd.setZero(s.N);
     s.lambda.setZero(s.m);
+    s.phi_dot.setZero(s.m);
     s.M_last.setZero(s.N, s.N);
     s.phi_z_last.setZero(s.m, s.N);
     // Unknowns 0..N-1: the coordinates; N..N+m-1: the multipliers.
@@ -290,7 +292,8 @@ mh_status accept(const mh_formulation* f, double t, const mh_step_coefficients*,
       mh_mech_result rs;
       const mh_status st = evaluate(s, MH_EVAL_CONSTRAINTS, t, x, xd, rs);
       if (st >= MH_DISCARD) return st;
-      s.phi_dot_norm = (ConstMatrixMap(rs.phi_z, s.m, s.N) * s.zd).norm();
+      s.phi_dot.noalias() = ConstMatrixMap(rs.phi_z, s.m, s.N) * s.zd;  // no allocation
+      s.phi_dot_norm = s.phi_dot.norm();
     }
     return MH_OK;
   });
