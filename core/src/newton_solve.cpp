@@ -49,6 +49,10 @@ void Simulation::Engine::newton_solve(double t_eval, double t_next) {
     }
     stats.increment_norms.push_back(worst);
     reuse.increment(worst);
+    if (reuse.diverging()) {  // modified Newton: back to the last iterate, a fresh tangent
+      x -= dx;                // r is still its residual: no residual call since
+      continue;
+    }
     if (formulation.ops.iteration_done != nullptr) {
       rates_of(x, xd, xdd);
       st = normalized(formulation.ops.iteration_done(formulation.self, t_next, x.data(), xd.data(),

@@ -27,7 +27,8 @@ class TangentReuse {
   // step's map coefficients (dt, the integrator's method) differ from those it
   // was made at, or the last increments asked for it.
   bool needs_tangent(const mh_step_coefficients& c) const {
-    return !modified_ || !valid_ || refresh_ || changed(c.dxd_dx_second, at_.dxd_dx_second) ||
+    return !modified_ || full_step_ || !valid_ || refresh_ ||
+           changed(c.dxd_dx_second, at_.dxd_dx_second) ||
            changed(c.dxdd_dx_second, at_.dxdd_dx_second) ||
            changed(c.dxd_dx_first, at_.dxd_dx_first);
   }
@@ -42,12 +43,30 @@ class TangentReuse {
   void begin_step() {
     previous_ = -1.0;
     on_this_tangent_ = 0;
+    stale_used_ = false;
+    full_step_ = retry_full_;
+    retry_full_ = false;
   }
+  // A step that failed on a kept factorization: may it be tried again from
+  // its prediction with a fresh tangent at every iteration (full Newton)?
+  // Then the next begin_step() starts that attempt.
+  bool retry_with_full_newton() {
+    if (!modified_ || !stale_used_) return false;
+    retry_full_ = true;
+    invalidate();
+    return true;
+  }
+  // The increment came from a kept factorization and grew: the iteration
+  // diverges; the caller undoes it and the next iteration factors anew.
+  bool diverging() const { return !last_fresh_ && previous_increase_; }
   // After an iteration's increment, as max_i |dx_i| / tol_i.
   void increment(double worst) {
     ++on_this_tangent_;
     last_fresh_ = fresh_;
+    if (!fresh_) stale_used_ = true;
     fresh_ = false;
+    previous_increase_ = previous_ > 0.0 && worst > previous_;
+    if (previous_increase_ && !last_fresh_) refresh_ = true;  // diverging(): factor anew
     if (previous_ > 0.0) {
       rate_ = worst / previous_;
       // A slow rate matters while the iteration has yet to converge; once the
@@ -83,12 +102,16 @@ class TangentReuse {
   bool modified_ = false;
   bool valid_ = false;
   bool refresh_ = false;
-  bool fresh_ = false;         // the next increment comes from a new factorization
-  bool last_fresh_ = false;    // the last increment came from a new factorization
-  int on_this_tangent_ = 0;    // iterations of this step on the current factorization
-  double previous_ = -1.0;     // the last increment of this step
-  double rate_ = 0.0;          // the latest contraction rate measured
-  mh_step_coefficients at_{};  // the map's coefficients at the factorization
+  bool full_step_ = false;          // this step factors at every iteration (a retry)
+  bool retry_full_ = false;         // the next step is such a retry
+  bool stale_used_ = false;         // an increment of this step came from a kept factorization
+  bool previous_increase_ = false;  // the last increment was larger than the one before
+  bool fresh_ = false;              // the next increment comes from a new factorization
+  bool last_fresh_ = false;         // the last increment came from a new factorization
+  int on_this_tangent_ = 0;         // iterations of this step on the current factorization
+  double previous_ = -1.0;          // the last increment of this step
+  double rate_ = 0.0;               // the latest contraction rate measured
+  mh_step_coefficients at_{};       // the map's coefficients at the factorization
   long factorizations_ = 0;
 };
 

@@ -154,7 +154,16 @@ void Simulation::Engine::attempt(double t_next) {
   }
 
   prepare_step(t_next, h);
-  newton_solve(t_eval, t_next);
+  try {
+    newton_solve(t_eval, t_next);
+  } catch (const StepFailure&) {
+    // Modified Newton may fail on a kept factorization where full Newton
+    // converges: the step once more from its prediction, factoring at every
+    // iteration, before the failure counts.
+    if (!reuse.retry_with_full_newton()) throw;
+    prepare_step(t_next, h);
+    newton_solve(t_eval, t_next);
+  }
   accept_step(t_next, event, h);
 }
 
