@@ -3,6 +3,7 @@
 // given simulated time, writing its CSV to /dev/null every step, every 10 ms
 // or not at all.
 //   mh_profile MODEL.yaml|chain:N|tree:N FORMULATION T_END [none|every-step|10ms]
+//              [full|modified]
 #include <fstream>
 #include <iostream>
 #include <optional>
@@ -13,14 +14,17 @@
 
 int main(int argc, char** argv) {
   using namespace mh;
-  if (argc < 4 || argc > 5) {
+  if (argc < 4 || argc > 6) {
     std::cerr << "usage: mh_profile MODEL.yaml|chain:N|tree:N FORMULATION T_END "
-                 "[none|every-step|10ms]\n";
+                 "[none|every-step|10ms] [full|modified]\n";
     return 2;
   }
   try {
     const std::string what = argv[1];
-    const std::string output = argc == 5 ? argv[4] : "none";
+    const std::string output = argc >= 5 ? argv[4] : "none";
+    const std::string newton = argc >= 6 ? argv[5] : "full";
+    if (newton != "full" && newton != "modified")
+      throw std::runtime_error("newton: expected full or modified, got '" + newton + "'");
     if (output != "none" && output != "every-step" && output != "10ms")
       throw std::runtime_error("output: expected none, every-step or 10ms, got '" + output + "'");
     ModelFile file;
@@ -30,6 +34,7 @@ int main(int argc, char** argv) {
       file = parse_model_text(bench::tree((std::stoi(what.substr(5)) - 1) / 2), what);
     else
       file = bench::shipped_model(what);
+    file.solver.newton = newton == "modified" ? NewtonKind::modified : NewtonKind::full;
     Simulation sim(file, bench::plugins(), RunChoices{argv[2], "", {}, std::stod(argv[3])});
     const CsvLayout layout(sim, OutputSettings{},
                            output == "10ms" ? std::optional<double>(0.01) : std::nullopt);
