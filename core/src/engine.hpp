@@ -8,6 +8,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <chrono>
 #include <memory>
 #include <set>
 #include <sstream>
@@ -24,6 +25,7 @@
 #include "monohydra/core/sparse_pattern.hpp"
 #include "monohydra/monohydra.h"
 #include "plugin_instance.hpp"
+#include "tangent_reuse.hpp"
 
 namespace mh {
 
@@ -157,6 +159,9 @@ struct Simulation::Engine {
   Eigen::VectorXd xd_pert, xdd_pert;  // rates of a perturbed x (forward differences)
   std::unique_ptr<SparsePattern> pattern;
   std::unique_ptr<LinearSolver> linear_solver;
+  TangentReuse reuse;     // full or modified Newton (solver.newton)
+  int real_time_cap = 0;  // real-time mode: Newton iterations per step at most (0: off)
+  std::chrono::steady_clock::time_point step_deadline{};  // real-time mode: wall clock
   std::vector<double> values;
   std::vector<std::vector<int>> groups;
   std::vector<char> group_needs_fd;

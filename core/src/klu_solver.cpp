@@ -74,8 +74,4 @@ void KluSolver::solve(double* b) {
   klu_solve(s.symbolic, s.numeric, s.n, 1, b, &s.common);
 }
 
-std::unique_ptr<LinearSolver> make_linear_solver(const SparsePattern& pattern) {
-  return std::make_unique<KluSolver>(pattern);
-}
-
 }  // namespace mh

@@ -7,8 +7,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 
 #include "monohydra/core/run_limits.hpp"
 
@@ -101,11 +103,17 @@ RunSummary run(Simulation& sim, std::ostream* csv, const RunOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   const std::string csv_name = options.csv_name.empty() ? "the CSV" : options.csv_name;
   std::ostringstream line;
+  const bool real_time = options.real_time_cap > 0;
+  summary.real_time = real_time;
+  std::optional<CsvLayout> all_columns;
+  const CsvLayout* layout = options.layout;
+  RealTimeRow rt;
   const auto write_row = [&] {
     if (csv == nullptr) return;
     line.str("");
-    write_csv_row(line, sim);
+    layout->row(line, sim, rt);
     write_checked(*csv, line.str(), csv_name);
+    ++summary.rows;
     if (options.flush_rows) write_checked(*csv, "", csv_name, true);
   };
   const auto stopped = [&] { return options.stop != nullptr && *options.stop != 0; };
@@ -116,18 +124,49 @@ RunSummary run(Simulation& sim, std::ostream* csv, const RunOptions& options) {
                        "t_end / dt = " + short_time(sim.settings().t_end) + " / " +
                            short_time(sim.settings().dt) +
                            " is not a number of steps from 1 to 2^53");
+    if (layout == nullptr) layout = &all_columns.emplace(sim, real_time);
+    const long every = layout->every_steps();
+    sim.set_real_time(options.real_time_cap);
     sim.start();
     if (csv != nullptr) {
       line.str("");
-      write_csv_header(line, sim);
+      layout->header(line);
       write_checked(*csv, line.str(), csv_name);
     }
     write_row();
     const long total = summary.steps_asked;
     const long report_every = std::max(1L, total / 100);
+    const double dt = sim.settings().dt;
+    const auto wall0 = std::chrono::steady_clock::now();
+    const auto wall_at = [&](long k) {  // wall time at which simulated t_k is due
+      return wall0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                         std::chrono::duration<double>(static_cast<double>(k) * dt));
+    };
     for (long k = 0; k < total && !stopped(); ++k) {
+      std::chrono::steady_clock::time_point deadline{};
+      if (real_time) {  // pacing: never ahead of the wall clock
+        std::this_thread::sleep_until(wall_at(k));
+        deadline = wall_at(k + 1);
+        sim.set_step_deadline(deadline);
+      }
       sim.step();
       ++summary.steps;
+      summary.tangents += sim.last_step().tangents;
+      if (real_time) {
+        rt.late = std::max(
+            0.0,
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - deadline).count());
+        rt.unconverged = sim.last_step().converged ? 0.0 : sim.last_step().unconverged;
+        if (rt.late > 0.0) {
+          ++summary.deadlines_missed;
+          summary.total_late += rt.late;
+          summary.max_late = std::max(summary.max_late, rt.late);
+        }
+        if (!sim.last_step().converged) {
+          ++summary.unconverged_steps;
+          summary.max_unconverged = std::max(summary.max_unconverged, rt.unconverged);
+        }
+      }
       summary.end_time = sim.time();
       const int it = sim.last_step().iterations;
       summary.iterations += it;
@@ -135,7 +174,7 @@ RunSummary run(Simulation& sim, std::ostream* csv, const RunOptions& options) {
       summary.retries += sim.last_step().retries;
       summary.max_abs_drift = std::max(summary.max_abs_drift, std::abs(sim.drift()));
       summary.max_phi_norm = std::max(summary.max_phi_norm, sim.phi_norm());
-      write_row();
+      if ((k + 1) % every == 0) write_row();
       if (options.progress && (k + 1) % report_every == 0)
         options.progress(static_cast<double>(k + 1) / static_cast<double>(total));
     }

@@ -192,6 +192,11 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
     output_units_.push_back(v.unit);
   }
   e.build_pattern();
+  // build_pattern analyses the pattern for KLU, the default; another solver
+  // the model file chose replaces it (its own analysis, once per run).
+  if (e.settings.linear != LinearSolverKind::klu)
+    e.linear_solver = make_linear_solver(*e.pattern, e.settings.linear);
+  e.reuse.enable(e.settings.newton == NewtonKind::modified);
   e.size_derivatives();
 }
 
@@ -205,6 +210,13 @@ void Simulation::start() {
 }
 void Simulation::step() {
   engine_->step_once();
+}
+void Simulation::set_real_time(int iteration_cap) {
+  engine_->real_time_cap = iteration_cap > 0 ? iteration_cap : 0;
+  engine_->step_deadline = std::chrono::steady_clock::time_point::max();  // until one is set
+}
+void Simulation::set_step_deadline(std::chrono::steady_clock::time_point deadline) {
+  engine_->step_deadline = deadline;
 }
 double Simulation::time() const {
   return engine_->t;

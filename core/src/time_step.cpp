@@ -88,6 +88,7 @@ void Simulation::Engine::start() {
     if (algebraic[static_cast<size_t>(i)] != 0) xd[n_m + i] = 0.0;
   y_k = y;
   ydot_k = ydot;
+  reuse.invalidate();
   restart_integrator();
   start_energy_balance();
   started = true;
@@ -100,6 +101,9 @@ void Simulation::Engine::step_once() {
   attempt_step = step + 1;
   stats.iterations = 0;
   stats.retries = 0;
+  stats.tangents = 0;
+  stats.converged = true;
+  stats.unconverged = 0.0;
   stats.increment_norms.clear();
   stats.residual_norms.clear();
   advance(t_next, settings.max_step_halvings);
@@ -115,6 +119,7 @@ void Simulation::Engine::advance(double t_to, int halvings_left) {
   try {
     attempt(t_to);
   } catch (const StepFailure& failure) {
+    reuse.invalidate();  // modified Newton: the retry factors anew
     if (halvings_left <= 0) {
       if (stats.retries == 0) throw;
       throw SimulationError(
@@ -149,7 +154,16 @@ void Simulation::Engine::attempt(double t_next) {
   }
 
   prepare_step(t_next, h);
-  newton_solve(t_eval, t_next);
+  try {
+    newton_solve(t_eval, t_next);
+  } catch (const StepFailure&) {
+    // Modified Newton may fail on a kept factorization where full Newton
+    // converges: the step once more from its prediction, factoring at every
+    // iteration, before the failure counts.
+    if (!reuse.retry_with_full_newton()) throw;
+    prepare_step(t_next, h);
+    newton_solve(t_eval, t_next);
+  }
   accept_step(t_next, event, h);
 }
 
@@ -197,6 +211,7 @@ void Simulation::Engine::accept_step(double t_next, bool event, double h) {
   y_k = y;
   ydot_k = ydot;
   if (event || (flags & MH_ACCEPT_REDEFINED) != 0) {
+    reuse.invalidate();  // x may mean something else now, or jump
     restart_integrator();
   } else {
     check(integrator.ops.accept(integrator.self, t, x.data(), xd.data(), xdd.data()),

@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <csignal>
@@ -33,9 +34,15 @@ const char* kUsage =
     "                          reference.yaml), the paper's numbers beside ours; reports in out/\n"
     "  plugins                 list every plugin found, its components and ABI version\n"
     "  run MODEL.yaml [--formulation NAME] [--integrator NAME] [--dt S] [--t-end S]\n"
-    "                 [--out FILE.csv] [LIMITS]\n"
+    "                 [--out FILE.csv] [--output-interval S] [--real-time [--newton-cap N]]\n"
+    "                 [LIMITS]\n"
     "                          simulate MODEL.yaml; CSV columns: t, z1..zN, states,\n"
-    "                          outputs, KE, PE, W, drift, phi_norm, iters\n"
+    "                          outputs, KE, PE, W, drift, phi_norm, iters (the model's\n"
+    "                          output: selects them); --output-interval S writes rows at\n"
+    "                          multiples of S only; --real-time paces the steps to the wall\n"
+    "                          clock, each due at its simulated time, Newton stopping at N\n"
+    "                          iterations (default 4) or the deadline, and adds the CSV\n"
+    "                          columns late (s) and unconverged (|dx|/tol)\n"
     "  compare MODEL.yaml [--formulations A,B,...] [--integrators C,D,...] [--report DIR]\n"
     "                     [--dt S] [--t-end S] [LIMITS]\n"
     "                          run every formulation with every integrator on MODEL.yaml\n"
@@ -44,7 +51,7 @@ const char* kUsage =
     "                          writes DIR/report.html with the paper's figures and each\n"
     "                          run's CSV, named after what varies\n"
     "  validate MODEL.yaml [--formulation NAME] [--integrator NAME] [--dt S] [--t-end S]\n"
-    "                      [LIMITS]\n"
+    "                      [--output-interval S] [--real-time [--newton-cap N]] [LIMITS]\n"
     "                          load MODEL.yaml and set the run up without stepping: OK or the\n"
     "                          error (exit 0 or 1)\n"
     "  sweep STUDY.yaml --out DIR [--jobs N] [--dt S] [--t-end S] [--report] [--keep-csv]\n"
@@ -60,14 +67,22 @@ std::string version_text(const mh_version& v) {
   return std::to_string(v.major) + "." + std::to_string(v.minor) + "." + std::to_string(v.patch);
 }
 
+// Real-time mode's Newton iterations per step unless --newton-cap says: twice
+// what the case studies need on average (about 2), so a cap binds only where
+// a step is hard.
+constexpr int kDefaultNewtonCap = 4;
+
 // run's and validate's arguments; an exit code when they are wrong.
 std::optional<int> parse_run_args(const std::vector<std::string>& args, const char* command,
                                   RunRequest& request, std::string* out) {
+  bool real_time = false;
+  int newton_cap = 0;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     const bool has_value = i + 1 < args.size();
     const bool takes_value = a == "--formulation" || a == "--integrator" || a == "--dt" ||
                              a == "--t-end" || a == "--max-steps" || a == "--max-output-bytes" ||
+                             a == "--output-interval" || a == "--newton-cap" ||
                              (a == "--out" && out != nullptr);
     if (takes_value && !has_value) {
       std::cerr << "monohydra: " << a << " expects a value\n";
@@ -85,6 +100,25 @@ std::optional<int> parse_run_args(const std::vector<std::string>& args, const ch
     } else if (a == "--t-end") {
       request.t_end = parse_number(a, args[++i]);
       if (!request.t_end) return 2;
+    } else if (a == "--output-interval") {
+      request.output_interval = parse_number(a, args[++i]);
+      if (!request.output_interval) return 2;
+      if (!std::isfinite(*request.output_interval) || !(*request.output_interval > 0.0)) {
+        std::cerr << "monohydra: --output-interval expects a positive time (s), got '" << args[i]
+                  << "'\n";
+        return 2;
+      }
+    } else if (a == "--real-time") {
+      real_time = true;
+    } else if (a == "--newton-cap") {
+      const std::optional<double> cap = parse_number(a, args[++i]);
+      if (!cap) return 2;
+      if (!(*cap >= 1.0 && *cap <= 1000.0) || *cap != std::floor(*cap)) {
+        std::cerr << "monohydra: --newton-cap expects an integer from 1 to 1000, got '" << args[i]
+                  << "'\n";
+        return 2;
+      }
+      newton_cap = static_cast<int>(*cap);
     } else if (a == "--max-steps" || a == "--max-output-bytes") {
       if (!parse_limit(a, args[++i], request.limits)) return 2;
     } else if (!a.empty() && a[0] == '-') {
@@ -102,7 +136,30 @@ std::optional<int> parse_run_args(const std::vector<std::string>& args, const ch
     std::cerr << "monohydra: " << command << " needs a model file\n";
     return usage(2);
   }
+  if (newton_cap > 0 && !real_time) {
+    std::cerr << "monohydra: --newton-cap applies to --real-time runs only\n";
+    return 2;
+  }
+  if (real_time) request.real_time_cap = newton_cap > 0 ? newton_cap : kDefaultNewtonCap;
   return std::nullopt;
+}
+
+// Real-time mode's account: deadlines missed and steps accepted unconverged,
+// and that these results depend on the machine.
+void print_real_time(const RunSummary& s, int cap) {
+  const double steps = std::max(1.0, static_cast<double>(s.steps));
+  std::cout
+      << "real time:    deadlines missed: " << s.deadlines_missed << " of " << s.steps << " steps ("
+      << 100.0 * static_cast<double>(s.deadlines_missed) / steps << " %), worst "
+      << 1e3 * s.max_late << " ms late, mean "
+      << (s.deadlines_missed > 0 ? 1e3 * s.total_late / static_cast<double>(s.deadlines_missed)
+                                 : 0.0)
+      << " ms late\n"
+      << "              accepted unconverged: " << s.unconverged_steps
+      << " steps (Newton capped at " << cap << " iterations or the deadline), worst |dx|/tol "
+      << s.max_unconverged << "\n"
+      << "              these results depend on this machine's speed and load: a real-time\n"
+      << "              run is not repeatable; every other mode is bit-identical run to run\n";
 }
 
 // The run of a prepared model, in this process: the CSV, the summary, the
@@ -127,6 +184,8 @@ int run_prepared(PreparedRun& prepared, const RunRequest& request, const std::st
   options.stop = stop;
   options.flush_rows = flush_rows;
   options.csv_name = out_path;
+  options.layout = prepared.layout.get();
+  options.real_time_cap = request.real_time_cap;
   const RunSummary s = mh::run(sim, out_path.empty() ? nullptr : &csv, options);
   if (s.end == RunEnd::write_failed) {
     csv.close();
@@ -148,9 +207,17 @@ int run_prepared(PreparedRun& prepared, const RunRequest& request, const std::st
                             : 0.0)
             << " iterations per step on average, " << s.max_iterations << " at most\n"
             << "retries:      " << s.retries << " halvings of failed steps\n"
+            << "solver:       " << to_string(sim.settings().linear) << ", "
+            << to_string(sim.settings().newton) << " Newton, "
+            << (s.steps > 0 ? static_cast<double>(s.tangents) / static_cast<double>(s.steps) : 0.0)
+            << " tangents factored per step\n"
             << "peak |drift|: " << s.max_abs_drift << " J\n"
             << "wall time:    " << s.wall_seconds << " s\n";
-  if (!out_path.empty()) std::cout << "results:      " << out_path << "\n";
+  if (s.real_time) print_real_time(s, request.real_time_cap);
+  if (!out_path.empty())
+    std::cout << "results:      " << out_path << " (" << s.rows << " rows of "
+              << prepared.layout->names().size() << " columns, every "
+              << prepared.layout->every_steps() << " steps)\n";
   switch (s.end) {
     case RunEnd::completed:
       break;

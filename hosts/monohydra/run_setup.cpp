@@ -1,8 +1,6 @@
 #include "run_setup.hpp"
 
-#include <algorithm>
 #include <iostream>
-#include <sstream>
 
 #include "cli_support.hpp"
 #include "monohydra/core/run.hpp"
@@ -42,11 +40,10 @@ std::unique_ptr<PreparedRun> prepare_run(const RunRequest& request) {
     for (const auto& r : p->registry.refusals()) std::cerr << "  (refused: " << r << ")\n";
     return nullptr;
   }
-  std::ostringstream header;
-  write_csv_header(header, *p->sim);
-  const std::string text = header.str();
-  p->columns = static_cast<std::size_t>(std::count(text.begin(), text.end(), ',')) + 1;
   try {
+    p->layout = std::make_unique<CsvLayout>(*p->sim, p->file.output, request.output_interval,
+                                            request.real_time_cap > 0);
+    p->columns = p->layout->names().size();
     check_column_names(p->file, *p->sim);
     p->steps = check_run_settings(p->file, p->sim->settings(), request.limits,
                                   request.csv ? p->columns : 0, origins);

@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 
+#include "monohydra/core/csv_layout.hpp"
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/plugin_registry.hpp"
 #include "monohydra/core/run_limits.hpp"
@@ -22,16 +23,19 @@ struct RunRequest {
   std::string integrator;   // "" for the model file's
   std::optional<double> dt;
   std::optional<double> t_end;
-  bool csv = false;  // the run writes a CSV (counted in the output limit)
+  bool csv = false;                       // the run writes a CSV (counted in the output limit)
+  std::optional<double> output_interval;  // --output-interval: overrides output.interval
+  int real_time_cap = 0;                  // --real-time: Newton iterations per step (0: off)
   RunLimits limits;
 };
 
 struct PreparedRun {
   ModelFile file;
   PluginRegistry registry;
-  std::unique_ptr<Simulation> sim;  // refers to file and registry: keep them together
-  long steps = 0;                   // the steps the run will ask for
-  std::size_t columns = 0;          // of the CSV
+  std::unique_ptr<Simulation> sim;    // refers to file and registry: keep them together
+  std::unique_ptr<CsvLayout> layout;  // the rows' columns and interval (output:)
+  long steps = 0;                     // the steps the run will ask for
+  std::size_t columns = 0;            // of the CSV
 };
 
 // The prepared run, or null after telling the user why on stderr.

@@ -535,7 +535,7 @@ TEST(ModelFileErrors, UnknownTopLevelKey) {
   expect_message(valid_body("solvr: {dt: 0.01}\n"),
                  "model.yaml:8:1: solvr: unknown key 'solvr' (expected one of: units, name, "
                  "gravity, plugin_paths, bodies, cut_joints, subsystems, formulation, "
-                 "integrator, compare, solver, planar, assembly, nodes, equilibrium)");
+                 "integrator, compare, solver, planar, assembly, nodes, equilibrium, output)");
 }
 
 TEST(ModelFileErrors, UnknownBodyKey) {
@@ -804,6 +804,41 @@ TEST(ModelFileErrors, BadSolverSettings) {
   EXPECT_EQ(parse_model_text(valid_body(""), kLabel).solver.max_step_halvings, 0);  // default
   // t_end = 0 reads (the initial state alone); a run refuses it (run_limits_test.cpp).
   EXPECT_DOUBLE_EQ(parse_model_text(valid_body("solver: {t_end: 0}\n"), kLabel).solver.t_end, 0.0);
+}
+
+TEST(ModelFileErrors, LinearSolverAndNewtonChoicesAreNamedOrRefusedWithTheChoices) {
+  expect_error(valid_body("solver: {linear: lapack}\n"), 8, "solver.linear",
+               "expected one of: klu, umfpack, dense (the tangent's linear solver), got 'lapack'");
+  expect_error(valid_body("solver: {linear: [klu]}\n"), 8, "solver.linear", "expected a string");
+  expect_error(valid_body("solver: {newton: quasi}\n"), 8, "solver.newton",
+               "expected full or modified");
+  const ModelFile defaults = parse_model_text(valid_body(""), kLabel);
+  EXPECT_EQ(defaults.solver.linear, LinearSolverKind::klu);
+  EXPECT_EQ(defaults.solver.newton, NewtonKind::full);
+  for (LinearSolverKind kind :
+       {LinearSolverKind::klu, LinearSolverKind::umfpack, LinearSolverKind::dense}) {
+    const ModelFile f = parse_model_text(
+        valid_body("solver: {linear: " + std::string(to_string(kind)) + "}\n"), kLabel);
+    EXPECT_EQ(f.solver.linear, kind) << to_string(kind);
+  }
+  EXPECT_EQ(parse_model_text(valid_body("solver: {newton: modified}\n"), kLabel).solver.newton,
+            NewtonKind::modified);
+}
+
+TEST(ModelFileErrors, OutputSettingsAreReadOrRefusedAtTheirLine) {
+  const ModelFile f =
+      parse_model_text(valid_body("output: {interval: 0.01, columns: [t, z1, KE]}\n"), kLabel);
+  EXPECT_DOUBLE_EQ(f.output.interval, 0.01);
+  EXPECT_EQ(f.output.columns, (std::vector<std::string>{"t", "z1", "KE"}));
+  EXPECT_EQ(f.output.column_marks.at(2).line, 8);
+  EXPECT_EQ(parse_model_text(valid_body(""), kLabel).output.interval, 0.0);  // every step
+  expect_error(valid_body("output: {interval: 0}\n"), 8, "output.interval",
+               "expected a positive finite number, got '0'");
+  expect_error(valid_body("output: {columns: []}\n"), 8, "output.columns",
+               "expected a non-empty list of result column names");
+  expect_error(valid_body("output: {columns: [t, t]}\n"), 8, "output.columns[1]",
+               "duplicate column name 't'");
+  expect_error(valid_body("output: {every: 2}\n"), 8, "output.every", "unknown key");
 }
 
 TEST(ModelFileErrors, WrongShapes) {

@@ -1,7 +1,7 @@
 // The model-file parser (docs/model-format.md), private to the core. One class
 // reads the whole file; its members are defined by section, one file each
 // (read_file.cpp, units.cpp, bodies.cpp, cut_joints.cpp, subsystems.cpp,
-// choices.cpp, solver.cpp), on the shared readers of values.cpp and
+// choices.cpp, solver.cpp, output.cpp), on the shared readers of values.cpp and
 // map_view.cpp. Every problem becomes an InputError with the file, line,
 // field and expectation.
 #pragma once
@@ -172,6 +172,9 @@ class Parser {
 
   // solver.cpp
   SolverSettings solver(const YAML::Node& node) const;
+
+  // output.cpp
+  OutputSettings output(const YAML::Node& node) const;
 
   // values.cpp
   void check_unique(std::map<std::string, SourceMark>& seen, const std::string& value,

@@ -29,7 +29,7 @@ ModelFile Parser::parse(const YAML::Node& root, const std::string& base_dir) {
   const MapView top(*this, root, "",
                     {"units", "name", "gravity", "plugin_paths", "bodies", "cut_joints",
                      "subsystems", "formulation", "integrator", "compare", "solver", "planar",
-                     "assembly", "nodes", "equilibrium"});
+                     "assembly", "nodes", "equilibrium", "output"});
   ModelFile file;
   file.path = file_;
 
@@ -71,6 +71,8 @@ ModelFile Parser::parse(const YAML::Node& root, const std::string& base_dir) {
     file.integrator = component_choice(*integrator_node, "integrator", "trapezoidal");
   }
   if (auto compare_node = top.get("compare")) parse_compare(*compare_node, file);
+  file.output.mark = mark(root);
+  if (auto output_node = top.get("output")) file.output = output(*output_node);
   file.solver.mark = mark(root);
   if (auto solver_node = top.get("solver")) file.solver = solver(*solver_node);
   return file;

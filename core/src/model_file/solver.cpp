@@ -1,12 +1,20 @@
 // solver: the time step, end time, Newton iteration limit, position
-// tolerance and how often a failed step may be halved.
+// tolerance, how often a failed step may be halved, the linear solver and
+// full or modified Newton.
 #include "parser.hpp"
+
+namespace mh {
+const char* to_string(NewtonKind kind) {
+  return kind == NewtonKind::modified ? "modified" : "full";
+}
+}  // namespace mh
 
 namespace mh::model_file_detail {
 
 SolverSettings Parser::solver(const YAML::Node& node) const {
-  const MapView map(*this, node, "solver",
-                    {"dt", "t_end", "max_iterations", "tol_position", "max_step_halvings"});
+  const MapView map(
+      *this, node, "solver",
+      {"dt", "t_end", "max_iterations", "tol_position", "max_step_halvings", "linear", "newton"});
   SolverSettings settings;
   settings.mark = mark(node);
   if (auto dt = map.get("dt")) {
@@ -30,6 +38,31 @@ SolverSettings Parser::solver(const YAML::Node& node) const {
   }
   if (auto tol = map.get("tol_position")) {
     settings.tol_position = positive(*tol, "solver.tol_position");
+  }
+  if (auto linear = map.get("linear")) {
+    const std::string name = string(*linear, "solver.linear");
+    bool known = false;
+    for (LinearSolverKind kind :
+         {LinearSolverKind::klu, LinearSolverKind::umfpack, LinearSolverKind::dense}) {
+      if (name != to_string(kind)) continue;
+      settings.linear = kind;
+      known = true;
+    }
+    if (!known)
+      fail(
+          *linear, "solver.linear",
+          "expected one of: klu, umfpack, dense (the tangent's linear solver), got '" + name + "'");
+  }
+  if (auto newton = map.get("newton")) {
+    const std::string name = string(*newton, "solver.newton");
+    if (name == "full") {
+      settings.newton = NewtonKind::full;
+    } else if (name == "modified") {
+      settings.newton = NewtonKind::modified;
+    } else {
+      fail(*newton, "solver.newton",
+           "expected full or modified (Newton that keeps its factorization), got '" + name + "'");
+    }
   }
   return settings;
 }

@@ -1,8 +1,10 @@
 // The linear solver of the shared Newton step, behind a small interface (as
 // SUNDIALS separates its linear solvers from the nonlinear one): the Newton
 // loop hands it the tangent's values in the run's fixed sparsity pattern and
-// right-hand sides; it owns the factorization. KLU is the one shipped
-// (klu_solver.hpp).
+// right-hand sides; it owns the factorization. Three are shipped: KLU
+// (klu_solver.hpp, the default), UMFPACK (umfpack_solver.hpp) and dense LU
+// (dense_lu_solver.hpp, for small systems); the model file chooses one
+// (`solver: {linear: ...}`).
 #pragma once
 
 #include <memory>
@@ -23,7 +25,12 @@ class LinearSolver {
   virtual const std::string& error() const = 0;
 };
 
-// The shipped solver for `pattern`: KLU (analysed once here).
-std::unique_ptr<LinearSolver> make_linear_solver(const SparsePattern& pattern);
+enum class LinearSolverKind { klu, umfpack, dense };
+// "klu", "umfpack", "dense": the names the model file uses.
+const char* to_string(LinearSolverKind kind);
+
+// The shipped solver of that kind for `pattern` (its symbolic analysis done here).
+std::unique_ptr<LinearSolver> make_linear_solver(const SparsePattern& pattern,
+                                                 LinearSolverKind kind = LinearSolverKind::klu);
 
 }  // namespace mh

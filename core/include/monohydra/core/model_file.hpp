@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "monohydra/core/input_error.hpp"
+#include "monohydra/core/linear_solver.hpp"
 #include "monohydra/core/model.hpp"
 
 namespace mh {
@@ -57,14 +58,32 @@ struct ComponentChoice {
   SourceMark mark;
 };
 
+// How Newton treats its tangent: `full` assembles and factors it at every
+// iteration; `modified` keeps the factorization across iterations and steps
+// while the iteration contracts fast enough (newton_solve.cpp).
+enum class NewtonKind { full, modified };
+const char* to_string(NewtonKind kind);  // "full", "modified"
+
 struct SolverSettings {
   double dt = 1e-3;            // s
   double t_end = 10.0;         // s
   int max_iterations = 25;     // Newton iterations per step before giving up
   int max_step_halvings = 0;   // a failed step is retried as two halves, this deep at most
   double tol_position = 1e-7;  // rad or m: Newton increment tolerance on coordinates
+  LinearSolverKind linear = LinearSolverKind::klu;  // the tangent's linear solver
+  NewtonKind newton = NewtonKind::full;
   SourceMark mark;
   SourceMark dt_mark, t_end_mark;  // where the file writes them (line 0: it does not)
+};
+
+// output: which result columns a run writes, and how often (the command
+// line's --output-interval overrides the interval). Checked against the run's
+// columns and time step when the run is set up (csv_layout.hpp).
+struct OutputSettings {
+  double interval = 0.0;             // s: rows at multiples of it only; 0: every step
+  std::vector<std::string> columns;  // in this order; empty: every column
+  std::vector<SourceMark> column_marks;
+  SourceMark mark, interval_mark;
 };
 
 struct ModelFile {
@@ -76,6 +95,7 @@ struct ModelFile {
   ComponentChoice formulation{"open-loop", {}, {}};
   ComponentChoice integrator{"trapezoidal", {}, {}};
   SolverSettings solver;
+  OutputSettings output;
   // compare/formulations and compare/integrators: what `compare` runs by default.
   std::vector<std::string> compare_formulations, compare_integrators;
   std::vector<std::string> plugin_paths;  // absolute, resolved against the file's folder

@@ -8,6 +8,7 @@
 #include <ostream>
 #include <string>
 
+#include "monohydra/core/csv_layout.hpp"
 #include "monohydra/core/simulation.hpp"
 
 namespace mh {
@@ -32,6 +33,15 @@ struct RunSummary {
   long iterations = 0;     // Newton iterations, all steps
   int max_iterations = 0;  // in one step
   long retries = 0;        // halvings of failed steps (solver.max_step_halvings)
+  long tangents = 0;       // tangents assembled and factored, all steps
+  long rows = 0;           // CSV rows written (the header not counted)
+  // Real-time mode only: steps whose result came after their wall-clock
+  // deadline, by how much (s), and steps accepted before Newton converged.
+  bool real_time = false;
+  long deadlines_missed = 0;
+  double max_late = 0.0, total_late = 0.0;
+  long unconverged_steps = 0;
+  double max_unconverged = 0.0;  // max_i |dx_i| / tol_i of the worst such step
   double max_abs_drift = 0.0;
   double max_phi_norm = 0.0;
   double wall_seconds = 0.0;
@@ -52,6 +62,14 @@ struct RunOptions {
   // Flush the CSV after every row: a process that dies (a plugin's segfault)
   // keeps every row it computed. Costs one write per row.
   bool flush_rows = false;
+  // The columns and interval of the rows; null: every column at every step.
+  const CsvLayout* layout = nullptr;
+  // Real-time mode: each step k -> k+1 starts no earlier than wall time
+  // t_k after the start and is due at t_{k+1}; Newton stops at
+  // `iteration_cap` iterations or that deadline and accepts the step as it
+  // stands. Results then depend on the machine; every other run is
+  // bit-identical from run to run. 0: off.
+  int real_time_cap = 0;
 };
 
 // start()s the simulation and steps it to settings().t_end. `csv` may be null.

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <chrono>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -35,8 +36,13 @@ using LogSink = std::function<void(mh_log_level, const std::string& source, cons
 
 // Per-step diagnostics of the Newton iteration.
 struct StepStats {
-  int iterations = 0;                   // linear solves this step (all its attempts)
-  int retries = 0;                      // halvings of the step (solver.max_step_halvings)
+  int iterations = 0;  // linear solves this step (all its attempts)
+  int retries = 0;     // halvings of the step (solver.max_step_halvings)
+  int tangents = 0;    // tangents assembled and factored (all its attempts)
+  // Real-time mode only: false when the step was accepted before Newton
+  // converged (its cap or its deadline came first), and its last increment.
+  bool converged = true;
+  double unconverged = 0.0;  // max_i |dx_i| / tol_i of the accepted iterate (0: converged)
   std::vector<double> increment_norms;  // max_i |dx_i| / tol_i after each solve
   std::vector<double> residual_norms;   // ||r||_inf at the predictor and after each solve
 };
@@ -76,6 +82,13 @@ class Simulation {
 
   void start();  // consistent initial state at t = 0
   void step();   // one step of dt; throws SimulationError, leaving the last accepted state
+
+  // Real-time mode (`monohydra run --real-time`), the one mode whose results
+  // depend on the machine: Newton stops after `iteration_cap` iterations or
+  // at the step's wall-clock deadline, whichever comes first, and the step is
+  // accepted unconverged (StepStats::converged) instead of failing. 0: off.
+  void set_real_time(int iteration_cap);
+  void set_step_deadline(std::chrono::steady_clock::time_point deadline);
 
   double time() const;
   long step_index() const;

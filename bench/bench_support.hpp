@@ -1,0 +1,76 @@
+// What the benchmarks share: the build's plugins, the shipped models, generated
+// chains and trees, and the counters every run reports. Names are
+// slash-separated fields (kind/model/formulation/integrator/linear/newton or
+// kind/linear/newton/N) that bench/performance.py reads back.
+#pragma once
+
+#include <benchmark/benchmark.h>
+
+#include <memory>
+#include <string>
+
+#include "monohydra/core/model_file.hpp"
+#include "monohydra/core/plugin_registry.hpp"
+#include "monohydra/core/run.hpp"
+#include "monohydra/core/simulation.hpp"
+
+namespace mh::bench {
+
+inline const PluginRegistry& plugins() {
+  static const std::unique_ptr<PluginRegistry> r = [] {
+    auto p = std::make_unique<PluginRegistry>();
+    p->scan({MH_PLUGIN_DIR});
+    return p;
+  }();
+  return *r;
+}
+
+inline ModelFile shipped_model(const std::string& name) {
+  return load_model_file(std::string(MH_SOURCE_DIR) + "/models/" + name);
+}
+
+// A body of the generated mechanisms: a 0.1 m, 1 kg beam hinged about z.
+inline std::string beam(const std::string& name, const std::string& parent, double at,
+                        double z0_deg) {
+  return "  - name: " + name + "\n    parent: " + parent + "\n    joint: {type: revolute, at: [" +
+         std::to_string(at) + ", 0, 0], axis: [0, 0, 1]}\n    mass: 1\n" +
+         "    shape: {type: beam, length: 0.1}\n    z0: " + std::to_string(z0_deg) + "\n";
+}
+
+inline const char* kHeader = "units: {length: m, mass: kg, time: s, angle: deg}\nbodies:\n";
+inline const char* kFooter = "formulation: open-loop\nsolver: {dt: 0.001, t_end: 1}\n";
+
+// An open chain of n beams, each hinged at the previous one's tip.
+inline std::string chain(int n) {
+  std::string text = kHeader;
+  for (int j = 0; j < n; ++j)
+    text += beam("b" + std::to_string(j), j == 0 ? "ground" : "b" + std::to_string(j - 1),
+                 j == 0 ? 0.0 : 0.1, 1.0);
+  return text + kFooter;
+}
+
+// A tree of bounded depth: one base beam on the ground and `arms` arms of two
+// beams each hinged at its tip, spread around it: 1 + 2 arms bodies, depth 3
+// whatever their number.
+inline std::string tree(int arms) {
+  std::string text = kHeader;
+  text += beam("base", "ground", 0.0, 1.0);
+  for (int a = 0; a < arms; ++a) {
+    const std::string id = std::to_string(a);
+    text += beam("a" + id, "base", 0.1, 360.0 * a / arms);
+    text += beam("c" + id, "a" + id, 0.1, 10.0);
+  }
+  return text + kFooter;
+}
+
+// Per-step counters of a run of `steps` steps in all the benchmark's iterations.
+inline void step_counters(benchmark::State& state, double steps, double iterations,
+                          double tangents) {
+  state.counters["steps"] = steps / static_cast<double>(state.iterations());
+  state.counters["us_per_step"] =
+      benchmark::Counter(steps * 1e-6, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["its_per_step"] = iterations / steps;
+  state.counters["tangents_per_step"] = tangents / steps;
+}
+
+}  // namespace mh::bench

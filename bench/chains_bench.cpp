@@ -1,0 +1,65 @@
+// One step of generated mechanisms as they grow: the open chain of N beams
+// (targets: 150 us per step at N = 64, 5 ms at N = 256) and a tree of
+// bounded depth (one base, N/2 arms of two beams; target: linear in N), with
+// every linear solver and modified Newton. A new simulation starts every
+// simulated second (untimed), so every N is measured over the same motion.
+#include <memory>
+
+#include "bench_support.hpp"
+
+namespace mh::bench {
+namespace {
+
+void step_model(benchmark::State& state, const std::string& text, LinearSolverKind linear,
+                NewtonKind newton) {
+  ModelFile file = parse_model_text(text, "generated.yaml");
+  file.solver.linear = linear;
+  file.solver.newton = newton;
+  auto sim = std::make_unique<Simulation>(file, plugins());
+  sim->start();
+  double steps = 0, iterations = 0, tangents = 0;
+  for (auto _ : state) {
+    if (sim->time() >= 1.0 - 1e-9) {  // a new run (untimed): the same motion again
+      state.PauseTiming();
+      sim = std::make_unique<Simulation>(file, plugins());
+      sim->start();
+      state.ResumeTiming();
+    }
+    try {
+      sim->step();
+    } catch (const std::exception& e) {  // a failed step ends the benchmark, said
+      state.SkipWithError(e.what());
+      break;
+    }
+    steps += 1;
+    iterations += sim->last_step().iterations;
+    tangents += sim->last_step().tangents;
+  }
+  step_counters(state, steps, iterations, tangents);
+}
+
+void add(const std::string& kind, int n, LinearSolverKind linear, NewtonKind newton) {
+  const std::string name =
+      kind + "/" + to_string(linear) + "/" + to_string(newton) + "/" + std::to_string(n);
+  // Bodies: n for the chain; 1 + 2 arms for the tree (n odd).
+  const std::string text = kind == "chain" ? chain(n) : tree((n - 1) / 2);
+  benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& s) {
+    step_model(s, text, linear, newton);
+  })->Unit(benchmark::kMicrosecond);
+}
+
+const int registered = [] {
+  for (NewtonKind newton : {NewtonKind::full, NewtonKind::modified})
+    for (LinearSolverKind linear :
+         {LinearSolverKind::klu, LinearSolverKind::umfpack, LinearSolverKind::dense}) {
+      const bool main = linear == LinearSolverKind::klu;  // the default solver to N = 256
+      for (int n : {2, 4, 8, 16, 32, 64, 128, 256})
+        if (main || n <= 64) add("chain", n, linear, newton);
+      for (int n : {5, 9, 17, 33, 65, 129})
+        if (main || n <= 33) add("tree", n, linear, newton);
+    }
+  return 0;
+}();
+
+}  // namespace
+}  // namespace mh::bench

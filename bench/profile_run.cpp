@@ -1,0 +1,55 @@
+// One run for a profile (bench/performance.py runs it under valgrind
+// --tool=callgrind): a shipped model, or a generated chain or tree, for a
+// given simulated time, writing its CSV to /dev/null every step, every 10 ms
+// or not at all.
+//   mh_profile MODEL.yaml|chain:N|tree:N FORMULATION T_END [none|every-step|10ms]
+//              [full|modified]
+#include <fstream>
+#include <iostream>
+#include <optional>
+#include <string>
+
+#include "bench_support.hpp"
+#include "monohydra/core/csv_layout.hpp"
+
+int main(int argc, char** argv) {
+  using namespace mh;
+  if (argc < 4 || argc > 6) {
+    std::cerr << "usage: mh_profile MODEL.yaml|chain:N|tree:N FORMULATION T_END "
+                 "[none|every-step|10ms] [full|modified]\n";
+    return 2;
+  }
+  try {
+    const std::string what = argv[1];
+    const std::string output = argc >= 5 ? argv[4] : "none";
+    const std::string newton = argc >= 6 ? argv[5] : "full";
+    if (newton != "full" && newton != "modified")
+      throw std::runtime_error("newton: expected full or modified, got '" + newton + "'");
+    if (output != "none" && output != "every-step" && output != "10ms")
+      throw std::runtime_error("output: expected none, every-step or 10ms, got '" + output + "'");
+    ModelFile file;
+    if (what.rfind("chain:", 0) == 0)
+      file = parse_model_text(bench::chain(std::stoi(what.substr(6))), what);
+    else if (what.rfind("tree:", 0) == 0)
+      file = parse_model_text(bench::tree((std::stoi(what.substr(5)) - 1) / 2), what);
+    else
+      file = bench::shipped_model(what);
+    file.solver.newton = newton == "modified" ? NewtonKind::modified : NewtonKind::full;
+    Simulation sim(file, bench::plugins(), RunChoices{argv[2], "", {}, std::stod(argv[3])});
+    const CsvLayout layout(sim, OutputSettings{},
+                           output == "10ms" ? std::optional<double>(0.01) : std::nullopt);
+    std::ofstream csv("/dev/null");
+    RunOptions options;
+    options.layout = &layout;
+    const RunSummary s = run(sim, output == "none" ? nullptr : &csv, options);
+    std::cout << s.steps << " steps, " << s.iterations << " Newton iterations\n";
+    if (s.failed) {
+      std::cerr << "mh_profile: " << s.failure << '\n';
+      return 1;
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "mh_profile: " << e.what() << '\n';
+    return 2;
+  }
+  return 0;
+}

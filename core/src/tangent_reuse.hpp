@@ -1,0 +1,118 @@
+// Modified Newton (solver.newton: modified): when the Newton loop
+// (newton_solve.cpp) must assemble and factor the tangent anew, and when the
+// factorization of an earlier iteration or step may serve. Full Newton
+// factors at every iteration. The convergence test stays the increment's
+// (|dx_i| <= tol_i): an iteration that contracts at rate theta leaves an error
+// of at most theta / (1 - theta) |dx|, so a factorization is kept only while
+// theta <= 1/2, where that bound is |dx| itself.
+#pragma once
+
+#include <cmath>
+
+#include "monohydra/integrator.h"
+
+namespace mh {
+
+class TangentReuse {
+ public:
+  // Rate of contraction |dx_k| / |dx_k-1| above which the tangent is refreshed.
+  static constexpr double kMaxRate = 0.5;
+  // Iterations of one step on one factorization before it is refreshed.
+  static constexpr int kMaxIterationsPerTangent = 4;
+
+  void enable(bool modified) { modified_ = modified; }
+
+  // Before an iteration: must the tangent be assembled and factored? Always
+  // for full Newton; for modified Newton when there is no factorization, the
+  // step's map coefficients (dt, the integrator's method) differ from those it
+  // was made at, or the last increments asked for it.
+  bool needs_tangent(const mh_step_coefficients& c) const {
+    return !modified_ || full_step_ || !valid_ || refresh_ ||
+           changed(c.dxd_dx_second, at_.dxd_dx_second) ||
+           changed(c.dxdd_dx_second, at_.dxdd_dx_second) ||
+           changed(c.dxd_dx_first, at_.dxd_dx_first);
+  }
+  void factored(const mh_step_coefficients& c) {
+    at_ = c;
+    valid_ = true;
+    refresh_ = false;
+    fresh_ = true;
+    on_this_tangent_ = 0;
+    ++factorizations_;
+  }
+  void begin_step() {
+    previous_ = -1.0;
+    on_this_tangent_ = 0;
+    stale_used_ = false;
+    full_step_ = retry_full_;
+    retry_full_ = false;
+  }
+  // A step that failed on a kept factorization: may it be tried again from
+  // its prediction with a fresh tangent at every iteration (full Newton)?
+  // Then the next begin_step() starts that attempt.
+  bool retry_with_full_newton() {
+    if (!modified_ || !stale_used_) return false;
+    retry_full_ = true;
+    invalidate();
+    return true;
+  }
+  // The increment came from a kept factorization and grew: the iteration
+  // diverges; the caller undoes it and the next iteration factors anew.
+  bool diverging() const { return !last_fresh_ && previous_increase_; }
+  // After an iteration's increment, as max_i |dx_i| / tol_i.
+  void increment(double worst) {
+    ++on_this_tangent_;
+    last_fresh_ = fresh_;
+    if (!fresh_) stale_used_ = true;
+    fresh_ = false;
+    previous_increase_ = previous_ > 0.0 && worst > previous_;
+    if (previous_increase_ && !last_fresh_) refresh_ = true;  // diverging(): factor anew
+    if (previous_ > 0.0) {
+      rate_ = worst / previous_;
+      // A slow rate matters while the iteration has yet to converge; once the
+      // increments are within tolerance, converged() weighs it.
+      if (rate_ > kMaxRate && worst > 1.0) refresh_ = true;
+    }
+    if (on_this_tangent_ >= kMaxIterationsPerTangent) refresh_ = true;
+    previous_ = worst;
+  }
+  // Converged: the increment within tolerance and, when it came from a kept
+  // factorization, the error bound theta / (1 - theta) |dx| too (theta: the
+  // latest rate measured, of this step or an earlier one).
+  bool converged(double worst) const {
+    if (!(worst <= 1.0)) return false;
+    if (!modified_ || last_fresh_ || rate_ <= kMaxRate) return true;
+    return rate_ < 1.0 && rate_ / (1.0 - rate_) * worst <= 1.0;
+  }
+  // A failed step, a restarted integrator, a redefined x: the next iteration
+  // factors anew.
+  void invalidate() {
+    valid_ = false;
+    rate_ = 0.0;
+  }
+  long factorizations() const { return factorizations_; }
+
+ private:
+  // The step h = t_{k+1} - t_k carries round-off from step to step (t = k
+  // dt): coefficients within 1e-9 of each other are the same step size.
+  static bool changed(double now, double then) {
+    return !(std::abs(now - then) <= 1e-9 * std::abs(then));
+  }
+
+  bool modified_ = false;
+  bool valid_ = false;
+  bool refresh_ = false;
+  bool full_step_ = false;          // this step factors at every iteration (a retry)
+  bool retry_full_ = false;         // the next step is such a retry
+  bool stale_used_ = false;         // an increment of this step came from a kept factorization
+  bool previous_increase_ = false;  // the last increment was larger than the one before
+  bool fresh_ = false;              // the next increment comes from a new factorization
+  bool last_fresh_ = false;         // the last increment came from a new factorization
+  int on_this_tangent_ = 0;         // iterations of this step on the current factorization
+  double previous_ = -1.0;          // the last increment of this step
+  double rate_ = 0.0;               // the latest contraction rate measured
+  mh_step_coefficients at_{};       // the map's coefficients at the factorization
+  long factorizations_ = 0;
+};
+
+}  // namespace mh
