@@ -1,0 +1,162 @@
+// The excavator (models/excavator.yaml, docs/machines.md) end to end: a 3D
+// machine with ten coordinates, three loops closed by spherical cut joints
+// out of the boom plane, five cylinders on four valves fed by one pump. The
+// digging part of the cycle (dig, lift and swing: up to four levers at once)
+// runs with both formulations; the whole 22 s cycle once, with double-step.
+#include <gtest/gtest.h>
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "monohydra/core/simulation.hpp"
+#include "test_support.hpp"
+
+namespace mh {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDigEnd = 8.0;  // s: dig (1-5 s), boom up from 5 s, swing from 6.5 s
+const char* const kPressures[] = {"p_supply",   "p_boom_a",   "p_boom_b", "p_arm_a", "p_arm_b",
+                                  "p_bucket_a", "p_bucket_b", "p_slew_a", "p_slew_b"};
+
+std::string model_text() {
+  std::ifstream in(test::source_path("models/excavator.yaml"));
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// The model with every valve's reference replaced by `reference`.
+ModelFile model_with_references(const std::string& reference) {
+  const std::string text = std::regex_replace(
+      model_text(), std::regex("reference: \\[\\[[^\\n]*\\]\\]"), "reference: " + reference);
+  return parse_model_text(text, "excavator (edited)", test::source_path("models"));
+}
+
+struct CycleRun {
+  std::vector<Eigen::VectorXd> z, p;  // every step, t = 0 first
+  Eigen::VectorXd z0;
+  double max_drift = 0.0, max_work = 0.0, max_phi = 0.0;
+  double t_end = 0.0;
+};
+
+CycleRun run_cycle(const ModelFile& file, const std::string& formulation, double t_end) {
+  Simulation sim(file, test::build_plugins(), RunChoices{formulation, "", 1e-3, t_end});
+  sim.start();
+  std::vector<int> cols;
+  for (const char* name : kPressures) {
+    cols.push_back(sim.state_index(name));
+    EXPECT_GE(cols.back(), 0) << name;
+  }
+  const auto pressures = [&] {
+    Eigen::VectorXd p(static_cast<Eigen::Index>(cols.size()));
+    for (size_t i = 0; i < cols.size(); ++i)
+      p[static_cast<Eigen::Index>(i)] = sim.states()[cols[i]];
+    return p;
+  };
+  CycleRun r;
+  r.z0 = sim.z();
+  r.z.push_back(sim.z());
+  r.p.push_back(pressures());
+  const long steps = std::lround(t_end / 1e-3);
+  for (long k = 1; k <= steps; ++k) {
+    sim.step();
+    r.z.push_back(sim.z());
+    r.p.push_back(pressures());
+    r.max_drift = std::max(r.max_drift, std::abs(sim.drift()));
+    r.max_work = std::max(r.max_work, std::abs(sim.work()));
+    r.max_phi = std::max(r.max_phi, sim.phi_norm());
+  }
+  r.t_end = sim.time();
+  return r;
+}
+
+// The digging part of the cycle, run once per process and formulation.
+const CycleRun& dig(const std::string& formulation) {
+  static std::map<std::string, CycleRun> runs;
+  auto it = runs.find(formulation);
+  if (it == runs.end())
+    it = runs.emplace(formulation,
+                      run_cycle(load_model_file(test::source_path("models/excavator.yaml")),
+                                formulation, kDigEnd))
+             .first;
+  return it->second;
+}
+
+double max_difference(const std::vector<Eigen::VectorXd>& a,
+                      const std::vector<Eigen::VectorXd>& b) {
+  double d = 0.0;
+  for (size_t i = 0; i < std::min(a.size(), b.size()); ++i)
+    d = std::max(d, (a[i] - b[i]).lpNorm<Eigen::Infinity>());
+  return d;
+}
+
+TEST(Excavator, DigAndLiftMovesBoomArmBucketAndSlewTogether) {
+  const CycleRun& ds = dig("double-step");
+  const Eigen::VectorXd moved = (ds.z.back() - ds.z0).cwiseAbs();
+  EXPECT_GT(moved[0], 10.0 * kPi / 180.0);  // slew
+  EXPECT_GT(moved[1], 10.0 * kPi / 180.0);  // boom
+  EXPECT_GT(moved[2], 30.0 * kPi / 180.0);  // arm
+  EXPECT_GT(moved[3], 20.0 * kPi / 180.0);  // bucket
+}
+
+TEST(Excavator, DoubleStepAndPenaltyAgreeToTenMicroradiansAndTenKilopascals) {
+  const CycleRun& ds = dig("double-step");
+  const CycleRun& pen = dig("penalty");
+  ASSERT_EQ(ds.z.size(), pen.z.size());
+  const double dz = max_difference(ds.z, pen.z), dp = max_difference(ds.p, pen.p);
+  std::printf("max |z_ds - z_pen| = %.3e rad, max |p_ds - p_pen| = %.3e Pa over %.0f s\n", dz, dp,
+              kDigEnd);
+  EXPECT_LT(dz, 1e-5);
+  EXPECT_LT(dp, 1e4);
+}
+
+TEST(Excavator, MechanicalEnergyBalanceClosesToATenThousandthOfTheActuatorWork) {
+  for (const char* formulation : {"double-step", "penalty"}) {
+    const CycleRun& r = dig(formulation);
+    std::printf("%s: max |drift| = %.3e J, max |W| = %.3e J\n", formulation, r.max_drift,
+                r.max_work);
+    EXPECT_GT(r.max_work, 1e4) << formulation;  // the cylinders really work
+    EXPECT_LT(r.max_drift, 1e-4 * r.max_work) << formulation;
+  }
+}
+
+TEST(Excavator, DoubleStepHoldsTheCutJointsToATenBillionth) {
+  EXPECT_LT(dig("double-step").max_phi, 1e-10);
+}
+
+TEST(Excavator, TheWholeDiggingCycleRunsWithDoubleStep) {
+  const ModelFile file = load_model_file(test::source_path("models/excavator.yaml"));
+  ASSERT_GE(file.solver.t_end, 20.0);
+  const CycleRun r = run_cycle(file, "double-step", file.solver.t_end);
+  EXPECT_NEAR(r.t_end, file.solver.t_end, 1e-9);
+  EXPECT_LT(r.max_phi, 1e-10);
+  EXPECT_LT(r.max_drift, 1e-4 * r.max_work);
+  // Swung to the truck (more than 40 deg) and back.
+  double slew_max = 0.0;
+  for (const auto& z : r.z) slew_max = std::max(slew_max, z[0]);
+  EXPECT_GT(slew_max, 40.0 * kPi / 180.0);
+  EXPECT_LT(std::abs(r.z.back()[0]), 10.0 * kPi / 180.0);
+}
+
+TEST(Excavator, HeldStillWithTheValvesClosedItDoesNotDrift) {
+  for (const char* formulation : {"double-step", "penalty"}) {
+    const CycleRun r = run_cycle(model_with_references("[[0, 0]]"), formulation, 2.0);
+    double drift = 0.0;
+    for (const auto& z : r.z) drift = std::max(drift, (z - r.z0).lpNorm<Eigen::Infinity>());
+    std::printf("%s: max |z - z0| over 2 s = %.3e\n", formulation, drift);
+    EXPECT_LT(drift, 1e-9) << formulation;
+  }
+}
+
+}  // namespace
+}  // namespace mh
