@@ -158,5 +158,67 @@ TEST(Excavator, HeldStillWithTheValvesClosedItDoesNotDrift) {
   }
 }
 
+// Eq. 26's g: the orifice law with its laminar region below p_tr = 2 bar.
+double orifice(double dp) {
+  constexpr double kTransition = 2e5;
+  if (std::abs(dp) >= kTransition) return std::copysign(std::sqrt(std::abs(dp)), dp);
+  return std::sqrt(kTransition) * dp / kTransition;
+}
+
+// The supply line's balance at every step of the digging cycle: what the pump
+// delivers leaves through the valves to the actuators (Eq. 26 from the valves'
+// states and options as the file gives them), through the relief, or is
+// stored by compressing the supply hose (Eq. 23).
+TEST(Excavator, PumpFlowIsTheActuatorFlowsPlusReliefPlusCompressibility) {
+  const ModelFile file = load_model_file(test::source_path("models/excavator.yaml"));
+  Simulation sim(file, test::build_plugins(), RunChoices{"double-step", "", 1e-3, kDigEnd});
+  sim.start();
+  struct Valve {
+    double c;
+    int u, p, a, b;
+  };
+  std::vector<Valve> valves;
+  double capacitance = 0.0;
+  for (const SubsystemSpec& s : file.subsystems) {
+    if (s.type == "valve-4-3") {
+      valves.push_back({s.options.at("flow_coefficient").number, sim.state_index(s.name + ".U"),
+                        sim.state_index(s.ports.at("P").node),
+                        sim.state_index(s.ports.at("A").node),
+                        sim.state_index(s.ports.at("B").node)});
+      ASSERT_EQ(s.ports.at("P").node, "supply");
+    }
+    if (s.type == "volume" && s.ports.at("p").node == "supply")
+      capacitance +=
+          s.options.at("volume").number * (1.0 / s.options.at("fluid_bulk_modulus").number +
+                                           1.0 / s.options.at("bulk_modulus").number);
+  }
+  ASSERT_EQ(valves.size(), 4u);
+  ASSERT_GT(capacitance, 0.0);
+  const int supply = sim.state_index("supply");
+  const int pump = sim.output_index("Q_pump"), relief = sim.output_index("Q_relief");
+  ASSERT_GE(supply, 0);
+  ASSERT_GE(pump, 0);
+  ASSERT_GE(relief, 0);
+  double worst = 0.0, to_actuators = 0.0;
+  const long steps = std::lround(kDigEnd / 1e-3);
+  for (long k = 1; k <= steps; ++k) {
+    sim.step();
+    const Eigen::VectorXd& y = sim.states();
+    double actuators = 0.0;
+    for (const Valve& v : valves) {
+      const double u = y[v.u];
+      actuators += v.c * std::abs(u) * orifice(y[v.p] - y[u >= 0.0 ? v.a : v.b]);
+    }
+    const double q_pump = sim.outputs()[pump];
+    const double stored = capacitance * sim.state_rates()[supply];
+    worst = std::max(worst, std::abs(q_pump - actuators - sim.outputs()[relief] - stored) / q_pump);
+    to_actuators = std::max(to_actuators, actuators / q_pump);
+  }
+  std::printf("max |imbalance| / pump flow = %.3e; the actuators take up to %.0f %%\n", worst,
+              100.0 * to_actuators);
+  EXPECT_GT(to_actuators, 0.5);  // the levers really draw on the pump
+  EXPECT_LT(worst, 1e-6);
+}
+
 }  // namespace
 }  // namespace mh
