@@ -3,6 +3,7 @@
 // machine's main pump; its pressure is whatever the circuit, and the relief
 // valve protecting it, makes it):
 //   node row += -Q
+// and reports its hydraulic power P = p Q (W), p its node's pressure.
 // Unlike `pressure-source` it imposes no pressure, so a circuit fed by it
 // needs a relief valve or an open path to tank when every valve is closed.
 #include <cmath>
@@ -29,13 +30,16 @@ class FlowSource {
       return h->option_error(h, "flow", "a non-negative, finite flow (m^3/s)");
     if (add_hydraulic_port(h, "p", MH_PORT_FLOW, kNaN, kNaN, &p_) != MH_OK) return MH_ERROR;
     const mh_output_spec q = monohydra::output_spec("q", "m^3/s");
-    if (h->add_output(h, &q, &q_out_) != MH_OK) return MH_ERROR;
+    const mh_output_spec power = monohydra::output_spec("P", "W");
+    if (h->add_output(h, &q, &q_out_) != MH_OK || h->add_output(h, &power, &power_out_) != MH_OK)
+      return MH_ERROR;
     return MH_OK;
   }
 
   mh_status evaluate(const mh_subsystem_eval& eval) const {
     eval.residual[p_] -= flow_;
     eval.outputs[q_out_] = flow_;
+    eval.outputs[power_out_] = eval.y[p_] * flow_;
     return MH_OK;
   }
 
@@ -45,7 +49,7 @@ class FlowSource {
  private:
   const mh_host* host_;
   double flow_ = 0.0;  // m^3/s
-  int32_t p_ = -1, q_out_ = -1;
+  int32_t p_ = -1, q_out_ = -1, power_out_ = -1;
 };
 
 const mh_component_descriptor FlowSource::kDescriptor{
@@ -55,7 +59,7 @@ const mh_component_descriptor FlowSource::kDescriptor{
     "monohydra",
     "1.0.0",
     "Delivers a constant flow into its node (port p) whatever its pressure. Options: flow "
-    "(m^3/s, >= 0). Output q (m^3/s), the delivered flow."};
+    "(m^3/s, >= 0). Outputs q (m^3/s), the delivered flow, and P (W), its hydraulic power p q."};
 
 }  // namespace
 
