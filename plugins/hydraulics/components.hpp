@@ -12,5 +12,7 @@ extern const monohydra::SubsystemComponent kVolume;          // volume.cpp
 extern const monohydra::SubsystemComponent kThrottle;        // throttle.cpp
 extern const monohydra::SubsystemComponent kValve43;         // valve_4_3.cpp
 extern const monohydra::SubsystemComponent kCylinder;        // cylinder.cpp
+extern const monohydra::SubsystemComponent kReliefValve;     // relief_valve.cpp
+extern const monohydra::SubsystemComponent kCheckValve;      // check_valve.cpp
 
 }  // namespace hyd
