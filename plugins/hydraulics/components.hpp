@@ -14,5 +14,6 @@ extern const monohydra::SubsystemComponent kValve43;         // valve_4_3.cpp
 extern const monohydra::SubsystemComponent kCylinder;        // cylinder.cpp
 extern const monohydra::SubsystemComponent kReliefValve;     // relief_valve.cpp
 extern const monohydra::SubsystemComponent kCheckValve;      // check_valve.cpp
+extern const monohydra::SubsystemComponent kHydraulicMotor;  // hydraulic_motor.cpp
 
 }  // namespace hyd

@@ -8,11 +8,14 @@
 //   F = p_A A2 - p_B A3 - F_mu                               (Eq. 29)
 //   F_mu = (1 - eta) |p_A A2 - p_B A3| tanh(sdot / v_s)      (the Decision on friction)
 // +F e on point b and -F e on point a, e the unit vector from a to b.
+// Optional (off by default): end stops at the stroke ends (end_stop.hpp).
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
 
 #include "components.hpp"
+#include "end_stop.hpp"
 #include "host_services.hpp"
 #include "touched_states.hpp"
 
@@ -79,7 +82,7 @@ class Cylinder {
     if (h->add_output(h, &s, &s_out_) != MH_OK || h->add_output(h, &sdot, &sdot_out_) != MH_OK ||
         h->add_output(h, &force, &force_out_) != MH_OK)
       return MH_ERROR;
-    return MH_OK;
+    return setup_end_stop();
   }
 
   mh_status evaluate(const mh_subsystem_eval& eval) const {
@@ -90,9 +93,10 @@ class Cylinder {
     eval.residual[p_a_] += a2_ * st.l2 * compliance_ * eval.ydot[p_a_] + a2_ * st.sdot;
     eval.residual[p_b_] += a3_ * st.l3 * compliance_ * eval.ydot[p_b_] - a3_ * st.sdot;
     const double force = p_a * a2_ - p_b * a3_ - friction(p_a, p_b, st.sdot);  // Eq. 29
+    const double pushed = end_stop_.on() ? force + stop_force(eval, st) : force;
     for (int i = 0; i < 3; ++i) {
-      eval.point_f[3 * point_a_ + i] -= force * st.e[i];
-      eval.point_f[3 * point_b_ + i] += force * st.e[i];
+      eval.point_f[3 * point_a_ + i] -= pushed * st.e[i];
+      eval.point_f[3 * point_b_ + i] += pushed * st.e[i];
     }
     eval.outputs[s_out_] = st.s;
     eval.outputs[sdot_out_] = st.sdot;
@@ -117,6 +121,12 @@ class Cylinder {
     if (!measure(eval, st)) return MH_ERROR;
     stored = 0.0;
     dissipation = friction(eval.y[p_a_], eval.y[p_b_], st.sdot) * st.sdot;
+    if (end_stop_.on()) {  // the stops' spring energy and damping
+      double stop_stored = 0.0, stop_dissipation = 0.0;
+      end_stop_.energy(st.s, st.sdot, stop_stored, stop_dissipation);
+      stored += stop_stored;
+      dissipation += stop_dissipation;
+    }
     return MH_OK;
   }
 
@@ -147,6 +157,10 @@ class Cylinder {
     }
     st.l2 = l2_0_ + (st.s - s0_);
     st.l3 = l3_0_ - (st.s - s0_);
+    if (end_stop_.on()) {  // past a stop the chamber is empty, not negative
+      st.l2 = std::max(st.l2, 0.0);
+      st.l3 = std::max(st.l3, 0.0);
+    }
     if (st.l2 < 0.0 || st.l3 < 0.0) {
       log_error(host_, "the stroke left the cylinder: actuator length s = " + fmt(st.s) +
                            " m is outside its range [s0 - l2_0, s0 + l3_0] = [" + fmt(s0_ - l2_0_) +
@@ -154,6 +168,43 @@ class Cylinder {
       return false;
     }
     return true;
+  }
+
+  // End stops (end_stop.hpp) from end_stop_stiffness (which turns them on),
+  // end_stop_damping and end_stop_depth, at the stroke ends s = l and s = 2 l
+  // (a chamber length 0); with them on, the cylinder also writes F_stop.
+  mh_status setup_end_stop() {
+    const mh_host* h = host_;
+    double k = kNaN, c = kNaN, depth = kNaN;
+    if (h->option_number(h, "end_stop_stiffness", 0, kNaN, &k) != MH_OK ||
+        h->option_number(h, "end_stop_damping", 0, kNaN, &c) != MH_OK ||
+        h->option_number(h, "end_stop_depth", 0, kNaN, &depth) != MH_OK)
+      return MH_ERROR;
+    if (std::isnan(k)) {
+      if (!std::isnan(c))
+        return h->option_error(h, "end_stop_damping",
+                               "end_stop_stiffness beside it (the stops are off without it)");
+      if (!std::isnan(depth))
+        return h->option_error(h, "end_stop_depth",
+                               "end_stop_stiffness beside it (the stops are off without it)");
+      return MH_OK;
+    }
+    if (!(k > 0.0)) return h->option_error(h, "end_stop_stiffness", "a positive stiffness (N/m)");
+    if (std::isnan(c)) c = 0.0;
+    if (!(c >= 0.0))
+      return h->option_error(h, "end_stop_damping", "a non-negative damping (N s/m)");
+    if (std::isnan(depth)) depth = 1e-3;
+    if (!(depth > 0.0))
+      return h->option_error(h, "end_stop_depth",
+                             "a positive depth (m) over which the stop's damping comes in");
+    end_stop_ = EndStop(s0_ - l2_0_, s0_ + l3_0_, k, c, depth);
+    const mh_output_spec f = monohydra::output_spec("F_stop", "N");
+    return h->add_output(h, &f, &stop_out_);
+  }
+  double stop_force(const mh_subsystem_eval& eval, const State& st) const {
+    const double f = end_stop_.force(st.s, st.sdot);
+    eval.outputs[stop_out_] = f;
+    return f;
   }
 
   double friction(double p_a, double p_b, double sdot) const {
@@ -167,6 +218,8 @@ class Cylinder {
   double s0_ = 0.0, l2_0_ = 0.0, l3_0_ = 0.0;
   int32_t point_a_ = 0, point_b_ = 1;
   int32_t p_a_ = -1, p_b_ = -1, s_out_ = -1, sdot_out_ = -1, force_out_ = -1;
+  EndStop end_stop_;  // off unless end_stop_stiffness is given
+  int32_t stop_out_ = -1;
   TouchedStates states_;
 };
 
@@ -180,8 +233,9 @@ const mh_component_descriptor Cylinder::kDescriptor{
     "Force p_A A2 - p_B A3 - F_mu pushes a and b apart (Eq. 29); chambers A2 l2 and A3 l3 store "
     "fluid, the piston displaces A2 sdot and A3 sdot (Eq. 28). Options: piston_diameter (m), "
     "rod_diameter (m), length (m), chamber_bulk_modulus (Pa), fluid_bulk_modulus (Pa), "
-    "efficiency (0..1], friction_velocity (m/s, default 0.01). Outputs s (m), sdot (m/s), "
-    "Fs (N)."};
+    "efficiency (0..1], friction_velocity (m/s, default 0.01); end stops (off by default): "
+    "end_stop_stiffness (N/m), end_stop_damping (N s/m, default 0), end_stop_depth (m, default "
+    "1e-3). Outputs s (m), sdot (m/s), Fs (N), and F_stop (N) with end stops."};
 
 }  // namespace
 

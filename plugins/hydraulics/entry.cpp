@@ -3,4 +3,5 @@
 #include "components.hpp"
 
 MONOHYDRA_SUBSYSTEM_PLUGIN(hyd::kPressureSource, hyd::kVolume, hyd::kThrottle, hyd::kValve43,
-                           hyd::kCylinder, hyd::kReliefValve, hyd::kCheckValve, hyd::kFlowSource);
+                           hyd::kCylinder, hyd::kReliefValve, hyd::kCheckValve,
+                           hyd::kHydraulicMotor, hyd::kFlowSource);

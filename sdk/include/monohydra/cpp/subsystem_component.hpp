@@ -19,6 +19,8 @@
 //   mh_status jacobian(const mh_subsystem_eval& eval, double* d_dy, double* d_dydot);
 //   mh_status energy(const mh_subsystem_eval& eval, double& stored, double& dissipation);
 //   mh_status accept(const mh_subsystem_eval& eval);
+//   mh_status point_force_jacobian(const mh_subsystem_eval& eval, double* dF_dp,
+//                                  double* dF_dv);             // ABI 2.1
 //   const void* extension(const char* id);                // NULL if not supported
 //
 // setup declares states and outputs with the spec structs of host.h
@@ -81,6 +83,14 @@ struct HasAccept<
     : std::true_type {};
 
 template <class T, class = void>
+struct HasPointForceJacobian : std::false_type {};
+template <class T>
+struct HasPointForceJacobian<T, std::void_t<decltype(std::declval<T&>().point_force_jacobian(
+                                    std::declval<const mh_subsystem_eval&>(),
+                                    std::declval<double*>(), std::declval<double*>()))>>
+    : std::true_type {};
+
+template <class T, class = void>
 struct HasExtension : std::false_type {};
 template <class T>
 struct HasExtension<
@@ -125,6 +135,7 @@ class SubsystemAdapter {
     api.accept = accept_op();
     api.destroy = destroy;
     api.get_extension = get_extension;
+    api.point_force_jacobian = point_force_jacobian_op();
     return &instance.release()->api;
   }
 
@@ -177,6 +188,18 @@ class SubsystemAdapter {
       return [](const mh_subsystem* s, const mh_subsystem_eval* eval) noexcept {
         Instance& i = self(s);
         return guarded(i.host, "accept", [&] { return i.object->accept(*eval); });
+      };
+    } else {
+      return nullptr;
+    }
+  }
+  static JacobianOp point_force_jacobian_op() {
+    if constexpr (detail::HasPointForceJacobian<T>::value) {
+      return [](const mh_subsystem* s, const mh_subsystem_eval* eval, double* dF_dp,
+                double* dF_dv) noexcept {
+        Instance& i = self(s);
+        return guarded(i.host, "point_force_jacobian",
+                       [&] { return i.object->point_force_jacobian(*eval, dF_dp, dF_dv); });
       };
     } else {
       return nullptr;
