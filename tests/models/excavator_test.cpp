@@ -35,10 +35,17 @@ std::string model_text() {
   return text.str();
 }
 
-// The model with every valve's reference replaced by `reference`.
-ModelFile model_with_references(const std::string& reference) {
-  const std::string text = std::regex_replace(
-      model_text(), std::regex("reference: \\[\\[[^\\n]*\\]\\]"), "reference: " + reference);
+// The model with every valve's reference replaced by `reference`, but
+// `valve`'s by `valve_reference`.
+ModelFile model_with_references(const std::string& reference, const std::string& valve = "",
+                                const std::string& valve_reference = "") {
+  std::string text = model_text();
+  if (!valve.empty()) {
+    const size_t at = text.find("reference: ", text.find("name: " + valve));
+    text.replace(at, text.find('\n', at) - at, "reference: " + valve_reference + " # edited");
+  }
+  text = std::regex_replace(text, std::regex("reference: \\[\\[[^\\n]*\\]\\]\\n"),
+                            "reference: " + reference + "\n");
   return parse_model_text(text, "excavator (edited)", test::source_path("models"));
 }
 
@@ -227,6 +234,64 @@ TEST(Excavator, PumpFlowIsTheActuatorFlowsPlusReliefPlusCompressibility) {
               100.0 * to_actuators);
   EXPECT_GT(to_actuators, 0.5);  // the levers really draw on the pump
   EXPECT_LT(worst, 1e-6);
+}
+
+// The boom lowered at full lever onto its cylinders' lower end stops (s = l =
+// 1.4 m), the lever held: the run goes on, the stops hold the boom, and the
+// supply, dead-headed on the stalled rod sides, rises until the relief valve
+// opens, at its set pressure.
+TEST(Excavator, ABoomLoweredOntoItsEndStopsRunsOnAndTheReliefOpensAtItsSetPressure) {
+  const ModelFile file =
+      model_with_references("[[0, 0]]", "valve_boom", "[[0, 0], [0.5, 0], [0.8, -10]]");
+  double cracking = 0.0, override_pressure = 0.0, l = 0.0;
+  for (const SubsystemSpec& s : file.subsystems) {
+    if (s.type == "relief-valve") {
+      cracking = s.options.at("cracking_pressure").number;
+      override_pressure = s.options.at("override_pressure").number;
+    }
+    if (s.name == "boom_cyl_l") l = s.options.at("length").number;
+  }
+  ASSERT_GT(cracking, 0.0);
+  Simulation sim(file, test::build_plugins(), RunChoices{"double-step", "", 1e-3, 6.0});
+  sim.start();
+  const int supply = sim.state_index("supply"), stroke = sim.output_index("s_boom_l");
+  const int stop = sim.output_index("boom_cyl_l.F_stop"), relief = sim.output_index("Q_relief");
+  ASSERT_GE(stop, 0);
+  ASSERT_GE(relief, 0);
+  const double p_tank = 1e5;
+  double t_contact = -1.0, max_stop = 0.0, min_stroke = 1e9;
+  double p_open_min = 1e300, p_open_max = 0.0, q_relief_end = 0.0;
+  bool shut_while_moving = true;
+  for (long k = 1; k <= 6000; ++k) {
+    ASSERT_NO_THROW(sim.step()) << "t = " << sim.time();
+    const double s = sim.outputs()[stroke], q = sim.outputs()[relief];
+    const double dp = sim.states()[supply] - p_tank;
+    min_stroke = std::min(min_stroke, s);
+    max_stop = std::max(max_stop, std::abs(sim.outputs()[stop]));
+    if (t_contact < 0.0 && s <= l) t_contact = sim.time();
+    // Shut below the set pressure, and open only at or above it.
+    if (dp <= cracking) {
+      EXPECT_EQ(q, 0.0) << "t = " << sim.time();
+    }
+    if (q > 0.0) {
+      p_open_min = std::min(p_open_min, dp);
+      p_open_max = std::max(p_open_max, dp);
+    }
+    if (t_contact < 0.0 && sim.time() > 1.0 && q > 0.0) shut_while_moving = false;
+    q_relief_end = q;
+  }
+  std::printf(
+      "contact at t = %.3f s, min stroke %.6f m (l = %.3f m), max stop force %.3e N, "
+      "relief open at %.4f..%.4f MPa, %.3e m^3/s at the end\n",
+      t_contact, min_stroke, l, max_stop, 1e-6 * p_open_min, 1e-6 * p_open_max, q_relief_end);
+  EXPECT_NEAR(sim.time(), 6.0, 1e-9);  // ran on
+  ASSERT_GT(t_contact, 0.0);           // reached the stop
+  EXPECT_GT(max_stop, 1e4);            // which carried the boom
+  EXPECT_GT(min_stroke, l - 5e-3);     // penetrated by less than 5 mm
+  EXPECT_TRUE(shut_while_moving);      // the boom coming down draws the pump's flow
+  EXPECT_GT(q_relief_end, 0.0);        // open at the stall
+  EXPECT_GE(p_open_min, cracking);     // at its set pressure
+  EXPECT_LE(p_open_max, cracking + override_pressure);
 }
 
 }  // namespace
