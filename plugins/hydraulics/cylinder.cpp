@@ -8,7 +8,8 @@
 //   F = p_A A2 - p_B A3 - F_mu                               (Eq. 29)
 //   F_mu = (1 - eta) |p_A A2 - p_B A3| tanh(sdot / v_s)      (the Decision on friction)
 // +F e on point b and -F e on point a, e the unit vector from a to b.
-// Optional (off by default): end stops at the stroke ends (end_stop.hpp).
+// Optional (off by default): end stops at the stroke ends (end_stop.hpp) and a
+// minimum-pressure limit in both chambers (gas_release.hpp).
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -16,6 +17,7 @@
 
 #include "components.hpp"
 #include "end_stop.hpp"
+#include "gas_release.hpp"
 #include "host_services.hpp"
 #include "touched_states.hpp"
 
@@ -82,7 +84,8 @@ class Cylinder {
     if (h->add_output(h, &s, &s_out_) != MH_OK || h->add_output(h, &sdot, &sdot_out_) != MH_OK ||
         h->add_output(h, &force, &force_out_) != MH_OK)
       return MH_ERROR;
-    return setup_end_stop();
+    if (setup_end_stop() != MH_OK) return MH_ERROR;
+    return setup_gas_release();
   }
 
   mh_status evaluate(const mh_subsystem_eval& eval) const {
@@ -92,6 +95,10 @@ class Cylinder {
     // Chamber storage (Eq. 23's V_s / B_oil + V_s / B_c) and the piston's flows (Eq. 28).
     eval.residual[p_a_] += a2_ * st.l2 * compliance_ * eval.ydot[p_a_] + a2_ * st.sdot;
     eval.residual[p_b_] += a3_ * st.l3 * compliance_ * eval.ydot[p_b_] - a3_ * st.sdot;
+    if (gas_a_.on()) {  // the chambers' released gas (gas_release.hpp)
+      eval.residual[p_a_] += gas_a_.capacitance(p_a) * eval.ydot[p_a_];
+      eval.residual[p_b_] += gas_b_.capacitance(p_b) * eval.ydot[p_b_];
+    }
     const double force = p_a * a2_ - p_b * a3_ - friction(p_a, p_b, st.sdot);  // Eq. 29
     const double pushed = end_stop_.on() ? force + stop_force(eval, st) : force;
     for (int i = 0; i < 3; ++i) {
@@ -105,12 +112,13 @@ class Cylinder {
   }
 
   // The rows depend on the pressures only through their rates.
-  mh_status jacobian(const mh_subsystem_eval& eval, double*, double* d_dydot) const {
+  mh_status jacobian(const mh_subsystem_eval& eval, double* d_dy, double* d_dydot) const {
     State st;
     if (!measure(eval, st)) return MH_ERROR;
     JacobianBlock dydot(states_, d_dydot);
     dydot.add(p_a_, p_a_, a2_ * st.l2 * compliance_);
     dydot.add(p_b_, p_b_, a3_ * st.l3 * compliance_);
+    if (gas_a_.on()) gas_jacobian(eval, d_dy, d_dydot);
     return MH_OK;
   }
 
@@ -201,6 +209,24 @@ class Cylinder {
     const mh_output_spec f = monohydra::output_spec("F_stop", "N");
     return h->add_output(h, &f, &stop_out_);
   }
+  // The chambers' minimum-pressure limit (gas_release.hpp), its gas fraction
+  // taken of each chamber's full-stroke volume, A2 l and A3 l.
+  mh_status setup_gas_release() {
+    GasRelease gas;
+    if (gas.read(host_) != MH_OK) return MH_ERROR;
+    gas_a_ = gas.for_volume(a2_ * length_);
+    gas_b_ = gas.for_volume(a3_ * length_);
+    return MH_OK;
+  }
+  void gas_jacobian(const mh_subsystem_eval& eval, double* d_dy, double* d_dydot) const {
+    JacobianBlock dy(states_, d_dy), dydot(states_, d_dydot);
+    const double p_a = eval.y[p_a_], p_b = eval.y[p_b_];
+    dydot.add(p_a_, p_a_, gas_a_.capacitance(p_a));
+    dydot.add(p_b_, p_b_, gas_b_.capacitance(p_b));
+    dy.add(p_a_, p_a_, gas_a_.capacitance_slope(p_a) * eval.ydot[p_a_]);
+    dy.add(p_b_, p_b_, gas_b_.capacitance_slope(p_b) * eval.ydot[p_b_]);
+  }
+
   double stop_force(const mh_subsystem_eval& eval, const State& st) const {
     const double f = end_stop_.force(st.s, st.sdot);
     eval.outputs[stop_out_] = f;
@@ -218,7 +244,8 @@ class Cylinder {
   double s0_ = 0.0, l2_0_ = 0.0, l3_0_ = 0.0;
   int32_t point_a_ = 0, point_b_ = 1;
   int32_t p_a_ = -1, p_b_ = -1, s_out_ = -1, sdot_out_ = -1, force_out_ = -1;
-  EndStop end_stop_;  // off unless end_stop_stiffness is given
+  EndStop end_stop_;          // off unless end_stop_stiffness is given
+  GasRelease gas_a_, gas_b_;  // off unless minimum_pressure is given
   int32_t stop_out_ = -1;
   TouchedStates states_;
 };
@@ -235,7 +262,9 @@ const mh_component_descriptor Cylinder::kDescriptor{
     "rod_diameter (m), length (m), chamber_bulk_modulus (Pa), fluid_bulk_modulus (Pa), "
     "efficiency (0..1], friction_velocity (m/s, default 0.01); end stops (off by default): "
     "end_stop_stiffness (N/m), end_stop_damping (N s/m, default 0), end_stop_depth (m, default "
-    "1e-3). Outputs s (m), sdot (m/s), Fs (N), and F_stop (N) with end stops."};
+    "1e-3); cavitation limit (off by default): minimum_pressure (Pa), gas_fraction (default "
+    "1e-3), gas_reference_pressure (Pa, default 1e5). Outputs s (m), sdot (m/s), Fs (N), and "
+    "F_stop (N) with end stops."};
 
 }  // namespace
 

@@ -4,10 +4,12 @@
 // other sub-volumes on the node (e.g. a cylinder chamber) it is exactly
 // V_k / B_ek of Eq. 23, and the node row then reads Eq. 22 multiplied by
 // V_k / B_ek: sum(C) dp/dt + sum(outflows) = 0.
+// Optional (off by default): a minimum-pressure limit, gas_release.hpp.
 #include <cmath>
 #include <limits>
 
 #include "components.hpp"
+#include "gas_release.hpp"
 #include "host_services.hpp"
 #include "touched_states.hpp"
 
@@ -33,6 +35,8 @@ class Volume {
                         &tolerance) != MH_OK ||
         h->option_number(h, "initial_pressure", 0, initial, &initial) != MH_OK)
       return MH_ERROR;
+    if (gas_.read(h) != MH_OK) return MH_ERROR;
+    gas_ = gas_.for_volume(volume);
     capacitance_ = volume * (1.0 / fluid + 1.0 / wall);
     if (add_hydraulic_port(h, "p", MH_PORT_FLOW, initial, tolerance, &p_) != MH_OK) return MH_ERROR;
     states_.add(p_);
@@ -41,17 +45,23 @@ class Volume {
 
   mh_status evaluate(const mh_subsystem_eval& eval) const {
     eval.residual[p_] += capacitance_ * eval.ydot[p_];
+    if (gas_.on()) eval.residual[p_] += gas_.capacitance(eval.y[p_]) * eval.ydot[p_];
     return MH_OK;
   }
 
-  mh_status jacobian(const mh_subsystem_eval&, double*, double* d_dydot) const {
+  mh_status jacobian(const mh_subsystem_eval& eval, double* d_dy, double* d_dydot) const {
     JacobianBlock(states_, d_dydot).add(p_, p_, capacitance_);
+    if (gas_.on()) {
+      JacobianBlock(states_, d_dydot).add(p_, p_, gas_.capacitance(eval.y[p_]));
+      JacobianBlock(states_, d_dy).add(p_, p_, gas_.capacitance_slope(eval.y[p_]) * eval.ydot[p_]);
+    }
     return MH_OK;
   }
 
  private:
   const mh_host* host_;
   double capacitance_ = 0.0;  // V (1/B_oil + 1/B_h), m^3/Pa
+  GasRelease gas_;            // off unless minimum_pressure is given
   int32_t p_ = -1;
   TouchedStates states_;
 };
@@ -64,7 +74,9 @@ const mh_component_descriptor Volume::kDescriptor{
     "1.0.0",
     "Stores fluid on its node (port p): V (1/B_oil + 1/B_h) dp/dt (Eqs. 22-23). Options: volume "
     "(m^3), bulk_modulus (Pa, of the hose wall), fluid_bulk_modulus (Pa), initial_pressure (Pa, "
-    "optional), tolerance (Pa, default 1e-2)."};
+    "optional), tolerance (Pa, default 1e-2); cavitation limit (off by default): "
+    "minimum_pressure (Pa), gas_fraction (default 1e-3), gas_reference_pressure (Pa, default "
+    "1e5)."};
 
 }  // namespace
 

@@ -58,7 +58,7 @@ TEST(HydraulicPlugin, OneLibraryListsItsComponents) {
   }
   EXPECT_EQ(ids, (std::vector<std::string>{"pressure-source", "volume", "throttle", "valve-4-3",
                                            "cylinder", "relief-valve", "check-valve",
-                                           "hydraulic-motor", "flow-source"}));
+                                           "hydraulic-motor", "valve-table", "flow-source"}));
 }
 
 // ---------------------------------------------------------------------------

@@ -1,0 +1,73 @@
+// A directional valve's spool U (V) following its reference U_ref(t) with
+// first-order dynamics (Eq. 27), as valve-4-3 has it (valve_4_3.cpp), for the
+// valves that share it (valve_table.cpp):
+//   U's row += tau dU/dt - (U_ref(t) - U)
+// Options time_constant, reference, initial_spool, tolerance, spool_limit;
+// state U (role MH_ROLE_CONTROL_SIGNAL, range [-spool_limit, spool_limit]),
+// output U_ref, and every step of the reference a time event.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "host_services.hpp"
+#include "monohydra/cpp/specs.hpp"
+#include "time_table.hpp"
+#include "touched_states.hpp"
+
+namespace hyd {
+
+class Spool {
+ public:
+  // Reads the options, declares U and U_ref, adds U to `states`.
+  mh_status setup(const mh_host* h, TouchedStates& states) {
+    double u0 = 0.0, tolerance = 0.0;
+    const double* table = nullptr;
+    uint32_t rows = 0;
+    if (positive_option(h, "time_constant", 1, 0.0, "a positive spool time constant tau (s)",
+                        &tau_) != MH_OK ||
+        h->option_table(h, "reference", 1, 2, &table, &rows) != MH_OK ||
+        h->option_number(h, "initial_spool", 0, 0.0, &u0) != MH_OK ||
+        positive_option(h, "tolerance", 0, 1e-7, "a positive spool tolerance (V)", &tolerance) !=
+            MH_OK ||
+        positive_option(h, "spool_limit", 0, 10.0, "a positive spool limit (V)", &limit_) != MH_OK)
+      return MH_ERROR;
+    std::string error;
+    if (!reference_.assign(table, rows, error))
+      return h->option_error(h, "reference", error.c_str());
+    if (!std::isfinite(u0))
+      return h->option_error(h, "initial_spool", "a finite spool position (V)");
+    mh_state_spec spool = monohydra::state_spec("U", "V", u0, tolerance);
+    spool.role = MH_ROLE_CONTROL_SIGNAL;
+    spool.range_min = -limit_;
+    spool.range_max = limit_;
+    if (h->add_state(h, &spool, &u_) != MH_OK) return MH_ERROR;
+    states.add(u_);
+    const mh_output_spec u_ref = monohydra::output_spec("U_ref", "V");
+    if (h->add_output(h, &u_ref, &u_ref_out_) != MH_OK) return MH_ERROR;
+    for (double t : reference_.jump_times())
+      if (h->add_time_event(h, t) != MH_OK) return MH_ERROR;
+    return MH_OK;
+  }
+
+  int32_t state() const { return u_; }
+  double limit() const { return limit_; }
+
+  void evaluate(const mh_subsystem_eval& eval) const {
+    const double u_ref = std::clamp(reference_.value(eval.t), -limit_, limit_);
+    eval.residual[u_] += tau_ * eval.ydot[u_] - (u_ref - eval.y[u_]);  // Eq. 27
+    eval.outputs[u_ref_out_] = u_ref;
+  }
+  void jacobian(const TouchedStates& states, double* d_dy, double* d_dydot) const {
+    JacobianBlock(states, d_dy).add(u_, u_, 1.0);
+    JacobianBlock(states, d_dydot).add(u_, u_, tau_);
+  }
+
+ private:
+  double tau_ = 0.0, limit_ = 10.0;
+  TimeTable reference_;
+  int32_t u_ = -1, u_ref_out_ = -1;
+};
+
+}  // namespace hyd
