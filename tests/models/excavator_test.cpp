@@ -262,8 +262,10 @@ TEST(Excavator, ABoomLoweredOntoItsEndStopsRunsOnAndTheReliefOpensAtItsSetPressu
   double t_contact = -1.0, max_stop = 0.0, min_stroke = 1e9;
   double p_open_min = 1e300, p_open_max = 0.0, q_relief_end = 0.0;
   bool shut_while_moving = true;
+  int halvings = 0;
   for (long k = 1; k <= 6000; ++k) {
     ASSERT_NO_THROW(sim.step()) << "t = " << sim.time();
+    halvings += sim.last_step().retries;
     const double s = sim.outputs()[stroke], q = sim.outputs()[relief];
     const double dp = sim.states()[supply] - p_tank;
     min_stroke = std::min(min_stroke, s);
@@ -282,8 +284,9 @@ TEST(Excavator, ABoomLoweredOntoItsEndStopsRunsOnAndTheReliefOpensAtItsSetPressu
   }
   std::printf(
       "contact at t = %.3f s, min stroke %.6f m (l = %.3f m), max stop force %.3e N, "
-      "relief open at %.4f..%.4f MPa, %.3e m^3/s at the end\n",
-      t_contact, min_stroke, l, max_stop, 1e-6 * p_open_min, 1e-6 * p_open_max, q_relief_end);
+      "relief open at %.4f..%.4f MPa, %.3e m^3/s at the end, %d step halvings\n",
+      t_contact, min_stroke, l, max_stop, 1e-6 * p_open_min, 1e-6 * p_open_max, q_relief_end,
+      halvings);
   EXPECT_NEAR(sim.time(), 6.0, 1e-9);  // ran on
   ASSERT_GT(t_contact, 0.0);           // reached the stop
   EXPECT_GT(max_stop, 1e4);            // which carried the boom
