@@ -16,7 +16,7 @@
 // continuously differentiable everywhere (Newton's tangent exists) and Q is
 // exactly zero for dp <= p_cr (no leakage when closed, no backflow). g is the
 // orifice law sqrt(dp) made smooth and linear near dp = 0 (it differs from
-// sqrt(dp) by less than 1 % above 3.5 p_tr).
+// sqrt(dp) by less than 1 % above 5 p_tr).
 #pragma once
 
 #include <cmath>

@@ -83,6 +83,18 @@ class ValveTable {
     return MH_OK;
   }
 
+  // Nothing stored; the metering edges dissipate Q dp >= 0 (Q has the sign of dp).
+  mh_status energy(const mh_subsystem_eval& eval, double& stored, double& dissipation) const {
+    const double u = eval.y[spool_.state()];
+    stored = 0.0;
+    dissipation = 0.0;
+    for (const Path& path : paths(u)) {
+      const double dp = eval.y[path.from] - eval.y[path.to];
+      dissipation += map_.flow(std::abs(u), dp, nullptr, nullptr) * dp;
+    }
+    return MH_OK;
+  }
+
  private:
   struct Path {
     int32_t from, to;

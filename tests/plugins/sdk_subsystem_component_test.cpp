@@ -99,6 +99,39 @@ struct Destroy {
   }
 };
 
+// A component with 2.1's point_force_jacobian (a point-less stand-in: the
+// adapter only has to find it and pass the call through).
+class WithPointJacobian : public Minimal {
+ public:
+  static const mh_component_descriptor kDescriptor;
+  using Minimal::Minimal;
+  mh_status point_force_jacobian(const mh_subsystem_eval&, double* dF_dp, double* dF_dv) const {
+    dF_dp[0] = 5.0;
+    dF_dv[0] = 6.0;
+    return MH_OK;
+  }
+};
+const mh_component_descriptor WithPointJacobian::kDescriptor{
+    sizeof(mh_component_descriptor), "point-jacobian", "", "tests", "1.0.0", ""};
+
+TEST(SdkSubsystemComponent, PointForceJacobianIsInTheTableOnlyWhenTheClassHasOne) {
+  FakeNetwork net;
+  FakeHost host(net);
+  const mh_subsystem* with = monohydra::SubsystemAdapter<WithPointJacobian>::create(&host.table);
+  const mh_subsystem* without = monohydra::SubsystemAdapter<Minimal>::create(&host.table);
+  ASSERT_NE(with, nullptr);
+  ASSERT_NE(without, nullptr);
+  const Destroy guard_with{with}, guard_without{without};
+  EXPECT_EQ(without->point_force_jacobian, nullptr);
+  ASSERT_NE(with->point_force_jacobian, nullptr);
+  Evaluation e(net);
+  const mh_subsystem_eval rec = e.record();
+  double dF_dp = 0.0, dF_dv = 0.0;
+  EXPECT_EQ(with->point_force_jacobian(with, &rec, &dF_dp, &dF_dv), MH_OK);
+  EXPECT_EQ(dF_dp, 5.0);
+  EXPECT_EQ(dF_dv, 6.0);
+}
+
 TEST(SdkSubsystemComponent, AbsentOptionalOperationsAreNullInTheTable) {
   FakeNetwork net;
   FakeHost host(net);

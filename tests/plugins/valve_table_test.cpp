@@ -158,6 +158,28 @@ TEST(ValveTable, AnalyticJacobianMatchesCentralDifferencesOffTheGridLines) {
   std::printf("[ measured ] valve-table jacobian max relative error %.3g\n", worst);
 }
 
+TEST(ValveTable, EdgesDissipateQTimesDpNeverNegative) {
+  Valve v("valve-table", grid(kSpools, kDrops, measured));
+  ASSERT_EQ(v.status, MH_OK);
+  ASSERT_NE(v.instance->api()->energy, nullptr);
+  for (double u : {-7.0, -0.5, 0.0, 2.0, 9.0}) {
+    for (double pa : {-1e6, 3e6, 15e6, 25e6}) {  // flows either way through each edge
+      Evaluation e = v.at(u, 20e6, 1e5, pa, 6e6);
+      const mh_subsystem_eval rec = e.record();
+      double stored = -1, dissipation = -1;
+      ASSERT_EQ(v.instance->api()->energy(v.instance->api(), &rec, &stored, &dissipation), MH_OK);
+      EXPECT_EQ(stored, 0.0);
+      EXPECT_GE(dissipation, 0.0) << u << " " << pa;
+    }
+  }
+  // One edge open at U = 2 V with P -> A only (B = T): the dissipation is Q_PA (p_P - p_A).
+  Evaluation e = v.at(2.0, 20e6, 1e5, 15e6, 1e5);
+  const mh_subsystem_eval rec = e.record();
+  double stored = 0, dissipation = 0;
+  ASSERT_EQ(v.instance->api()->energy(v.instance->api(), &rec, &stored, &dissipation), MH_OK);
+  EXPECT_NEAR(dissipation, v.flow_a(2.0, 15e6) * 5e6, 1e-9 * dissipation);
+}
+
 TEST(ValveTable, BadTablesAreRefusedNamingTheRow) {
   struct Case {
     std::vector<double> table;
