@@ -7,6 +7,7 @@
 namespace hyd {
 
 extern const monohydra::SubsystemComponent kPressureSource;  // pressure_source.cpp
+extern const monohydra::SubsystemComponent kFlowSource;      // flow_source.cpp
 extern const monohydra::SubsystemComponent kVolume;          // volume.cpp
 extern const monohydra::SubsystemComponent kThrottle;        // throttle.cpp
 extern const monohydra::SubsystemComponent kValve43;         // valve_4_3.cpp

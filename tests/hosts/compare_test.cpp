@@ -411,6 +411,30 @@ TEST(Compare, DefaultJobComparesBothCaseStudiesWithThePapersNumbersBeside) {
   EXPECT_GE(count("<rect class=\"shade\""), 2u * 7u);  // 2 openings on each time plot
 }
 
+// The excavator (a 3D machine, docs/machines.md) by its compare defaults,
+// the first second of its cycle: one CSV per formulation with a row per
+// step, and a report whose mechanism drawing has the three views, with the
+// pressures of every circuit, the strokes, forces and the pump's power.
+TEST(Compare, ExcavatorWritesBothCsvsAndAReportDrawingTheMachineInThreeViews) {
+  const fs::path dir = scratch_dir("excavator");
+  const CliResult r = run_cli("compare " + shipped_model("excavator.yaml") +
+                              " --t-end 0.2 --report " + (dir / "out").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  for (const char* csv : {"double-step.csv", "penalty.csv"}) {
+    const std::string text = read_text(dir / "out" / csv);
+    EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1 + 201)
+        << csv;  // header, t = 0, 200 steps
+  }
+  const std::string html = read_text(dir / "out" / "report.html");
+  for (const char* view : {">side view<", ">top view<", ">isometric view<"})
+    EXPECT_NE(html.find(view), std::string::npos) << view;
+  for (const char* title :
+       {"<title>p_supply double-step</title>", "<title>p_slew_b penalty</title>",
+        "<title>s_boom_l double-step</title>", "<title>F_bucket penalty</title>",
+        "<title>P_pump double-step</title>"})
+    EXPECT_NE(html.find(title), std::string::npos) << title;
+}
+
 TEST(Compare, DefaultJobStopsWithAClearMessageWhenAModelIsMissing) {
   const fs::path dir = scratch_dir("default-job-missing");
   std::string text = read_text(shipped_model("paper-reference.yaml"));

@@ -12,6 +12,7 @@
 
 #include "comparison_table.hpp"
 #include "control_intervals.hpp"
+#include "mechanism_drawing.hpp"
 #include "monohydra/host.h"
 #include "report_html.hpp"
 #include "synthetic_run.hpp"
@@ -143,6 +144,34 @@ TEST_F(HydraulicReport, MechanismDrawsTheCylinderBetweenItsPointsAtEverySecond) 
   EXPECT_EQ(count(svg, "<polygon points="), 3u);
 }
 
+TEST_F(HydraulicReport, ActuatorsShowTheCylindersStrokeAndForceOfEveryRun) {
+  const std::string svg = svgs("fig-actuators");
+  EXPECT_EQ(count(svg, "<svg xmlns="), 2u);  // strokes, forces; no power (no pump output)
+  EXPECT_NE(svg.find("<title>s double-step</title>"), std::string::npos);
+  EXPECT_NE(svg.find("<title>Fs penalty</title>"), std::string::npos);
+  EXPECT_NE(svg.find("F (kN)"), std::string::npos);
+  EXPECT_EQ(svg.find("<title>sdot "), std::string::npos);  // m/s is not a stroke
+}
+
+// A 3D model is drawn in three views (side, top, isometric), each with every
+// frame; a planar one in its XY plane alone.
+TEST(MechanismDrawing, ThreeDimensionalModelsAreDrawnInSideTopAndIsometricViews) {
+  const ModelFile excavator = load_model_file(source_path("models/excavator.yaml"));
+  const ModelFile fourbar = load_model_file(source_path("models/fourbar.yaml"));
+  std::vector<cli::MechanismFrame> frames(2);
+  for (auto& f : frames) f.z = Eigen::VectorXd::Zero(10);
+  frames[1].t = 1.0;
+  const std::string svg = cli::svg_mechanism(excavator, frames, "m", "excavator");
+  for (const char* view : {">side view<", ">top view<", ">isometric view<"})
+    EXPECT_EQ(count(svg, view), 1u) << view;
+  EXPECT_EQ(count(svg, "<g class=\"frame\""), 3u * 2u);
+  EXPECT_EQ(count(svg, "<line class=\"element\""), 3u * 2u * 5u);  // five cylinders
+  for (auto& f : frames) f.z = Eigen::VectorXd::Zero(3);
+  const std::string planar = cli::svg_mechanism(fourbar, frames, "f", "four-bar");
+  EXPECT_EQ(count(planar, "class=\"view\""), 0u);
+  EXPECT_EQ(count(planar, "<g class=\"frame\""), 2u);
+}
+
 TEST_F(HydraulicReport, TheTableComparesEachPressure) {
   const cli::TextTable t = cli::comparison_table(c, nullptr);
   const std::string text = cli::render_text(t);
@@ -167,7 +196,8 @@ TEST_F(HydraulicReport, ThePageHoldsEveryFigureAndTheTable) {
   const std::string html = cli::report_html(page);
   for (const auto& id : cli::report_figure_ids())
     EXPECT_NE(html.find("<figure id=\"" + id + "\">"), std::string::npos) << id;
-  EXPECT_EQ(count(html, "<svg xmlns=\"http://www.w3.org/2000/svg\""), 8u);
+  // One each, two for the coordinates (none prismatic) and the actuators (s, Fs).
+  EXPECT_EQ(count(html, "<svg xmlns=\"http://www.w3.org/2000/svg\""), 10u);
   EXPECT_NE(html.find("<table class=\"comparison\">"), std::string::npos);
   EXPECT_EQ(html.rfind("<!DOCTYPE html>\n<html xmlns=\"http://www.w3.org/1999/xhtml\"", 0), 0u);
 }

@@ -58,7 +58,7 @@ TEST(HydraulicPlugin, OneLibraryListsItsComponents) {
   }
   EXPECT_EQ(ids, (std::vector<std::string>{"pressure-source", "volume", "throttle", "valve-4-3",
                                            "cylinder", "relief-valve", "check-valve",
-                                           "hydraulic-motor", "valve-table"}));
+                                           "hydraulic-motor", "valve-table", "flow-source"}));
 }
 
 // ---------------------------------------------------------------------------
@@ -115,6 +115,32 @@ TEST(HydraulicPressureSource, AnalyticJacobianMatchesCentralDifferences) {
   const double err = jacobian_error(source, e);
   EXPECT_LT(err, 1e-6);
   report(err);
+}
+
+// ---------------------------------------------------------------------------
+// flow-source
+
+TEST(HydraulicFlowSource, AddsMinusItsFlowToItsNodeWhateverThePressureAndWritesItsPower) {
+  FakeNetwork net;
+  FakeHost host(net, "pump");
+  host.numbers = {{"flow", 6e-3}};
+  host.port_nodes = {{"p", "supply"}};
+  Instance pump("flow-source", host);
+  ASSERT_EQ(pump.setup(), MH_OK) << host.all_logs();
+  EXPECT_EQ(host.port("p").role, MH_PORT_FLOW);
+  EXPECT_TRUE(std::isnan(host.port("p").initial));  // imposes no pressure
+  EXPECT_TRUE(host.states.empty());
+  const int32_t p = host.port("p").index;
+  for (const double pressure : {0.0, 7.6e6, 3.0e7}) {
+    Evaluation e(net);
+    e.y[p] = pressure;
+    ASSERT_EQ(e.run(pump), MH_OK);
+    EXPECT_EQ(e.residual[p], -6e-3);  // the flow enters the node
+    EXPECT_EQ(e.outputs[host.outputs.at("q")], 6e-3);
+    EXPECT_DOUBLE_EQ(e.outputs[host.outputs.at("P")], pressure * 6e-3);
+    const double err = jacobian_error(pump, e);  // the row depends on no state
+    EXPECT_LT(err, 1e-12);
+  }
 }
 
 // ---------------------------------------------------------------------------
@@ -678,6 +704,8 @@ struct BadOption {
 void base_options(const std::string& component, FakeHost& host) {
   if (component == "pressure-source") {
     host.numbers = {{"pressure", kPumpPressure}};
+  } else if (component == "flow-source") {
+    host.numbers = {{"flow", 6e-3}};
   } else if (component == "volume") {
     host.numbers = {{"volume", kVh2}, {"bulk_modulus", kBh}, {"fluid_bulk_modulus", kBoil}};
   } else if (component == "throttle") {
@@ -694,7 +722,8 @@ void base_options(const std::string& component, FakeHost& host) {
 }
 
 TEST(HydraulicOptions, EveryComponentSetsUpWithTheCaseStudysOptions) {
-  for (const char* id : {"pressure-source", "volume", "throttle", "valve-4-3", "cylinder"}) {
+  for (const char* id :
+       {"pressure-source", "flow-source", "volume", "throttle", "valve-4-3", "cylinder"}) {
     FakeNetwork net;
     FakeHost host(net, id);
     base_options(id, host);
@@ -709,6 +738,7 @@ TEST(HydraulicOptions, BadValuesAreRefusedOnTheirKey) {
   const std::vector<BadOption> cases = {
       {"pressure-source", "pressure", -1.0, {}},
       {"pressure-source", "tolerance", 0.0, {}},
+      {"flow-source", "flow", -1e-3, {}},
       {"volume", "volume", -1e-5, {}},
       {"volume", "volume", 0.0, {}},
       {"volume", "bulk_modulus", 0.0, {}},

@@ -1,5 +1,6 @@
 #include "mechanism_drawing.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -21,6 +22,9 @@ constexpr double kMaxDrawingHeight = 560.0;
 constexpr double kMargin = 24.0;
 constexpr double kTitleHeight = 30.0;
 constexpr double kLegendRow = 18.0;
+constexpr double kMaxPanelHeight = 330.0;  // each view of a 3D model
+constexpr double kViewCaption = 20.0;
+constexpr double kViewGap = 14.0;
 
 std::string num(double v) {
   char buf[32];
@@ -111,7 +115,36 @@ Sketch sketch_of(const ModelFile& file) {
   return s;
 }
 
-// The world positions of one frame, in the XY plane.
+// A projection of the world on the drawing: screen right and up.
+struct View {
+  std::string name;  // "" for the single view of a planar model
+  Eigen::Matrix<double, 2, 3> P;
+};
+
+// A planar model: its XY plane. A 3D one: side and top views and an
+// isometric one, "up" against gravity (Y without gravity), the side view's
+// horizontal the world axis most nearly level.
+std::vector<View> views_of(const Model& m) {
+  Eigen::Matrix<double, 2, 3> xy;
+  xy << 1, 0, 0, 0, 1, 0;
+  if (m.planar) return {View{"", xy}};
+  const Vector3d up =
+      m.gravity.norm() > 0.0 ? Vector3d(-m.gravity.normalized()) : Vector3d::UnitY();
+  Vector3d level = Vector3d::UnitX();
+  for (int k = 1; k < 3; ++k)
+    if (std::abs(up[k]) < std::abs(level.dot(up)) - 1e-12) level = Vector3d::Unit(k);
+  const Vector3d h1 = (level - level.dot(up) * up).normalized();
+  const Vector3d h2 = up.cross(h1);
+  const Vector3d eye = (h1 - h2 + up).normalized();  // the isometric view's direction
+  const Vector3d right = up.cross(eye).normalized();
+  Eigen::Matrix<double, 2, 3> side, top, iso;
+  side << h1.transpose(), up.transpose();
+  top << h1.transpose(), h2.transpose();
+  iso << right.transpose(), eye.cross(right).transpose();
+  return {View{"side view", side}, View{"top view", top}, View{"isometric view", iso}};
+}
+
+// The world positions of one frame, projected by a view.
 struct FrameShape {
   std::vector<std::pair<Vector2d, Vector2d>> beams;
   std::vector<std::vector<Vector2d>> squares;
@@ -120,10 +153,11 @@ struct FrameShape {
   std::vector<std::vector<Vector2d>> elements;
 };
 
-FrameShape shape_of(const Model& m, const Sketch& s, Data& data, const Eigen::VectorXd& z) {
+FrameShape shape_of(const Model& m, const Sketch& s, Data& data, const Eigen::VectorXd& z,
+                    const View& view) {
   FrameShape f;
   forward_kinematics(m, data, z, Eigen::VectorXd::Zero(z.size()));
-  auto xy = [](const Vector3d& v) { return Vector2d(v.x(), v.y()); };
+  auto xy = [&view](const Vector3d& v) { return Vector2d(view.P * v); };
   for (size_t j = 0; j < m.bodies.size(); ++j) {
     const BodySketch& bs = s.bodies[j];
     const Vector2d o = xy(data.o_W[j]);
@@ -188,46 +222,131 @@ std::string svg_mechanism(const ModelFile& file, const std::vector<MechanismFram
                           const std::string& id, const std::string& title) {
   const Model& m = file.model;
   const Sketch sketch = sketch_of(file);
+  const std::vector<View> views = views_of(m);
+  const bool captions = views.size() > 1;
+  const double max_h = captions ? kMaxPanelHeight : kMaxDrawingHeight;
   Data data(m);
-  std::vector<FrameShape> shapes;
-  shapes.reserve(frames.size());
-  for (const auto& fr : frames) shapes.push_back(shape_of(m, sketch, data, fr.z));
 
-  // Bounds of everything drawn.
-  double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
-  auto grow = [&](const Vector2d& p) {
-    x0 = std::min(x0, p.x());
-    x1 = std::max(x1, p.x());
-    y0 = std::min(y0, p.y());
-    y1 = std::max(y1, p.y());
-  };
-  for (const auto& p : sketch.ground_points) grow(Vector2d(p.x(), p.y()));
-  for (const auto& f : shapes) {
-    for (const auto& b : f.beams) {
-      grow(b.first);
-      grow(b.second);
+  std::ostringstream panels;
+  double top = kTitleHeight;
+  for (size_t v = 0; v < views.size(); ++v) {
+    const View& view = views[v];
+    auto project = [&view](const Vector3d& p) { return Vector2d(view.P * p); };
+    std::vector<FrameShape> shapes;
+    shapes.reserve(frames.size());
+    for (const auto& fr : frames) shapes.push_back(shape_of(m, sketch, data, fr.z, view));
+
+    // Bounds of everything drawn.
+    double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
+    auto grow = [&](const Vector2d& p) {
+      x0 = std::min(x0, p.x());
+      x1 = std::max(x1, p.x());
+      y0 = std::min(y0, p.y());
+      y1 = std::max(y1, p.y());
+    };
+    for (const auto& p : sketch.ground_points) grow(project(p));
+    for (const auto& f : shapes) {
+      for (const auto& b : f.beams) {
+        grow(b.first);
+        grow(b.second);
+      }
+      for (const auto& sq : f.squares)
+        for (const auto& p : sq) grow(p);
+      for (const auto& p : f.joints) grow(p);
+      for (const auto& e : f.elements)
+        for (const auto& p : e) grow(p);
     }
-    for (const auto& sq : f.squares)
-      for (const auto& p : sq) grow(p);
-    for (const auto& p : f.joints) grow(p);
-    for (const auto& e : f.elements)
-      for (const auto& p : e) grow(p);
+    if (!(x1 >= x0)) x0 = y0 = -1.0, x1 = y1 = 1.0;
+    const double span = std::max({x1 - x0, y1 - y0, 1e-3});
+    const double pad = 0.06 * span;
+    x0 -= pad, x1 += pad, y0 -= pad, y1 += pad;
+    if (captions) {
+      panels << "<text class=\"view\" x=\"" << num(kMargin) << "\" y=\"" << num(top + 14)
+             << "\" font-style=\"italic\">" << xml_escape(view.name) << "</text>\n";
+      top += kViewCaption;
+    }
+    const double avail_w = kWidth - 2.0 * kMargin;
+    const double scale = std::min(avail_w / (x1 - x0), max_h / (y1 - y0));
+    const double draw_w = (x1 - x0) * scale, draw_h = (y1 - y0) * scale;
+    const double left = (kWidth - draw_w) / 2.0;
+    auto sx = [&](double x) { return num(left + (x - x0) * scale); };
+    auto sy = [&](double y) { return num(top + (y1 - y) * scale); };
+    auto pt = [&](const Vector2d& p) { return sx(p.x()) + "," + sy(p.y()); };
+    const std::string clip = id + (captions ? "-clip" + std::to_string(v) : "-clip");
+
+    panels << "<defs><clipPath id=\"" << xml_escape(clip) << "\"><rect x=\"" << num(left)
+           << "\" y=\"" << num(top) << "\" width=\"" << num(draw_w) << "\" height=\"" << num(draw_h)
+           << "\"/></clipPath></defs>\n";
+    // The guides of sliders on the ground, under everything.
+    panels << "<g class=\"ground\" clip-path=\"url(#" << xml_escape(clip) << ")\">\n";
+    const double reach = 2.0 * std::hypot(x1 - x0, y1 - y0);
+    for (const auto& g : sketch.guides) {
+      const Vector2d p = project(g.point);
+      Vector2d a = project(g.axis);
+      if (a.norm() < 1e-12) continue;
+      a.normalize();
+      panels << "<line class=\"guide\" x1=\"" << sx((p - reach * a).x()) << "\" y1=\""
+             << sy((p - reach * a).y()) << "\" x2=\"" << sx((p + reach * a).x()) << "\" y2=\""
+             << sy((p + reach * a).y()) << "\" stroke=\"#777777\" stroke-width=\"1\""
+             << " stroke-dasharray=\"6 4\"/>\n";
+    }
+    panels << "</g>\n";
+
+    for (size_t i = 0; i < shapes.size(); ++i) {
+      const FrameShape& f = shapes[i];
+      const double k = shapes.size() > 1
+                           ? static_cast<double>(i) / (static_cast<double>(shapes.size()) - 1.0)
+                           : 1.0;
+      const std::string body = blend(kBodyFirst, kBodyLast, k);
+      const std::string element = blend(kElementFirst, kElementLast, k);
+      char t_text[32];
+      std::snprintf(t_text, sizeof(t_text), "%g", frames[i].t);
+      panels << "<g class=\"frame\" data-t=\"" << t_text << "\">\n<title>t = " << t_text
+             << " s</title>\n";
+      for (const auto& e : f.elements) {
+        if (e.size() == 2)
+          panels << "<line class=\"element\" x1=\"" << sx(e[0].x()) << "\" y1=\"" << sy(e[0].y())
+                 << "\" x2=\"" << sx(e[1].x()) << "\" y2=\"" << sy(e[1].y()) << "\" stroke=\""
+                 << element
+                 << "\" stroke-width=\"5\" stroke-linecap=\"round\" opacity=\"0.85\"/>\n";
+        for (const auto& p : e)
+          panels << "<circle class=\"element-point\" cx=\"" << sx(p.x()) << "\" cy=\"" << sy(p.y())
+                 << "\" r=\"3.5\" fill=\"" << element << "\"/>\n";
+      }
+      for (const auto& sq : f.squares) {
+        panels << "<polygon class=\"body\" points=\"";
+        for (size_t c = 0; c < sq.size(); ++c) panels << (c ? " " : "") << pt(sq[c]);
+        panels << "\" fill=\"" << body << "\" fill-opacity=\"0.35\" stroke=\"" << body
+               << "\" stroke-width=\"2\"/>\n";
+      }
+      for (const auto& b : f.beams)
+        panels << "<line class=\"body\" x1=\"" << sx(b.first.x()) << "\" y1=\"" << sy(b.first.y())
+               << "\" x2=\"" << sx(b.second.x()) << "\" y2=\"" << sy(b.second.y()) << "\" stroke=\""
+               << body << "\" stroke-width=\"3\" stroke-linecap=\"round\"/>\n";
+      for (const auto& p : f.joints)
+        panels << "<circle class=\"joint\" cx=\"" << sx(p.x()) << "\" cy=\"" << sy(p.y())
+               << "\" r=\"3\" fill=\"#ffffff\" stroke=\"" << body << "\" stroke-width=\"1.5\"/>\n";
+      for (const auto& p : f.cut_points)
+        panels << "<circle class=\"cut-joint\" cx=\"" << sx(p.x()) << "\" cy=\"" << sy(p.y())
+               << "\" r=\"4.5\" fill=\"none\" stroke=\"" << body << "\" stroke-width=\"1.5\"/>\n";
+      panels << "</g>\n";
+    }
+
+    // A grey triangle under each ground point, on top: the bodies would hide it.
+    panels << "<g class=\"ground\" fill=\"#999999\" stroke=\"#555555\">\n";
+    for (const auto& g3 : sketch.ground_points) {
+      const Vector2d g = project(g3);
+      const double cx = left + (g.x() - x0) * scale, cy = top + (y1 - g.y()) * scale;
+      panels << "<polygon points=\"" << num(cx) << ',' << num(cy) << ' ' << num(cx - 7) << ','
+             << num(cy + 11) << ' ' << num(cx + 7) << ',' << num(cy + 11) << "\"/>\n";
+    }
+    panels << "</g>\n";
+    top += draw_h + (captions ? kViewGap : 0.0);
   }
-  if (!(x1 >= x0)) x0 = y0 = -1.0, x1 = y1 = 1.0;
-  const double span = std::max({x1 - x0, y1 - y0, 1e-3});
-  const double pad = 0.06 * span;
-  x0 -= pad, x1 += pad, y0 -= pad, y1 += pad;
-  const double avail_w = kWidth - 2.0 * kMargin;
-  const double scale = std::min(avail_w / (x1 - x0), kMaxDrawingHeight / (y1 - y0));
-  const double draw_w = (x1 - x0) * scale, draw_h = (y1 - y0) * scale;
-  const double left = (kWidth - draw_w) / 2.0, top = kTitleHeight;
-  auto sx = [&](double x) { return num(left + (x - x0) * scale); };
-  auto sy = [&](double y) { return num(top + (y1 - y) * scale); };
-  auto pt = [&](const Vector2d& p) { return sx(p.x()) + "," + sy(p.y()); };
 
   const size_t legend_items = frames.size() + sketch.elements.size();
   const size_t per_row = 8;
-  const double legend_top = top + draw_h + 22.0;
+  const double legend_top = top + 22.0;
   const size_t legend_rows = (legend_items + per_row - 1) / per_row;
   const double height = legend_top + kLegendRow * static_cast<double>(legend_rows) + 6.0;
 
@@ -239,73 +358,9 @@ std::string svg_mechanism(const ModelFile& file, const std::vector<MechanismFram
   o << "<title>" << xml_escape(title) << "</title>\n";
   o << "<rect x=\"0\" y=\"0\" width=\"" << num(kWidth) << "\" height=\"" << num(height)
     << "\" fill=\"#ffffff\"/>\n";
-  o << "<defs><clipPath id=\"" << xml_escape(id) << "-clip\"><rect x=\"" << num(left) << "\" y=\""
-    << num(top) << "\" width=\"" << num(draw_w) << "\" height=\"" << num(draw_h)
-    << "\"/></clipPath></defs>\n";
   o << "<text x=\"" << num(kWidth / 2) << "\" y=\"18\" text-anchor=\"middle\" font-weight=\"bold\">"
     << xml_escape(title) << "</text>\n";
-
-  // The guides of sliders on the ground, under everything.
-  o << "<g class=\"ground\" clip-path=\"url(#" << xml_escape(id) << "-clip)\">\n";
-  const double reach = 2.0 * std::hypot(x1 - x0, y1 - y0);
-  for (const auto& g : sketch.guides) {
-    const Vector2d p(g.point.x(), g.point.y());
-    Vector2d a(g.axis.x(), g.axis.y());
-    if (a.norm() < 1e-12) continue;
-    a.normalize();
-    o << "<line class=\"guide\" x1=\"" << sx((p - reach * a).x()) << "\" y1=\""
-      << sy((p - reach * a).y()) << "\" x2=\"" << sx((p + reach * a).x()) << "\" y2=\""
-      << sy((p + reach * a).y()) << "\" stroke=\"#777777\" stroke-width=\"1\""
-      << " stroke-dasharray=\"6 4\"/>\n";
-  }
-  o << "</g>\n";
-
-  for (size_t i = 0; i < shapes.size(); ++i) {
-    const FrameShape& f = shapes[i];
-    const double k = shapes.size() > 1
-                         ? static_cast<double>(i) / (static_cast<double>(shapes.size()) - 1.0)
-                         : 1.0;
-    const std::string body = blend(kBodyFirst, kBodyLast, k);
-    const std::string element = blend(kElementFirst, kElementLast, k);
-    char t_text[32];
-    std::snprintf(t_text, sizeof(t_text), "%g", frames[i].t);
-    o << "<g class=\"frame\" data-t=\"" << t_text << "\">\n<title>t = " << t_text << " s</title>\n";
-    for (const auto& e : f.elements) {
-      if (e.size() == 2)
-        o << "<line class=\"element\" x1=\"" << sx(e[0].x()) << "\" y1=\"" << sy(e[0].y())
-          << "\" x2=\"" << sx(e[1].x()) << "\" y2=\"" << sy(e[1].y()) << "\" stroke=\"" << element
-          << "\" stroke-width=\"5\" stroke-linecap=\"round\" opacity=\"0.85\"/>\n";
-      for (const auto& p : e)
-        o << "<circle class=\"element-point\" cx=\"" << sx(p.x()) << "\" cy=\"" << sy(p.y())
-          << "\" r=\"3.5\" fill=\"" << element << "\"/>\n";
-    }
-    for (const auto& sq : f.squares) {
-      o << "<polygon class=\"body\" points=\"";
-      for (size_t c = 0; c < sq.size(); ++c) o << (c ? " " : "") << pt(sq[c]);
-      o << "\" fill=\"" << body << "\" fill-opacity=\"0.35\" stroke=\"" << body
-        << "\" stroke-width=\"2\"/>\n";
-    }
-    for (const auto& b : f.beams)
-      o << "<line class=\"body\" x1=\"" << sx(b.first.x()) << "\" y1=\"" << sy(b.first.y())
-        << "\" x2=\"" << sx(b.second.x()) << "\" y2=\"" << sy(b.second.y()) << "\" stroke=\""
-        << body << "\" stroke-width=\"3\" stroke-linecap=\"round\"/>\n";
-    for (const auto& p : f.joints)
-      o << "<circle class=\"joint\" cx=\"" << sx(p.x()) << "\" cy=\"" << sy(p.y())
-        << "\" r=\"3\" fill=\"#ffffff\" stroke=\"" << body << "\" stroke-width=\"1.5\"/>\n";
-    for (const auto& p : f.cut_points)
-      o << "<circle class=\"cut-joint\" cx=\"" << sx(p.x()) << "\" cy=\"" << sy(p.y())
-        << "\" r=\"4.5\" fill=\"none\" stroke=\"" << body << "\" stroke-width=\"1.5\"/>\n";
-    o << "</g>\n";
-  }
-
-  // A grey triangle under each ground point, on top: the bodies would hide it.
-  o << "<g class=\"ground\" fill=\"#999999\" stroke=\"#555555\">\n";
-  for (const auto& g : sketch.ground_points) {
-    const double cx = left + (g.x() - x0) * scale, cy = top + (y1 - g.y()) * scale;
-    o << "<polygon points=\"" << num(cx) << ',' << num(cy) << ' ' << num(cx - 7) << ','
-      << num(cy + 11) << ' ' << num(cx + 7) << ',' << num(cy + 11) << "\"/>\n";
-  }
-  o << "</g>\n";
+  o << panels.str();
 
   // Legend: one entry per frame time, then the elements.
   o << "<g class=\"legend\">\n";

@@ -1,5 +1,6 @@
 // The mechanism drawn at several instants in one SVG (the paper's Fig. 6),
-// projected on the XY plane, from the model alone: every body from its joint
+// projected on the XY plane (a 3D model: side, top and isometric views, one
+// above the other), from the model alone: every body from its joint
 // point to its other points, cut joints, ground points and each subsystem's
 // points (a line between the two points of a two-point element, e.g. an
 // actuator). How each body is drawn: docs/compare.md.

@@ -1,5 +1,6 @@
 #include "report_figures.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -71,7 +72,7 @@ struct Plotter {
 
 const std::vector<std::string>& report_figure_ids() {
   static const std::vector<std::string> ids = {
-      "fig-mechanism", "fig-coordinates", "fig-pressures",  "fig-energies",
+      "fig-mechanism", "fig-coordinates", "fig-pressures",  "fig-actuators", "fig-energies",
       "fig-drift",     "fig-constraints", "fig-iterations", "fig-step-time"};
   return ids;
 }
@@ -143,6 +144,48 @@ std::vector<ReportFigure> report_figures(const ModelFile& file, const Comparison
       f.caption = "The states in Pa. Colour: the pressure; line style: the run.";
     } else {
       f.caption = "This model has no pressures (no written state in Pa): the panel is left out.";
+    }
+    figs.push_back(f);
+  }
+
+  // The actuators: every written output in m (cylinder strokes), in N
+  // (their forces) and in W (e.g. a pump's hydraulic power), one plot per unit.
+  {
+    ReportFigure f{"fig-actuators", "", "Actuator strokes, forces and hydraulic power", "", {}};
+    if (ref != nullptr) {
+      const size_t first = 1 + static_cast<size_t>(ref->num_coordinates + ref->num_states);
+      const size_t last = static_cast<size_t>(std::max(ref->column("KE"), 0));
+      struct Panel {
+        const char* unit;
+        const char* id;
+        const char* title;
+        const char* y_label;
+        double scale;
+      };
+      const Panel panels[] = {
+          {"m", "plot-strokes", "Actuator strokes", "s (m)", 1.0},
+          {"N", "plot-forces", "Actuator forces", "F (kN)", 1e-3},
+          {"W", "plot-power", "Hydraulic power", "P (kW)", 1e-3},
+      };
+      for (const Panel& panel : panels) {
+        std::vector<PlotSeries> series;
+        size_t colour = 0;
+        for (size_t col = first; col < last; ++col) {
+          if (ref->units[col] != panel.unit) continue;
+          for (size_t r : runs)
+            if (c.runs[r].column(ref->names[col]) >= 0)
+              series.push_back(p.series(r, ref->names[col], panel.scale,
+                                        ref->names[col] + " " + c.runs[r].label, palette(colour)));
+          ++colour;
+        }
+        if (!series.empty())
+          f.svgs.push_back(svg_plot(p.spec(panel.id, panel.title, panel.y_label), series));
+      }
+      f.caption = f.svgs.empty()
+                      ? "This model writes no outputs in m, N or W (no actuator): the panel is "
+                        "left out."
+                      : "The written outputs in m, N and W: strokes and forces of the actuators "
+                        "and hydraulic power. Colour: the output; line style: the run.";
     }
     figs.push_back(f);
   }

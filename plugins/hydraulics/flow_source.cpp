@@ -1,0 +1,68 @@
+// flow-source: a fixed-displacement pump driven at constant speed, which
+// delivers a constant flow Q into its node whatever the node's pressure (a
+// machine's main pump; its pressure is whatever the circuit, and the relief
+// valve protecting it, makes it):
+//   node row += -Q
+// and reports its hydraulic power P = p Q (W), p its node's pressure.
+// Unlike `pressure-source` it imposes no pressure, so a circuit fed by it
+// needs a relief valve or an open path to tank when every valve is closed.
+#include <cmath>
+#include <limits>
+
+#include "components.hpp"
+#include "host_services.hpp"
+
+namespace hyd {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+class FlowSource {
+ public:
+  static const mh_component_descriptor kDescriptor;
+
+  explicit FlowSource(const mh_host* host) : host_(host) {}
+
+  mh_status setup() {
+    const mh_host* h = host_;
+    if (h->option_number(h, "flow", 1, 0.0, &flow_) != MH_OK) return MH_ERROR;
+    if (!(std::isfinite(flow_) && flow_ >= 0.0))
+      return h->option_error(h, "flow", "a non-negative, finite flow (m^3/s)");
+    if (add_hydraulic_port(h, "p", MH_PORT_FLOW, kNaN, kNaN, &p_) != MH_OK) return MH_ERROR;
+    const mh_output_spec q = monohydra::output_spec("q", "m^3/s");
+    const mh_output_spec power = monohydra::output_spec("P", "W");
+    if (h->add_output(h, &q, &q_out_) != MH_OK || h->add_output(h, &power, &power_out_) != MH_OK)
+      return MH_ERROR;
+    return MH_OK;
+  }
+
+  mh_status evaluate(const mh_subsystem_eval& eval) const {
+    eval.residual[p_] -= flow_;
+    eval.outputs[q_out_] = flow_;
+    eval.outputs[power_out_] = eval.y[p_] * flow_;
+    return MH_OK;
+  }
+
+  // The row does not depend on any state.
+  mh_status jacobian(const mh_subsystem_eval&, double*, double*) const { return MH_OK; }
+
+ private:
+  const mh_host* host_;
+  double flow_ = 0.0;  // m^3/s
+  int32_t p_ = -1, q_out_ = -1, power_out_ = -1;
+};
+
+const mh_component_descriptor FlowSource::kDescriptor{
+    sizeof(mh_component_descriptor),
+    "flow-source",
+    "Constant flow source (fixed-displacement pump)",
+    "monohydra",
+    "1.0.0",
+    "Delivers a constant flow into its node (port p) whatever its pressure. Options: flow "
+    "(m^3/s, >= 0). Outputs q (m^3/s), the delivered flow, and P (W), its hydraulic power p q."};
+
+}  // namespace
+
+const monohydra::SubsystemComponent kFlowSource = monohydra::subsystem_component<FlowSource>();
+
+}  // namespace hyd
