@@ -10,8 +10,9 @@ It runs build/bin/mh_bench (Google Benchmark, JSON output; medians of
 curves, draws them as SVG, profiles a case study and chains with valgrind
 --tool=callgrind on build/bin/mh_profile (inclusive costs from
 callgrind_annotate), and writes the page. Python 3 from Debian, no pip.
---json reuses an earlier mh_bench JSON instead of running it; --quick runs
-one repetition and leaves out the N = 256 chain.
+--json reuses an earlier mh_bench JSON instead of running it (each run keeps
+its own as BUILD/performance.json); --quick runs one repetition and leaves
+out the N = 256 chain.
 """
 
 import argparse
@@ -115,7 +116,9 @@ def run_bench(build, repetitions, quick):
     run(cmd, stdout=sys.stderr)
     with open(out) as f:
         data = json.load(f)
-    os.unlink(out)
+    # Kept beside the build: `--json build/performance.json` redraws the page
+    # without measuring again.
+    shutil.move(out, os.path.join(build, "performance.json"))
     return data
 
 
@@ -193,7 +196,8 @@ def svg_plot(series, path):
     for e in range(int(y0), int(y1) + 1):
         y = py(10 ** e)
         o.append('<line x1="%d" y1="%.1f" x2="%d" y2="%.1f" stroke="#ddd"/>' % (L, y, W - R, y))
-        label = {0: "1 us", 3: "1 ms", 6: "1 s"}.get(e, "1e%d us" % e)
+        label = ["1 us", "10 us", "100 us", "1 ms", "10 ms", "100 ms", "1 s", "10 s"][e] \
+            if 0 <= e <= 7 else "1e%d us" % e
         o.append('<text x="%d" y="%.1f" text-anchor="end">%s</text>' % (L - 6, y + 4, label))
     n = 1
     while n <= max(xs):
