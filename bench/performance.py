@@ -64,6 +64,8 @@ PROFILES = [
     ("four-bar, penalty, 2 s, CSV every step", ["fourbar.yaml", "penalty", "2", "every-step"]),
     ("chain N = 8, 0.2 s, no CSV", ["chain:8", "open-loop", "0.2", "none"]),
     ("chain N = 64, 0.02 s, no CSV", ["chain:64", "open-loop", "0.02", "none"]),
+    ("chain N = 256, 0.003 s, no CSV", ["chain:256", "open-loop", "0.003", "none"]),
+    ("tree N = 129, 0.01 s, no CSV", ["tree:129", "open-loop", "0.01", "none"]),
     ("four-bar, double-step, modified Newton, 2 s, CSV every 10 ms",
      ["fourbar.yaml", "double-step", "2", "10ms", "modified"]),
     ("chain N = 64, modified Newton, 0.02 s, no CSV",
