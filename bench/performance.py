@@ -10,8 +10,9 @@ It runs build/bin/mh_bench (Google Benchmark, JSON output; medians of
 curves, draws them as SVG, profiles a case study and chains with valgrind
 --tool=callgrind on build/bin/mh_profile (inclusive costs from
 callgrind_annotate), and writes the page. Python 3 from Debian, no pip.
---json reuses an earlier mh_bench JSON instead of running it; --quick runs
-one repetition and leaves out the N = 256 chain.
+--json reuses an earlier mh_bench JSON instead of running it (each run keeps
+its own as BUILD/performance.json); --quick runs one repetition and leaves
+out the N = 256 chain.
 """
 
 import argparse
@@ -63,6 +64,8 @@ PROFILES = [
     ("four-bar, penalty, 2 s, CSV every step", ["fourbar.yaml", "penalty", "2", "every-step"]),
     ("chain N = 8, 0.2 s, no CSV", ["chain:8", "open-loop", "0.2", "none"]),
     ("chain N = 64, 0.02 s, no CSV", ["chain:64", "open-loop", "0.02", "none"]),
+    ("chain N = 256, 0.003 s, no CSV", ["chain:256", "open-loop", "0.003", "none"]),
+    ("tree N = 129, 0.01 s, no CSV", ["tree:129", "open-loop", "0.01", "none"]),
     ("four-bar, double-step, modified Newton, 2 s, CSV every 10 ms",
      ["fourbar.yaml", "double-step", "2", "10ms", "modified"]),
     ("chain N = 64, modified Newton, 0.02 s, no CSV",
@@ -115,7 +118,9 @@ def run_bench(build, repetitions, quick):
     run(cmd, stdout=sys.stderr)
     with open(out) as f:
         data = json.load(f)
-    os.unlink(out)
+    # Kept beside the build: `--json build/performance.json` redraws the page
+    # without measuring again.
+    shutil.move(out, os.path.join(build, "performance.json"))
     return data
 
 
@@ -193,7 +198,8 @@ def svg_plot(series, path):
     for e in range(int(y0), int(y1) + 1):
         y = py(10 ** e)
         o.append('<line x1="%d" y1="%.1f" x2="%d" y2="%.1f" stroke="#ddd"/>' % (L, y, W - R, y))
-        label = {0: "1 us", 3: "1 ms", 6: "1 s"}.get(e, "1e%d us" % e)
+        label = ["1 us", "10 us", "100 us", "1 ms", "10 ms", "100 ms", "1 s", "10 s"][e] \
+            if 0 <= e <= 7 else "1e%d us" % e
         o.append('<text x="%d" y="%.1f" text-anchor="end">%s</text>' % (L - 6, y + 4, label))
     n = 1
     while n <= max(xs):
@@ -239,8 +245,13 @@ def profile(build):
     with tempfile.TemporaryDirectory() as tmp:
         for label, args in PROFILES:
             out = os.path.join(tmp, "callgrind.out")
-            run(["valgrind", "--tool=callgrind", "--callgrind-out-file=" + out, exe] + args,
-                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=tmp)
+            try:
+                run(["valgrind", "--tool=callgrind", "--callgrind-out-file=" + out, exe] + args,
+                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=tmp)
+            except subprocess.CalledProcessError as err:  # the run failed: said, not fatal
+                rows.append(("%s (failed: exit %d)" % (label, err.returncode), None,
+                             [None] * len(PROFILE_CATEGORIES)))
+                continue
             text = subprocess.run(["callgrind_annotate", "--inclusive=yes", "--threshold=100",
                                    "--auto=no", out], capture_output=True, text=True,
                                   check=True).stdout
