@@ -193,6 +193,7 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
   }
   e.build_pattern();
   e.size_derivatives();
+  e.size_coupling();
 }
 
 Simulation::~Simulation() = default;
@@ -332,6 +333,30 @@ Eigen::MatrixXd Simulation::finite_difference_tangent() {
   }
   e.residual(t_next, e.x, e.r);
   return J;
+}
+
+Eigen::MatrixXd Simulation::central_difference_tangent() {
+  Engine& e = *engine_;
+  const double t_next = e.t + e.settings.dt;
+  e.prepare_step(t_next, e.settings.dt);
+  Eigen::MatrixXd J(e.n, e.n);
+  for (int c = 0; c < e.n; ++c) {
+    const double h = 1e-6 * std::max(1e-2, std::abs(e.x[c]));
+    const double x0 = e.x[c];
+    e.x[c] = x0 + h;
+    e.residual(t_next, e.x, e.r_pert);
+    J.col(c) = e.r_pert;
+    e.x[c] = x0 - h;
+    e.residual(t_next, e.x, e.r_pert);
+    e.x[c] = x0;
+    J.col(c) = (J.col(c) - e.r_pert) / (2.0 * h);
+  }
+  e.residual(t_next, e.x, e.r);
+  return J;
+}
+
+const Simulation::WorkCounters& Simulation::counters() const {
+  return engine_->counters;
 }
 
 Simulation::MechanicsDerivatives Simulation::mechanics_derivatives(const Eigen::VectorXd& z,
