@@ -3,6 +3,7 @@
 // open chain of N bodies (the target: close to linear in N).
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <memory>
 #include <string>
 
@@ -25,14 +26,21 @@ const mh::PluginRegistry& plugins() {
 void run_model(benchmark::State& state, const std::string& model, const std::string& formulation,
                const std::string& integrator = "") {
   const mh::ModelFile file = mh::load_model_file(std::string(MH_SOURCE_DIR) + "/models/" + model);
-  long steps = 0;
+  long steps = 0, kinematics = 0, residuals = 0;
   for (auto _ : state) {
     mh::Simulation sim(file, plugins(), mh::RunChoices{formulation, integrator, {}, {}});
     const mh::RunSummary s = mh::run(sim, nullptr);
     if (s.failed) state.SkipWithError(s.failure.c_str());
     steps += s.steps;
+    kinematics += sim.counters().kinematics_passes;
+    residuals += sim.counters().residual_evaluations;
   }
   state.counters["steps"] = static_cast<double>(steps) / static_cast<double>(state.iterations());
+  // Work per step: passes of the kinematics (target <= 6) and residual evaluations.
+  state.counters["kinematics_passes"] =
+      static_cast<double>(kinematics) / static_cast<double>(std::max(steps, 1L));
+  state.counters["residuals"] =
+      static_cast<double>(residuals) / static_cast<double>(std::max(steps, 1L));
   state.counters["time_per_step"] = benchmark::Counter(
       static_cast<double>(steps), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }

@@ -171,6 +171,7 @@ struct Simulation::Engine {
   // unknowns (ABI 2.2 mechanics_map, subsystem_coupling.cpp).
   bool coupling_possible = false;
   Eigen::VectorXd z_iterate, zd_iterate;  // of the last MH_EVAL_SUBSYSTEMS evaluation
+  Eigen::VectorXd z_base, zd_base;        // the iterate's, kept while the tangent differences
   Eigen::MatrixXd map_dz_dx, map_dzd_dx, map_dzd_dxd, map_dzd_total;  // N x n_m
   Eigen::MatrixXd map_dr_dQ;                                          // n_m x N
   Eigen::Matrix<double, 3, Eigen::Dynamic> point_jp, point_jv;        // 3 x N
@@ -233,6 +234,7 @@ struct Simulation::Engine {
 
   // subsystem_coupling.cpp
   void size_coupling();
+  mh_status read_mechanics_map();
   mh_status couple_subsystems(double t_eval);
 
   // tangent.cpp

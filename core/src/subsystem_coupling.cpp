@@ -1,7 +1,8 @@
 // The tangent's coupling of the subsystems with points to the mechanical
 // unknowns without differencing the mechanics (ABI 2.2): when the formulation
-// gives every mechanical column (tangent) and says how its mechanics depended
-// on x (mechanics_map: dz/dx, dzd/dx, dzd/dxd and dr/dQ'), then
+// says how its mechanics depended on x (mechanics_map: dz/dx, dzd/dx, dzd/dxd
+// and dr/dQ'), then, in the state columns and in the mechanical columns its
+// tangent gave (the host differences the others whole),
 //   d(state rows)/dx = dR/dp dp/dz dz/dx + dR/dv (dv/dz dz/dx + dv/dzd dzd/dx)
 //   d(mechanical rows)/dy = dr/dQ' sum_points J_p^T dF/dy
 // (Eq. 10: a point force F enters Q' as J_p^T F). The instance's own
@@ -19,8 +20,7 @@
 namespace mh {
 
 void Simulation::Engine::size_coupling() {
-  coupling_possible =
-      formulation.ops.tangent != nullptr && formulation.ops.mechanics_map != nullptr && n_m > 0;
+  coupling_possible = formulation.ops.mechanics_map != nullptr && n_m > 0;
   for (const auto& s : subsystems) {
     if (s.points.empty()) continue;
     for (int a : s.touched)
@@ -34,7 +34,8 @@ void Simulation::Engine::size_coupling() {
   point_dp_dx.setZero(3, n_m);
   point_dv_dx.setZero(3, n_m);
   dQ_dy.setZero(N);
-  for (Eigen::VectorXd* v : {&z_iterate, &zd_iterate, &kin_z, &kin_zd}) v->setZero(N);
+  for (Eigen::VectorXd* v : {&z_iterate, &zd_iterate, &z_base, &zd_base, &kin_z, &kin_zd})
+    v->setZero(N);
   for (auto& s : subsystems) {
     const size_t k = s.touched.size();
     const size_t n3 = 3 * s.points.size();
@@ -129,12 +130,18 @@ void point_velocity_jacobian(const Model& model, const Data& data, const BodyPoi
 
 }  // namespace
 
-mh_status Simulation::Engine::couple_subsystems(double t_eval) {
-  // How the formulation's mechanics depended on x at the last residual call.
+// How the formulation's mechanics depended on x at the last residual call
+// (the iterate), and where that iterate's kinematics were.
+mh_status Simulation::Engine::read_mechanics_map() {
   for (Eigen::MatrixXd* M : {&map_dz_dx, &map_dzd_dx, &map_dzd_dxd, &map_dr_dQ}) M->setZero();
-  mh_status st = normalized(formulation.ops.mechanics_map(
+  z_base = z_iterate;
+  zd_base = zd_iterate;
+  return normalized(formulation.ops.mechanics_map(
       formulation.self, map_dz_dx.data(), map_dzd_dx.data(), map_dzd_dxd.data(), map_dr_dQ.data()));
-  if (!status_ok(st)) return st;
+}
+
+mh_status Simulation::Engine::couple_subsystems(double t_eval) {
+  mh_status st = MH_OK;
   const mh_step_coefficients& cf = map.coefficients;
   for (int c = 0; c < n_m; ++c) {
     const uint8_t kind = kinds[static_cast<size_t>(c)];
@@ -145,13 +152,15 @@ mh_status Simulation::Engine::couple_subsystems(double t_eval) {
   }
   // The kinematics of the iterate (the formulation's tangent may have left
   // them there already).
-  kinematics_at(z_iterate.data(), zd_iterate.data());
-  // Zero the coupling entries; instances that share a state add to them.
+  kinematics_at(z_base.data(), zd_base.data());
+  // Zero the coupling entries; instances that share a state add to them. The
+  // mechanical columns the host differenced hold their whole columns already.
   for (const auto& s : subsystems) {
     if (s.points.empty()) continue;
     for (int a : s.touched)
       for (int c = 0; c < n_m; ++c) {
-        values[static_cast<size_t>(pattern->slot(n_m + a, c))] = 0.0;
+        if (mech_column_given[static_cast<size_t>(c)] != 0)
+          values[static_cast<size_t>(pattern->slot(n_m + a, c))] = 0.0;
         values[static_cast<size_t>(pattern->slot(c, n_m + a))] = 0.0;
       }
   }
@@ -204,6 +213,7 @@ mh_status Simulation::Engine::couple_subsystems(double t_eval) {
       for (size_t row = 0; row < k; ++row) {
         const int state = s.touched[row];
         for (int c = 0; c < n_m; ++c) {
+          if (mech_column_given[static_cast<size_t>(c)] == 0) continue;  // differenced
           double d = 0.0;
           for (int i = 0; i < 3; ++i)
             d += s.dR_dp[row * n3 + 3 * a + static_cast<size_t>(i)] * point_dp_dx(i, c) +

@@ -106,14 +106,16 @@ mh_status Simulation::Engine::assemble_tangent(double t_eval) {
   }
   bool any_points = false;
   for (const auto& s : subsystems) any_points = any_points || !s.points.empty();
-  // With every mechanical column given and the formulation's mechanics map
-  // (ABI 2.2), the subsystems with points couple analytically
-  // (subsystem_coupling.cpp): no residual is differenced in a mechanical column
-  // nor in a state column that feeds the mechanics.
-  bool all_given = formulation.ops.tangent != nullptr;
-  for (int c = 0; c < n_m && all_given; ++c)
-    all_given = mech_column_given[static_cast<size_t>(c)] != 0;
-  const bool coupled = any_points && coupling_possible && all_given;
+  // With the formulation's mechanics map (ABI 2.2) the subsystems with points
+  // couple analytically (subsystem_coupling.cpp): no residual is differenced
+  // in a state column that feeds the mechanics, nor in a mechanical column the
+  // formulation's tangent gave. Read here, at the iterate, before the
+  // differences below move x.
+  const bool coupled = any_points && coupling_possible;
+  if (coupled) {
+    const mh_status st = read_mechanics_map();
+    if (!status_ok(st)) return st;
+  }
   mh_subsystem_eval ev = subsystem_eval(t_eval, scratch_rows.data());
   for (auto& s : subsystems) {
     if (s.api.ops.jacobian == nullptr) continue;
@@ -132,8 +134,7 @@ mh_status Simulation::Engine::assemble_tangent(double t_eval) {
     bool needs = false;
     for (int c : groups[g]) {
       if (c < n_m)
-        needs =
-            needs || (!coupled && (any_points || mech_column_given[static_cast<size_t>(c)] == 0));
+        needs = needs || mech_column_given[static_cast<size_t>(c)] == 0 || (any_points && !coupled);
       else if (coupled)
         needs = needs || column_analytic[static_cast<size_t>(c - n_m)] == 0;
       else

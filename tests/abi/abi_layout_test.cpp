@@ -88,9 +88,13 @@ TEST(AbiLayout, MinorOneAppendsAfterEveryTwoZeroField) {
   EXPECT_EQ(sizeof(mh_integrator), mh_sdk20_sizeof_integrator);
 }
 
-// ABI 2.2 appended one field, mechanics_map, at the end of mh_formulation
-// (unchanged in 2.1): every 2.0 field keeps its offset.
-TEST(AbiLayout, MinorTwoAppendsMechanicsMapAfterEveryFormulationField) {
+// ABI 2.2 appended mechanics_map at the end of mh_formulation (unchanged in
+// 2.1) and coupling_jacobian at the end of mh_subsystem: every field before
+// keeps its offset.
+TEST(AbiLayout, MinorTwoAppendsOneOpToFormulationsAndOneToSubsystems) {
   EXPECT_EQ(offsetof(mh_formulation, mechanics_map), mh_sdk20_sizeof_formulation);
   EXPECT_EQ(sizeof(mh_formulation), mh_sdk20_sizeof_formulation + sizeof(void*));
+  // and coupling_jacobian right after 2.1's point_force_jacobian in mh_subsystem.
+  EXPECT_EQ(offsetof(mh_subsystem, coupling_jacobian), mh_sdk20_sizeof_subsystem + sizeof(void*));
+  EXPECT_EQ(sizeof(mh_subsystem), mh_sdk20_sizeof_subsystem + 2 * sizeof(void*));
 }

@@ -112,8 +112,10 @@ typedef struct mh_formulation {
   /* -- ABI 2.2 (the host reads it only when struct_size reaches it) ---------- */
   /* Optional: how the mechanics of the last residual call depended on the
    * unknowns, so that the host couples the subsystems with points to them
-   * without differences (with `tangent` giving every column, no residual is
-   * differenced in a mechanical column). At the arguments of the last residual
+   * without differences: no residual is then differenced in a state column,
+   * nor in a mechanical column that `tangent` gave (with `tangent` giving
+   * every column, none at all). Called right after that residual call, before
+   * any difference the host takes. At the arguments of the last residual
    * call: dz_dx, dzd_dx, dzd_dxd (N x n each, column-major) are the partial
    * derivatives of the z and zd it passed to evaluate_mechanics with respect to
    * x and xd; dr_dQ (n x N, column-major) those of its rows with respect to the
