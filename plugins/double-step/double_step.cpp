@@ -80,6 +80,7 @@ struct DoubleStep {
   Eigen::VectorXd x_it, xd_it, xdd_it;  // f: that iterate's x, xd, xdd
   double t_it = 0.0;                    // and its time
   Eigen::VectorXd zdd_i;                // f: scratch
+  Eigen::VectorXd dx_i, z_est;          // f, N: the dependent coordinates' estimate
   bool iterate_valid = false;
   // mechanics_map's scratch: d(Phi_z zd)/dz on the kept rows (r x N), times
   // R_z (r x f), and the dependent rates' derivative (r x f).
@@ -174,7 +175,8 @@ bool parse_independent(DoubleStep& s, std::vector<int>& out) {
 void size_buffers(DoubleStep& s) {
   for (Eigen::VectorXd* v : {&s.z, &s.zd, &s.zdd, &s.z_pred, &s.z_it, &s.zd_it, &s.zdd_it})
     v->setZero(s.N);
-  for (Eigen::VectorXd* v : {&s.x_it, &s.xd_it, &s.xdd_it, &s.zdd_i}) v->setZero(s.f);
+  for (Eigen::VectorXd* v : {&s.x_it, &s.xd_it, &s.xdd_it, &s.zdd_i, &s.dx_i}) v->setZero(s.f);
+  s.z_est.setZero(s.N);
   s.dependent.resize(s.m, s.N, s.r);
   s.transform.resize(s.N, s.r);
   s.transform.set_partition(s.partition);
@@ -346,9 +348,19 @@ mh_status two_steps(DoubleStep& s, double t, uint32_t flags) {
 // zdd^d (Eq. 15).
 mh_status evaluate_iterate(DoubleStep& s, double t, const double* x, const double* xd,
                            const double* xdd, uint32_t flags) {
+  // The dependent entries start from the best estimate: within a step, the
+  // last iterate's z moved along its tangent R_z (Eq. 14) to this x (a
+  // difference column's x is 1e-8 away, a Newton update's close); else the
+  // step's prediction.
+  if (s.iterate_valid) {
+    s.dx_i = Eigen::Map<const Eigen::VectorXd>(x, s.f) - s.x_it;
+    s.z_est.noalias() = s.transform.R_z() * s.dx_i;
+    s.z_it += s.z_est;
+  } else {
+    s.z_it = s.z_pred;
+  }
   s.iterate_valid = false;
   s.t_it = t;
-  s.z_it = s.z_pred;  // the dependent entries start from the estimate
   for (int k = 0; k < s.f; ++k) {
     const int i = s.partition.independent[static_cast<size_t>(k)];
     s.z_it[i] = x[k];
