@@ -136,8 +136,14 @@ mh_status Simulation::Engine::read_mechanics_map() {
   for (Eigen::MatrixXd* M : {&map_dz_dx, &map_dzd_dx, &map_dzd_dxd, &map_dr_dQ}) M->setZero();
   z_base = z_iterate;
   zd_base = zd_iterate;
-  return normalized(formulation.ops.mechanics_map(
-      formulation.self, map_dz_dx.data(), map_dzd_dx.data(), map_dzd_dxd.data(), map_dr_dQ.data()));
+  // The coordinates' derivatives serve only the mechanical columns the
+  // formulation's tangent gave: without one, the formulation need not compute them.
+  bool any_given = false;
+  for (uint8_t g : mech_column_given) any_given = any_given || g != 0;
+  return normalized(
+      formulation.ops.mechanics_map(formulation.self, any_given ? map_dz_dx.data() : nullptr,
+                                    any_given ? map_dzd_dx.data() : nullptr,
+                                    any_given ? map_dzd_dxd.data() : nullptr, map_dr_dQ.data()));
 }
 
 mh_status Simulation::Engine::couple_subsystems(double t_eval) {

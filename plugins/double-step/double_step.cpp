@@ -487,18 +487,19 @@ mh_status mechanics_map(const mh_formulation* fo, double* dz_dx, double* dzd_dx,
       log_error(s, "mechanics_map: no residual was evaluated in this step");
       return MH_ERROR;
     }
+    const Eigen::MatrixXd& R = s.transform.R_z();
+    Eigen::Map<Eigen::MatrixXd> Q_map(dr_dQ, s.f, s.N);
+    for (int k = 0; k < s.f; ++k)
+      for (int j = 0; j < s.N; ++j) Q_map(k, j) = -R(j, k);
+    if (dz_dx == nullptr || dzd_dx == nullptr || dzd_dxd == nullptr) return MH_OK;  // not needed
     if (s.host->struct_size <
             offsetof(mh_host, mech_derivatives) + sizeof(s.host->mech_derivatives) ||
         s.host->mech_derivatives == nullptr) {
       log_error(s, "mechanics_map: the host has no mech_derivatives (ABI 2.1)");
       return MH_ERROR;
     }
-    const Eigen::MatrixXd& R = s.transform.R_z();
     Eigen::Map<Eigen::MatrixXd>(dz_dx, s.N, s.f) = R;
     Eigen::Map<Eigen::MatrixXd>(dzd_dxd, s.N, s.f) = R;
-    Eigen::Map<Eigen::MatrixXd> Q_map(dr_dQ, s.f, s.N);
-    for (int k = 0; k < s.f; ++k)
-      for (int j = 0; j < s.N; ++j) Q_map(k, j) = -R(j, k);
     mh_mech_derivatives_request rq{};
     rq.struct_size = sizeof(rq);
     rq.flags = MH_DERIV_CONSTRAINT_ACCELERATIONS;

@@ -154,8 +154,8 @@ mh_status mechanics_map(const mh_formulation* f, double* dz_dx, double*, double*
   return monohydra::guarded_op<OpenLoop>(f, "mechanics_map", [&](OpenLoop& s) {
     for (int i = 0; i < s.N; ++i) {
       const size_t d = static_cast<size_t>(i) * static_cast<size_t>(s.N) + static_cast<size_t>(i);
-      dz_dx[d] = 1.0;
-      dzd_dxd[d] = 1.0;
+      if (dz_dx != nullptr) dz_dx[d] = 1.0;
+      if (dzd_dxd != nullptr) dzd_dxd[d] = 1.0;
       dr_dQ[d] = -1.0;
     }
     return MH_OK;

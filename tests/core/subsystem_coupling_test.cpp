@@ -118,5 +118,31 @@ TEST(AnalyticTangent, DoubleStepDifferencesOnlyItsMechanicalColumns) {
       << "state row " << row;
 }
 
+// What mechanics_map says of the coordinates (dz/dx, and dzd/dx along the
+// integrator's map) agrees with central differences of the coordinates the
+// residual passed to evaluate_mechanics: double-step's dependent coordinates
+// (R_z, Eq. 14, and the rates' derivative from dA/dzd), penalty's identity.
+TEST(AnalyticTangent, MechanicsMapEqualsCentralDifferencesOfTheCoordinates) {
+  for (const char* formulation : {"double-step", "penalty"}) {
+    for (const char* model : {"fourbar.yaml", "quickreturn.yaml"}) {
+      const ModelFile file = load_model_file(test::source_path(std::string("models/") + model));
+      Simulation sim(file, test::build_plugins(), RunChoices{formulation, "", {}, {}});
+      sim.start();
+      for (int k = 0; k < 1500; ++k) sim.step();
+      const Simulation::CoordinateMaps maps = sim.coordinate_maps();
+      const double scale_z = std::max(maps.dz_dx_cd.cwiseAbs().maxCoeff(), 1e-12);
+      const double scale_zd = std::max(maps.dzd_dx_cd.cwiseAbs().maxCoeff(), 1e-12);
+      EXPECT_LT((maps.dz_dx - maps.dz_dx_cd).cwiseAbs().maxCoeff() / scale_z, 1e-6)
+          << formulation << " " << model << "\n"
+          << maps.dz_dx << "\n\n"
+          << maps.dz_dx_cd;
+      EXPECT_LT((maps.dzd_dx - maps.dzd_dx_cd).cwiseAbs().maxCoeff() / scale_zd, 1e-6)
+          << formulation << " " << model << "\n"
+          << maps.dzd_dx << "\n\n"
+          << maps.dzd_dx_cd;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace mh

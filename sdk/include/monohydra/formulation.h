@@ -120,7 +120,8 @@ typedef struct mh_formulation {
    * derivatives of the z and zd it passed to evaluate_mechanics with respect to
    * x and xd; dr_dQ (n x N, column-major) those of its rows with respect to the
    * generalized applied forces Q' it got back (e.g. -I for r = M' zdd - Q').
-   * All zero on entry. */
+   * All zero on entry. dz_dx, dzd_dx and dzd_dxd are NULL when the host needs
+   * none of them (when `tangent` gave no mechanical column). */
   mh_status (*mechanics_map)(const struct mh_formulation* self, double* dz_dx, double* dzd_dx,
                              double* dzd_dxd, double* dr_dQ);
 } mh_formulation;

@@ -141,6 +141,14 @@ class Simulation {
   // The same by central differences (x +- h, h = 1e-6 max(1e-2, |x_i|)), the
   // reference of the analytic blocks' tests.
   Eigen::MatrixXd central_difference_tangent();
+  // The formulation's mechanics_map (ABI 2.2) at the prediction of the next
+  // step, every array asked for: dz/dx and the total dzd/dx along the
+  // integrator's map (dzd_dx + dxd_dx dzd_dxd), and the same from central
+  // differences of the coordinates its residual passed at x +- h.
+  struct CoordinateMaps {
+    Eigen::MatrixXd dz_dx, dzd_dx, dz_dx_cd, dzd_dx_cd;
+  };
+  CoordinateMaps coordinate_maps();
   int num_unknowns() const;
   int num_mechanical_unknowns() const;
   int tangent_nonzeros() const;
