@@ -21,7 +21,7 @@ void run_model(benchmark::State& state, const Choice& c) {
   ModelFile file = shipped_model(c.model);
   file.solver.linear = c.linear;
   file.solver.newton = c.newton;
-  double steps = 0, iterations = 0, tangents = 0;
+  double steps = 0, iterations = 0, tangents = 0, kinematics = 0, residuals = 0;
   for (auto _ : state) {
     Simulation sim(file, plugins(), RunChoices{c.formulation, c.integrator, {}, {}});
     const RunSummary s = run(sim, nullptr);
@@ -29,8 +29,10 @@ void run_model(benchmark::State& state, const Choice& c) {
     steps += static_cast<double>(s.steps);
     iterations += static_cast<double>(s.iterations);
     tangents += static_cast<double>(s.tangents);
+    kinematics += static_cast<double>(sim.counters().kinematics_passes);
+    residuals += static_cast<double>(sim.counters().residual_evaluations);
   }
-  step_counters(state, steps, iterations, tangents);
+  step_counters(state, steps, iterations, tangents, kinematics, residuals);
 }
 
 // output/MODEL/FORMULATION/{none,every-step,10ms}: the same run writing its
@@ -38,7 +40,7 @@ void run_model(benchmark::State& state, const Choice& c) {
 void run_with_output(benchmark::State& state, const std::string& model,
                      const std::string& formulation, double interval, bool write) {
   const ModelFile file = shipped_model(model);
-  double steps = 0, iterations = 0, tangents = 0;
+  double steps = 0, iterations = 0, tangents = 0, kinematics = 0, residuals = 0;
   for (auto _ : state) {
     Simulation sim(file, plugins(), RunChoices{formulation, "", {}, {}});
     OutputSettings out;
@@ -51,8 +53,10 @@ void run_with_output(benchmark::State& state, const std::string& model,
     steps += static_cast<double>(s.steps);
     iterations += static_cast<double>(s.iterations);
     tangents += static_cast<double>(s.tangents);
+    kinematics += static_cast<double>(sim.counters().kinematics_passes);
+    residuals += static_cast<double>(sim.counters().residual_evaluations);
   }
-  step_counters(state, steps, iterations, tangents);
+  step_counters(state, steps, iterations, tangents, kinematics, residuals);
 }
 
 std::string name_of(const Choice& c) {

@@ -49,6 +49,7 @@ struct BodyState {
   double m;
   Eigen::Vector3d g, gdot, omega, alpha, F;
   Eigen::Matrix3d J;
+  Eigen::Vector3d Jw, Ja;  // J omega, J alpha
 };
 
 Vector6d body_residual(const BodyState& s, const Vector6d& Zdot, const Eigen::Vector3d& weight) {
@@ -64,20 +65,16 @@ Vector6d body_residual(const BodyState& s, const Vector6d& Zdot, const Eigen::Ve
 Vector6d vary_body_residual(const BodyState& s, const BodyVariation& dv) {
   const Eigen::Vector3d w = dv.twist.tail<3>();
   const Eigen::Vector3d dg = twist_at(dv.twist, s.g);
-  // J = R Jbar R^T with dR = w~ R: dJ = w~ J - J w~ (text after Eq. 10).
-  const Eigen::Matrix3d dJ = [&] {
-    Eigen::Matrix3d W;
-    W << 0.0, -w.z(), w.y(), w.z(), 0.0, -w.x(), -w.y(), w.x(), 0.0;
-    return Eigen::Matrix3d(W * s.J - s.J * W);
-  }();
+  // J = R Jbar R^T with dR = w~ R: dJ = w~ J - J w~ (text after Eq. 10), applied
+  // to vectors only: dJ x = w x (J x) - J (w x x), no 3 x 3 products.
   const Eigen::Vector3d domega = dv.Z.tail<3>();
   const Eigen::Vector3d dalpha = dv.Zdot.tail<3>();
   const Eigen::Vector3d dgdot = dv.Z.head<3>() + domega.cross(s.g) + s.omega.cross(dg);  // Eq. (6)
   const Eigen::Vector3d dA = dv.Zdot.head<3>() + dalpha.cross(s.g) + s.alpha.cross(dg);
   const Eigen::Vector3d dF = s.m * (dA + domega.cross(s.gdot) + s.omega.cross(dgdot));
-  const Eigen::Vector3d Jw = s.J * s.omega;
-  const Eigen::Vector3d dJw = dJ * s.omega + s.J * domega;
-  const Eigen::Vector3d dT = dJ * s.alpha + s.J * dalpha + domega.cross(Jw) + s.omega.cross(dJw);
+  const Eigen::Vector3d dJw = w.cross(s.Jw) - s.J * w.cross(s.omega) + s.J * domega;
+  const Eigen::Vector3d dJa = w.cross(s.Ja) - s.J * w.cross(s.alpha);
+  const Eigen::Vector3d dT = dJa + s.J * dalpha + domega.cross(s.Jw) + s.omega.cross(dJw);
   Vector6d dh;
   dh << dF, dg.cross(s.F) + s.g.cross(dF) + dT;
   return dh;
@@ -94,6 +91,8 @@ BodyState body_state(const Model& model, const Data& data, const DynamicsDerivat
   s.alpha = ws.Zdot[j].tail<3>();
   s.J = ws.J[j];
   s.F = ws.h[j].head<3>();
+  s.Jw = ws.Jw[j];
+  s.Ja = ws.Ja[j];
   return s;
 }
 
@@ -188,6 +187,8 @@ DynamicsDerivativesWorkspace::DynamicsDerivativesWorkspace(const Model& model) {
   dH.assign(nb, Vector6d::Zero());
   J.assign(nb, Eigen::Matrix3d::Zero());
   gdot.assign(nb, Eigen::Vector3d::Zero());
+  Jw.assign(nb, Eigen::Vector3d::Zero());
+  Ja.assign(nb, Eigen::Vector3d::Zero());
   in_subtree.assign(nb, 0);
   cols.setZero(3, model.num_coordinates());
   residual.setZero(model.num_coordinates());
@@ -209,6 +210,8 @@ void dynamics_derivatives(const Model& model, const Data& data, const Eigen::Vec
     ws.Zdot[j] = Zdot_P + data.b[j] * zdd[j] + data.d[j];
     ws.J[j] = data.R_W_B[j] * body.inertia_B * data.R_W_B[j].transpose();
     ws.gdot[j] = twist_at(data.Z[j], data.g_W[j]);  // Eq. (6)
+    ws.Jw[j] = ws.J[j] * data.Z[j].tail<3>();
+    ws.Ja[j] = ws.J[j] * ws.Zdot[j].tail<3>();
     BodyState s = body_state(model, data, ws, j);
     ws.h[j] = body_residual(s, ws.Zdot[j], body.mass * model.gravity);
     ws.H[j] = ws.h[j];

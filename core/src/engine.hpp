@@ -69,6 +69,9 @@ struct SubsystemInstance {
   // Point-force derivatives (3P x 3P, column-major) and the buffers that
   // difference them when the plugin gives none (mechanics_derivatives.cpp).
   std::vector<double> dF_dp, dF_dv, p_pert, v_pert, f_base;
+  // Its rows' derivatives in its points' motion (k x 3P, row-major) and its
+  // point forces' in its states (3P x k, column-major): subsystem_coupling.cpp.
+  std::vector<double> dR_dp, dR_dv, dF_dy, dF_dydot;
 };
 
 // A node of a network (e.g. a hydraulic node): the ports the model joined under
@@ -169,7 +172,20 @@ struct Simulation::Engine {
   Eigen::MatrixXd dr_dx, dr_dxd, dr_dxdd;  // n_m x n_m from the formulation's tangent
   std::vector<uint8_t> mech_column_given;  // n_m
   std::vector<int> mech_slots;             // n_m x n_m column-major slots
+  // The analytic coupling of subsystems with points to the mechanical
+  // unknowns (ABI 2.2 mechanics_map, subsystem_coupling.cpp).
+  bool coupling_possible = false;
+  Eigen::VectorXd z_iterate, zd_iterate;  // of the last MH_EVAL_SUBSYSTEMS evaluation
+  Eigen::VectorXd z_base, zd_base;        // the iterate's, kept while the tangent differences
+  Eigen::MatrixXd map_dz_dx, map_dzd_dx, map_dzd_dxd, map_dzd_total;  // N x n_m
+  Eigen::MatrixXd map_dr_dQ;                                          // n_m x N
+  Eigen::Matrix<double, 3, Eigen::Dynamic> point_jp, point_jv;        // 3 x N
+  Eigen::Matrix<double, 3, Eigen::Dynamic> point_dp_dx, point_dv_dx;  // 3 x n_m
+  Eigen::VectorXd dQ_dy;                                              // N
   StepStats stats;
+  Simulation::WorkCounters counters;  // since start()
+  bool kinematics_valid = false;      // data's kinematics are those of data.z, data.zd
+  Eigen::VectorXd kin_z, kin_zd;      // kinematics_at's copies (no aliasing with data.z)
 
   // Accepted results.
   double t = 0.0;
@@ -190,6 +206,8 @@ struct Simulation::Engine {
   // A new state of the run; returns its index.
   int add_state_record(const VariableInfo& info, double initial, double abs_tolerance);
   mh_status evaluate_mechanics(uint32_t flags, double t_eval, const double* zq, const double* zdq);
+  // forward_kinematics at (zq, zdq) unless `data` holds them already; counted.
+  void kinematics_at(const double* zq, const double* zdq);
   // Evaluates every subsystem at the kinematics in `data` and the current y,
   // ydot, adding rows to `rows` (zeroed first) and forces to the bodies.
   mh_status evaluate_subsystems(double t_eval, double* rows);
@@ -218,6 +236,11 @@ struct Simulation::Engine {
   // mechanics_derivatives.cpp
   void size_derivatives();
   mh_status mechanics_derivatives(const mh_mech_derivatives_request& rq);
+
+  // subsystem_coupling.cpp
+  void size_coupling();
+  mh_status read_mechanics_map();
+  mh_status couple_subsystems(double t_eval);
 
   // tangent.cpp
   void build_pattern();

@@ -507,12 +507,22 @@ mh_status Simulation::Engine::evaluate_subsystems(double t_eval, double* rows) {
   return MH_OK;
 }
 
+// The kinematics at (zq, zdq), run only when `data` does not already hold
+// them: a formulation asks for the same z several times per residual and
+// tangent (the dependent coordinates' last check, M' and Q', derivatives).
+void Simulation::Engine::kinematics_at(const double* zq, const double* zdq) {
+  const Eigen::Map<const Eigen::VectorXd> zm(zq, N), zdm(zdq, N);
+  if (kinematics_valid && data.z == zm && data.zd == zdm) return;
+  kin_z = zm;
+  kin_zd = zdm;
+  forward_kinematics(model, data, kin_z, kin_zd);
+  kinematics_valid = true;
+  ++counters.kinematics_passes;
+}
+
 mh_status Simulation::Engine::evaluate_mechanics(uint32_t flags, double t_eval, const double* zq,
                                                  const double* zdq) {
-  const Eigen::Map<const Eigen::VectorXd> zm(zq, N), zdm(zdq, N);
-  data.z = zm;
-  data.zd = zdm;
-  forward_kinematics(model, data, data.z, data.zd);
+  kinematics_at(zq, zdq);
   // The iterate's rows only inside a residual call (rows_target set); any
   // other evaluation leaves them alone.
   const bool iterate = (flags & MH_EVAL_SUBSYSTEMS) != 0 && rows_target != nullptr;
@@ -520,7 +530,11 @@ mh_status Simulation::Engine::evaluate_mechanics(uint32_t flags, double t_eval, 
     reset_applied_forces(model, data);
     const mh_status st = evaluate_subsystems(t_eval, iterate ? rows_target : scratch_rows.data());
     if (!status_ok(st)) return st;
-    if (iterate) iterate_evaluated = true;
+    if (iterate) {
+      iterate_evaluated = true;
+      z_iterate = data.z;  // where the analytic coupling differentiates (subsystem_coupling.cpp)
+      zd_iterate = data.zd;
+    }
   }
   if ((flags & MH_EVAL_DYNAMICS) != 0) mass_matrix_and_forces(model, data);
   if ((flags & MH_EVAL_CONSTRAINTS) != 0)

@@ -22,12 +22,17 @@ namespace {
                               std::to_string(expected) + ", got " + std::to_string(got));
 }
 
-void check_body(const char* where, const Data& data, int body) {
+[[noreturn]] __attribute__((noinline, cold)) void throw_bad_body(const char* where, int n,
+                                                                 int body) {
+  throw std::invalid_argument(std::string(where) + ": body: expected " + std::to_string(kGround) +
+                              ".." + std::to_string(n - 1) + ", got " + std::to_string(body));
+}
+
+// The check stays (a bad index is a clear error, not a crash) but costs one
+// inlined comparison on the hot path: the message is built out of line.
+inline void check_body(const char* where, const Data& data, int body) {
   const int n = static_cast<int>(data.R_W_B.size());
-  if (body < kGround || body >= n) {
-    throw std::invalid_argument(std::string(where) + ": body: expected " + std::to_string(kGround) +
-                                ".." + std::to_string(n - 1) + ", got " + std::to_string(body));
-  }
+  if (__builtin_expect(body < kGround || body >= n, 0)) throw_bad_body(where, n, body);
 }
 
 void check_data(const char* where, const Model& model, const Data& data) {

@@ -81,10 +81,7 @@ mh_status differenced_point_forces(SubsystemInstance& s, mh_subsystem_eval ev) {
 }  // namespace
 
 mh_status Simulation::Engine::mechanics_derivatives(const mh_mech_derivatives_request& rq) {
-  const Eigen::Map<const Eigen::VectorXd> zm(rq.z, N), zdm(rq.zd, N);
-  data.z = zm;
-  data.zd = zdm;
-  forward_kinematics(model, data, data.z, data.zd);
+  kinematics_at(rq.z, rq.zd);
   if ((rq.flags & MH_DERIV_DYNAMICS) != 0) {
     // The subsystems at this motion, their states held: forces and their
     // derivatives. Outputs are restored after: they stay the iterate's.

@@ -198,6 +198,7 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
     e.linear_solver = make_linear_solver(*e.pattern, e.settings.linear);
   e.reuse.enable(e.settings.newton == NewtonKind::modified);
   e.size_derivatives();
+  e.size_coupling();
 }
 
 Simulation::~Simulation() = default;
@@ -344,6 +345,71 @@ Eigen::MatrixXd Simulation::finite_difference_tangent() {
   }
   e.residual(t_next, e.x, e.r);
   return J;
+}
+
+Eigen::MatrixXd Simulation::central_difference_tangent() {
+  Engine& e = *engine_;
+  const double t_next = e.t + e.settings.dt;
+  e.prepare_step(t_next, e.settings.dt);
+  Eigen::MatrixXd J(e.n, e.n);
+  for (int c = 0; c < e.n; ++c) {
+    const double h = 1e-6 * std::max(1e-2, std::abs(e.x[c]));
+    const double x0 = e.x[c];
+    e.x[c] = x0 + h;
+    e.residual(t_next, e.x, e.r_pert);
+    J.col(c) = e.r_pert;
+    e.x[c] = x0 - h;
+    e.residual(t_next, e.x, e.r_pert);
+    e.x[c] = x0;
+    J.col(c) = (J.col(c) - e.r_pert) / (2.0 * h);
+  }
+  e.residual(t_next, e.x, e.r);
+  return J;
+}
+
+Simulation::CoordinateMaps Simulation::coordinate_maps() {
+  Engine& e = *engine_;
+  if (e.formulation.ops.mechanics_map == nullptr)
+    throw SimulationError(e.t, e.step, "the formulation gives no mechanics_map");
+  const double t_next = e.t + e.settings.dt;
+  e.prepare_step(t_next, e.settings.dt);
+  CoordinateMaps out;
+  out.dz_dx_cd.setZero(e.N, e.n_m);
+  out.dzd_dx_cd.setZero(e.N, e.n_m);
+  for (int c = 0; c < e.n_m; ++c) {
+    const double h = 1e-6 * std::max(1e-2, std::abs(e.x[c]));
+    const double x0 = e.x[c];
+    for (int side = 0; side < 2; ++side) {
+      e.x[c] = x0 + (side == 0 ? h : -h);
+      e.residual(t_next, e.x, e.r_pert);
+      const double w = (side == 0 ? 1.0 : -1.0) / (2.0 * h);
+      out.dz_dx_cd.col(c) += w * e.z_iterate;
+      out.dzd_dx_cd.col(c) += w * e.zd_iterate;
+    }
+    e.x[c] = x0;
+  }
+  if (!status_ok(e.residual(t_next, e.x, e.r)))
+    throw SimulationError(e.t, e.step, "residual failed: " + e.last_plugin_error);
+  Eigen::MatrixXd dzd_dx = Eigen::MatrixXd::Zero(e.N, e.n_m);
+  Eigen::MatrixXd dzd_dxd = Eigen::MatrixXd::Zero(e.N, e.n_m);
+  Eigen::MatrixXd dr_dQ = Eigen::MatrixXd::Zero(e.n_m, e.N);
+  out.dz_dx.setZero(e.N, e.n_m);
+  if (!status_ok(normalized(e.formulation.ops.mechanics_map(
+          e.formulation.self, out.dz_dx.data(), dzd_dx.data(), dzd_dxd.data(), dr_dQ.data()))))
+    throw SimulationError(e.t, e.step, "mechanics_map failed: " + e.last_plugin_error);
+  out.dzd_dx = dzd_dx;
+  for (int c = 0; c < e.n_m; ++c) {
+    const uint8_t kind = e.kinds[static_cast<size_t>(c)];
+    const double cv = kind == MH_UNKNOWN_SECOND_ORDER  ? e.map.coefficients.dxd_dx_second
+                      : kind == MH_UNKNOWN_FIRST_ORDER ? e.map.coefficients.dxd_dx_first
+                                                       : 0.0;
+    out.dzd_dx.col(c) += cv * dzd_dxd.col(c);
+  }
+  return out;
+}
+
+const Simulation::WorkCounters& Simulation::counters() const {
+  return engine_->counters;
 }
 
 Simulation::MechanicsDerivatives Simulation::mechanics_derivatives(const Eigen::VectorXd& z,

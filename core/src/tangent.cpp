@@ -77,6 +77,7 @@ mh_status Simulation::Engine::residual(double t_eval, const Eigen::VectorXd& xq,
   rates_of(xq, xd, xdd);
   y = xq.tail(n_s);
   ydot = xd.tail(n_s);
+  ++counters.residual_evaluations;
   rows_target = rq.data() + n_m;
   iterate_evaluated = false;
   const mh_status st = normalized(formulation.ops.residual(formulation.self, t_eval, xq.data(),
@@ -105,6 +106,16 @@ mh_status Simulation::Engine::assemble_tangent(double t_eval) {
   }
   bool any_points = false;
   for (const auto& s : subsystems) any_points = any_points || !s.points.empty();
+  // With the formulation's mechanics map (ABI 2.2) the subsystems with points
+  // couple analytically (subsystem_coupling.cpp): no residual is differenced
+  // in a state column that feeds the mechanics, nor in a mechanical column the
+  // formulation's tangent gave. Read here, at the iterate, before the
+  // differences below move x.
+  const bool coupled = any_points && coupling_possible;
+  if (coupled) {
+    const mh_status st = read_mechanics_map();
+    if (!status_ok(st)) return st;
+  }
   mh_subsystem_eval ev = subsystem_eval(t_eval, scratch_rows.data());
   for (auto& s : subsystems) {
     if (s.api.ops.jacobian == nullptr) continue;
@@ -120,9 +131,15 @@ mh_status Simulation::Engine::assemble_tangent(double t_eval) {
   const auto& colptr = pattern->column_start();
   const auto& rows = pattern->row_index();
   for (size_t g = 0; g < groups.size(); ++g) {
-    bool needs = group_needs_fd[g] != 0;
-    for (int c : groups[g])
-      if (c < n_m && (any_points || mech_column_given[static_cast<size_t>(c)] == 0)) needs = true;
+    bool needs = false;
+    for (int c : groups[g]) {
+      if (c < n_m)
+        needs = needs || mech_column_given[static_cast<size_t>(c)] == 0 || (any_points && !coupled);
+      else if (coupled)
+        needs = needs || column_analytic[static_cast<size_t>(c - n_m)] == 0;
+      else
+        needs = needs || group_needs_fd[g] != 0;
+    }
     if (!needs) continue;
     for (int c : groups[g]) {
       eps[c] = 1e-8 * std::max(1e-2, std::abs(x[c]));  // Eq. (41)
@@ -142,7 +159,7 @@ mh_status Simulation::Engine::assemble_tangent(double t_eval) {
 
   // The formulation's columns: dr/dx + dxd_dx dr/dxd + dxdd_dx dr/dxdd.
   const mh_step_coefficients& cf = map.coefficients;
-  if (!any_points) {
+  if (!any_points || coupled) {
     for (int c = 0; c < n_m; ++c) {
       if (mech_column_given[static_cast<size_t>(c)] == 0) continue;
       const uint8_t kind = kinds[static_cast<size_t>(c)];
@@ -155,6 +172,10 @@ mh_status Simulation::Engine::assemble_tangent(double t_eval) {
                                               static_cast<size_t>(rr)])] =
             dr_dx(rr, c) + cv * dr_dxd(rr, c) + ca * dr_dxdd(rr, c);
     }
+  }
+  if (coupled) {
+    const mh_status st = couple_subsystems(t_eval);
+    if (!status_ok(st)) return st;
   }
   // d r / d y_{k+1} = d r / d y + dydot_dy d r / d ydot, Eq. (33); summed over
   // the instances that share a state, in the columns where all of them are analytic.

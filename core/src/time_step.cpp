@@ -61,6 +61,7 @@ void Simulation::Engine::start() {
   zd = zd0;
   zdd.setZero(N);
   last_plugin_error.clear();
+  counters = Simulation::WorkCounters{};
   // Algebraic states, and the equilibrium the model asks for, before the
   // formulation computes its initial accelerations from them.
   solve_algebraic_and_equilibrium();
@@ -202,10 +203,10 @@ void Simulation::Engine::accept_step(double t_next, bool event, double h) {
     check(s.api.ops.accept(s.api.self, &ev), "subsystem '" + s.spec->name + "' accept");
   }
   t = t_next;
-  forward_kinematics(model, data, z, zd);
+  kinematics_at(z.data(), zd.data());
   if (event) {
     solve_initial_rates(std::nextafter(t, HUGE_VAL));
-    forward_kinematics(model, data, z, zd);
+    kinematics_at(z.data(), zd.data());
     xd.tail(n_s) = ydot;
   }
   y_k = y;

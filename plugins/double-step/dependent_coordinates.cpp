@@ -8,6 +8,11 @@
 #include "lu_substitution.hpp"
 
 namespace mh::double_step {
+namespace {
+// An increment of z^d this small (rad or m) is round-off of coordinates of
+// order one: the Jacobian at z - dz is the Jacobian at z.
+constexpr double kRoundOffIncrement = 1e-15;
+}  // namespace
 
 void DependentCoordinates::resize(int m, int N, int r) {
   m_ = m;
@@ -84,6 +89,10 @@ DependentSolveResult DependentCoordinates::solve(const mh_host* host, double t, 
       return out;
     }
     converged = out.increment <= tolerance;
+    // An increment at round-off (a start that was already the solution, as
+    // the estimate along R_z is for a difference column) leaves Phi_z^d as it
+    // was factored to the last bits: no need to evaluate and factor it again.
+    if (out.increment <= kRoundOffIncrement) break;
   }
   out.outcome = DependentSolveResult::Outcome::converged;
   return out;

@@ -13,6 +13,7 @@
 // (Eqs. 13-17), this file (options, the step's operations, entry point).
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <new>
 #include <string>
@@ -23,6 +24,7 @@
 #include "dependent_coordinates.hpp"
 #include "eigen.hpp"
 #include "host_calls.hpp"
+#include "lu_substitution.hpp"
 #include "monohydra/cpp/formulation_plugin.hpp"
 #include "monohydra/monohydra.h"
 #include "velocity_transformation.hpp"
@@ -76,8 +78,14 @@ struct DoubleStep {
   Eigen::VectorXd z_pred;               // N: z_k + zd_k h + zdd_k h^2 / 2
   Eigen::VectorXd z_it, zd_it, zdd_it;  // N: at the last evaluated iterate
   Eigen::VectorXd x_it, xd_it, xdd_it;  // f: that iterate's x, xd, xdd
+  double t_it = 0.0;                    // and its time
   Eigen::VectorXd zdd_i;                // f: scratch
+  Eigen::VectorXd dx_i, z_est;          // f, N: the dependent coordinates' estimate
   bool iterate_valid = false;
+  // mechanics_map's scratch: d(Phi_z zd)/dz on the kept rows (r x N), times
+  // R_z (r x f), and the dependent rates' derivative (r x f).
+  Eigen::MatrixXd rate_stiffness, rate_stiffness_R, dzd_dependent;
+  Eigen::VectorXd column_r, scratch_r;  // r
 
   // Outputs: names (the host may keep the pointers) and indices.
   std::vector<std::string> output_names;  // independent1..independent_f
@@ -167,12 +175,18 @@ bool parse_independent(DoubleStep& s, std::vector<int>& out) {
 void size_buffers(DoubleStep& s) {
   for (Eigen::VectorXd* v : {&s.z, &s.zd, &s.zdd, &s.z_pred, &s.z_it, &s.zd_it, &s.zdd_it})
     v->setZero(s.N);
-  for (Eigen::VectorXd* v : {&s.x_it, &s.xd_it, &s.xdd_it, &s.zdd_i}) v->setZero(s.f);
+  for (Eigen::VectorXd* v : {&s.x_it, &s.xd_it, &s.xdd_it, &s.zdd_i, &s.dx_i}) v->setZero(s.f);
+  s.z_est.setZero(s.N);
   s.dependent.resize(s.m, s.N, s.r);
   s.transform.resize(s.N, s.r);
   s.transform.set_partition(s.partition);
   s.block_lu = Eigen::FullPivLU<Eigen::MatrixXd>(s.r, s.r);
   s.block.setZero(s.r, s.r);
+  s.rate_stiffness.setZero(s.r, s.N);
+  s.rate_stiffness_R.setZero(s.r, s.f);
+  s.dzd_dependent.setZero(s.r, s.f);
+  s.column_r.setZero(s.r);
+  s.scratch_r.setZero(s.r);
   size_partition(s.candidate, s.N, s.r);
 }
 
@@ -334,8 +348,19 @@ mh_status two_steps(DoubleStep& s, double t, uint32_t flags) {
 // zdd^d (Eq. 15).
 mh_status evaluate_iterate(DoubleStep& s, double t, const double* x, const double* xd,
                            const double* xdd, uint32_t flags) {
+  // The dependent entries start from the best estimate: within a step, the
+  // last iterate's z moved along its tangent R_z (Eq. 14) to this x (a
+  // difference column's x is 1e-8 away, a Newton update's close); else the
+  // step's prediction.
+  if (s.iterate_valid) {
+    s.dx_i = Eigen::Map<const Eigen::VectorXd>(x, s.f) - s.x_it;
+    s.z_est.noalias() = s.transform.R_z() * s.dx_i;
+    s.z_it += s.z_est;
+  } else {
+    s.z_it = s.z_pred;
+  }
   s.iterate_valid = false;
-  s.z_it = s.z_pred;  // the dependent entries start from the estimate
+  s.t_it = t;
   for (int k = 0; k < s.f; ++k) {
     const int i = s.partition.independent[static_cast<size_t>(k)];
     s.z_it[i] = x[k];
@@ -442,6 +467,70 @@ mh_status residual(const mh_formulation* fo, double t, const double* x, const do
     Eigen::Map<Eigen::VectorXd> rows(r, s.f);
     rows.noalias() = s.transform.M_reduced() * s.zdd_i;
     rows -= s.transform.Q_reduced();
+    return MH_OK;
+  });
+}
+
+// How the last residual's mechanics depended on x = z^i (ABI 2.2), so that the
+// host couples the subsystems to them without differences: z = z(z^i) with
+// dz/dz^i = R_z (Eq. 14), zd = R_z zd^i, the rows r = M'' zdd^i - Q'' take Q'
+// as -R_z^T (Eq. 17), and at fixed zd^i the dependent rates move with z^i by
+// Phi_z^d dzd^d = -(d(Phi_z zd)/dz) R_z, where d(Phi_z zd)/dz = (dA/dzd -
+// Phi_z)/2 (A = Phi_z zdd + Phi_z_dot zd is quadratic in zd), from the host's
+// mech_derivatives (ABI 2.1).
+mh_status mechanics_map(const mh_formulation* fo, double* dz_dx, double* dzd_dx, double* dzd_dxd,
+                        double* dr_dQ) noexcept {
+  DoubleStep& s = self(fo);
+  return guarded(s, "mechanics_map", [&]() -> mh_status {
+    const NoHeapScope no_heap;
+    if (!s.iterate_valid) {
+      log_error(s, "mechanics_map: no residual was evaluated in this step");
+      return MH_ERROR;
+    }
+    const Eigen::MatrixXd& R = s.transform.R_z();
+    Eigen::Map<Eigen::MatrixXd> Q_map(dr_dQ, s.f, s.N);
+    for (int k = 0; k < s.f; ++k)
+      for (int j = 0; j < s.N; ++j) Q_map(k, j) = -R(j, k);
+    if (dz_dx == nullptr || dzd_dx == nullptr || dzd_dxd == nullptr) return MH_OK;  // not needed
+    if (s.host->struct_size <
+            offsetof(mh_host, mech_derivatives) + sizeof(s.host->mech_derivatives) ||
+        s.host->mech_derivatives == nullptr) {
+      log_error(s, "mechanics_map: the host has no mech_derivatives (ABI 2.1)");
+      return MH_ERROR;
+    }
+    Eigen::Map<Eigen::MatrixXd>(dz_dx, s.N, s.f) = R;
+    Eigen::Map<Eigen::MatrixXd>(dzd_dxd, s.N, s.f) = R;
+    mh_mech_derivatives_request rq{};
+    rq.struct_size = sizeof(rq);
+    rq.flags = MH_DERIV_CONSTRAINT_ACCELERATIONS;
+    rq.t = s.t_it;
+    rq.z = s.z_it.data();
+    rq.zd = s.zd_it.data();
+    rq.zdd = s.zdd_it.data();
+    mh_mech_derivatives d{};
+    d.struct_size = sizeof(d);
+    const mh_status st = s.host->mech_derivatives(s.host, &rq, &d);
+    if (st >= MH_DISCARD) return st;
+    const Eigen::Map<const Eigen::MatrixXd> dA_dzd(d.dA_dzd, s.m, s.N);
+    const Partition& p = s.partition;
+    for (int a = 0; a < s.r; ++a) {
+      const int row = p.rows[static_cast<size_t>(a)];
+      for (int k = 0; k < s.r; ++k) {
+        const int j = p.dependent[static_cast<size_t>(k)];
+        s.rate_stiffness(a, j) = 0.5 * (dA_dzd(row, j) - s.dependent.phi_z_d()(a, k));
+      }
+      for (int k = 0; k < s.f; ++k) {
+        const int j = p.independent[static_cast<size_t>(k)];
+        s.rate_stiffness(a, j) = 0.5 * (dA_dzd(row, j) - s.dependent.phi_z_i()(a, k));
+      }
+    }
+    s.rate_stiffness_R.noalias() = s.rate_stiffness * R;
+    Eigen::Map<Eigen::MatrixXd> zd_map(dzd_dx, s.N, s.f);
+    for (int c = 0; c < s.f; ++c) {
+      s.column_r = -s.rate_stiffness_R.col(c);
+      lu_solve_in_place(s.dependent.lu(), s.column_r, s.scratch_r);
+      for (int k = 0; k < s.r; ++k) zd_map(p.dependent[static_cast<size_t>(k)], c) = s.column_r[k];
+    }
     return MH_OK;
   });
 }
@@ -598,6 +687,7 @@ const mh_formulation kOps = [] {
   f.write_outputs = write_outputs;
   f.destroy = monohydra::destroy_formulation<DoubleStep>;
   f.get_extension = get_extension;
+  f.mechanics_map = mechanics_map;
   return f;
 }();
 

@@ -33,6 +33,7 @@ class VelocityTransformation {
   // Eq. (15): zdd[dependent] = R_z^d zdd[independent] + (Rdot_z zd^i)^d.
   void accelerations(const Partition& p, Eigen::VectorXd& zdd) const;
 
+  const Eigen::MatrixXd& R_z() const { return R_z_; }              // N x f, Eq. (14)
   const Eigen::MatrixXd& M_reduced() const { return M_reduced_; }  // M'', f x f
   const Eigen::VectorXd& Q_reduced() const { return Q_reduced_; }  // Q'', f
 

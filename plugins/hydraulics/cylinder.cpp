@@ -122,6 +122,79 @@ class Cylinder {
     return MH_OK;
   }
 
+  // d(point forces)/d(points' positions, velocities), states held (ABI 2.1):
+  // 3P x 3P column-major. With f_b = F e = -f_a, de/dx_b = (I - e e^T)/s and
+  // dsdot/dx_b = (v_b - v_a)^T (I - e e^T)/s, dsdot/dv_b = e^T (minus for a).
+  mh_status point_force_jacobian(const mh_subsystem_eval& eval, double* dF_dp,
+                                 double* dF_dv) const {
+    Motion mo;
+    if (!motion(eval, mo)) return MH_ERROR;
+    const size_t n3 = 3 * eval.num_points;
+    for (int side = 0; side < 2; ++side) {
+      const int32_t force_point = side == 0 ? point_a_ : point_b_;
+      const double fs = side == 0 ? -1.0 : 1.0;  // f_a = -F e, f_b = +F e
+      for (int k = 0; k < 2; ++k) {
+        const int32_t moved = k == 0 ? point_a_ : point_b_;
+        const double ms = k == 0 ? -1.0 : 1.0;  // d/dx_a = -d/dx_b
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) {
+            const size_t at = (3 * static_cast<size_t>(moved) + static_cast<size_t>(j)) * n3 +
+                              3 * static_cast<size_t>(force_point) + static_cast<size_t>(i);
+            dF_dp[at] += fs * ms *
+                         (mo.st.e[i] * (mo.dF_ds * mo.st.e[j] + mo.dF_dsdot * mo.dsdot_dxb[j]) +
+                          mo.force * mo.de_dxb[i][j]);
+            dF_dv[at] += fs * ms * mo.st.e[i] * mo.dF_dsdot * mo.st.e[j];
+          }
+      }
+    }
+    return MH_OK;
+  }
+
+  // The coupling to the mechanics (ABI 2.2): rows by the points' motion
+  // (n x 3P row-major) and point forces by the pressures (3P x n column-major).
+  mh_status coupling_jacobian(const mh_subsystem_eval& eval, double* dR_dp, double* dR_dv,
+                              double* dF_dy, double*) const {
+    Motion mo;
+    if (!motion(eval, mo)) return MH_ERROR;
+    const size_t n3 = 3 * eval.num_points;
+    const size_t ra = states_.local(p_a_), rb = states_.local(p_b_);
+    // d(A row)/ds through l2 and d(B row)/ds through l3 = -s; past an end
+    // stop a chamber's length is held at 0 and no longer moves with s.
+    const bool a_free = !end_stop_.on() || l2_0_ + (mo.st.s - s0_) > 0.0;
+    const bool b_free = !end_stop_.on() || l3_0_ - (mo.st.s - s0_) > 0.0;
+    const double ga = a_free ? a2_ * compliance_ * eval.ydot[p_a_] : 0.0;
+    const double gb = b_free ? -a3_ * compliance_ * eval.ydot[p_b_] : 0.0;
+    for (int k = 0; k < 2; ++k) {
+      const int32_t moved = k == 0 ? point_a_ : point_b_;
+      const double ms = k == 0 ? -1.0 : 1.0;
+      for (int j = 0; j < 3; ++j) {
+        const size_t c = 3 * static_cast<size_t>(moved) + static_cast<size_t>(j);
+        const double ds = ms * mo.st.e[j];
+        const double dsdot_dx = ms * mo.dsdot_dxb[j];
+        const double dsdot_dv = ms * mo.st.e[j];
+        dR_dp[ra * n3 + c] += ga * ds + a2_ * dsdot_dx;
+        dR_dp[rb * n3 + c] += gb * ds - a3_ * dsdot_dx;
+        dR_dv[ra * n3 + c] += a2_ * dsdot_dv;
+        dR_dv[rb * n3 + c] += -a3_ * dsdot_dv;
+      }
+    }
+    // dF/dp_A, dF/dp_B of F = p_A A2 - p_B A3 - F_mu, along e (b) and -e (a).
+    const double g = eval.y[p_a_] * a2_ - eval.y[p_b_] * a3_;
+    const double sign = g > 0.0 ? 1.0 : (g < 0.0 ? -1.0 : 0.0);
+    const double th = std::tanh(mo.st.sdot / v_s_);
+    const double dF_dpa = a2_ * (1.0 - (1.0 - efficiency_) * sign * th);
+    const double dF_dpb = -a3_ * (1.0 - (1.0 - efficiency_) * sign * th);
+    for (int side = 0; side < 2; ++side) {
+      const size_t pt = static_cast<size_t>(side == 0 ? point_a_ : point_b_);
+      const double fs = side == 0 ? -1.0 : 1.0;
+      for (size_t i = 0; i < 3; ++i) {
+        dF_dy[ra * n3 + 3 * pt + i] += fs * dF_dpa * mo.st.e[i];
+        dF_dy[rb * n3 + 3 * pt + i] += fs * dF_dpb * mo.st.e[i];
+      }
+    }
+    return MH_OK;
+  }
+
   // Nothing stored (the fluid's compression energy is not tracked); the seals
   // dissipate F_mu sdot >= 0.
   mh_status energy(const mh_subsystem_eval& eval, double& stored, double& dissipation) const {
@@ -231,6 +304,41 @@ class Cylinder {
     const double f = end_stop_.force(st.s, st.sdot);
     eval.outputs[stop_out_] = f;
     return f;
+  }
+
+  // The geometry and the force's derivatives in it, for the Jacobians.
+  struct Motion {
+    State st;
+    double force = 0.0;               // F of Eq. 29, with the end stops' force
+    double dF_ds = 0.0;               // of the end stops
+    double dF_dsdot = 0.0;            // of the friction and the end stops' damping
+    double de_dxb[3][3] = {};         // (I - e e^T) / s
+    double dsdot_dxb[3] = {0, 0, 0};  // (v_b - v_a)^T (I - e e^T) / s
+  };
+
+  bool motion(const mh_subsystem_eval& eval, Motion& mo) const {
+    if (!measure(eval, mo.st)) return false;
+    const double p_a = eval.y[p_a_], p_b = eval.y[p_b_];
+    mo.force = p_a * a2_ - p_b * a3_ - friction(p_a, p_b, mo.st.sdot);
+    const double th = std::tanh(mo.st.sdot / v_s_);
+    mo.dF_dsdot = -(1.0 - efficiency_) * std::abs(p_a * a2_ - p_b * a3_) * (1.0 - th * th) / v_s_;
+    if (end_stop_.on()) {
+      double stop_ds = 0.0, stop_dsdot = 0.0;
+      mo.force += end_stop_.force(mo.st.s, mo.st.sdot, &stop_ds, &stop_dsdot);
+      mo.dF_ds = stop_ds;
+      mo.dF_dsdot += stop_dsdot;
+    }
+    const double* va = eval.point_v + 3 * point_a_;
+    const double* vb = eval.point_v + 3 * point_b_;
+    for (int i = 0; i < 3; ++i) {
+      mo.dsdot_dxb[i] = 0.0;
+      for (int j = 0; j < 3; ++j) {
+        mo.de_dxb[i][j] = ((i == j ? 1.0 : 0.0) - mo.st.e[i] * mo.st.e[j]) / mo.st.s;
+      }
+    }
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i) mo.dsdot_dxb[j] += (vb[i] - va[i]) * mo.de_dxb[i][j];
+    return true;
   }
 
   double friction(double p_a, double p_b, double sdot) const {

@@ -60,6 +60,29 @@ class Maxwell {
     return MH_OK;
   }
 
+  // T = k (l - l0 - delta): the point forces' derivatives (ABI 2.1), and the
+  // coupling (ABI 2.2): delta's row c deltadot - T by the points' motion
+  // (-k dl/dp), the forces by delta (dT/ddelta = -k; +T e on a, -T e on b).
+  mh_status point_force_jacobian(const mh_subsystem_eval& eval, double* dF_dp,
+                                 double* dF_dv) const {
+    PointPair pp;
+    if (!pp.measure(&eval)) return MH_DISCARD;
+    pp.tension_jacobian(&eval, k_ * (pp.length - l0_ - eval.y[delta_]), k_, 0.0, dF_dp, dF_dv);
+    return MH_OK;
+  }
+  mh_status coupling_jacobian(const mh_subsystem_eval& eval, double* dR_dp, double*, double* dF_dy,
+                              double*) const {
+    PointPair pp;
+    if (!pp.measure(&eval)) return MH_DISCARD;
+    for (int j = 0; j < 3; ++j) {
+      dR_dp[j] += k_ * pp.e[j];       // point a: dl/dp_a = -e
+      dR_dp[3 + j] -= k_ * pp.e[j];   // point b: dl/dp_b = e
+      dF_dy[j] += -k_ * pp.e[j];      // on a: +T e
+      dF_dy[3 + j] -= -k_ * pp.e[j];  // on b: -T e
+    }
+    return MH_OK;
+  }
+
   mh_status energy(const mh_subsystem_eval& eval, double& stored, double& dissipation) const {
     PointPair pp;
     if (!pp.measure(&eval)) return MH_DISCARD;

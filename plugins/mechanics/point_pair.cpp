@@ -25,4 +25,33 @@ void PointPair::apply_tension(const mh_subsystem_eval* eval, double tension) con
   }
 }
 
+void PointPair::rate_gradient(const mh_subsystem_eval* eval, double* drate_dpb) const {
+  const double* va = eval->point_v;
+  const double* vb = eval->point_v + 3;
+  for (int j = 0; j < 3; ++j) {
+    drate_dpb[j] = 0.0;
+    for (int i = 0; i < 3; ++i)
+      drate_dpb[j] += (vb[i] - va[i]) * ((i == j ? 1.0 : 0.0) - e[i] * e[j]) / length;
+  }
+}
+
+void PointPair::tension_jacobian(const mh_subsystem_eval* eval, double tension, double dT_dl,
+                                 double dT_drate, double* dF_dp, double* dF_dv) const {
+  double drate[3];
+  rate_gradient(eval, drate);
+  for (int force_point = 0; force_point < 2; ++force_point) {
+    const double fs = force_point == 0 ? 1.0 : -1.0;  // +T e on a, -T e on b
+    for (int moved = 0; moved < 2; ++moved) {
+      const double ms = moved == 0 ? -1.0 : 1.0;  // d/dp_a = -d/dp_b
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          const int at = (3 * moved + j) * 6 + 3 * force_point + i;
+          const double de = ((i == j ? 1.0 : 0.0) - e[i] * e[j]) / length;
+          dF_dp[at] += fs * ms * (e[i] * (dT_dl * e[j] + dT_drate * drate[j]) + tension * de);
+          dF_dv[at] += fs * ms * e[i] * dT_drate * e[j];
+        }
+    }
+  }
+}
+
 }  // namespace mech

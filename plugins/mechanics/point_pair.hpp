@@ -18,6 +18,15 @@ struct PointPair {
   bool measure(const mh_subsystem_eval* eval);
   // Tension T > 0 pulls the points together: +T e on a, -T e on b.
   void apply_tension(const mh_subsystem_eval* eval, double tension) const;
+  // The length's and its rate's derivatives in point b's position (those in
+  // point a's are their negatives; the rate's in b's velocity is e):
+  // dl/dp_b = e, dldot/dp_b = (v_b - v_a)^T (I - e e^T) / l.
+  void rate_gradient(const mh_subsystem_eval* eval, double* drate_dpb) const;
+  // d(point forces)/d(points' positions, velocities) (6 x 6 column-major, the
+  // layout of point_force_jacobian, added to dF_dp, dF_dv) of the tension T
+  // with dT/dl and dT/dldot, states held.
+  void tension_jacobian(const mh_subsystem_eval* eval, double tension, double dT_dl,
+                        double dT_drate, double* dF_dp, double* dF_dv) const;
 };
 
 }  // namespace mech

@@ -37,7 +37,19 @@ class SpringDamper {
     return MH_OK;
   }
 
-  // No states, so no jacobian: the host needs none.
+  // No states, so no jacobian: the host needs none. Its point forces' own
+  // derivatives (ABI 2.1) and, with no states, an empty coupling (ABI 2.2).
+  mh_status point_force_jacobian(const mh_subsystem_eval& eval, double* dF_dp,
+                                 double* dF_dv) const {
+    PointPair pp;
+    if (!pp.measure(&eval)) return MH_DISCARD;
+    pp.tension_jacobian(&eval, k_ * (pp.length - l0_) + c_ * pp.rate, k_, c_, dF_dp, dF_dv);
+    return MH_OK;
+  }
+  mh_status coupling_jacobian(const mh_subsystem_eval&, double*, double*, double*, double*) const {
+    return MH_OK;
+  }
+
   mh_status energy(const mh_subsystem_eval& eval, double& stored, double& dissipation) const {
     PointPair pp;
     if (!pp.measure(&eval)) return MH_DISCARD;

@@ -2,9 +2,13 @@
 // All N joint coordinates z are second-order Newton unknowns; the host's
 // integrator ties zd and zdd at the step's end to them (the trapezoidal rule,
 // Eqs. 32-34, by default), and the residual is Eq. (39) without constraints
-// and without its dt^2/4 factor: r = M'(z) zdd - Q'(z, zd).
+// and without its dt^2/4 factor: r = M'(z) zdd - Q'(z, zd). Its tangent is
+// analytic (the host's mech_derivatives, ABI 2.1): dr/dz = K, dr/dzd = C,
+// dr/dzdd = M'.
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <algorithm>
+#include <cstddef>
 #include <string>
 
 #include "monohydra/cpp/formulation_plugin.hpp"
@@ -21,7 +25,15 @@ struct OpenLoop {
   double t0 = 0.0;
   double tol = 1e-7;
   Eigen::VectorXd z, zd, zdd;  // accepted (z0, zd0 and their accelerations after start)
+  Eigen::MatrixXd M_last;      // M' of the last residual call: the tangent's dr/dzdd
 };
+
+// Whether the host offers mech_derivatives (ABI 2.1): its table reaches the field.
+bool has_mech_derivatives(const mh_host* host) {
+  return host->struct_size >=
+             offsetof(mh_host, mech_derivatives) + sizeof(host->mech_derivatives) &&
+         host->mech_derivatives != nullptr;
+}
 
 void log_error(const OpenLoop& s, const std::string& msg) {
   s.host->log(s.host, MH_LOG_ERROR, msg.c_str());
@@ -51,6 +63,7 @@ mh_status setup(const mh_formulation* f) noexcept {
     s.z = ConstVectorMap(info.z0, s.N);
     s.zd = ConstVectorMap(info.zd0, s.N);
     s.zdd.setZero(s.N);
+    s.M_last.setZero(s.N, s.N);
     // The unknowns: every z_i, second order, in the coordinates' order.
     for (int i = 0; i < s.N; ++i) {
       const mh_unknown_spec spec = monohydra::unknown_spec(
@@ -100,7 +113,52 @@ mh_status residual(const mh_formulation* f, double t, const double* x, const dou
     VectorMap rows(r, s.N);
     rows.noalias() = M * ConstVectorMap(xdd, s.N);
     rows -= ConstVectorMap(rs.Q, s.N);
+    s.M_last = M;
     return st;
+  });
+}
+
+// The analytic tangent at the last residual call: dr/dz = K = d(M' zdd - Q')/dz,
+// dr/dzd = C = -dQ'/dzd (the host's recursions, subsystem forces included),
+// dr/dzdd = M'. Without mech_derivatives the host differences every column.
+mh_status tangent(const mh_formulation* f, double t, const double* x, const double* xd,
+                  const double* xdd, double* dr_dx, double* dr_dxd, double* dr_dxdd,
+                  uint8_t* column_given) noexcept {
+  return monohydra::guarded_op<OpenLoop>(f, "tangent", [&](OpenLoop& s) {
+    if (!has_mech_derivatives(s.host)) return MH_OK;
+    mh_mech_derivatives_request rq{};
+    rq.struct_size = sizeof(rq);
+    rq.flags = MH_DERIV_DYNAMICS;
+    rq.t = t;
+    rq.z = x;
+    rq.zd = xd;
+    rq.zdd = xdd;
+    mh_mech_derivatives d{};
+    d.struct_size = sizeof(d);
+    const mh_status st = s.host->mech_derivatives(s.host, &rq, &d);
+    if (st >= MH_DISCARD) return st;
+    using MatrixMap = Eigen::Map<Eigen::MatrixXd>;
+    using ConstMatrixMap = Eigen::Map<const Eigen::MatrixXd>;
+    MatrixMap(dr_dx, s.N, s.N) = ConstMatrixMap(d.K, s.N, s.N);
+    MatrixMap(dr_dxd, s.N, s.N) = ConstMatrixMap(d.C, s.N, s.N);
+    MatrixMap(dr_dxdd, s.N, s.N) = s.M_last;
+    std::fill(column_given, column_given + s.N, uint8_t{1});
+    return MH_OK;
+  });
+}
+
+// The unknowns are the coordinates (z = x, zd = xd) and the rows take Q' with
+// the sign -1 (ABI 2.2: the host couples the subsystems to them analytically).
+mh_status mechanics_map(const mh_formulation* f, double* dz_dx, double*, double* dzd_dxd,
+                        double* dr_dQ) noexcept {
+  return monohydra::guarded_op<OpenLoop>(f, "mechanics_map", [&](OpenLoop& s) {
+    for (int i = 0; i < s.N; ++i) {
+      const size_t d = static_cast<size_t>(i) * static_cast<size_t>(s.N) + static_cast<size_t>(i);
+      if (dz_dx != nullptr) dz_dx[d] = 1.0;
+      if (dzd_dxd != nullptr) dzd_dxd[d] = 1.0;
+      dr_dQ[d] = -1.0;
+    }
+    return MH_OK;
   });
 }
 
@@ -146,13 +204,14 @@ const mh_formulation kOps = [] {
   f.start = start;
   f.begin_step = nullptr;  // nothing to reset: the residual has no history
   f.residual = residual;
-  f.tangent = nullptr;  // differences by the host (Eqs. 40-41)
+  f.tangent = tangent;
   f.iteration_done = nullptr;
   f.accept = accept;
   f.coordinates = coordinates;
   f.write_outputs = nullptr;
   f.destroy = monohydra::destroy_formulation<OpenLoop>;
   f.get_extension = get_extension;
+  f.mechanics_map = mechanics_map;
   return f;
 }();
 

@@ -13,6 +13,8 @@
 // constraint velocity violation phi_dot_norm = ||Phi_z zd||. This file holds
 // the instance, its ops, the factory and the entry symbol.
 #include <Eigen/Core>
+#include <algorithm>
+#include <cstddef>
 #include <cstdio>
 #include <string>
 #include <utility>
@@ -282,22 +284,76 @@ mh_status residual(const mh_formulation* f, double t, const double* x, const dou
     rr.noalias() = M * ConstVectorMap(xdd, s.N);
     add_constraint_forces(rr, phi_z, s.multiplier_force, 1.0);
     rr -= Q;
-    if (s.m > 0) {  // kept for the projections and phi_dot_norm in accept()
-      s.x_last = ConstVectorMap(x, s.N);
-      s.M_last = M;
-      s.phi_z_last = phi_z;
-      s.last_valid = true;
-    }
+    // Kept for the tangent, and for the projections and phi_dot_norm in accept().
+    s.x_last = ConstVectorMap(x, s.N);
+    s.M_last = M;
+    s.phi_z_last = phi_z;
+    s.last_valid = true;
     return st;
   });
 }
 
-// No analytic tangent (the host differences the residual, Eqs. 40-41). The
-// cheap path for later performance work: dr/dx = K' + c_v C' + c_a M' +
-// Phi_z^T alpha Phi_z with C = -dQ'/dzd and K = -dQ'/dz (+ the derivatives of
-// M' zdd and of Phi_z^T (alpha Phi + lambda) through Phi_z, usually dropped).
-// Its dominant, exactly known part is c_a M' + Phi_z^T alpha Phi_z; the C and
-// K of the hydraulic forces need the subsystems' Jacobians, which the host holds.
+// The analytic tangent of Eq. (18) at the last residual call (the host's
+// recursions, ABI 2.1, subsystem forces included):
+//   dr/dz   = K + d(Phi_z^T v)/dz + alpha Phi_z^T Phi_z,  v = alpha Phi + lambda,
+//   dr/dzd  = C,
+//   dr/dzdd = M'.
+// Without mech_derivatives the host differences every column (Eqs. 40-41).
+mh_status tangent(const mh_formulation* f, double t, const double* x, const double* xd,
+                  const double* xdd, double* dr_dx, double* dr_dxd, double* dr_dxdd,
+                  uint8_t* column_given) noexcept {
+  return guarded(f, "tangent", [&](Penalty& s) {
+    [[maybe_unused]] const NoMalloc no_malloc;
+    if (!has_mech_derivatives(s.host)) return MH_OK;
+    if (!s.last_valid || s.x_last != ConstVectorMap(x, s.N)) {
+      mh_mech_result rs;
+      const mh_status st = evaluate(s, MH_EVAL_DYNAMICS | MH_EVAL_CONSTRAINTS, t, x, xd, rs);
+      if (st >= MH_DISCARD) return st;
+      s.M_last = ConstMatrixMap(rs.M, s.N, s.N);
+      s.phi_z_last = ConstMatrixMap(rs.phi_z, s.m, s.N);
+      s.multiplier_force = s.alpha * ConstVectorMap(rs.phi, s.m) + s.lambda;
+      s.x_last = ConstVectorMap(x, s.N);
+      s.last_valid = true;
+    }
+    mh_mech_derivatives_request rq{};
+    rq.struct_size = sizeof(rq);
+    rq.flags = MH_DERIV_DYNAMICS | (s.m > 0 ? MH_DERIV_CONSTRAINT_FORCES : 0u);
+    rq.t = t;
+    rq.z = x;
+    rq.zd = xd;
+    rq.zdd = xdd;
+    rq.v = s.multiplier_force.data();
+    mh_mech_derivatives d{};
+    d.struct_size = sizeof(d);
+    const mh_status st = s.host->mech_derivatives(s.host, &rq, &d);
+    if (st >= MH_DISCARD) return st;
+    Eigen::Map<Eigen::MatrixXd> Kt(dr_dx, s.N, s.N);
+    Kt = ConstMatrixMap(d.K, s.N, s.N);
+    if (s.m > 0) {
+      Kt += ConstMatrixMap(d.dPhizT_v_dz, s.N, s.N);
+      add_penalty_matrix(Kt, s.phi_z_last, s.alpha);
+    }
+    Eigen::Map<Eigen::MatrixXd>(dr_dxd, s.N, s.N) = ConstMatrixMap(d.C, s.N, s.N);
+    Eigen::Map<Eigen::MatrixXd>(dr_dxdd, s.N, s.N) = s.M_last;
+    std::fill(column_given, column_given + s.N, uint8_t{1});
+    return MH_OK;
+  });
+}
+
+// The unknowns are the coordinates (z = x, zd = xd) and the rows take Q' with
+// the sign -1 (ABI 2.2: the host couples the subsystems to them analytically).
+mh_status mechanics_map(const mh_formulation* f, double* dz_dx, double*, double* dzd_dxd,
+                        double* dr_dQ) noexcept {
+  return guarded(f, "mechanics_map", [&](Penalty& s) {
+    for (int i = 0; i < s.N; ++i) {
+      const size_t d = static_cast<size_t>(i) * static_cast<size_t>(s.N) + static_cast<size_t>(i);
+      if (dz_dx != nullptr) dz_dx[d] = 1.0;
+      if (dzd_dxd != nullptr) dzd_dxd[d] = 1.0;
+      dr_dQ[d] = -1.0;
+    }
+    return MH_OK;
+  });
+}
 
 mh_status iteration_done(const mh_formulation* f, double t, const double* x, const double* xd,
                          const double*) noexcept {
@@ -440,13 +496,14 @@ const mh_formulation kOps = [] {
   f.start = start;
   f.begin_step = begin_step;
   f.residual = residual;
-  f.tangent = nullptr;  // differences by the host, Eqs. (40-41): see the note above
+  f.tangent = tangent;
   f.iteration_done = iteration_done;
   f.accept = accept;
   f.coordinates = coordinates;
   f.write_outputs = write_outputs;
   f.destroy = monohydra::destroy_formulation<Penalty>;
   f.get_extension = get_extension;
+  f.mechanics_map = mechanics_map;
   return f;
 }();
 

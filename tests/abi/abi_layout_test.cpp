@@ -65,7 +65,7 @@ TEST(AbiLayout, FunctionTablesKeepTheirFieldOffsets) {
 TEST(AbiLayout, VersionIsTwoOne) {
   const mh_version v = MH_ABI_VERSION_INIT;
   EXPECT_EQ(v.major, 2u);
-  EXPECT_EQ(v.minor, 1u);
+  EXPECT_EQ(v.minor, 2u);
 }
 
 // ABI 2.1 only appended: every 2.0 field keeps its offset (the frozen 2.0
@@ -85,6 +85,16 @@ TEST(AbiLayout, MinorOneAppendsAfterEveryTwoZeroField) {
   EXPECT_EQ(sizeof(mh_host), mh_sdk20_sizeof_host + sizeof(void*));
   EXPECT_EQ(offsetof(mh_subsystem, get_extension), mh_sdk20_offset_subsystem_get_extension);
   EXPECT_EQ(offsetof(mh_subsystem, point_force_jacobian), mh_sdk20_sizeof_subsystem);
-  EXPECT_EQ(sizeof(mh_formulation), mh_sdk20_sizeof_formulation);  // unchanged in 2.1
   EXPECT_EQ(sizeof(mh_integrator), mh_sdk20_sizeof_integrator);
+}
+
+// ABI 2.2 appended mechanics_map at the end of mh_formulation (unchanged in
+// 2.1) and coupling_jacobian at the end of mh_subsystem: every field before
+// keeps its offset.
+TEST(AbiLayout, MinorTwoAppendsOneOpToFormulationsAndOneToSubsystems) {
+  EXPECT_EQ(offsetof(mh_formulation, mechanics_map), mh_sdk20_sizeof_formulation);
+  EXPECT_EQ(sizeof(mh_formulation), mh_sdk20_sizeof_formulation + sizeof(void*));
+  // and coupling_jacobian right after 2.1's point_force_jacobian in mh_subsystem.
+  EXPECT_EQ(offsetof(mh_subsystem, coupling_jacobian), mh_sdk20_sizeof_subsystem + sizeof(void*));
+  EXPECT_EQ(sizeof(mh_subsystem), mh_sdk20_sizeof_subsystem + 2 * sizeof(void*));
 }

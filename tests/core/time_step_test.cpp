@@ -26,14 +26,17 @@ solver: {dt: 0.02, t_end: 1, max_iterations: 12, tol_position: 1e-14}
 )";
 
 TEST(TrapezoidalStep, NewtonConvergesQuadraticallyOnAPendulum) {
-  const ModelFile file = parse_model_text(kPendulum, "pendulum.yaml");
+  // A long step (0.1 s): with the analytic tangent a 0.02 s step converges in
+  // two iterations, the second already at round-off, too few to see the order.
+  ModelFile file = parse_model_text(kPendulum, "pendulum.yaml");
+  file.solver.dt = 0.1;
   Simulation sim(file, test::build_plugins());
   sim.start();
   sim.step();
   const auto& inc = sim.last_step().increment_norms;  // in units of tol = 1e-14
   ASSERT_GE(inc.size(), 3u);
   // Each increment is at most C times the square of the previous one while
-  // both are above round-off (measured: 1.9e-6 rad, then 1.1e-14 rad).
+  // both are above round-off.
   int quadratic_pairs = 0;
   for (size_t h = 0; h + 1 < inc.size(); ++h) {
     const double e0 = inc[h] * 1e-14, e1 = inc[h + 1] * 1e-14;

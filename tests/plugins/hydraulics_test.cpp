@@ -630,6 +630,76 @@ TEST(HydraulicCylinder, AnalyticJacobianMatchesCentralDifferences) {
   report(worst);
 }
 
+// point_force_jacobian (ABI 2.1) and coupling_jacobian (ABI 2.2) against
+// central differences of evaluate in the points' motion and the pressures, on a
+// general 3D configuration (both points moving, off the fixture's diagonal).
+TEST(HydraulicCylinder, PointAndCouplingJacobiansMatchCentralDifferences) {
+  CylinderFixture f;
+  ASSERT_EQ(f.setup_status, MH_OK);
+  const mh_subsystem* api = f.cylinder->api();
+  ASSERT_NE(api->point_force_jacobian, nullptr);
+  ASSERT_NE(api->coupling_jacobian, nullptr);
+  const std::vector<int32_t>& touched = f.host.touched;
+  const size_t n = touched.size();
+  double worst = 0.0;
+  for (double sdot : {0.004, -0.03}) {
+    Evaluation e = f.at(kS0 + 0.1, sdot, 5e6, 3.5e6);
+    e.point_p = {0.05, -1.98, 0.01, 1.1, -0.92, -0.02};
+    e.point_v = {0.01, -0.02, 0.003, sdot, 0.7 * sdot, 0.002};
+    e.ydot[f.A] = 1e7;
+    e.ydot[f.B] = -2e6;
+    std::vector<double> dF_dp(36, 0.0), dF_dv(36, 0.0), dR_dp(n * 6, 0.0), dR_dv(n * 6, 0.0),
+        dF_dy(6 * n, 0.0), dF_dydot(6 * n, 0.0);
+    {
+      const mh_subsystem_eval rec = e.record();
+      ASSERT_EQ(api->point_force_jacobian(api, &rec, dF_dp.data(), dF_dv.data()), MH_OK);
+      ASSERT_EQ(api->coupling_jacobian(api, &rec, dR_dp.data(), dR_dv.data(), dF_dy.data(),
+                                       dF_dydot.data()),
+                MH_OK);
+    }
+    const auto check = [&](double analytic, double fd, double scale) {
+      worst = std::max(worst, std::abs(analytic - fd) / std::max(scale, 1e-300));
+    };
+    // In the points' motion: forces (3P x 3P column-major) and rows (n x 3P row-major).
+    for (int level = 0; level < 2; ++level) {
+      std::vector<double>& x = level == 0 ? e.point_p : e.point_v;
+      for (size_t c = 0; c < 6; ++c) {
+        const double x0 = x[c], h = 1e-7;
+        x[c] = x0 + h;
+        ASSERT_EQ(e.run(*f.cylinder), MH_OK);
+        const std::vector<double> f_plus = e.point_f, r_plus = e.residual;
+        x[c] = x0 - h;
+        ASSERT_EQ(e.run(*f.cylinder), MH_OK);
+        x[c] = x0;
+        for (size_t r = 0; r < 6; ++r)
+          check((level == 0 ? dF_dp : dF_dv)[c * 6 + r], (f_plus[r] - e.point_f[r]) / (2 * h), 1e5);
+        for (size_t a = 0; a < n; ++a) {
+          const size_t row = static_cast<size_t>(touched[a]);
+          check((level == 0 ? dR_dp : dR_dv)[a * 6 + c], (r_plus[row] - e.residual[row]) / (2 * h),
+                1e-3);
+        }
+      }
+    }
+    // In the pressures: forces (3P x n column-major).
+    for (size_t b = 0; b < n; ++b) {
+      const size_t i = static_cast<size_t>(touched[b]);
+      const double y0 = e.y[i], h = 10.0;
+      e.y[i] = y0 + h;
+      ASSERT_EQ(e.run(*f.cylinder), MH_OK);
+      const std::vector<double> f_plus = e.point_f;
+      e.y[i] = y0 - h;
+      ASSERT_EQ(e.run(*f.cylinder), MH_OK);
+      e.y[i] = y0;
+      for (size_t r = 0; r < 6; ++r) {
+        check(dF_dy[b * 6 + r], (f_plus[r] - e.point_f[r]) / (2 * h), 1e-3);
+        EXPECT_EQ(dF_dydot[b * 6 + r], 0.0);  // the force has no pressure rates in it
+      }
+    }
+  }
+  EXPECT_LT(worst, 1e-6);
+  report(worst);
+}
+
 TEST(HydraulicCylinder, InitialLengthOutsideTheCylinderIsRefusedOnLength) {
   for (double length : {1.5, 0.6}) {  // l2_0 = s0 - l < 0; l3_0 = 2 l - s0 < 0
     CylinderFixture f(length);

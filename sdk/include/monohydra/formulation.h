@@ -108,6 +108,22 @@ typedef struct mh_formulation {
 
   /* Extensions by string id ("name/rev"); NULL when not supported. */
   const void* (*get_extension)(const struct mh_formulation* self, const char* id);
+
+  /* -- ABI 2.2 (the host reads it only when struct_size reaches it) ---------- */
+  /* Optional: how the mechanics of the last residual call depended on the
+   * unknowns, so that the host couples the subsystems with points to them
+   * without differences: no residual is then differenced in a state column,
+   * nor in a mechanical column that `tangent` gave (with `tangent` giving
+   * every column, none at all). Called right after that residual call, before
+   * any difference the host takes. At the arguments of the last residual
+   * call: dz_dx, dzd_dx, dzd_dxd (N x n each, column-major) are the partial
+   * derivatives of the z and zd it passed to evaluate_mechanics with respect to
+   * x and xd; dr_dQ (n x N, column-major) those of its rows with respect to the
+   * generalized applied forces Q' it got back (e.g. -I for r = M' zdd - Q').
+   * All zero on entry. dz_dx, dzd_dx and dzd_dxd are NULL when the host needs
+   * none of them (when `tangent` gave no mechanical column). */
+  mh_status (*mechanics_map)(const struct mh_formulation* self, double* dz_dx, double* dzd_dx,
+                             double* dzd_dxd, double* dr_dQ);
 } mh_formulation;
 
 typedef struct mh_formulation_factory {

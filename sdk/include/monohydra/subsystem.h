@@ -81,6 +81,19 @@ typedef struct mh_subsystem {
    * point a, component i; column 3b+j = point b, component j. Zero on entry. */
   mh_status (*point_force_jacobian)(const struct mh_subsystem* self, const mh_subsystem_eval* eval,
                                     double* dF_dp, double* dF_dv);
+
+  /* -- ABI 2.2 ------------------------------------------------------------------ */
+  /* Optional (NULL: the host differences `evaluate` in the points' motion and
+   * the states, this instance alone). How this instance couples to the
+   * mechanics, at `eval`: the derivatives of its rows with respect to its
+   * points' world positions and velocities, dR_dp and dR_dv (n x 3P, row-major
+   * like `jacobian`: row a = the a-th state it touches, column 3b+j = point b,
+   * component j), and of its point forces with respect to the states it
+   * touches and their rates, dF_dy and dF_dydot (3P x n, column-major: column
+   * a = the a-th state it touches, row 3b+i = force on point b, component i).
+   * n = the states it touches, P = eval->num_points. All zero on entry. */
+  mh_status (*coupling_jacobian)(const struct mh_subsystem* self, const mh_subsystem_eval* eval,
+                                 double* dR_dp, double* dR_dv, double* dF_dy, double* dF_dydot);
 } mh_subsystem;
 
 typedef struct mh_subsystem_factory {

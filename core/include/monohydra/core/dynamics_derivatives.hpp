@@ -39,6 +39,8 @@ struct DynamicsDerivativesWorkspace {
   std::vector<Vector6d> dH;           // the same for one coordinate's variation
   std::vector<Eigen::Matrix3d> J;     // world inertia about the COM
   std::vector<Eigen::Vector3d> gdot;  // COM velocity, Eq. (6)
+  std::vector<Eigen::Vector3d> Jw;    // J omega
+  std::vector<Eigen::Vector3d> Ja;    // J alpha (alpha of the full Zdot)
   std::vector<char> in_subtree;       // one coordinate's subtree
   Eigen::Matrix<double, 3, Eigen::Dynamic> cols;  // point Jacobian columns (3 x N)
   // M'(z) zdd - Q'(z, zd) (N) with the given point forces: the value whose

@@ -126,6 +126,14 @@ class Simulation {
   double dissipated_energy() const;
   double phi_norm() const;  // norm of the cut-joint constraints at z
   const StepStats& last_step() const;
+  // What the run has cost since start(): passes of the kinematics (every
+  // forward_kinematics the host made, for any service) and residual
+  // evaluations (the Newton iterate's and the differenced ones).
+  struct WorkCounters {
+    long kinematics_passes = 0;
+    long residual_evaluations = 0;
+  };
+  const WorkCounters& counters() const;
 
   // The Newton tangent the step assembles (analytic blocks where plugins give
   // them) and the one forward differences alone give, both at the current
@@ -143,6 +151,17 @@ class Simulation {
   Eigen::VectorXd dynamics_residual(const Eigen::VectorXd& z, const Eigen::VectorXd& zd,
                                     const Eigen::VectorXd& zdd);
   Eigen::MatrixXd finite_difference_tangent();
+  // The same by central differences (x +- h, h = 1e-6 max(1e-2, |x_i|)), the
+  // reference of the analytic blocks' tests.
+  Eigen::MatrixXd central_difference_tangent();
+  // The formulation's mechanics_map (ABI 2.2) at the prediction of the next
+  // step, every array asked for: dz/dx and the total dzd/dx along the
+  // integrator's map (dzd_dx + dxd_dx dzd_dxd), and the same from central
+  // differences of the coordinates its residual passed at x +- h.
+  struct CoordinateMaps {
+    Eigen::MatrixXd dz_dx, dzd_dx, dz_dx_cd, dzd_dx_cd;
+  };
+  CoordinateMaps coordinate_maps();
   int num_unknowns() const;
   int num_mechanical_unknowns() const;
   int tangent_nonzeros() const;

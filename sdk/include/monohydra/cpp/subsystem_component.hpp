@@ -19,9 +19,11 @@
 //   mh_status jacobian(const mh_subsystem_eval& eval, double* d_dy, double* d_dydot);
 //   mh_status energy(const mh_subsystem_eval& eval, double& stored, double& dissipation);
 //   mh_status accept(const mh_subsystem_eval& eval);
-//   mh_status point_force_jacobian(const mh_subsystem_eval& eval, double* dF_dp,
-//                                  double* dF_dv);             // ABI 2.1
 //   const void* extension(const char* id);                // NULL if not supported
+//   mh_status point_force_jacobian(const mh_subsystem_eval& eval, double* dF_dp,
+//                                  double* dF_dv);          // ABI 2.1
+//   mh_status coupling_jacobian(const mh_subsystem_eval& eval, double* dR_dp, double* dR_dv,
+//                               double* dF_dy, double* dF_dydot);   // ABI 2.2
 //
 // setup declares states and outputs with the spec structs of host.h
 // (mh_state_spec, mh_output_spec; monohydra/cpp/specs.hpp fills them).
@@ -69,6 +71,23 @@ struct HasJacobian<T, std::void_t<decltype(std::declval<T&>().jacobian(
                           std::declval<double*>()))>> : std::true_type {};
 
 template <class T, class = void>
+struct HasPointForceJacobian : std::false_type {};
+template <class T>
+struct HasPointForceJacobian<T, std::void_t<decltype(std::declval<T&>().point_force_jacobian(
+                                    std::declval<const mh_subsystem_eval&>(),
+                                    std::declval<double*>(), std::declval<double*>()))>>
+    : std::true_type {};
+
+template <class T, class = void>
+struct HasCouplingJacobian : std::false_type {};
+template <class T>
+struct HasCouplingJacobian<
+    T, std::void_t<decltype(std::declval<T&>().coupling_jacobian(
+           std::declval<const mh_subsystem_eval&>(), std::declval<double*>(),
+           std::declval<double*>(), std::declval<double*>(), std::declval<double*>()))>>
+    : std::true_type {};
+
+template <class T, class = void>
 struct HasEnergy : std::false_type {};
 template <class T>
 struct HasEnergy<T, std::void_t<decltype(std::declval<T&>().energy(
@@ -80,14 +99,6 @@ struct HasAccept : std::false_type {};
 template <class T>
 struct HasAccept<
     T, std::void_t<decltype(std::declval<T&>().accept(std::declval<const mh_subsystem_eval&>()))>>
-    : std::true_type {};
-
-template <class T, class = void>
-struct HasPointForceJacobian : std::false_type {};
-template <class T>
-struct HasPointForceJacobian<T, std::void_t<decltype(std::declval<T&>().point_force_jacobian(
-                                    std::declval<const mh_subsystem_eval&>(),
-                                    std::declval<double*>(), std::declval<double*>()))>>
     : std::true_type {};
 
 template <class T, class = void>
@@ -136,6 +147,7 @@ class SubsystemAdapter {
     api.destroy = destroy;
     api.get_extension = get_extension;
     api.point_force_jacobian = point_force_jacobian_op();
+    api.coupling_jacobian = coupling_jacobian_op();
     return &instance.release()->api;
   }
 
@@ -148,6 +160,8 @@ class SubsystemAdapter {
   using JacobianOp = mh_status (*)(const mh_subsystem*, const mh_subsystem_eval*, double*, double*);
   using EnergyOp = mh_status (*)(const mh_subsystem*, const mh_subsystem_eval*, double*, double*);
   using AcceptOp = mh_status (*)(const mh_subsystem*, const mh_subsystem_eval*);
+  using CouplingOp = mh_status (*)(const mh_subsystem*, const mh_subsystem_eval*, double*, double*,
+                                   double*, double*);
 
   static Instance& self(const mh_subsystem* s) { return *static_cast<Instance*>(s->plugin_data); }
 
@@ -171,6 +185,31 @@ class SubsystemAdapter {
       return nullptr;
     }
   }
+  static JacobianOp point_force_jacobian_op() {
+    if constexpr (detail::HasPointForceJacobian<T>::value) {
+      return [](const mh_subsystem* s, const mh_subsystem_eval* eval, double* dF_dp,
+                double* dF_dv) noexcept {
+        Instance& i = self(s);
+        return guarded(i.host, "point_force_jacobian",
+                       [&] { return i.object->point_force_jacobian(*eval, dF_dp, dF_dv); });
+      };
+    } else {
+      return nullptr;
+    }
+  }
+  static CouplingOp coupling_jacobian_op() {
+    if constexpr (detail::HasCouplingJacobian<T>::value) {
+      return [](const mh_subsystem* s, const mh_subsystem_eval* eval, double* dR_dp, double* dR_dv,
+                double* dF_dy, double* dF_dydot) noexcept {
+        Instance& i = self(s);
+        return guarded(i.host, "coupling_jacobian", [&] {
+          return i.object->coupling_jacobian(*eval, dR_dp, dR_dv, dF_dy, dF_dydot);
+        });
+      };
+    } else {
+      return nullptr;
+    }
+  }
   static EnergyOp energy_op() {
     if constexpr (detail::HasEnergy<T>::value) {
       return [](const mh_subsystem* s, const mh_subsystem_eval* eval, double* stored,
@@ -188,18 +227,6 @@ class SubsystemAdapter {
       return [](const mh_subsystem* s, const mh_subsystem_eval* eval) noexcept {
         Instance& i = self(s);
         return guarded(i.host, "accept", [&] { return i.object->accept(*eval); });
-      };
-    } else {
-      return nullptr;
-    }
-  }
-  static JacobianOp point_force_jacobian_op() {
-    if constexpr (detail::HasPointForceJacobian<T>::value) {
-      return [](const mh_subsystem* s, const mh_subsystem_eval* eval, double* dF_dp,
-                double* dF_dv) noexcept {
-        Instance& i = self(s);
-        return guarded(i.host, "point_force_jacobian",
-                       [&] { return i.object->point_force_jacobian(*eval, dF_dp, dF_dv); });
       };
     } else {
       return nullptr;

@@ -1,0 +1,245 @@
+// The tangent's coupling of the subsystems with points to the mechanical
+// unknowns without differencing the mechanics (ABI 2.2): when the formulation
+// says how its mechanics depended on x (mechanics_map: dz/dx, dzd/dx, dzd/dxd
+// and dr/dQ'), then, in the state columns and in the mechanical columns its
+// tangent gave (the host differences the others whole),
+//   d(state rows)/dx = dR/dp dp/dz dz/dx + dR/dv (dv/dz dz/dx + dv/dzd dzd/dx)
+//   d(mechanical rows)/dy = dr/dQ' sum_points J_p^T dF/dy
+// (Eq. 10: a point force F enters Q' as J_p^T F). The instance's own
+// derivatives in its points' motion and its states come from its
+// coupling_jacobian (ABI 2.2), else from central differences of its evaluate
+// alone (one instance, never the mechanics); the
+// point Jacobians from the kinematics of the iterate (motion_variation.hpp).
+#include <algorithm>
+#include <cmath>
+
+#include "engine.hpp"
+#include "monohydra/core/kinematics.hpp"
+#include "motion_variation.hpp"
+
+namespace mh {
+
+void Simulation::Engine::size_coupling() {
+  coupling_possible = formulation.ops.mechanics_map != nullptr && n_m > 0;
+  for (const auto& s : subsystems) {
+    if (s.points.empty()) continue;
+    for (int a : s.touched)
+      if (column_analytic[static_cast<size_t>(a)] == 0) coupling_possible = false;
+  }
+  for (Eigen::MatrixXd* M : {&map_dz_dx, &map_dzd_dx, &map_dzd_dxd, &map_dzd_total})
+    M->setZero(N, n_m);
+  map_dr_dQ.setZero(n_m, N);
+  point_jp.setZero(3, N);
+  point_jv.setZero(3, N);
+  point_dp_dx.setZero(3, n_m);
+  point_dv_dx.setZero(3, n_m);
+  dQ_dy.setZero(N);
+  for (Eigen::VectorXd* v : {&z_iterate, &zd_iterate, &z_base, &zd_base, &kin_z, &kin_zd})
+    v->setZero(N);
+  for (auto& s : subsystems) {
+    const size_t k = s.touched.size();
+    const size_t n3 = 3 * s.points.size();
+    s.dR_dp.assign(k * n3, 0.0);
+    s.dR_dv.assign(k * n3, 0.0);
+    s.dF_dy.assign(n3 * k, 0.0);
+    s.dF_dydot.assign(n3 * k, 0.0);
+  }
+}
+
+namespace {
+
+// dR/dp, dR/dv (k x 3P, row-major: row a = touched state a) and dF/dy
+// (3P x k, column b = d/dy_b + cv_b d/dydot_b) of instance s by central
+// differences of its evaluate at the points' motion in s.p, s.v and the states
+// y, ydot (held and restored). Rows go to `rows`, a scratch buffer of n_s.
+mh_status difference_instance(SubsystemInstance& s, mh_subsystem_eval ev, Eigen::VectorXd& y,
+                              Eigen::VectorXd& ydot, const std::vector<char>& algebraic,
+                              double dydot_dy, Eigen::VectorXd& rows) {
+  const size_t n3 = 3 * s.points.size();
+  const size_t k = s.touched.size();
+  std::copy(s.p.begin(), s.p.end(), s.p_pert.begin());
+  std::copy(s.v.begin(), s.v.end(), s.v_pert.begin());
+  ev.num_points = static_cast<uint32_t>(s.points.size());
+  ev.point_p = s.p_pert.data();
+  ev.point_v = s.v_pert.data();
+  ev.point_f = s.f.data();
+  ev.residual = rows.data();
+  const auto run = [&]() {
+    rows.setZero();
+    std::fill(s.f.begin(), s.f.end(), 0.0);
+    return normalized(s.api.ops.evaluate(s.api.self, &ev));
+  };
+  // The points' motion: columns of dR/dp and dR/dv.
+  for (int level = 0; level < 2; ++level) {
+    std::vector<double>& x = level == 0 ? s.p_pert : s.v_pert;
+    std::vector<double>& out = level == 0 ? s.dR_dp : s.dR_dv;
+    for (size_t c = 0; c < n3; ++c) {
+      const double x0 = x[c];
+      const double h = 1e-6 * std::max(1.0, std::abs(x0));
+      for (int side = 0; side < 2; ++side) {
+        x[c] = side == 0 ? x0 + h : x0 - h;
+        const mh_status st = run();
+        x[c] = x0;
+        if (!status_ok(st)) return st;
+        const double w = (side == 0 ? 1.0 : -1.0) / (2.0 * h);
+        for (size_t a = 0; a < k; ++a) {
+          double& o = out[a * n3 + c];
+          o = (side == 0 ? 0.0 : o) + w * rows[s.touched[a]];
+        }
+      }
+    }
+  }
+  // The states: columns of dF/dy along the integrator's map (Eq. 33).
+  for (size_t b = 0; b < k; ++b) {
+    const int i = s.touched[b];
+    const double cv = algebraic[static_cast<size_t>(i)] != 0 ? 0.0 : dydot_dy;
+    const double y0 = y[i], yd0 = ydot[i];
+    const double h = 1e-6 * std::max(1.0, std::abs(y0));
+    for (int side = 0; side < 2; ++side) {
+      const double sign = side == 0 ? 1.0 : -1.0;
+      y[i] = y0 + sign * h;
+      ydot[i] = yd0 + sign * cv * h;
+      const mh_status st = run();
+      y[i] = y0;
+      ydot[i] = yd0;
+      if (!status_ok(st)) return st;
+      for (size_t r = 0; r < n3; ++r) {
+        double& o = s.dF_dy[b * n3 + r];
+        o = (side == 0 ? 0.0 : o) + sign * s.f[r] / (2.0 * h);
+      }
+    }
+  }
+  return MH_OK;
+}
+
+// dv/dz (3 x N) of a point: for z_k on its path, the point moves by b_k at p
+// and its body's twist changes by b_k x (Z_e - Z_k) (motion_variation.hpp).
+void point_velocity_jacobian(const Model& model, const Data& data, const BodyPoint& point,
+                             const Eigen::Vector3d& p,
+                             Eigen::Ref<Eigen::Matrix<double, 3, Eigen::Dynamic>> Jv) {
+  Jv.setZero();
+  const int e = point.body;
+  if (e == kGround) return;
+  const Eigen::Vector3d omega = data.Z[e].tail<3>();
+  for (int k = e; k != kGround; k = model.bodies[k].parent) {
+    const Eigen::Vector3d dp = detail::twist_at(data.b[k], p);
+    const Vector6d dZ = detail::motion_cross(data.b[k], Vector6d(data.Z[e] - data.Z[k]));
+    Jv.col(k) = detail::twist_at(dZ, p) + omega.cross(dp);
+  }
+}
+
+}  // namespace
+
+// How the formulation's mechanics depended on x at the last residual call
+// (the iterate), and where that iterate's kinematics were.
+mh_status Simulation::Engine::read_mechanics_map() {
+  for (Eigen::MatrixXd* M : {&map_dz_dx, &map_dzd_dx, &map_dzd_dxd, &map_dr_dQ}) M->setZero();
+  z_base = z_iterate;
+  zd_base = zd_iterate;
+  // The coordinates' derivatives serve only the mechanical columns the
+  // formulation's tangent gave: without one, the formulation need not compute them.
+  bool any_given = false;
+  for (uint8_t g : mech_column_given) any_given = any_given || g != 0;
+  return normalized(
+      formulation.ops.mechanics_map(formulation.self, any_given ? map_dz_dx.data() : nullptr,
+                                    any_given ? map_dzd_dx.data() : nullptr,
+                                    any_given ? map_dzd_dxd.data() : nullptr, map_dr_dQ.data()));
+}
+
+mh_status Simulation::Engine::couple_subsystems(double t_eval) {
+  mh_status st = MH_OK;
+  const mh_step_coefficients& cf = map.coefficients;
+  for (int c = 0; c < n_m; ++c) {
+    const uint8_t kind = kinds[static_cast<size_t>(c)];
+    const double cv = kind == MH_UNKNOWN_SECOND_ORDER  ? cf.dxd_dx_second
+                      : kind == MH_UNKNOWN_FIRST_ORDER ? cf.dxd_dx_first
+                                                       : 0.0;
+    map_dzd_total.col(c) = map_dzd_dx.col(c) + cv * map_dzd_dxd.col(c);
+  }
+  // The kinematics of the iterate (the formulation's tangent may have left
+  // them there already).
+  kinematics_at(z_base.data(), zd_base.data());
+  // Zero the coupling entries; instances that share a state add to them. The
+  // mechanical columns the host differenced hold their whole columns already.
+  for (const auto& s : subsystems) {
+    if (s.points.empty()) continue;
+    for (int a : s.touched)
+      for (int c = 0; c < n_m; ++c) {
+        if (mech_column_given[static_cast<size_t>(c)] != 0)
+          values[static_cast<size_t>(pattern->slot(n_m + a, c))] = 0.0;
+        values[static_cast<size_t>(pattern->slot(c, n_m + a))] = 0.0;
+      }
+  }
+  saved_outputs = outputs;
+  const double dydot_dy = cf.dxd_dx_first;
+  mh_subsystem_eval ev = subsystem_eval(t_eval, rows_discard.data());
+  for (auto& s : subsystems) {
+    const size_t P = s.points.size();
+    if (P == 0) continue;
+    const size_t n3 = 3 * P;
+    const size_t k = s.touched.size();
+    for (size_t a = 0; a < P; ++a) {
+      const Eigen::Vector3d p = point_position(data, s.points[a]);
+      const Eigen::Vector3d v = point_velocity(data, s.points[a]);
+      for (int c = 0; c < 3; ++c) {
+        s.p[3 * a + static_cast<size_t>(c)] = p[c];
+        s.v[3 * a + static_cast<size_t>(c)] = v[c];
+      }
+    }
+    if (s.api.ops.coupling_jacobian != nullptr) {
+      std::fill(s.dR_dp.begin(), s.dR_dp.end(), 0.0);
+      std::fill(s.dR_dv.begin(), s.dR_dv.end(), 0.0);
+      std::fill(s.dF_dy.begin(), s.dF_dy.end(), 0.0);
+      std::fill(s.dF_dydot.begin(), s.dF_dydot.end(), 0.0);
+      point_at(ev, s);
+      st = normalized(s.api.ops.coupling_jacobian(s.api.self, &ev, s.dR_dp.data(), s.dR_dv.data(),
+                                                  s.dF_dy.data(), s.dF_dydot.data()));
+      // Along the integrator's map (Eq. 33): d/dy + dydot_dy d/dydot.
+      for (size_t b = 0; b < k; ++b) {
+        const double cv = algebraic[static_cast<size_t>(s.touched[b])] != 0 ? 0.0 : dydot_dy;
+        for (size_t i = 0; i < n3; ++i) s.dF_dy[b * n3 + i] += cv * s.dF_dydot[b * n3 + i];
+      }
+    } else {
+      st = difference_instance(s, ev, y, ydot, algebraic, dydot_dy, rows_discard);
+    }
+    if (!status_ok(st)) {
+      outputs = saved_outputs;
+      return st;
+    }
+    for (size_t a = 0; a < P; ++a) {
+      const BodyPoint& pt = s.points[a];
+      if (pt.body == kGround) continue;  // a fixed point: no motion, its force goes to the ground
+      const Eigen::Vector3d p(s.p[3 * a], s.p[3 * a + 1], s.p[3 * a + 2]);
+      point_jacobian(model, data, pt, point_jp);
+      point_velocity_jacobian(model, data, pt, p, point_jv);
+      point_dp_dx.noalias() = point_jp * map_dz_dx;
+      point_dv_dx.noalias() = point_jv * map_dz_dx;
+      point_dv_dx.noalias() += point_jp * map_dzd_total;
+      // The instance's rows in the mechanical columns.
+      for (size_t row = 0; row < k; ++row) {
+        const int state = s.touched[row];
+        for (int c = 0; c < n_m; ++c) {
+          if (mech_column_given[static_cast<size_t>(c)] == 0) continue;  // differenced
+          double d = 0.0;
+          for (int i = 0; i < 3; ++i)
+            d += s.dR_dp[row * n3 + 3 * a + static_cast<size_t>(i)] * point_dp_dx(i, c) +
+                 s.dR_dv[row * n3 + 3 * a + static_cast<size_t>(i)] * point_dv_dx(i, c);
+          values[static_cast<size_t>(pattern->slot(n_m + state, c))] += d;
+        }
+      }
+      // The mechanical rows in the instance's state columns.
+      for (size_t b = 0; b < k; ++b) {
+        const Eigen::Vector3d dF(s.dF_dy[b * n3 + 3 * a], s.dF_dy[b * n3 + 3 * a + 1],
+                                 s.dF_dy[b * n3 + 3 * a + 2]);
+        dQ_dy.noalias() = point_jp.transpose() * dF;
+        for (int rr = 0; rr < n_m; ++rr)
+          values[static_cast<size_t>(pattern->slot(rr, n_m + s.touched[b]))] +=
+              map_dr_dQ.row(rr).dot(dQ_dy);
+      }
+    }
+  }
+  outputs = saved_outputs;
+  return MH_OK;
+}
+
+}  // namespace mh
