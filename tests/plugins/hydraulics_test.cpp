@@ -515,10 +515,15 @@ struct CylinderFixture {
   int32_t A = -1, B = -1;
   mh_status setup_status = MH_OK;
 
-  explicit CylinderFixture(double length = kLength) {
+  explicit CylinderFixture(double length = kLength, bool end_stops = false) {
     host.numbers = {
         {"piston_diameter", kD2},      {"rod_diameter", kD3},         {"length", length},
         {"chamber_bulk_modulus", kBc}, {"fluid_bulk_modulus", kBoil}, {"efficiency", kEta}};
+    if (end_stops) {
+      host.numbers["end_stop_stiffness"] = 1e8;
+      host.numbers["end_stop_damping"] = 2e5;
+      host.numbers["end_stop_depth"] = 1e-3;
+    }
     host.point_positions = {{"a", {0.0, -2.0, 0.0}}, {"b", {1.0, -1.0, 0.0}}};
     host.port_nodes = {{"A", "n2"}, {"B", "n3"}};
     cylinder = std::make_unique<Instance>("cylinder", host);
@@ -631,71 +636,106 @@ TEST(HydraulicCylinder, AnalyticJacobianMatchesCentralDifferences) {
 }
 
 // point_force_jacobian (ABI 2.1) and coupling_jacobian (ABI 2.2) against
-// central differences of evaluate in the points' motion and the pressures, on a
-// general 3D configuration (both points moving, off the fixture's diagonal).
-TEST(HydraulicCylinder, PointAndCouplingJacobiansMatchCentralDifferences) {
-  CylinderFixture f;
-  ASSERT_EQ(f.setup_status, MH_OK);
+// central differences of evaluate in the points' motion and the pressures, at
+// points a and b moving as given; the largest error relative to the scales
+// (force derivatives: force_scale, N/m) goes to `worst`.
+void point_and_coupling_error(CylinderFixture& f, const std::vector<double>& point_p,
+                              const std::vector<double>& point_v, double& worst,
+                              double force_scale = 1e5) {
   const mh_subsystem* api = f.cylinder->api();
   ASSERT_NE(api->point_force_jacobian, nullptr);
   ASSERT_NE(api->coupling_jacobian, nullptr);
   const std::vector<int32_t>& touched = f.host.touched;
   const size_t n = touched.size();
-  double worst = 0.0;
-  for (double sdot : {0.004, -0.03}) {
-    Evaluation e = f.at(kS0 + 0.1, sdot, 5e6, 3.5e6);
-    e.point_p = {0.05, -1.98, 0.01, 1.1, -0.92, -0.02};
-    e.point_v = {0.01, -0.02, 0.003, sdot, 0.7 * sdot, 0.002};
-    e.ydot[f.A] = 1e7;
-    e.ydot[f.B] = -2e6;
-    std::vector<double> dF_dp(36, 0.0), dF_dv(36, 0.0), dR_dp(n * 6, 0.0), dR_dv(n * 6, 0.0),
-        dF_dy(6 * n, 0.0), dF_dydot(6 * n, 0.0);
-    {
-      const mh_subsystem_eval rec = e.record();
-      ASSERT_EQ(api->point_force_jacobian(api, &rec, dF_dp.data(), dF_dv.data()), MH_OK);
-      ASSERT_EQ(api->coupling_jacobian(api, &rec, dR_dp.data(), dR_dv.data(), dF_dy.data(),
-                                       dF_dydot.data()),
-                MH_OK);
-    }
-    const auto check = [&](double analytic, double fd, double scale) {
-      worst = std::max(worst, std::abs(analytic - fd) / std::max(scale, 1e-300));
-    };
-    // In the points' motion: forces (3P x 3P column-major) and rows (n x 3P row-major).
-    for (int level = 0; level < 2; ++level) {
-      std::vector<double>& x = level == 0 ? e.point_p : e.point_v;
-      for (size_t c = 0; c < 6; ++c) {
-        const double x0 = x[c], h = 1e-7;
-        x[c] = x0 + h;
-        ASSERT_EQ(e.run(*f.cylinder), MH_OK);
-        const std::vector<double> f_plus = e.point_f, r_plus = e.residual;
-        x[c] = x0 - h;
-        ASSERT_EQ(e.run(*f.cylinder), MH_OK);
-        x[c] = x0;
-        for (size_t r = 0; r < 6; ++r)
-          check((level == 0 ? dF_dp : dF_dv)[c * 6 + r], (f_plus[r] - e.point_f[r]) / (2 * h), 1e5);
-        for (size_t a = 0; a < n; ++a) {
-          const size_t row = static_cast<size_t>(touched[a]);
-          check((level == 0 ? dR_dp : dR_dv)[a * 6 + c], (r_plus[row] - e.residual[row]) / (2 * h),
-                1e-3);
-        }
-      }
-    }
-    // In the pressures: forces (3P x n column-major).
-    for (size_t b = 0; b < n; ++b) {
-      const size_t i = static_cast<size_t>(touched[b]);
-      const double y0 = e.y[i], h = 10.0;
-      e.y[i] = y0 + h;
+  Evaluation e = f.at(kS0, 0.0, 5e6, 3.5e6);
+  e.point_p = point_p;
+  e.point_v = point_v;
+  e.ydot[f.A] = 1e7;
+  e.ydot[f.B] = -2e6;
+  std::vector<double> dF_dp(36, 0.0), dF_dv(36, 0.0), dR_dp(n * 6, 0.0), dR_dv(n * 6, 0.0),
+      dF_dy(6 * n, 0.0), dF_dydot(6 * n, 0.0);
+  {
+    const mh_subsystem_eval rec = e.record();
+    ASSERT_EQ(api->point_force_jacobian(api, &rec, dF_dp.data(), dF_dv.data()), MH_OK);
+    ASSERT_EQ(api->coupling_jacobian(api, &rec, dR_dp.data(), dR_dv.data(), dF_dy.data(),
+                                     dF_dydot.data()),
+              MH_OK);
+  }
+  const auto check = [&](double analytic, double fd, double scale) {
+    worst = std::max(worst, std::abs(analytic - fd) / std::max(scale, 1e-300));
+  };
+  // In the points' motion: forces (3P x 3P column-major) and rows (n x 3P row-major).
+  for (int level = 0; level < 2; ++level) {
+    std::vector<double>& x = level == 0 ? e.point_p : e.point_v;
+    for (size_t c = 0; c < 6; ++c) {
+      const double x0 = x[c], h = 1e-7;
+      x[c] = x0 + h;
       ASSERT_EQ(e.run(*f.cylinder), MH_OK);
-      const std::vector<double> f_plus = e.point_f;
-      e.y[i] = y0 - h;
+      const std::vector<double> f_plus = e.point_f, r_plus = e.residual;
+      x[c] = x0 - h;
       ASSERT_EQ(e.run(*f.cylinder), MH_OK);
-      e.y[i] = y0;
-      for (size_t r = 0; r < 6; ++r) {
-        check(dF_dy[b * 6 + r], (f_plus[r] - e.point_f[r]) / (2 * h), 1e-3);
-        EXPECT_EQ(dF_dydot[b * 6 + r], 0.0);  // the force has no pressure rates in it
+      x[c] = x0;
+      for (size_t r = 0; r < 6; ++r)
+        check((level == 0 ? dF_dp : dF_dv)[c * 6 + r], (f_plus[r] - e.point_f[r]) / (2 * h),
+              force_scale);
+      for (size_t a = 0; a < n; ++a) {
+        const size_t row = static_cast<size_t>(touched[a]);
+        check((level == 0 ? dR_dp : dR_dv)[a * 6 + c], (r_plus[row] - e.residual[row]) / (2 * h),
+              1e-3);
       }
     }
   }
+  // In the pressures: forces (3P x n column-major).
+  for (size_t b = 0; b < n; ++b) {
+    const size_t i = static_cast<size_t>(touched[b]);
+    const double y0 = e.y[i], h = 10.0;
+    e.y[i] = y0 + h;
+    ASSERT_EQ(e.run(*f.cylinder), MH_OK);
+    const std::vector<double> f_plus = e.point_f;
+    e.y[i] = y0 - h;
+    ASSERT_EQ(e.run(*f.cylinder), MH_OK);
+    e.y[i] = y0;
+    for (size_t r = 0; r < 6; ++r) {
+      check(dF_dy[b * 6 + r], (f_plus[r] - e.point_f[r]) / (2 * h), 1e-3);
+      EXPECT_EQ(dF_dydot[b * 6 + r], 0.0);  // the force has no pressure rates in it
+    }
+  }
+}
+
+// On a general 3D configuration (both points moving, off the fixture's diagonal).
+TEST(HydraulicCylinder, PointAndCouplingJacobiansMatchCentralDifferences) {
+  CylinderFixture f;
+  ASSERT_EQ(f.setup_status, MH_OK);
+  double worst = 0.0;
+  for (double sdot : {0.004, -0.03})
+    point_and_coupling_error(f, {0.05, -1.98, 0.01, 1.1, -0.92, -0.02},
+                             {0.01, -0.02, 0.003, sdot, 0.7 * sdot, 0.002}, worst);
+  EXPECT_LT(worst, 1e-6);
+  report(worst);
+}
+
+// With end stops on, pressed into either stop (inside the depth over which the
+// damping comes in, and past it): the stops' stiffness and damping are in
+// the point-force derivatives, and an emptied chamber no longer moves its row.
+TEST(HydraulicCylinder, PointAndCouplingJacobiansIncludeTheEndStops) {
+  CylinderFixture f(kLength, true);
+  ASSERT_EQ(f.setup_status, MH_OK);
+  const double a[3] = {0.05, -1.98, 0.01};
+  const double d[3] = {1.05, 1.06, -0.03};
+  const double norm = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  double worst = 0.0;
+  // The stroke spans [l, 2 l]: pressed 0.4 mm and 3 mm past each end.
+  for (double s : {2 * kLength + 4e-4, 2 * kLength + 3e-3, kLength - 4e-4, kLength - 3e-3})
+    for (double sdot : {0.02, -0.01}) {
+      std::vector<double> p(6), v(6);
+      for (int i = 0; i < 3; ++i) {
+        p[i] = a[i];
+        p[3 + i] = a[i] + s * d[i] / norm;
+        v[i] = 0.001 * (i + 1);
+        v[3 + i] = v[i] + sdot * d[i] / norm + 0.002 * (i == 2 ? 1.0 : 0.0);
+      }
+      point_and_coupling_error(f, p, v, worst, 1e8);  // the stops' stiffness
+    }
   EXPECT_LT(worst, 1e-6);
   report(worst);
 }
