@@ -8,6 +8,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/LU>
 #include <chrono>
 #include <memory>
 #include <set>
@@ -121,6 +122,14 @@ struct Simulation::Engine {
   std::vector<uint8_t> kinds;  // n: mh_unknown_kind of every unknown
   mh_step_map map{};           // the step's map; arrays below
   Eigen::VectorXd x_pred, xd_off, xdd_off;
+  // An explicit integrator (ABI 2.3, explicit_step.cpp): no map; the host
+  // solves the rates at its stages by Newton on the rates, x held, with a
+  // dense difference Jacobian (sized in the constructor).
+  bool explicit_method = false;
+  bool rates_jacobian_valid = false;  // rates_lu factors a Jacobian Newton may reuse
+  Eigen::VectorXd xs, xds, xdds, r_rates, r_rates_pert, rates_step, rate_scale;
+  Eigen::MatrixXd rates_jacobian;
+  Eigen::PartialPivLU<Eigen::MatrixXd> rates_lu;
 
   // Subsystems and their states (the last n_s unknowns).
   std::vector<SubsystemInstance> subsystems;
@@ -232,6 +241,18 @@ struct Simulation::Engine {
   void begin_step(double t_next, double h);
   void rates_of(const Eigen::VectorXd& xq, Eigen::VectorXd& xdq, Eigen::VectorXd& xddq) const;
   void restart_integrator();  // from x, xd, xdd at t
+
+  // explicit_step.cpp: one step of an explicit integrator, and the rates
+  // f(t, x) it combines.
+  void size_explicit();
+  void explicit_attempt(double t_eval, double h);
+  // Solves r(x, xd, xdd) = 0 at t_eval for xdd (second-order unknowns), xd
+  // (first-order) and x (algebraic), the rest held; ends with a residual
+  // evaluation at the solution (the step's record when it is the end's).
+  void solve_rates(double t_eval, double h, Eigen::VectorXd& xq, Eigen::VectorXd& xdq,
+                   Eigen::VectorXd& xddq);
+  mh_status rates_residual(double t_eval, const Eigen::VectorXd& xq, const Eigen::VectorXd& xdq,
+                           const Eigen::VectorXd& xddq, Eigen::VectorXd& rq);
 
   // mechanics_derivatives.cpp
   void size_derivatives();

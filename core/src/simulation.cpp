@@ -167,12 +167,24 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
                                        &e.integrator_host->table, e.integrator_name.c_str()));
   if (!e.integrator) throw_setup_failure(e, file.integrator.mark, iwho);
   const mh_integrator& in = e.integrator.ops;
-  if (in.method != MH_METHOD_IMPLICIT_AFFINE)
-    throw PluginError(iwho + " is an explicit method (method " + std::to_string(in.method) +
-                      "), which this host (ABI " + std::to_string(MH_ABI_VERSION_MAJOR) + "." +
+  if (in.method == MH_METHOD_EXPLICIT) {
+    // ABI 2.3: a plugin of an older minor has no stage operations (read as NULL).
+    if (in.num_stages == 0 || in.stage_state == nullptr || in.stage_rates == nullptr ||
+        in.finish_step == nullptr)
+      throw PluginError(iwho +
+                        " is an explicit method without the stage operations of ABI 2.3 "
+                        "(num_stages, stage_state, stage_rates, finish_step)");
+    require_op(in.setup && in.restart && in.accept && in.destroy, iwho,
+               "setup/restart/accept/destroy");
+    e.explicit_method = true;
+  } else if (in.method != MH_METHOD_IMPLICIT_AFFINE) {
+    throw PluginError(iwho + " has the unknown method " + std::to_string(in.method) +
+                      ", which this host (ABI " + std::to_string(MH_ABI_VERSION_MAJOR) + "." +
                       std::to_string(MH_ABI_VERSION_MINOR) + ") does not drive");
-  require_op(in.setup && in.restart && in.begin_step && in.accept && in.destroy, iwho,
-             "setup/restart/begin_step/accept/destroy");
+  } else {
+    require_op(in.setup && in.restart && in.begin_step && in.accept && in.destroy, iwho,
+               "setup/restart/begin_step/accept/destroy");
+  }
   mh_integrator_problem problem{};
   problem.struct_size = sizeof(problem);
   problem.num_unknowns = static_cast<uint32_t>(e.n);
@@ -198,6 +210,7 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
     e.linear_solver = make_linear_solver(*e.pattern, e.settings.linear);
   e.reuse.enable(e.settings.newton == NewtonKind::modified);
   e.size_derivatives();
+  e.size_explicit();
   e.size_coupling();
 }
 

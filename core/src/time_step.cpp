@@ -154,6 +154,11 @@ void Simulation::Engine::attempt(double t_next) {
     ++next_event;
   }
 
+  if (explicit_method) {
+    explicit_attempt(t_eval, h);  // explicit_step.cpp: no map, no Newton over x
+    accept_step(t_next, event, h);
+    return;
+  }
   prepare_step(t_next, h);
   try {
     newton_solve(t_eval, t_next);

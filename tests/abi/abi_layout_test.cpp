@@ -62,10 +62,10 @@ TEST(AbiLayout, FunctionTablesKeepTheirFieldOffsets) {
   EXPECT_EQ(mh_c_offset_subsystem_get_extension, offsetof(mh_subsystem, get_extension));
 }
 
-TEST(AbiLayout, VersionIsTwoOne) {
+TEST(AbiLayout, VersionIsTwoThree) {
   const mh_version v = MH_ABI_VERSION_INIT;
   EXPECT_EQ(v.major, 2u);
-  EXPECT_EQ(v.minor, 2u);
+  EXPECT_EQ(v.minor, 3u);
 }
 
 // ABI 2.1 only appended: every 2.0 field keeps its offset (the frozen 2.0
@@ -85,7 +85,6 @@ TEST(AbiLayout, MinorOneAppendsAfterEveryTwoZeroField) {
   EXPECT_EQ(sizeof(mh_host), mh_sdk20_sizeof_host + sizeof(void*));
   EXPECT_EQ(offsetof(mh_subsystem, get_extension), mh_sdk20_offset_subsystem_get_extension);
   EXPECT_EQ(offsetof(mh_subsystem, point_force_jacobian), mh_sdk20_sizeof_subsystem);
-  EXPECT_EQ(sizeof(mh_integrator), mh_sdk20_sizeof_integrator);
 }
 
 // ABI 2.2 appended mechanics_map at the end of mh_formulation (unchanged in
@@ -97,4 +96,17 @@ TEST(AbiLayout, MinorTwoAppendsOneOpToFormulationsAndOneToSubsystems) {
   // and coupling_jacobian right after 2.1's point_force_jacobian in mh_subsystem.
   EXPECT_EQ(offsetof(mh_subsystem, coupling_jacobian), mh_sdk20_sizeof_subsystem + sizeof(void*));
   EXPECT_EQ(sizeof(mh_subsystem), mh_sdk20_sizeof_subsystem + 2 * sizeof(void*));
+}
+
+// ABI 2.3 appended the explicit stage operations at the end of mh_integrator
+// (unchanged from 2.0 to 2.2): every 2.0 field keeps its offset, and an
+// integrator of an older SDK reads them as 0 / NULL (implicit).
+TEST(AbiLayout, MinorThreeAppendsTheExplicitStagesToIntegrators) {
+  EXPECT_EQ(offsetof(mh_integrator, num_stages), mh_sdk20_sizeof_integrator);
+  EXPECT_GT(offsetof(mh_integrator, stage_state), offsetof(mh_integrator, num_stages));
+  EXPECT_EQ(offsetof(mh_integrator, stage_rates),
+            offsetof(mh_integrator, stage_state) + sizeof(void*));
+  EXPECT_EQ(offsetof(mh_integrator, finish_step),
+            offsetof(mh_integrator, stage_rates) + sizeof(void*));
+  EXPECT_EQ(sizeof(mh_integrator), offsetof(mh_integrator, finish_step) + sizeof(void*));
 }

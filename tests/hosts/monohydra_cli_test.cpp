@@ -33,7 +33,7 @@ std::vector<std::string> read_lines(const std::filesystem::path& p) {
 TEST(MonohydraCli, PluginsListsEveryComponentWithKindAndAbiVersion) {
   const CliResult r = run_cli("plugins");
   ASSERT_EQ(r.code, 0) << r.output;
-  EXPECT_NE(r.output.find("(ABI 2.2.0)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("(ABI 2.3.0)"), std::string::npos) << r.output;
   for (const char* line :
        {"formulation  open-loop", "subsystem    spring-damper", "subsystem    maxwell",
         "integrator   trapezoidal", "integrator   generalized-alpha", "integrator   bdf2"})

@@ -19,9 +19,17 @@
  *   unknowns; a step that fails is abandoned and the next begin_step starts
  *   again from the last accept or restart.
  *
- * Explicit multi-stage methods (mh_integrator.method = MH_METHOD_EXPLICIT)
- * are reserved for a later minor version, which appends their stage
- * operations; a 2.0 host refuses them by name. */
+ * Explicit multi-stage methods (mh_integrator.method = MH_METHOD_EXPLICIT,
+ * ABI 2.3) give no map: they combine the rates f(t, x) the host computes at
+ * stages they choose (the stage operations appended at the end of
+ * mh_integrator). The host drives one step from the accepted t:
+ *   [ stage_state(s) -> (the host solves the rates there) -> stage_rates(s) ]
+ *     for s = 0 .. num_stages-1 -> finish_step -> (the rates at the end) -> accept
+ * At a stage the integrator gives x (and xd of second-order unknowns); the
+ * host solves the formulation's residual (and through it the subsystems'
+ * rows) for the rest with x held: xdd of second-order unknowns, xd of
+ * first-order ones, x of algebraic ones (docs/integrators.md). A host before
+ * 2.3 refuses an explicit integrator by name. */
 #ifndef MONOHYDRA_INTEGRATOR_H
 #define MONOHYDRA_INTEGRATOR_H
 
@@ -36,7 +44,7 @@ extern "C" {
 #define MH_INTEGRATOR_FACTORY_ID "monohydra.integrator-factory/2"
 
 #define MH_METHOD_IMPLICIT_AFFINE 0u /* the map above, solved by the host's Newton */
-#define MH_METHOD_EXPLICIT 1u        /* reserved (see above) */
+#define MH_METHOD_EXPLICIT 1u        /* stage operations below (ABI 2.3) */
 
 /* The problem, handed once at setup (after every command-line override). */
 typedef struct mh_integrator_problem {
@@ -84,6 +92,29 @@ typedef struct mh_integrator {
 
   void (*destroy)(const struct mh_integrator* self);
   const void* (*get_extension)(const struct mh_integrator* self, const char* id);
+
+  /* ABI 2.3, explicit methods only (NULL / 0 for implicit ones; begin_step is
+   * then never called). num_stages: the stages of one step (>= 1). */
+  uint32_t num_stages;
+
+  /* Stage `stage` of the step of length h from the last accepted (or
+   * restarted) time t: writes its time *t_stage (in [t, t + h]) and its state
+   * into host-owned arrays of n: x (every unknown; the value of an algebraic
+   * unknown is the host's starting guess) and xd (second-order unknowns; the
+   * others' entries are the host's guesses, ignored). */
+  mh_status (*stage_state)(const struct mh_integrator* self, uint32_t stage, double h,
+                           double* t_stage, double* x, double* xd);
+
+  /* The host's solution at that stage (n each): x with the algebraic unknowns
+   * solved, xd (as given for second-order unknowns, solved for first-order
+   * ones, 0 for algebraic ones), xdd (solved for second-order unknowns, else 0). */
+  mh_status (*stage_rates)(const struct mh_integrator* self, uint32_t stage, const double* x,
+                           const double* xd, const double* xdd);
+
+  /* After the last stage: the step's end state (x, and xd of second-order
+   * unknowns) into host-owned arrays of n; the host then solves the rates
+   * there and calls accept with them (a step that fails is abandoned). */
+  mh_status (*finish_step)(const struct mh_integrator* self, double h, double* x, double* xd);
 } mh_integrator;
 
 typedef struct mh_integrator_factory {

@@ -1,0 +1,178 @@
+// One step of an explicit integrator (ABI 2.3, integrator.h): the integrator
+// chooses stage states, the host gives it the rates f(t, x) there, and it
+// combines them. The rates come from the formulation's own residual, not from
+// a new operation: with x (and the velocities xd of second-order unknowns)
+// held, r(x, xd, xdd) = 0 is solved by Newton for the accelerations xdd (the
+// forward dynamics: penalty's M' zdd = Q', double-step's independent
+// accelerations), the subsystems' rates ydot (their rows are linear in them
+// for the shipped components) and the algebraic unknowns' values. The
+// Jacobian in those unknowns is differenced (dense: the method is for small
+// models and for showing where an explicit scheme fails), kept across stages
+// and steps while Newton contracts with it.
+#include <cmath>
+#include <limits>
+
+#include "engine.hpp"
+
+namespace mh {
+
+namespace {
+
+// Newton on the rates converges when every increment is below this fraction
+// of the unknown's scale (its x tolerance over h^2, h or 1 by kind): the
+// rates are then far more accurate than one step can use ...
+constexpr double kRateTolerance = 1e-6;
+// ... or below this fraction of the rate itself (round-off: a stiff
+// pressure's rate of 1e9 Pa/s is not known to 1e-3 Pa/s).
+constexpr double kRateRelative = 1e-10;
+
+}  // namespace
+
+void Simulation::Engine::size_explicit() {
+  if (!explicit_method) return;
+  for (Eigen::VectorXd* v : {&xs, &xds, &xdds, &r_rates, &r_rates_pert, &rates_step, &rate_scale})
+    v->setZero(n);
+  rates_jacobian.setZero(n, n);
+  rates_lu = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
+}
+
+mh_status Simulation::Engine::rates_residual(double t_eval, const Eigen::VectorXd& xq,
+                                             const Eigen::VectorXd& xdq,
+                                             const Eigen::VectorXd& xddq, Eigen::VectorXd& rq) {
+  y = xq.tail(n_s);
+  ydot = xdq.tail(n_s);
+  ++counters.residual_evaluations;
+  rows_target = rq.data() + n_m;
+  iterate_evaluated = false;
+  const mh_status st = normalized(formulation.ops.residual(formulation.self, t_eval, xq.data(),
+                                                           xdq.data(), xddq.data(), rq.data()));
+  rows_target = nullptr;
+  if (status_ok(st) && !iterate_evaluated) {
+    last_plugin_error = "formulation '" + formulation_name +
+                        "' broke the ABI contract: its residual did not call "
+                        "evaluate_mechanics with MH_EVAL_SUBSYSTEMS";
+    return MH_ERROR;
+  }
+  return st;
+}
+
+void Simulation::Engine::solve_rates(double t_eval, double h, Eigen::VectorXd& xq,
+                                     Eigen::VectorXd& xdq, Eigen::VectorXd& xddq) {
+  // The unknown of row i: xdd, xd or x by the kind of unknown i.
+  auto unknown = [&](int i) -> double& {
+    switch (kinds[static_cast<size_t>(i)]) {
+      case MH_UNKNOWN_SECOND_ORDER:
+        return xddq[i];
+      case MH_UNKNOWN_FIRST_ORDER:
+        return xdq[i];
+      default:
+        return xq[i];
+    }
+  };
+  for (int i = 0; i < n; ++i) {
+    const uint8_t k = kinds[static_cast<size_t>(i)];
+    rate_scale[i] = k == MH_UNKNOWN_SECOND_ORDER  ? tol[i] / (h * h)
+                    : k == MH_UNKNOWN_FIRST_ORDER ? tol[i] / h
+                                                  : tol[i];
+    if (k != MH_UNKNOWN_SECOND_ORDER) xddq[i] = 0.0;
+    if (k == MH_UNKNOWN_ALGEBRAIC) xdq[i] = 0.0;
+  }
+  check(rates_residual(t_eval, xq, xdq, xddq, r_rates), "residual evaluation");
+  double last = std::numeric_limits<double>::infinity();
+  for (int its = 0; its < settings.max_iterations; ++its) {
+    if (!r_rates.allFinite()) {
+      int bad = 0;
+      while (bad < n && std::isfinite(r_rates[bad])) ++bad;
+      fail_step("the residual is not finite in the row of " + unknown_name(bad) +
+                " at an explicit stage (t = " + short_number(t_eval) + " s)");
+    }
+    if (!rates_jacobian_valid) {
+      for (int j = 0; j < n; ++j) {
+        double& u = unknown(j);
+        const double saved = u;
+        const double d = 1.5e-8 * std::max(std::abs(u), rate_scale[j] * 1e3);
+        u = saved + d;
+        check(rates_residual(t_eval, xq, xdq, xddq, r_rates_pert), "residual evaluation");
+        u = saved;
+        rates_jacobian.col(j) = (r_rates_pert - r_rates) / d;
+      }
+      rates_lu.compute(rates_jacobian);
+      rates_jacobian_valid = true;
+      ++stats.tangents;
+    }
+    rates_step.noalias() = rates_lu.solve(r_rates);
+    double worst = 0.0;
+    int worst_i = 0;
+    for (int i = 0; i < n; ++i) {
+      unknown(i) -= rates_step[i];
+      const double ratio = std::abs(rates_step[i]) /
+                           (kRateTolerance * rate_scale[i] + kRateRelative * std::abs(unknown(i)));
+      if (!(ratio <= worst)) {
+        worst = ratio;
+        worst_i = i;
+      }
+    }
+    ++stats.iterations;
+    stats.increment_norms.push_back(worst);
+    check(rates_residual(t_eval, xq, xdq, xddq, r_rates), "residual evaluation");
+    stats.residual_norms.push_back(r_rates.lpNorm<Eigen::Infinity>());
+    if (worst <= 1.0) return;
+    // A kept Jacobian that no longer halves the increment is renewed.
+    if (!(worst <= 0.5 * last)) rates_jacobian_valid = false;
+    last = worst;
+    if (its + 1 == settings.max_iterations)
+      fail_step("the rates at an explicit stage (t = " + short_number(t_eval) +
+                " s) did not converge in " + std::to_string(settings.max_iterations) +
+                " Newton iterations; the largest increment was " + short_number(worst) +
+                " times its tolerance, in the rate (or value) of " + unknown_name(worst_i));
+  }
+}
+
+// The step from the accepted t by h: the integrator's stages, each with the
+// rates there, then its end state and the rates there (the step's record, as
+// the last Newton iterate is for an implicit step).
+void Simulation::Engine::explicit_attempt(double t_eval, double h) {
+  // The formulations' projections (Eqs. 20-21) weigh velocity against
+  // position corrections by the map's coefficients; an explicit step hands
+  // them the trapezoidal rule's for its h.
+  mh_step_coefficients& c = map.coefficients;
+  c.struct_size = sizeof(c);
+  c.h = h;
+  c.dxd_dx_second = 2.0 / h;
+  c.dxdd_dx_second = 4.0 / (h * h);
+  c.dxd_dx_first = 2.0 / h;
+  const std::string who = "integrator '" + integrator_name + "'";
+  const uint32_t stages = integrator.ops.num_stages;
+  for (uint32_t s = 0; s < stages; ++s) {
+    xs = x;  // guesses: the accepted values
+    xds = xd;
+    xdds = xdd;
+    double t_stage = t;
+    check(integrator.ops.stage_state(integrator.self, s, h, &t_stage, xs.data(), xds.data()),
+          who + " stage_state");
+    if (!(t_stage >= t && t_stage <= t + h))
+      fail(who + " put stage " + std::to_string(s) + " at t = " + short_number(t_stage) +
+           " s, outside the step [" + short_number(t) + ", " + short_number(t + h) + "] s");
+    for (int i = 0; i < n; ++i)
+      if (!std::isfinite(xs[i]) || !std::isfinite(xds[i]))
+        fail("the explicit integrator '" + integrator_name + "' diverged at stage " +
+             std::to_string(s) + ": " + unknown_name(i) + " is not finite (h = " + short_number(h) +
+             " s; a smaller step may be within its stability bound)");
+    if (formulation.ops.begin_step != nullptr)
+      check(
+          formulation.ops.begin_step(formulation.self, t_stage, xs.data(), xds.data(), xdds.data()),
+          "formulation begin_step");
+    solve_rates(std::min(t_stage, t_eval), h, xs, xds, xdds);
+    check(integrator.ops.stage_rates(integrator.self, s, xs.data(), xds.data(), xdds.data()),
+          who + " stage_rates");
+  }
+  check(integrator.ops.finish_step(integrator.self, h, x.data(), xd.data()), who + " finish_step");
+  for (int i = 0; i < n; ++i)
+    if (!std::isfinite(x[i]) || !std::isfinite(xd[i]))
+      fail("the explicit integrator '" + integrator_name + "' diverged: " + unknown_name(i) +
+           " is not finite at the step's end (h = " + short_number(h) +
+           " s; a smaller step may be within its stability bound)");
+  solve_rates(t_eval, h, x, xd, xdd);
+}
+
+}  // namespace mh
