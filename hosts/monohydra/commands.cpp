@@ -16,10 +16,12 @@
 #include <optional>
 
 #include "cli_support.hpp"
+#include "model_plugins.hpp"
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/plugin_registry.hpp"
 #include "monohydra/core/run.hpp"
 #include "monohydra/core/simulation.hpp"
+#include "result_sidecar.hpp"
 #include "run_setup.hpp"
 #include "stop_signals.hpp"
 
@@ -32,7 +34,10 @@ const char* kUsage =
     "usage: monohydra [COMMAND] [ARGS]\n"
     "  (no command)            the paper's comparison: its case studies (models/paper-\n"
     "                          reference.yaml), the paper's numbers beside ours; reports in out/\n"
-    "  plugins                 list every plugin found, its components and ABI version\n"
+    "  plugins [--model MODEL.yaml]\n"
+    "                          list every plugin found (with the model's plugin_paths and\n"
+    "                          plugins: choices), its components and ABI version, and every\n"
+    "                          id that two libraries offer\n"
     "  run MODEL.yaml [--formulation NAME] [--integrator NAME] [--dt S] [--t-end S]\n"
     "                 [--out FILE.csv] [--output-interval S] [--real-time [--newton-cap N]]\n"
     "                 [LIMITS]\n"
@@ -60,8 +65,13 @@ const char* kUsage =
     "                          started again with the same DIR, runs only the cases left\n"
     "  LIMITS: --max-steps N (default 1e8), --max-output-bytes N (default 1e10)\n"
     "SIGINT or SIGTERM stops a run after its current row (exit 130 or 143).\n"
-    "plugins are searched in the model file's plugin_paths, then $MONOHYDRA_PLUGIN_PATH,\n"
-    "beside the executable and the install prefix; the first library offering an id wins.\n";
+    "--log-level error|warn|info|debug (any command): the plugins' and the host's log lines\n"
+    "  shown on stderr, default warn.\n"
+    "run and compare print which library each component came from and write NAME.meta.json\n"
+    "beside every CSV: versions, libraries, the model's SHA-256, the command and settings.\n"
+    "plugins are searched in the libraries of the model's plugins: map, its plugin_paths,\n"
+    "$MONOHYDRA_PLUGIN_PATH, beside the executable, then the install prefix; an id that\n"
+    "two libraries offer must be chosen in the model file: plugins: {ID: LIBRARY.so}.\n";
 
 std::string version_text(const mh_version& v) {
   return std::to_string(v.major) + "." + std::to_string(v.minor) + "." + std::to_string(v.patch);
@@ -178,6 +188,17 @@ int run_prepared(PreparedRun& prepared, const RunRequest& request, const std::st
       return 2;
     }
   }
+  if (!out_path.empty()) {
+    ResultProvenance provenance;
+    provenance.model_path = request.model_path;
+    provenance.formulation = sim.formulation_name();
+    provenance.integrator = sim.integrator_name();
+    provenance.solver = sim.settings();
+    provenance.output_interval = request.output_interval;
+    provenance.real_time_cap = request.real_time_cap;
+    provenance.plugins = prepared.used;
+    if (!write_sidecar(out_path, provenance)) return 2;
+  }
   ProgressBar bar;
   RunOptions options;
   options.progress = std::ref(bar);
@@ -217,7 +238,9 @@ int run_prepared(PreparedRun& prepared, const RunRequest& request, const std::st
   if (!out_path.empty())
     std::cout << "results:      " << out_path << " (" << s.rows << " rows of "
               << prepared.layout->names().size() << " columns, every "
-              << prepared.layout->every_steps() << " steps)\n";
+              << prepared.layout->every_steps() << " steps)\n"
+              << "provenance:   " << sidecar_path(out_path) << "\n";
+  print_used_components(std::cout, prepared.used);
   switch (s.end) {
     case RunEnd::completed:
       break;
@@ -315,14 +338,30 @@ int usage(int code) {
 }
 
 int plugins(const std::vector<std::string>& args) {
-  if (!args.empty()) return usage(2);
+  std::string model_path;
+  for (size_t i = 0; i < args.size(); ++i) {
+    if (args[i] == "--model" && i + 1 < args.size() && model_path.empty()) {
+      model_path = args[++i];
+    } else {
+      std::cerr << "monohydra: plugins takes --model FILE.yaml at most, got '" << args[i] << "'\n";
+      return usage(2);
+    }
+  }
+  ModelFile file;
   PluginRegistry registry;
-  const auto search = PluginRegistry::default_search_path();
-  registry.scan(search);
+  try {
+    if (!model_path.empty()) file = load_model_file(model_path);
+    load_model_plugins(file, registry);
+  } catch (const InputError& err) {
+    std::cerr << "monohydra: " << err.what() << '\n';
+    return 2;
+  }
   std::cout << "host ABI " << MH_ABI_VERSION_MAJOR << "." << MH_ABI_VERSION_MINOR << "."
             << MH_ABI_VERSION_PATCH << "; search path:";
-  for (const auto& p : search) std::cout << ' ' << p;
+  for (const auto& p : model_search_path(file)) std::cout << ' ' << p;
   std::cout << '\n';
+  for (const auto& [id, library] : file.plugin_libraries)
+    std::cout << "chosen by " << model_path << ": " << id << " from " << library << '\n';
   std::string library;
   for (const auto& c : registry.components()) {
     if (c.library != library) {
@@ -332,6 +371,27 @@ int plugins(const std::vector<std::string>& args) {
     std::printf("  %-12s %-20s %s (v%s)\n", to_string(c.kind), c.id.c_str(),
                 c.descriptor->name != nullptr ? c.descriptor->name : "",
                 c.descriptor->version != nullptr ? c.descriptor->version : "?");
+  }
+  // An id two libraries offer: both listed, and which one a model takes.
+  const auto& all = registry.components();
+  for (size_t i = 0; i < all.size(); ++i) {
+    bool first = true;
+    for (size_t k = 0; k < i; ++k)
+      first = first && !(all[k].kind == all[i].kind && all[k].id == all[i].id);
+    if (!first) continue;
+    std::vector<const ComponentInfo*> offers;
+    for (const auto& c : all)
+      if (c.kind == all[i].kind && c.id == all[i].id) offers.push_back(&c);
+    if (offers.size() < 2) continue;
+    std::cout << "offered twice: " << to_string(all[i].kind) << " '" << all[i].id << "' by";
+    for (const auto* c : offers) std::cout << ' ' << c->library;
+    try {
+      const std::string& taken = registry.find(all[i].kind, all[i].id).library;
+      std::cout << "; this model takes it from " << taken << '\n';
+    } catch (const PluginError&) {
+      std::cout << "; a model that uses it must say which: plugins: {" << all[i].id
+                << ": LIBRARY.so}\n";
+    }
   }
   for (const auto& r : registry.refusals()) std::cout << "refused: " << r << '\n';
   if (registry.components().empty()) {

@@ -13,10 +13,12 @@
 #include "comparison_table.hpp"
 #include "control_intervals.hpp"
 #include "isolated_run.hpp"
+#include "model_plugins.hpp"
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/plugin_registry.hpp"
 #include "report_figures.hpp"
 #include "report_html.hpp"
+#include "result_sidecar.hpp"
 #include "run_record.hpp"
 #include "stop_signals.hpp"
 
@@ -122,9 +124,12 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
     }
   }
   PluginRegistry registry;
-  auto search = file.plugin_paths;
-  for (const auto& p : PluginRegistry::default_search_path()) search.push_back(p);
-  registry.scan(search);
+  try {
+    load_model_plugins(file, registry);
+  } catch (const InputError& err) {
+    std::cerr << "monohydra: " << err.what() << '\n';
+    return 2;
+  }
 
   const std::string name = job.study != nullptr ? job.study->name : file.model.name;
   const auto formulations =
@@ -132,6 +137,7 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
   const auto integrators =
       or_defaults(job.integrators, file.compare_integrators, file.integrator.name);
   std::vector<RunRecord> runs;
+  std::vector<UsedComponent> loaded;  // every component of every run, once
   for (const auto& formulation : formulations) {
     for (const auto& integrator : integrators) {
       const std::string label =
@@ -158,6 +164,26 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
       runs.push_back(
           record_run_isolated(file, registry, formulation, integrator, std::move(options)));
       runs.back().label = label;
+      const auto used = used_components(file, registry, formulation, integrator);
+      for (const auto& u : used)
+        if (std::find_if(loaded.begin(), loaded.end(), [&u](const UsedComponent& l) {
+              return l.kind == u.kind && l.id == u.id;
+            }) == loaded.end())
+          loaded.push_back(u);
+      const std::string& csv = runs.back().csv_path;
+      if (!csv.empty() && fs::exists(csv)) {
+        ResultProvenance provenance;
+        provenance.model_path = job.model_path;
+        provenance.formulation = formulation;
+        provenance.integrator = integrator;
+        provenance.solver = file.solver;
+        provenance.solver.dt =
+            runs.back().dt > 0.0 ? runs.back().dt : job.dt.value_or(file.solver.dt);
+        provenance.solver.t_end =
+            runs.back().dt > 0.0 ? runs.back().t_end : job.t_end.value_or(file.solver.t_end);
+        provenance.plugins = used;
+        if (!write_sidecar(csv, provenance)) return 2;
+      }
       if (bar.enabled && runs.back().failed && runs.back().rows() > 0) std::cerr << '\n';
       if (runs.back().failed)
         std::cerr << "monohydra: " << label << " failed on " << name << ": " << runs.back().failure
@@ -172,6 +198,7 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
   const PaperNumbers* paper = job.study != nullptr ? &job.study->paper : nullptr;
   const TextTable table = comparison_table(c, paper);
   out << render_text(table);
+  print_used_components(out, loaded);
 
   if (!job.report_dir.empty()) {
     std::vector<ControlColumn> controls;
@@ -214,7 +241,8 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
       return 2;
     }
     for (const auto& r : c.runs)
-      if (!r.csv_path.empty()) out << "csv:    " << r.csv_path << '\n';
+      if (!r.csv_path.empty())
+        out << "csv:    " << r.csv_path << " (provenance: " << sidecar_path(r.csv_path) << ")\n";
   }
   if (stopped_by != 0) {
     std::cerr << "monohydra: interrupted by " << signal_name(stopped_by) << '\n';
