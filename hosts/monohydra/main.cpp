@@ -11,6 +11,7 @@
 
 #include "cli_support.hpp"
 #include "commands.hpp"
+#include "plugin_check.hpp"
 #include "sweep_command.hpp"
 
 namespace {
@@ -18,6 +19,7 @@ int dispatch(const std::string& cmd, const std::vector<std::string>& args) {
   if (cmd == "plugins") return mh::cli::plugins(args);
   if (cmd == "run") return mh::cli::run(args);
   if (cmd == "compare") return mh::cli::compare(args);
+  if (cmd == "check") return mh::cli::check(args);
   if (cmd == "validate") return mh::cli::validate(args);
   if (cmd == "sweep") return mh::cli::run_sweep(args);
   if (cmd == "--help" || cmd == "-h" || cmd == "help") return mh::cli::usage(0);
