@@ -26,6 +26,7 @@
 #include "monohydra/core/simulation.hpp"
 #include "shipped_models.hpp"
 #include "stop_signals.hpp"
+#include "subcommand_parser.hpp"
 
 namespace fs = std::filesystem;
 
@@ -342,13 +343,23 @@ std::vector<Setup> setups_for(const Subject& who, const std::string& model_path,
 }  // namespace
 
 int check(const std::vector<std::string>& args) {
-  if (args.empty() || args.size() > 2 || args[0].empty() || args[0][0] == '-' ||
-      (args.size() == 2 && !args[1].empty() && args[1][0] == '-')) {
+  const auto app_holder = subcommand_app(
+      "check",
+      "Load PLUGIN.so and drive each of its components through its contract on MODEL.yaml "
+      "(default: the shipped four-bar, or the smallest shipped model using a subsystem): load "
+      "and version, descriptors, create/destroy cycles, bad options refused, analytic tangent "
+      "against differences, bit-identical reruns; each check in a child process. Exit 0 when "
+      "every check passed, 1 when one failed.");
+  CLI::App& app = *app_holder;
+  std::vector<std::string> files;
+  app.add_option("PLUGIN.so [MODEL.yaml]", files, "the plugin library, then the model");
+  if (const auto code = parse_subcommand(app, args)) return *code;
+  if (files.empty() || files.size() > 2) {
     std::cerr << "usage: monohydra check PLUGIN.so [MODEL.yaml]\n";
     return 2;
   }
-  const std::string& plugin = args[0];
-  const std::string model_path = args.size() == 2 ? args[1] : "";
+  const std::string& plugin = files[0];
+  const std::string model_path = files.size() == 2 ? files[1] : "";
   int failures = 0;
   const auto report = [&failures](const std::string& what, const std::string& failure,
                                   const std::string& detail = "") {
