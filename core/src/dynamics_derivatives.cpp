@@ -182,10 +182,19 @@ void fill_columns_by_subtree(const Model& model, const Data& data, bool rate,
   }
 }
 
-// 6 x 6 matrix of the motion cross product: cross_matrix(a) y = a x y.
+// 6 x 6 matrix of the motion cross product: cross_matrix(a) y = a x y, that is
+// [[w~, v~], [0, w~]] for a = [v; w].
 Matrix6d cross_matrix(const Vector6d& a) {
-  Matrix6d X = Matrix6d::Zero();
-  for (int m = 0; m < 6; ++m) X.col(m) = motion_cross(a, Vector6d::Unit(m));
+  const auto skew = [](const Eigen::Vector3d& x) {
+    Eigen::Matrix3d S;
+    S << 0.0, -x.z(), x.y(), x.z(), 0.0, -x.x(), -x.y(), x.x(), 0.0;
+    return S;
+  };
+  Matrix6d X;
+  X.topLeftCorner<3, 3>() = skew(a.tail<3>());
+  X.topRightCorner<3, 3>() = skew(a.head<3>());
+  X.bottomLeftCorner<3, 3>().setZero();
+  X.bottomRightCorner<3, 3>() = X.topLeftCorner<3, 3>();
   return X;
 }
 
@@ -206,18 +215,18 @@ void body_variation_matrices(const BodyState& s, const Vector6d& Zj, const Vecto
     const Vector6d e = Vector6d::Unit(m);
     BodyVariation dv;
     dv.twist = e;
-    dv.Z = -XZ * e;
-    dv.Zdot = -XZdot * e;
+    dv.Z = -XZ.col(m);
+    dv.Zdot = -XZdot.col(m);
     A.col(m) = vary_body_residual(s, dv);
     dv.twist.setZero();
     dv.Z = -e;
-    dv.Zdot = XZ * e;
+    dv.Zdot = XZ.col(m);
     B.col(m) = vary_body_residual(s, dv);
     dv.Z.setZero();
     dv.Zdot = e;
     Cm.col(m) = vary_body_residual(s, dv);
     dv.Z = e;
-    dv.Zdot = -XZ * e;
+    dv.Zdot = -XZ.col(m);
     D.col(m) = vary_body_residual(s, dv);
   }
 }
