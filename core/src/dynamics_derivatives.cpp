@@ -203,12 +203,14 @@ Matrix6d cross_matrix(const Vector6d& a) {
 // u_k = b_k x Z_k and c_k = -b_k x Zdot_k - Z_k x u_k, variation_z is
 //   twist = b_k,  dZ = -Z_j x b_k - u_k,  dZdot = -Zdot_j x b_k + Z_j x u_k + c_k
 // and variation_zd is twist = 0, dZ = b_k, dZdot = -Z_j x b_k - 2 u_k. The body
-// residual's variation is linear in them: dh_j = A_j b_k + B_j u_k + C_j c_k (z)
-// and D_j b_k - 2 C_j u_k (zd), with 6 x 6 matrices of body j alone. Summed over
-// subtrees and projected on b_i, every entry of K and C is then three 6-vector
-// dot products, so the fill costs O(1) per (row, column) pair of the subtree.
+// residual's variation is linear in them: dh_j = A_j b_k - D_j u_k + C_j c_k (z)
+// and D_j b_k - 2 C_j u_k (zd), with 6 x 6 matrices of body j alone (the u_k
+// part of dZ, dZdot is minus the b_k part of the rate's, less the 2 u_k; C_j, the
+// response to dZdot alone, is the body's Mbar of Eq. 9). Summed over subtrees and
+// projected on b_i, every entry of K and C is then three 6-vector dot products,
+// so the fill costs O(1) per (row, column) pair of the subtree.
 void body_variation_matrices(const BodyState& s, const Vector6d& Zj, const Vector6d& Zdotj,
-                             Matrix6d& A, Matrix6d& B, Matrix6d& Cm, Matrix6d& D) {
+                             Matrix6d& A, Matrix6d& Cm, Matrix6d& D) {
   const Matrix6d XZ = cross_matrix(Zj);
   const Matrix6d XZdot = cross_matrix(Zdotj);
   for (int m = 0; m < 6; ++m) {
@@ -219,16 +221,17 @@ void body_variation_matrices(const BodyState& s, const Vector6d& Zj, const Vecto
     dv.Zdot = -XZdot.col(m);
     A.col(m) = vary_body_residual(s, dv);
     dv.twist.setZero();
-    dv.Z = -e;
-    dv.Zdot = XZ.col(m);
-    B.col(m) = vary_body_residual(s, dv);
-    dv.Z.setZero();
-    dv.Zdot = e;
-    Cm.col(m) = vary_body_residual(s, dv);
     dv.Z = e;
     dv.Zdot = -XZ.col(m);
     D.col(m) = vary_body_residual(s, dv);
   }
+  // Eq. (9) about the world origin: [[m, -m g~], [m g~, J - m g~ g~]].
+  const Matrix6d G = cross_matrix((Vector6d() << Eigen::Vector3d::Zero(), s.g).finished());
+  const Eigen::Matrix3d g_skew = G.topLeftCorner<3, 3>();
+  Cm.topLeftCorner<3, 3>() = s.m * Eigen::Matrix3d::Identity();
+  Cm.topRightCorner<3, 3>() = -s.m * g_skew;
+  Cm.bottomLeftCorner<3, 3>() = s.m * g_skew;
+  Cm.bottomRightCorner<3, 3>() = s.J - s.m * g_skew * g_skew;
 }
 
 // K and C from the body terms, factored (for deep trees: see use_factored_fill).
@@ -241,13 +244,12 @@ void fill_columns_factored(const Model& model, const Data& data, DynamicsDerivat
   const int n = model.num_bodies();
   for (int j = 0; j < n; ++j) {
     const BodyState s = body_state(model, data, ws, j);
-    body_variation_matrices(s, data.Z[j], ws.Zdot[j], ws.SA[j], ws.SB[j], ws.SC[j], ws.SD[j]);
+    body_variation_matrices(s, data.Z[j], ws.Zdot[j], ws.SA[j], ws.SC[j], ws.SD[j]);
   }
   for (int j = n - 1; j >= 0; --j) {  // subtree sums
     const int p = model.bodies[j].parent;
     if (p == kGround) continue;
     ws.SA[p] += ws.SA[j];
-    ws.SB[p] += ws.SB[j];
     ws.SC[p] += ws.SC[j];
     ws.SD[p] += ws.SD[j];
   }
@@ -255,7 +257,6 @@ void fill_columns_factored(const Model& model, const Data& data, DynamicsDerivat
     const Vector6d& bi = data.b[i];
     // (b_k x b_i) . H_i = b_k . (-(b_i x)^T H_i): zero for k = i.
     ws.row_b[i] = ws.SA[i].transpose() * bi - cross_matrix(bi).transpose() * ws.H[i];
-    ws.row_u[i] = ws.SB[i].transpose() * bi;
     ws.row_c[i] = ws.SC[i].transpose() * bi;
     ws.row_rate_b[i] = ws.SD[i].transpose() * bi;
   }
@@ -269,11 +270,11 @@ void fill_columns_factored(const Model& model, const Data& data, DynamicsDerivat
       const int p = model.bodies[i].parent;
       ws.in_subtree[i] = static_cast<char>(i == k || (p >= k && ws.in_subtree[p]));
       if (!ws.in_subtree[i]) continue;
-      K(i, k) = ws.row_b[i].dot(bk) + ws.row_u[i].dot(u) + ws.row_c[i].dot(c);
+      K(i, k) = ws.row_b[i].dot(bk) - ws.row_rate_b[i].dot(u) + ws.row_c[i].dot(c);
       C(i, k) = ws.row_rate_b[i].dot(bk) - 2.0 * ws.row_c[i].dot(u);
     }
     if (model.bodies[k].parent == kGround) continue;
-    const Vector6d dH = ws.SA[k] * bk + ws.SB[k] * u + ws.SC[k] * c;
+    const Vector6d dH = ws.SA[k] * bk - ws.SD[k] * u + ws.SC[k] * c;
     const Vector6d dH_rate = ws.SD[k] * bk - 2.0 * (ws.SC[k] * u);
     for (int i = model.bodies[k].parent; i != kGround; i = model.bodies[i].parent) {
       K(i, k) = data.b[i].dot(dH);
@@ -291,11 +292,9 @@ DynamicsDerivativesWorkspace::DynamicsDerivativesWorkspace(const Model& model) {
   H.assign(nb, Vector6d::Zero());
   dH.assign(nb, Vector6d::Zero());
   SA.assign(nb, Matrix6d::Zero());
-  SB.assign(nb, Matrix6d::Zero());
   SC.assign(nb, Matrix6d::Zero());
   SD.assign(nb, Matrix6d::Zero());
   row_b.assign(nb, Vector6d::Zero());
-  row_u.assign(nb, Vector6d::Zero());
   row_c.assign(nb, Vector6d::Zero());
   row_rate_b.assign(nb, Vector6d::Zero());
   J.assign(nb, Eigen::Matrix3d::Zero());

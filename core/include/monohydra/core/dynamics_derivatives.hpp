@@ -37,11 +37,11 @@ struct DynamicsDerivativesWorkspace {
   std::vector<Vector6d> h;     // Mbar_j Zdot_j - Qbar_j (Eqs. 9-10), gravity only
   std::vector<Vector6d> H;     // h summed over each body's subtree (T^T of Eq. 12)
   std::vector<Vector6d> dH;    // H's variation for one coordinate (subtree fill)
-  // Subtree sums of a body's residual variation per unit b_k, u_k, c_k (z) and
-  // b_k (zd): see fill_columns in dynamics_derivatives.cpp.
-  std::vector<Matrix6d> SA, SB, SC, SD;
-  // Their projections on b_i: K(i, k) = row_b . b_k + row_u . u_k + row_c . c_k.
-  std::vector<Vector6d> row_b, row_u, row_c, row_rate_b;
+  // Subtree sums of a body's residual variation per unit b_k, c_k (z) and
+  // b_k (zd): see fill_columns_factored in dynamics_derivatives.cpp.
+  std::vector<Matrix6d> SA, SC, SD;
+  // Their projections on b_i: K(i, k) = row_b . b_k - row_rate_b . u_k + row_c . c_k.
+  std::vector<Vector6d> row_b, row_c, row_rate_b;
   std::vector<Eigen::Matrix3d> J;                 // world inertia about the COM
   std::vector<Eigen::Vector3d> gdot;              // COM velocity, Eq. (6)
   std::vector<Eigen::Vector3d> Jw;                // J omega
