@@ -248,7 +248,7 @@ TEST(DynamicsDerivatives, StiffnessAndDampingMatchCentralDifferencesOnRandomPlan
   run_trials(rng, 20, true, "random planar trees");
 }
 
-// Chains of 34-40 random joints (mean depth above 16) take the factored fill.
+// Chains of 34-40 random joints (mean depth above 6) take the factored fill.
 TEST(DynamicsDerivatives, FactoredFillOnDeepChainsMatchesCentralDifferences) {
   Rng rng(64);
   Errors worst;
@@ -270,7 +270,8 @@ TEST(DynamicsDerivatives, FactoredFillOnDeepChainsMatchesCentralDifferences) {
               worst.K, worst.C);
 }
 
-// The random trees above (at most 10 bodies) take the subtree sweep.
+// The random trees above (at most 10 bodies: mean depth at most 5.5) take the
+// subtree sweep.
 TEST(DynamicsDerivatives, ShallowTreesTakeTheSubtreeSweep) {
   Rng rng(5);
   EXPECT_FALSE(DynamicsDerivativesWorkspace(random_tree(rng, 3, 10)).use_factored_fill);

@@ -51,7 +51,7 @@ struct DynamicsDerivativesWorkspace {
   // M'(z) zdd - Q'(z, zd) (N) with the given point forces: the value whose
   // derivatives are returned, from the same recursion.
   Eigen::VectorXd residual;
-  // Whether the fill is factored (deep trees: mean depth above 16) or swept
+  // Whether the fill is factored (deep trees: mean depth above 6) or swept
   // coordinate by coordinate (shallow trees); set from the model, both exact.
   bool use_factored_fill = false;
 };
