@@ -66,8 +66,8 @@ inline std::string tree(int arms) {
 // Per-step counters of a run of `steps` steps in all the benchmark's iterations.
 // Work per step: Newton iterations, tangents, passes of the kinematics (the
 // target is at most 6) and residual evaluations.
-inline void step_counters(benchmark::State& state, double steps, double iterations,
-                          double tangents, double kinematics = -1, double residuals = -1) {
+inline void step_counters(benchmark::State& state, double steps, double iterations, double tangents,
+                          double kinematics = -1, double residuals = -1) {
   state.counters["steps"] = steps / static_cast<double>(state.iterations());
   state.counters["us_per_step"] =
       benchmark::Counter(steps * 1e-6, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);

@@ -544,6 +544,13 @@ Measured on this machine with the same benchmarks the same day (medians,
 CPU): four-bar double-step 204 ms per 10 s, four-bar penalty 213 ms,
 quick-return double-step 369 ms, quick-return penalty 354 ms; the chain per
 step {base_chain}.
+
+## Sweeps: speed-up over one core
+
+Measured by `studies/speedup.sh` and kept in `docs/sweeps.md` (section
+"Speed-up"), copied here by this script:
+
+{sweep_speedup}
 """.format(
         head=git_head(), date=datetime.date.today().isoformat(), cpus=cpus, model=model,
         reps=max([e.get("repetitions", 1) for e in data.get("benchmarks", [])] or [1]), ncpu=ctx.get("num_cpus", "?"),
@@ -556,10 +563,24 @@ step {base_chain}.
         solver_table=solver_table(res),
         ranking=", ".join("%s/%s %s ms" % (l, n, fmt(v)) for (l, n), v in ranking) or "—",
         output_table=output_table(res), slopes="\n".join(slopes), chain_table=chain_table(res),
-        targets=targets(res), largest=largest_shares(rows), profile=profile_section(rows, why), base_chain=base_chain)
+        targets=targets(res), largest=largest_shares(rows), profile=profile_section(rows, why), base_chain=base_chain,
+        sweep_speedup=sweep_speedup())
     with open(a.out, "w") as f:
         f.write(page)
     print("wrote %s and %s" % (a.out, a.svg), file=sys.stderr)
+
+
+def sweep_speedup():
+    """The body of docs/sweeps.md's "## Speed-up" section (one source for both pages)."""
+    path = os.path.join(ROOT, "docs", "sweeps.md")
+    try:
+        text = open(path).read()
+    except OSError:
+        return "(docs/sweeps.md not found)"
+    m = re.search(r"^## Speed-up\n(.*?)(?=^## |\Z)", text, re.S | re.M)
+    if not m:
+        return "(docs/sweeps.md has no Speed-up section)"
+    return m.group(1).strip()
 
 
 if __name__ == "__main__":

@@ -6,6 +6,8 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <optional>
 #include <sstream>
 
@@ -74,6 +76,21 @@ void list_components(const void* raw, ComponentKind kind, Factory ComponentInfo:
   }
 }
 
+// Whether two files hold the same bytes (the same plugin installed twice).
+bool same_contents(const std::string& a, const std::string& b) {
+  std::error_code ec1, ec2;
+  if (fs::file_size(a, ec1) != fs::file_size(b, ec2) || ec1 || ec2) return false;
+  std::ifstream fa(a, std::ios::binary), fb(b, std::ios::binary);
+  return std::equal(std::istreambuf_iterator<char>(fa), std::istreambuf_iterator<char>(),
+                    std::istreambuf_iterator<char>(fb), std::istreambuf_iterator<char>());
+}
+
+std::string canonical_path(const std::string& path) {
+  std::error_code ec;
+  const fs::path p = fs::weakly_canonical(path, ec);
+  return ec ? path : p.string();
+}
+
 }  // namespace
 
 // Long enough for any honest init; a probe that takes longer is killed.
@@ -114,10 +131,9 @@ void PluginRegistry::load(const std::string& path) {
 }
 
 void PluginRegistry::load_library(const std::string& path) {
-  std::error_code fec;
-  const std::string canonical = fs::weakly_canonical(path, fec).string();
+  const std::string canonical = canonical_path(path);
   for (const auto& lib : libraries_)
-    if (lib->path == canonical) return;
+    if (lib->path == canonical || same_contents(lib->path, canonical)) return;
 
   // Nothing of the library runs in this process before a child survived it.
   std::optional<ProbeVerdict> verdict = probe_cache_->find(canonical);
@@ -164,11 +180,6 @@ void PluginRegistry::load_library(const std::string& path) {
                   &ComponentInfo::subsystem_factory, v, canonical, path, found);
   list_components(lib->entry->get_factory(MH_INTEGRATOR_FACTORY_ID), ComponentKind::integrator,
                   &ComponentInfo::integrator_factory, v, canonical, path, found);
-  for (const auto& info : found)
-    for (const auto& existing : components_)
-      if (existing.kind == info.kind && existing.id == info.id)
-        throw PluginError("'" + path + "' offers " + to_string(info.kind) + " '" + info.id +
-                          "', already loaded from '" + existing.library + "'");
   libraries_.push_back(std::move(lib));
   components_.insert(components_.end(), found.begin(), found.end());
 }
@@ -192,13 +203,33 @@ void PluginRegistry::scan(const std::vector<std::string>& folders) {
   probe_cache_->save();
 }
 
+void PluginRegistry::choose(const std::string& id, const std::string& library) {
+  choices_.emplace_back(id, canonical_path(library));
+}
+
 const ComponentInfo& PluginRegistry::find(ComponentKind kind, const std::string& id) const {
   std::string known;
+  std::vector<const ComponentInfo*> offers;
   for (const auto& c : components_) {
     if (c.kind != kind) continue;
-    if (c.id == id) return c;
+    if (c.id == id) offers.push_back(&c);
     known += (known.empty() ? "" : ", ") + c.id;
   }
+  std::string from;  // every library that offers it
+  for (const auto* c : offers) from += (from.empty() ? "'" : ", '") + c->library + "'";
+  for (const auto& [chosen_id, library] : choices_) {
+    if (chosen_id != id) continue;
+    for (const auto* c : offers)
+      if (c->library == library) return *c;
+    throw PluginError(std::string(to_string(kind)) + " '" + id + "' is to come from '" + library +
+                      "' (plugins: in the model file), which does not offer it" +
+                      (from.empty() ? std::string() : " (offered by " + from + ")"));
+  }
+  if (offers.size() == 1) return *offers.front();
+  if (offers.size() > 1)
+    throw PluginError(std::string(to_string(kind)) + " '" + id + "' is offered by " +
+                      std::to_string(offers.size()) + " libraries: " + from +
+                      "; say which in the model file: plugins: {" + id + ": LIBRARY.so}");
   throw PluginError("unknown " + std::string(to_string(kind)) + " '" + id + "' (found: " +
                     (known.empty() ? std::string("none; check the plugin search path") : known) +
                     ")");

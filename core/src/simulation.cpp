@@ -220,6 +220,12 @@ const SolverSettings& Simulation::settings() const {
   return engine_->settings;
 }
 void Simulation::start() {
+  // The plugins' histories begin at the first start: a second one would go on
+  // from the last accepted state, not from t = 0, so it is refused.
+  if (engine_->started)
+    engine_->fail(
+        "start() on a simulation that has already started: a new run needs a new "
+        "Simulation");
   engine_->start();
 }
 void Simulation::step() {

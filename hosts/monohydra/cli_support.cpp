@@ -62,9 +62,47 @@ void drop_partial_last_line(const std::string& path) {
   std::filesystem::resize_file(path, 0, ec);  // not one whole line
 }
 
+namespace {
+mh_log_level log_threshold = MH_LOG_WARNING;
+std::string started_as;
+}  // namespace
+
 void log_to_stderr(mh_log_level level, const std::string& source, const std::string& msg) {
-  if (level < MH_LOG_WARNING) return;
-  std::cerr << (level >= MH_LOG_ERROR ? "error: " : "warning: ") << source << ": " << msg << '\n';
+  if (level < log_threshold) return;
+  const char* tag = level >= MH_LOG_ERROR     ? "error: "
+                    : level >= MH_LOG_WARNING ? "warning: "
+                    : level >= MH_LOG_INFO    ? "info: "
+                                              : "debug: ";
+  std::cerr << tag << source << ": " << msg << '\n';
+}
+
+void set_log_threshold(mh_log_level level) {
+  log_threshold = level;
+}
+
+std::optional<mh_log_level> parse_log_level(const std::string& text) {
+  if (text == "error") return MH_LOG_ERROR;
+  if (text == "warn" || text == "warning") return MH_LOG_WARNING;
+  if (text == "info") return MH_LOG_INFO;
+  if (text == "debug") return MH_LOG_DEBUG;
+  return std::nullopt;
+}
+
+void set_command_line(int argc, const char* const* argv) {
+  started_as.clear();
+  for (int i = 0; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool plain = !arg.empty() && arg.find_first_not_of(
+                                           "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                           "0123456789-_./=,:+@%") == std::string::npos;
+    std::string quoted = "'";
+    for (const char ch : arg) quoted += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+    started_as += (i == 0 ? "" : " ") + (plain ? arg : quoted + "'");
+  }
+}
+
+const std::string& command_line() {
+  return started_as;
 }
 
 ProgressBar::ProgressBar() : enabled(isatty(STDERR_FILENO) != 0) {}

@@ -20,8 +20,17 @@ bool parse_limit(const std::string& flag, const std::string& text, RunLimits& li
 // may have taken half a row).
 void drop_partial_last_line(const std::string& path);
 
-// Prints warnings and errors to stderr (a LogSink).
+// Prints the lines at or above the threshold (--log-level; default warnings
+// and errors) to stderr (a LogSink).
 void log_to_stderr(mh_log_level level, const std::string& source, const std::string& msg);
+void set_log_threshold(mh_log_level level);
+// "error", "warn", "info" or "debug" as a level; nullopt for anything else.
+std::optional<mh_log_level> parse_log_level(const std::string& text);
+
+// The command line this process was started with, shell-quoted, for the
+// result sidecars (result_sidecar.hpp).
+void set_command_line(int argc, const char* const* argv);
+const std::string& command_line();
 
 // A 40-column bar on stderr, drawn only when stderr is a terminal.
 struct ProgressBar {

@@ -16,12 +16,15 @@
 #include <optional>
 
 #include "cli_support.hpp"
+#include "model_plugins.hpp"
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/plugin_registry.hpp"
 #include "monohydra/core/run.hpp"
 #include "monohydra/core/simulation.hpp"
+#include "result_sidecar.hpp"
 #include "run_setup.hpp"
 #include "stop_signals.hpp"
+#include "subcommand_parser.hpp"
 
 namespace fs = std::filesystem;
 
@@ -32,7 +35,10 @@ const char* kUsage =
     "usage: monohydra [COMMAND] [ARGS]\n"
     "  (no command)            the paper's comparison: its case studies (models/paper-\n"
     "                          reference.yaml), the paper's numbers beside ours; reports in out/\n"
-    "  plugins                 list every plugin found, its components and ABI version\n"
+    "  plugins [--model MODEL.yaml]\n"
+    "                          list every plugin found (with the model's plugin_paths and\n"
+    "                          plugins: choices), its components and ABI version, and every\n"
+    "                          id that two libraries offer\n"
     "  run MODEL.yaml [--formulation NAME] [--integrator NAME] [--dt S] [--t-end S]\n"
     "                 [--out FILE.csv] [--output-interval S] [--real-time [--newton-cap N]]\n"
     "                 [LIMITS]\n"
@@ -58,10 +64,23 @@ const char* kUsage =
     "                          run every case of a study (docs/sweeps.md) on all cores, or on\n"
     "                          every rank under mpirun; one row per case in DIR/results.csv;\n"
     "                          started again with the same DIR, runs only the cases left\n"
+    "  check PLUGIN.so [MODEL.yaml]\n"
+    "                          load one plugin library and drive each of its components\n"
+    "                          through its contract on MODEL.yaml (default: the shipped four-\n"
+    "                          bar, or the smallest shipped model using a subsystem): load and\n"
+    "                          version, descriptors, create/destroy cycles, bad options refused,\n"
+    "                          analytic tangent against differences, bit-identical reruns;\n"
+    "                          each in a child process (exit 0 or 1)\n"
+    "  COMMAND --help          that command's options\n"
     "  LIMITS: --max-steps N (default 1e8), --max-output-bytes N (default 1e10)\n"
     "SIGINT or SIGTERM stops a run after its current row (exit 130 or 143).\n"
-    "plugins are searched in the model file's plugin_paths, then $MONOHYDRA_PLUGIN_PATH,\n"
-    "beside the executable and the install prefix; the first library offering an id wins.\n";
+    "--log-level error|warn|info|debug (any command): the plugins' and the host's log lines\n"
+    "  shown on stderr, default warn.\n"
+    "run and compare print which library each component came from and write NAME.meta.json\n"
+    "beside every CSV: versions, libraries, the model's SHA-256, the command and settings.\n"
+    "plugins are searched in the libraries of the model's plugins: map, its plugin_paths,\n"
+    "$MONOHYDRA_PLUGIN_PATH, beside the executable, then the install prefix; an id that\n"
+    "two libraries offer must be chosen in the model file: plugins: {ID: LIBRARY.so}.\n";
 
 std::string version_text(const mh_version& v) {
   return std::to_string(v.major) + "." + std::to_string(v.minor) + "." + std::to_string(v.patch);
@@ -72,70 +91,79 @@ std::string version_text(const mh_version& v) {
 // a step is hard.
 constexpr int kDefaultNewtonCap = 4;
 
-// run's and validate's arguments; an exit code when they are wrong.
+// run's and validate's arguments (CLI11, with --help); an exit code when
+// they are wrong or help was asked for.
 std::optional<int> parse_run_args(const std::vector<std::string>& args, const char* command,
                                   RunRequest& request, std::string* out) {
+  const auto app_holder = subcommand_app(
+      command, out != nullptr
+                   ? "Simulate MODEL.yaml from t = 0 to t_end; CSV columns t, z1..zN, states, "
+                     "outputs, KE, PE, W, drift, phi_norm, iters (the model's output: selects "
+                     "them), and NAME.meta.json beside the CSV."
+                   : "Load MODEL.yaml and set the run up without stepping: OK or the error "
+                     "(exit 0 or 1).");
+  CLI::App& app = *app_holder;
+  std::vector<std::string> models;
+  std::string dt, t_end, interval, cap, max_steps, max_bytes;
   bool real_time = false;
-  int newton_cap = 0;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    const bool has_value = i + 1 < args.size();
-    const bool takes_value = a == "--formulation" || a == "--integrator" || a == "--dt" ||
-                             a == "--t-end" || a == "--max-steps" || a == "--max-output-bytes" ||
-                             a == "--output-interval" || a == "--newton-cap" ||
-                             (a == "--out" && out != nullptr);
-    if (takes_value && !has_value) {
-      std::cerr << "monohydra: " << a << " expects a value\n";
-      return 2;
-    }
-    if (a == "--formulation") {
-      request.formulation = args[++i];
-    } else if (a == "--integrator") {
-      request.integrator = args[++i];
-    } else if (a == "--out" && out != nullptr) {
-      *out = args[++i];
-    } else if (a == "--dt") {
-      request.dt = parse_number(a, args[++i]);
-      if (!request.dt) return 2;
-    } else if (a == "--t-end") {
-      request.t_end = parse_number(a, args[++i]);
-      if (!request.t_end) return 2;
-    } else if (a == "--output-interval") {
-      request.output_interval = parse_number(a, args[++i]);
-      if (!request.output_interval) return 2;
-      if (!std::isfinite(*request.output_interval) || !(*request.output_interval > 0.0)) {
-        std::cerr << "monohydra: --output-interval expects a positive time (s), got '" << args[i]
-                  << "'\n";
-        return 2;
-      }
-    } else if (a == "--real-time") {
-      real_time = true;
-    } else if (a == "--newton-cap") {
-      const std::optional<double> cap = parse_number(a, args[++i]);
-      if (!cap) return 2;
-      if (!(*cap >= 1.0 && *cap <= 1000.0) || *cap != std::floor(*cap)) {
-        std::cerr << "monohydra: --newton-cap expects an integer from 1 to 1000, got '" << args[i]
-                  << "'\n";
-        return 2;
-      }
-      newton_cap = static_cast<int>(*cap);
-    } else if (a == "--max-steps" || a == "--max-output-bytes") {
-      if (!parse_limit(a, args[++i], request.limits)) return 2;
-    } else if (!a.empty() && a[0] == '-') {
-      std::cerr << "monohydra: unknown option '" << a << "'\n";
-      return usage(2);
-    } else if (request.model_path.empty()) {
-      request.model_path = a;
-    } else {
-      std::cerr << "monohydra: one model file at a time (got '" << request.model_path << "' and '"
-                << a << "')\n";
-      return 2;
-    }
+  app.add_option("MODEL.yaml", models, "the model file");
+  app.add_option("--formulation", request.formulation, "replaces the model file's formulation");
+  app.add_option("--integrator", request.integrator, "replaces the model file's integrator");
+  auto* dt_opt = app.add_option("--dt", dt, "time step (s), replaces solver: dt");
+  auto* t_end_opt = app.add_option("--t-end", t_end, "end time (s), replaces solver: t_end");
+  if (out != nullptr) app.add_option("--out", *out, "write the results to FILE.csv");
+  auto* interval_opt =
+      app.add_option("--output-interval", interval, "write rows at multiples of S (s) only");
+  app.add_flag("--real-time", real_time,
+               "pace the steps to the wall clock; adds the columns late and unconverged");
+  auto* cap_opt =
+      app.add_option("--newton-cap", cap, "real time: Newton iterations per step (default 4)");
+  auto* steps_opt = app.add_option("--max-steps", max_steps, "refuse runs of more steps (1e8)");
+  auto* bytes_opt =
+      app.add_option("--max-output-bytes", max_bytes, "refuse larger CSVs (1e10 bytes)");
+  if (const auto code = parse_subcommand(app, args)) return code;
+
+  if (models.size() > 1) {
+    std::cerr << "monohydra: one model file at a time (got '" << models[0] << "' and '" << models[1]
+              << "')\n";
+    return 2;
   }
-  if (request.model_path.empty()) {
+  if (models.empty()) {
     std::cerr << "monohydra: " << command << " needs a model file\n";
     return usage(2);
   }
+  request.model_path = models.front();
+  if (dt_opt->count() > 0) {
+    request.dt = parse_number("--dt", dt);
+    if (!request.dt) return 2;
+  }
+  if (t_end_opt->count() > 0) {
+    request.t_end = parse_number("--t-end", t_end);
+    if (!request.t_end) return 2;
+  }
+  if (interval_opt->count() > 0) {
+    request.output_interval = parse_number("--output-interval", interval);
+    if (!request.output_interval) return 2;
+    if (!std::isfinite(*request.output_interval) || !(*request.output_interval > 0.0)) {
+      std::cerr << "monohydra: --output-interval expects a positive time (s), got '" << interval
+                << "'\n";
+      return 2;
+    }
+  }
+  int newton_cap = 0;
+  if (cap_opt->count() > 0) {
+    const std::optional<double> value = parse_number("--newton-cap", cap);
+    if (!value) return 2;
+    if (!(*value >= 1.0 && *value <= 1000.0) || *value != std::floor(*value)) {
+      std::cerr << "monohydra: --newton-cap expects an integer from 1 to 1000, got '" << cap
+                << "'\n";
+      return 2;
+    }
+    newton_cap = static_cast<int>(*value);
+  }
+  if (steps_opt->count() > 0 && !parse_limit("--max-steps", max_steps, request.limits)) return 2;
+  if (bytes_opt->count() > 0 && !parse_limit("--max-output-bytes", max_bytes, request.limits))
+    return 2;
   if (newton_cap > 0 && !real_time) {
     std::cerr << "monohydra: --newton-cap applies to --real-time runs only\n";
     return 2;
@@ -178,6 +206,17 @@ int run_prepared(PreparedRun& prepared, const RunRequest& request, const std::st
       return 2;
     }
   }
+  if (!out_path.empty()) {
+    ResultProvenance provenance;
+    provenance.model_path = request.model_path;
+    provenance.formulation = sim.formulation_name();
+    provenance.integrator = sim.integrator_name();
+    provenance.solver = sim.settings();
+    provenance.output_interval = request.output_interval;
+    provenance.real_time_cap = request.real_time_cap;
+    provenance.plugins = prepared.used;
+    if (!write_sidecar(out_path, provenance)) return 2;
+  }
   ProgressBar bar;
   RunOptions options;
   options.progress = std::ref(bar);
@@ -217,7 +256,9 @@ int run_prepared(PreparedRun& prepared, const RunRequest& request, const std::st
   if (!out_path.empty())
     std::cout << "results:      " << out_path << " (" << s.rows << " rows of "
               << prepared.layout->names().size() << " columns, every "
-              << prepared.layout->every_steps() << " steps)\n";
+              << prepared.layout->every_steps() << " steps)\n"
+              << "provenance:   " << sidecar_path(out_path) << "\n";
+  print_used_components(std::cout, prepared.used);
   switch (s.end) {
     case RunEnd::completed:
       break;
@@ -315,14 +356,36 @@ int usage(int code) {
 }
 
 int plugins(const std::vector<std::string>& args) {
-  if (!args.empty()) return usage(2);
+  const auto app_holder = subcommand_app(
+      "plugins",
+      "List every plugin library found, its components and ABI version, and every id that two "
+      "libraries offer; with --model, the model's plugin_paths and plugins: choices too.");
+  CLI::App& app = *app_holder;
+  std::string model_path;
+  std::vector<std::string> extra;
+  app.add_option("--model", model_path, "search this model file's plugin_paths first");
+  app.add_option("ARGS", extra)->group("");  // none expected: reported below
+  if (const auto code = parse_subcommand(app, args)) return *code;
+  if (!extra.empty()) {
+    std::cerr << "monohydra: plugins takes --model FILE.yaml at most, got '" << extra.front()
+              << "'\n";
+    return usage(2);
+  }
+  ModelFile file;
   PluginRegistry registry;
-  const auto search = PluginRegistry::default_search_path();
-  registry.scan(search);
+  try {
+    if (!model_path.empty()) file = load_model_file(model_path);
+    load_model_plugins(file, registry);
+  } catch (const InputError& err) {
+    std::cerr << "monohydra: " << err.what() << '\n';
+    return 2;
+  }
   std::cout << "host ABI " << MH_ABI_VERSION_MAJOR << "." << MH_ABI_VERSION_MINOR << "."
             << MH_ABI_VERSION_PATCH << "; search path:";
-  for (const auto& p : search) std::cout << ' ' << p;
+  for (const auto& p : model_search_path(file)) std::cout << ' ' << p;
   std::cout << '\n';
+  for (const auto& [id, library] : file.plugin_libraries)
+    std::cout << "chosen by " << model_path << ": " << id << " from " << library << '\n';
   std::string library;
   for (const auto& c : registry.components()) {
     if (c.library != library) {
@@ -332,6 +395,27 @@ int plugins(const std::vector<std::string>& args) {
     std::printf("  %-12s %-20s %s (v%s)\n", to_string(c.kind), c.id.c_str(),
                 c.descriptor->name != nullptr ? c.descriptor->name : "",
                 c.descriptor->version != nullptr ? c.descriptor->version : "?");
+  }
+  // An id two libraries offer: both listed, and which one a model takes.
+  const auto& all = registry.components();
+  for (size_t i = 0; i < all.size(); ++i) {
+    bool first = true;
+    for (size_t k = 0; k < i; ++k)
+      first = first && !(all[k].kind == all[i].kind && all[k].id == all[i].id);
+    if (!first) continue;
+    std::vector<const ComponentInfo*> offers;
+    for (const auto& c : all)
+      if (c.kind == all[i].kind && c.id == all[i].id) offers.push_back(&c);
+    if (offers.size() < 2) continue;
+    std::cout << "offered twice: " << to_string(all[i].kind) << " '" << all[i].id << "' by";
+    for (const auto* c : offers) std::cout << ' ' << c->library;
+    try {
+      const std::string& taken = registry.find(all[i].kind, all[i].id).library;
+      std::cout << "; this model takes it from " << taken << '\n';
+    } catch (const PluginError&) {
+      std::cout << "; a model that uses it must say which: plugins: {" << all[i].id
+                << ": LIBRARY.so}\n";
+    }
   }
   for (const auto& r : registry.refusals()) std::cout << "refused: " << r << '\n';
   if (registry.components().empty()) {

@@ -13,12 +13,15 @@
 #include "comparison_table.hpp"
 #include "control_intervals.hpp"
 #include "isolated_run.hpp"
+#include "model_plugins.hpp"
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/plugin_registry.hpp"
 #include "report_figures.hpp"
 #include "report_html.hpp"
+#include "result_sidecar.hpp"
 #include "run_record.hpp"
 #include "stop_signals.hpp"
+#include "subcommand_parser.hpp"
 
 namespace fs = std::filesystem;
 
@@ -122,9 +125,12 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
     }
   }
   PluginRegistry registry;
-  auto search = file.plugin_paths;
-  for (const auto& p : PluginRegistry::default_search_path()) search.push_back(p);
-  registry.scan(search);
+  try {
+    load_model_plugins(file, registry);
+  } catch (const InputError& err) {
+    std::cerr << "monohydra: " << err.what() << '\n';
+    return 2;
+  }
 
   const std::string name = job.study != nullptr ? job.study->name : file.model.name;
   const auto formulations =
@@ -132,6 +138,7 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
   const auto integrators =
       or_defaults(job.integrators, file.compare_integrators, file.integrator.name);
   std::vector<RunRecord> runs;
+  std::vector<UsedComponent> loaded;  // every component of every run, once
   for (const auto& formulation : formulations) {
     for (const auto& integrator : integrators) {
       const std::string label =
@@ -158,6 +165,26 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
       runs.push_back(
           record_run_isolated(file, registry, formulation, integrator, std::move(options)));
       runs.back().label = label;
+      const auto used = used_components(file, registry, formulation, integrator);
+      for (const auto& u : used)
+        if (std::find_if(loaded.begin(), loaded.end(), [&u](const UsedComponent& l) {
+              return l.kind == u.kind && l.id == u.id;
+            }) == loaded.end())
+          loaded.push_back(u);
+      const std::string& csv = runs.back().csv_path;
+      if (!csv.empty() && fs::exists(csv)) {
+        ResultProvenance provenance;
+        provenance.model_path = job.model_path;
+        provenance.formulation = formulation;
+        provenance.integrator = integrator;
+        provenance.solver = file.solver;
+        provenance.solver.dt =
+            runs.back().dt > 0.0 ? runs.back().dt : job.dt.value_or(file.solver.dt);
+        provenance.solver.t_end =
+            runs.back().dt > 0.0 ? runs.back().t_end : job.t_end.value_or(file.solver.t_end);
+        provenance.plugins = used;
+        if (!write_sidecar(csv, provenance)) return 2;
+      }
       if (bar.enabled && runs.back().failed && runs.back().rows() > 0) std::cerr << '\n';
       if (runs.back().failed)
         std::cerr << "monohydra: " << label << " failed on " << name << ": " << runs.back().failure
@@ -172,6 +199,7 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
   const PaperNumbers* paper = job.study != nullptr ? &job.study->paper : nullptr;
   const TextTable table = comparison_table(c, paper);
   out << render_text(table);
+  print_used_components(out, loaded);
 
   if (!job.report_dir.empty()) {
     std::vector<ControlColumn> controls;
@@ -214,7 +242,8 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
       return 2;
     }
     for (const auto& r : c.runs)
-      if (!r.csv_path.empty()) out << "csv:    " << r.csv_path << '\n';
+      if (!r.csv_path.empty())
+        out << "csv:    " << r.csv_path << " (provenance: " << sidecar_path(r.csv_path) << ")\n";
   }
   if (stopped_by != 0) {
     std::cerr << "monohydra: interrupted by " << signal_name(stopped_by) << '\n';
@@ -224,45 +253,57 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
 }
 
 int compare(const std::vector<std::string>& args) {
+  const auto app_holder = subcommand_app(
+      "compare",
+      "Run every formulation with every integrator on MODEL.yaml (default: the model file's "
+      "compare: lists, else its own choice) and print their numbers side by side; the first "
+      "pair is the reference.");
+  CLI::App& app = *app_holder;
   CompareJob job;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    const bool has_value = i + 1 < args.size();
-    if ((a == "--formulations" || a == "--integrators" || a == "--report" || a == "--dt" ||
-         a == "--t-end" || a == "--max-steps" || a == "--max-output-bytes") &&
-        !has_value) {
-      std::cerr << "monohydra: " << a << " expects a value\n";
-      return 2;
-    }
-    if (a == "--formulations" || a == "--integrators") {
-      const auto names = split_names(a, args[++i]);
-      if (!names) return 2;
-      (a == "--formulations" ? job.formulations : job.integrators) = *names;
-    } else if (a == "--report") {
-      job.report_dir = args[++i];
-    } else if (a == "--dt") {
-      job.dt = parse_number(a, args[++i]);
-      if (!job.dt) return 2;
-    } else if (a == "--t-end") {
-      job.t_end = parse_number(a, args[++i]);
-      if (!job.t_end) return 2;
-    } else if (a == "--max-steps" || a == "--max-output-bytes") {
-      if (!parse_limit(a, args[++i], job.limits)) return 2;
-    } else if (!a.empty() && a[0] == '-') {
-      std::cerr << "monohydra: unknown option '" << a << "'\n";
-      return usage(2);
-    } else if (job.model_path.empty()) {
-      job.model_path = a;
-    } else {
-      std::cerr << "monohydra: compare takes one model file (got '" << job.model_path << "' and '"
-                << a << "')\n";
-      return 2;
-    }
+  std::vector<std::string> models;
+  std::string formulations, integrators, dt, t_end, max_steps, max_bytes;
+  app.add_option("MODEL.yaml", models, "the model file");
+  auto* f_opt = app.add_option("--formulations", formulations, "A,B,...: the formulations run");
+  auto* i_opt = app.add_option("--integrators", integrators, "C,D,...: the integrators run");
+  app.add_option("--report", job.report_dir,
+                 "write DIR/report.html with the paper's figures and each run's CSV (with its "
+                 "NAME.meta.json), named after what varies");
+  auto* dt_opt = app.add_option("--dt", dt, "time step (s), replaces solver: dt");
+  auto* t_end_opt = app.add_option("--t-end", t_end, "end time (s), replaces solver: t_end");
+  auto* steps_opt = app.add_option("--max-steps", max_steps, "refuse runs of more steps (1e8)");
+  auto* bytes_opt =
+      app.add_option("--max-output-bytes", max_bytes, "refuse larger outputs (1e10 bytes)");
+  if (const auto code = parse_subcommand(app, args)) return *code;
+  if (models.size() > 1) {
+    std::cerr << "monohydra: compare takes one model file (got '" << models[0] << "' and '"
+              << models[1] << "')\n";
+    return 2;
   }
-  if (job.model_path.empty()) {
+  if (models.empty()) {
     std::cerr << "monohydra: compare needs a model file\n";
     return usage(2);
   }
+  job.model_path = models.front();
+  if (f_opt->count() > 0) {
+    const auto names = split_names("--formulations", formulations);
+    if (!names) return 2;
+    job.formulations = *names;
+  }
+  if (i_opt->count() > 0) {
+    const auto names = split_names("--integrators", integrators);
+    if (!names) return 2;
+    job.integrators = *names;
+  }
+  if (dt_opt->count() > 0) {
+    job.dt = parse_number("--dt", dt);
+    if (!job.dt) return 2;
+  }
+  if (t_end_opt->count() > 0) {
+    job.t_end = parse_number("--t-end", t_end);
+    if (!job.t_end) return 2;
+  }
+  if (steps_opt->count() > 0 && !parse_limit("--max-steps", max_steps, job.limits)) return 2;
+  if (bytes_opt->count() > 0 && !parse_limit("--max-output-bytes", max_bytes, job.limits)) return 2;
   // The paper's numbers go beside ours when the model is one of its case studies.
   std::vector<CaseStudy> studies;
   try {

@@ -1,6 +1,7 @@
 // monohydra: simulate hydraulically actuated multibody systems whose
 // formulations and components are plugins.
 #include <cerrno>
+#include <cstddef>
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -8,7 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "cli_support.hpp"
 #include "commands.hpp"
+#include "plugin_check.hpp"
 #include "sweep_command.hpp"
 
 namespace {
@@ -16,15 +19,51 @@ int dispatch(const std::string& cmd, const std::vector<std::string>& args) {
   if (cmd == "plugins") return mh::cli::plugins(args);
   if (cmd == "run") return mh::cli::run(args);
   if (cmd == "compare") return mh::cli::compare(args);
+  if (cmd == "check") return mh::cli::check(args);
   if (cmd == "validate") return mh::cli::validate(args);
   if (cmd == "sweep") return mh::cli::run_sweep(args);
   if (cmd == "--help" || cmd == "-h" || cmd == "help") return mh::cli::usage(0);
   return mh::cli::usage(2);
 }
+
+// --log-level LEVEL (or --log-level=LEVEL) anywhere on the line applies to
+// every command: it is taken out before the command reads its arguments.
+bool take_log_level(std::vector<std::string>& args) {
+  for (size_t i = 0; i < args.size(); ++i) {
+    std::string value;
+    size_t taken = 0;
+    if (args[i] == "--log-level") {
+      if (i + 1 >= args.size()) {
+        std::cerr << "monohydra: --log-level expects error, warn, info or debug\n";
+        return false;
+      }
+      value = args[i + 1];
+      taken = 2;
+    } else if (args[i].rfind("--log-level=", 0) == 0) {
+      value = args[i].substr(12);
+      taken = 1;
+    } else {
+      continue;
+    }
+    const auto level = mh::cli::parse_log_level(value);
+    if (!level) {
+      std::cerr << "monohydra: --log-level expects error, warn, info or debug, got '" << value
+                << "'\n";
+      return false;
+    }
+    mh::cli::set_log_threshold(*level);
+    args.erase(args.begin() + static_cast<std::ptrdiff_t>(i),
+               args.begin() + static_cast<std::ptrdiff_t>(i + taken));
+    --i;
+  }
+  return true;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
+  mh::cli::set_command_line(argc, argv);
   std::vector<std::string> args(argv + 1, argv + argc);
+  if (!take_log_level(args)) return 2;
   int code = 2;
   try {
     if (args.empty()) {

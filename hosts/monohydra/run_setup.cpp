@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "cli_support.hpp"
+#include "model_plugins.hpp"
 #include "monohydra/core/run.hpp"
 
 namespace mh::cli {
@@ -15,9 +16,12 @@ std::unique_ptr<PreparedRun> prepare_run(const RunRequest& request) {
     std::cerr << "monohydra: " << err.what() << '\n';
     return nullptr;
   }
-  auto search = p->file.plugin_paths;
-  for (const auto& path : PluginRegistry::default_search_path()) search.push_back(path);
-  p->registry.scan(search);
+  try {
+    load_model_plugins(p->file, p->registry);
+  } catch (const InputError& err) {
+    std::cerr << "monohydra: " << err.what() << '\n';
+    return nullptr;
+  }
   const SettingOrigins origins{request.dt.has_value(), request.t_end.has_value()};
   try {
     // The settings are checked before any plugin reads them (the output's
@@ -45,6 +49,7 @@ std::unique_ptr<PreparedRun> prepare_run(const RunRequest& request) {
                                             request.real_time_cap > 0);
     p->columns = p->layout->names().size();
     check_column_names(p->file, *p->sim);
+    p->used = used_components(p->file, p->registry, request.formulation, request.integrator);
     p->steps = check_run_settings(p->file, p->sim->settings(), request.limits,
                                   request.csv ? p->columns : 0, origins);
   } catch (const InputError& err) {

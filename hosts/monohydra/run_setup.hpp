@@ -8,7 +8,9 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
+#include "model_plugins.hpp"
 #include "monohydra/core/csv_layout.hpp"
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/plugin_registry.hpp"
@@ -36,6 +38,7 @@ struct PreparedRun {
   std::unique_ptr<CsvLayout> layout;  // the rows' columns and interval (output:)
   long steps = 0;                     // the steps the run will ask for
   std::size_t columns = 0;            // of the CSV
+  std::vector<UsedComponent> used;    // the libraries its components come from
 };
 
 // The prepared run, or null after telling the user why on stderr.

@@ -248,6 +248,35 @@ TEST(DynamicsDerivatives, StiffnessAndDampingMatchCentralDifferencesOnRandomPlan
   run_trials(rng, 20, true, "random planar trees");
 }
 
+// Chains of 34-40 random joints (mean depth above 6) take the factored fill.
+TEST(DynamicsDerivatives, FactoredFillOnDeepChainsMatchesCentralDifferences) {
+  Rng rng(64);
+  Errors worst;
+  for (int trial = 0; trial < 4; ++trial) {
+    Model model = random_tree(rng, 34, 40);
+    for (int j = 0; j < model.num_bodies(); ++j) model.bodies[j].parent = j - 1;
+    ASSERT_TRUE(DynamicsDerivativesWorkspace(model).use_factored_fill);
+    const int N = model.num_coordinates();
+    const Loads loads = random_loads(rng, N);
+    const Errors e = compare(model, loads, random_vector(rng, N, -3.0, 3.0),
+                             random_vector(rng, N, -2.0, 2.0), random_vector(rng, N, -3.0, 3.0));
+    EXPECT_LT(e.K, 1e-6) << "trial " << trial << ", " << N << " bodies";
+    EXPECT_LT(e.C, 1e-6) << "trial " << trial << ", " << N << " bodies";
+    EXPECT_LT(e.residual, 1e-12) << "trial " << trial;
+    worst.K = std::max(worst.K, e.K);
+    worst.C = std::max(worst.C, e.C);
+  }
+  std::printf("[ measured ] deep chains (factored fill): max relative error K %.2e, C %.2e\n",
+              worst.K, worst.C);
+}
+
+// The random trees above (at most 10 bodies: mean depth at most 5.5) take the
+// subtree sweep.
+TEST(DynamicsDerivatives, ShallowTreesTakeTheSubtreeSweep) {
+  Rng rng(5);
+  EXPECT_FALSE(DynamicsDerivativesWorkspace(random_tree(rng, 3, 10)).use_factored_fill);
+}
+
 TEST(DynamicsDerivatives, StiffnessAndDampingMatchCentralDifferencesOnTheCaseStudyModels) {
   for (const char* name : {"models/double-pendulum.yaml", "models/fourbar-free.yaml",
                            "models/quickreturn-free.yaml", "models/crank-rocker.yaml"}) {

@@ -403,6 +403,22 @@ TEST(ModelFile, PluginPathsAreAbsolute) {
   EXPECT_EQ(here.plugin_paths[0], (fs::current_path() / "plugins").lexically_normal().string());
 }
 
+TEST(ModelFile, PluginsMapsEachIdToAnAbsoluteLibraryFile) {
+  const std::string text =
+      valid_body("plugins: {penalty: lib/my-penalty.so, spring: /opt/mh/spring.so}\n");
+  const ModelFile file = parse_model_text(text, "m.yaml", "/data/models");
+  ASSERT_EQ(file.plugin_libraries.size(), 2u);
+  EXPECT_EQ(file.plugin_libraries.at("penalty"), "/data/models/lib/my-penalty.so");
+  EXPECT_EQ(file.plugin_libraries.at("spring"), "/opt/mh/spring.so");
+}
+
+TEST(ModelFileErrors, PluginsMustMapIdsToLibraryFiles) {
+  expect_error(valid_body("plugins: [penalty]\n"), 8, "plugins",
+               "expected a mapping from component id to library file");
+  expect_error(valid_body("plugins: {penalty: \"\"}\n"), 8, "plugins.penalty",
+               "expected the path of a plugin library (.so)");
+}
+
 TEST(ModelFile, PluginPathsOfALoadedFileAreRelativeToItsFolder) {
   namespace fs = std::filesystem;
   const fs::path dir = fs::path(MH_BINARY_DIR) / "model_file_test";
@@ -534,7 +550,7 @@ TEST(ModelFileErrors, NonSiUnits) {
 TEST(ModelFileErrors, UnknownTopLevelKey) {
   expect_message(valid_body("solvr: {dt: 0.01}\n"),
                  "model.yaml:8:1: solvr: unknown key 'solvr' (expected one of: units, name, "
-                 "gravity, plugin_paths, bodies, cut_joints, subsystems, formulation, "
+                 "gravity, plugin_paths, plugins, bodies, cut_joints, subsystems, formulation, "
                  "integrator, compare, solver, planar, assembly, nodes, equilibrium, output)");
 }
 

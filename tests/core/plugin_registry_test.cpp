@@ -1,7 +1,9 @@
 #include "monohydra/core/plugin_registry.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <filesystem>
 #include <string>
 
 #include "test_support.hpp"
@@ -33,6 +35,55 @@ TEST(PluginRegistry, UnknownComponentErrorListsWhatWasFound) {
     EXPECT_EQ(msg.rfind("unknown formulation 'lagrange' (found: ", 0), 0u) << msg;
     EXPECT_NE(msg.find("open-loop"), std::string::npos) << msg;
   }
+}
+
+// The same plugin installed twice (a byte-identical copy in another folder)
+// is one library: its ids are not offered twice.
+TEST(PluginRegistry, AByteIdenticalCopyOfALoadedLibraryIsSkipped) {
+  namespace fs = std::filesystem;
+  const fs::path dir =
+      fs::temp_directory_path() / ("mh-registry-copy-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  fs::copy_file(std::string(MH_PLUGIN_DIR) + "/monohydra-penalty.so", dir / "copy.so",
+                fs::copy_options::overwrite_existing);
+  PluginRegistry r;
+  r.scan({MH_PLUGIN_DIR, dir.string()});
+  EXPECT_NO_THROW(r.find(ComponentKind::formulation, "penalty"));
+  int offers = 0;
+  for (const auto& c : r.components()) offers += c.id == "penalty" ? 1 : 0;
+  EXPECT_EQ(offers, 1);
+  fs::remove_all(dir);
+}
+
+// Two different libraries offering one id: find() refuses to guess, naming
+// both, until choose() names one; a choice of a library that does not offer
+// the id is refused too.
+TEST(PluginRegistry, AnIdOfferedTwiceNeedsAChoiceOfLibrary) {
+  const std::string shipped =
+      std::filesystem::weakly_canonical(std::string(MH_PLUGIN_DIR) + "/monohydra-penalty.so");
+  const std::string clash = std::string(MH_CLASH_PLUGIN_DIR) + "/clashing_ids.so";
+  PluginRegistry r;
+  r.scan({MH_CLASH_PLUGIN_DIR, MH_PLUGIN_DIR});
+  try {
+    r.find(ComponentKind::formulation, "penalty");
+    FAIL() << "expected PluginError";
+  } catch (const PluginError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("formulation 'penalty' is offered by 2 libraries"), std::string::npos)
+        << msg;
+    EXPECT_NE(msg.find(shipped), std::string::npos) << msg;
+    EXPECT_NE(msg.find("clashing_ids.so"), std::string::npos) << msg;
+  }
+  // The components each offers alone are found without a choice.
+  EXPECT_NO_THROW(r.find(ComponentKind::subsystem, "clash-spring"));
+  EXPECT_NO_THROW(r.find(ComponentKind::formulation, "double-step"));
+  r.choose("penalty", shipped);
+  EXPECT_EQ(r.find(ComponentKind::formulation, "penalty").library, shipped);
+
+  PluginRegistry wrong;
+  wrong.scan({MH_CLASH_PLUGIN_DIR, MH_PLUGIN_DIR});
+  wrong.choose("double-step", clash);
+  EXPECT_THROW(wrong.find(ComponentKind::formulation, "double-step"), PluginError);
 }
 
 TEST(PluginRegistry, RefusesAFileThatIsNotASharedLibrary) {

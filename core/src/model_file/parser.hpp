@@ -141,6 +141,8 @@ class Parser {
 
  private:
   std::vector<std::string> plugin_paths(const YAML::Node& node, const std::string& base_dir) const;
+  std::map<std::string, std::string> plugin_libraries(const YAML::Node& node,
+                                                      const std::string& base_dir) const;
 
   // units.cpp
   void parse_units(const MapView& top);

@@ -27,7 +27,7 @@ ModelFile Parser::parse(const YAML::Node& root, const std::string& base_dir) {
     fail(root, "", "expected a mapping with the model (units, bodies, ...), got " + describe(root));
   }
   const MapView top(*this, root, "",
-                    {"units", "name", "gravity", "plugin_paths", "bodies", "cut_joints",
+                    {"units", "name", "gravity", "plugin_paths", "plugins", "bodies", "cut_joints",
                      "subsystems", "formulation", "integrator", "compare", "solver", "planar",
                      "assembly", "nodes", "equilibrium", "output"});
   ModelFile file;
@@ -47,6 +47,7 @@ ModelFile Parser::parse(const YAML::Node& root, const std::string& base_dir) {
               index_field("gravity", i), kMaxGravity, "m/s^2");
   }
   if (auto paths = top.get("plugin_paths")) file.plugin_paths = plugin_paths(*paths, base_dir);
+  if (auto chosen = top.get("plugins")) file.plugin_libraries = plugin_libraries(*chosen, base_dir);
 
   parse_bodies(top.require("bodies", "a list of bodies (may be empty: bodies: [])"), file);
 
@@ -96,6 +97,31 @@ std::vector<std::string> Parser::plugin_paths(const YAML::Node& node,
     paths.push_back(path.lexically_normal().string());
   }
   return paths;
+}
+
+// plugins: {ID: LIBRARY.so}: which library a component id comes from when
+// several offer it; relative files against the model file's folder.
+std::map<std::string, std::string> Parser::plugin_libraries(const YAML::Node& node,
+                                                            const std::string& base_dir) const {
+  if (!node.IsMap()) {
+    fail(node, "plugins",
+         "expected a mapping from component id to library file ({penalty: lib/penalty.so}), got " +
+             describe(node));
+  }
+  const MapView map(*this, node, "plugins", {});
+  std::map<std::string, std::string> libraries;
+  std::error_code ec;
+  fs::path base = fs::absolute(fs::path(base_dir.empty() ? "." : base_dir), ec);
+  if (ec) base = fs::path(base_dir);
+  for (const Entry& e : map.entries()) {
+    const std::string field = map.field(e.key);
+    const std::string text = string(e.value, field);
+    if (text.empty()) fail(e.value, field, "expected the path of a plugin library (.so)");
+    fs::path path(text);
+    if (path.is_relative()) path = base / path;
+    libraries[e.key] = path.lexically_normal().string();
+  }
+  return libraries;
 }
 
 }  // namespace model_file_detail

@@ -189,12 +189,16 @@ void prepare_context(SweepContext& ctx) {
   }
   std::vector<std::string> search;
   for (const auto& m : ctx.study.models) {
-    try {  // plugin_paths as the model file resolves them
-      for (const auto& p : parse_model_text(YAML::Dump(m.tree) + "\n", m.path,
-                                            fs::path(m.path).parent_path().string())
-                               .plugin_paths)
-        search.push_back(p);
+    try {  // plugin_paths as the model file resolves them, and its chosen libraries
+      const ModelFile file = parse_model_text(YAML::Dump(m.tree) + "\n", m.path,
+                                              fs::path(m.path).parent_path().string());
+      for (const auto& p : file.plugin_paths) search.push_back(p);
+      for (const auto& [id, library] : file.plugin_libraries) {
+        ctx.registry.load(library);
+        ctx.registry.choose(id, library);
+      }
     } catch (const InputError&) {  // each case reports its model's errors
+    } catch (const PluginError&) {
     }
   }
   for (const auto& p : PluginRegistry::default_search_path()) search.push_back(p);

@@ -33,19 +33,27 @@ struct PointForceTerm {
 struct DynamicsDerivativesWorkspace {
   explicit DynamicsDerivativesWorkspace(const Model& model);
 
-  std::vector<Vector6d> Zdot;         // full Zdot_j at zdd, Eq. (5)
-  std::vector<Vector6d> h;            // Mbar_j Zdot_j - Qbar_j (Eqs. 9-10), gravity only
-  std::vector<Vector6d> H;            // h summed over each body's subtree (T^T of Eq. 12)
-  std::vector<Vector6d> dH;           // the same for one coordinate's variation
-  std::vector<Eigen::Matrix3d> J;     // world inertia about the COM
-  std::vector<Eigen::Vector3d> gdot;  // COM velocity, Eq. (6)
-  std::vector<Eigen::Vector3d> Jw;    // J omega
-  std::vector<Eigen::Vector3d> Ja;    // J alpha (alpha of the full Zdot)
-  std::vector<char> in_subtree;       // one coordinate's subtree
+  std::vector<Vector6d> Zdot;  // full Zdot_j at zdd, Eq. (5)
+  std::vector<Vector6d> h;     // Mbar_j Zdot_j - Qbar_j (Eqs. 9-10), gravity only
+  std::vector<Vector6d> H;     // h summed over each body's subtree (T^T of Eq. 12)
+  std::vector<Vector6d> dH;    // H's variation for one coordinate (subtree fill)
+  // Subtree sums of a body's residual variation per unit b_k, c_k (z) and
+  // b_k (zd): see fill_columns_factored in dynamics_derivatives.cpp.
+  std::vector<Matrix6d> SA, SC, SD;
+  // Their projections on b_i: K(i, k) = row_b . b_k - row_rate_b . u_k + row_c . c_k.
+  std::vector<Vector6d> row_b, row_c, row_rate_b;
+  std::vector<Eigen::Matrix3d> J;                 // world inertia about the COM
+  std::vector<Eigen::Vector3d> gdot;              // COM velocity, Eq. (6)
+  std::vector<Eigen::Vector3d> Jw;                // J omega
+  std::vector<Eigen::Vector3d> Ja;                // J alpha (alpha of the full Zdot)
+  std::vector<char> in_subtree;                   // one coordinate's subtree
   Eigen::Matrix<double, 3, Eigen::Dynamic> cols;  // point Jacobian columns (3 x N)
   // M'(z) zdd - Q'(z, zd) (N) with the given point forces: the value whose
   // derivatives are returned, from the same recursion.
   Eigen::VectorXd residual;
+  // Whether the fill is factored (deep trees: mean depth above 6) or swept
+  // coordinate by coordinate (shallow trees); set from the model, both exact.
+  bool use_factored_fill = false;
 };
 
 // K = d(M' zdd - Q')/dz and C = d(M' zdd - Q')/dzd (N x N each; row i is the
@@ -54,7 +62,8 @@ struct DynamicsDerivativesWorkspace {
 // and apply_point_force(point.body, position of point, F_W) for every term.
 // Valid after forward_kinematics(model, data, z, zd); data's applied loads and
 // M, Q are not used. zdd of size N. Throws std::invalid_argument on a size
-// mismatch. Does not allocate. Cost O(N^2) plus O(depth^2) per force.
+// mismatch. Does not allocate. Cost O(N) 6 x 6 products, a few dot products per
+// ancestor/descendant pair, O(N^2) to zero K and C, plus O(depth^2) per force.
 void dynamics_derivatives(const Model& model, const Data& data, const Eigen::VectorXd& zdd,
                           const std::vector<PointForceTerm>& forces,
                           DynamicsDerivativesWorkspace& ws, Eigen::Ref<Eigen::MatrixXd> K,

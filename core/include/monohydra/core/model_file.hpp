@@ -99,6 +99,9 @@ struct ModelFile {
   // compare/formulations and compare/integrators: what `compare` runs by default.
   std::vector<std::string> compare_formulations, compare_integrators;
   std::vector<std::string> plugin_paths;  // absolute, resolved against the file's folder
+  // plugins: component id -> the library (absolute file path) to take it from
+  // when several libraries offer it.
+  std::map<std::string, std::string> plugin_libraries;
   // nodes/<node>: the result column of a node's effort ("" hidden); unlisted
   // nodes are written under their own name.
   std::map<std::string, std::string> node_columns;

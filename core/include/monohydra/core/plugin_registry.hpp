@@ -5,6 +5,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "monohydra/formulation.h"
@@ -52,8 +53,9 @@ class PluginRegistry {
   // Loads one library. It is first probed in a forked child (plugin_probe.hpp;
   // verdicts cached, probe_cache.hpp): throws PluginError naming the file when
   // the child crashed or hung, or when it is not a shared library, lacks the entry symbol, was
-  // built for another ABI major version, fails to initialise, or offers a component id already
-  // loaded.
+  // built for another ABI major version or fails to initialise. A component id that another
+  // library offers too is kept from both: find() then needs a choice (choose()). A
+  // byte-identical copy of a loaded library (the same plugin installed twice) is skipped.
   void load(const std::string& path);
   // Loads every shared library (*.so) in the folders, in order, skipping a
   // library already loaded from the same file. Libraries that refuse are
@@ -62,8 +64,14 @@ class PluginRegistry {
   const std::vector<std::string>& refusals() const { return refusals_; }
 
   const std::vector<ComponentInfo>& components() const { return components_; }
-  // Throws PluginError "unknown formulation 'x' (found: a, b)" when absent.
+  // Throws PluginError "unknown formulation 'x' (found: a, b)" when absent, and
+  // when two libraries offer the id and choose() named neither of them.
   const ComponentInfo& find(ComponentKind kind, const std::string& id) const;
+  // The library to take a component id from when several offer it (a model
+  // file's plugins: map); `library` is a file path. Ids never offered twice
+  // ignore it, but a choice of a library that does not offer the id is an
+  // error at find().
+  void choose(const std::string& id, const std::string& library);
 
  private:
   struct Library;
@@ -72,6 +80,7 @@ class PluginRegistry {
   std::vector<std::unique_ptr<Library>> libraries_;
   std::vector<ComponentInfo> components_;
   std::vector<std::string> refusals_;
+  std::vector<std::pair<std::string, std::string>> choices_;  // id, canonical library path
 };
 
 const char* to_string(ComponentKind kind);

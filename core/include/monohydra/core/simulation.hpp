@@ -74,6 +74,12 @@ class Simulation {
              LogSink log = nullptr);
   Simulation(const ModelFile& file, const PluginRegistry& registry,
              const std::string& formulation = "", LogSink log = nullptr);
+  // The simulation reads its model file (and the registry) for as long as it
+  // lives: a temporary would leave it reading freed memory, so it is refused
+  // at compile time.
+  Simulation(ModelFile&&, const PluginRegistry&, const RunChoices&, LogSink = nullptr) = delete;
+  Simulation(ModelFile&&, const PluginRegistry&, const std::string& = "",
+             LogSink = nullptr) = delete;
   ~Simulation();
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;

@@ -1,0 +1,51 @@
+// What a Simulation's user may and may not do with it: it reads its model
+// file for as long as it lives (a temporary is refused at compile time: it
+// crashed so), and it starts once (a second start would go on from the last
+// accepted state, not from t = 0, and is refused).
+#include <gtest/gtest.h>
+
+#include <string>
+#include <type_traits>
+
+#include "monohydra/core/model_file.hpp"
+#include "monohydra/core/simulation.hpp"
+#include "test_support.hpp"
+
+namespace mh {
+namespace {
+
+TEST(SimulationLifecycle, ATemporaryModelFileIsRefusedAtCompileTime) {
+  static_assert(
+      !std::is_constructible_v<Simulation, ModelFile&&, const PluginRegistry&, const RunChoices&>);
+  static_assert(!std::is_constructible_v<Simulation, ModelFile&&, const PluginRegistry&>);
+  EXPECT_TRUE((std::is_constructible_v<Simulation, const ModelFile&, const PluginRegistry&,
+                                       const RunChoices&>));
+}
+
+TEST(SimulationLifecycle, ASecondStartIsRefusedNamingTheTimeAndStepAndTheFirstRunIsKept) {
+  const std::string text = R"(units: {length: m, mass: kg, time: s, angle: deg}
+bodies:
+  - {name: arm, parent: ground, joint: {type: revolute, at: [0, 0, 0], axis: [0, 0, 1]},
+     mass: 1, shape: {type: beam, length: 1}, z0: -60}
+formulation: open-loop
+solver: {dt: 0.001, t_end: 1}
+)";
+  const ModelFile file = parse_model_text(text, "pendulum.yaml");
+  Simulation sim(file, test::build_plugins());
+  sim.start();
+  for (int k = 0; k < 5; ++k) sim.step();
+  const double t = sim.time();
+  try {
+    sim.start();
+    FAIL() << "a second start() was accepted";
+  } catch (const SimulationError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("already started"), std::string::npos) << what;
+  }
+  EXPECT_EQ(sim.time(), t);  // the run so far is untouched and goes on
+  sim.step();
+  EXPECT_GT(sim.time(), t);
+}
+
+}  // namespace
+}  // namespace mh

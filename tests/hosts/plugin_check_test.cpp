@@ -1,0 +1,133 @@
+// `monohydra check`: passes on sound plugins (shipped and a test spring) and
+// fails, naming the check and the reason, on plugins broken on purpose
+// (tests/fixtures/faulty/faulty_spring.c and the ABI fixtures).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "cli_runner.hpp"
+#include "monohydra/types.h"
+
+namespace {
+
+using mh::test::CliResult;
+using mh::test::run_cli;
+
+std::string fixture(const std::string& name) {
+  return std::string(MH_CHECK_FIXTURE_DIR) + "/" + name + ".so";
+}
+
+// A pendulum on the faulty spring, swinging through a range of stretches.
+std::string spring_model() {
+  const auto path = mh::test::scratch_dir("check-model") / "faulty-spring.yaml";
+  std::ofstream(path) << "units: {length: m, mass: kg, time: s, angle: rad}\n"
+                         "gravity: [0, -9.81, 0]\n"
+                         "bodies:\n"
+                         "  - {name: link, parent: ground, joint: {type: revolute, at: [0, 0, 0],"
+                         " axis: [0, 0, 1]}, mass: 1.0, shape: {type: beam, length: 1.0}}\n"
+                         "subsystems:\n"
+                         "  - name: spring\n"
+                         "    type: faulty-spring\n"
+                         "    stiffness: 40\n"
+                         "    points: {a: {body: link, at: [1, 0, 0]}, b: {body: ground, at: [1, "
+                         "-1, 0]}}\n"
+                         "formulation: open-loop\n"
+                         "solver: {dt: 0.001, t_end: 1}\n";
+  return path.string();
+}
+
+TEST(PluginCheck, AShippedFormulationPassesEveryCheckOnTheFourBar) {
+  const CliResult r = run_cli("check " + std::string(MH_PLUGIN_DIR) + "/monohydra-penalty.so");
+  ASSERT_EQ(r.code, 0) << r.output;
+  // The plugin was built against this SDK: its ABI is the header's.
+  const std::string abi = "ok    load: ABI " + std::to_string(MH_ABI_VERSION_MAJOR) + "." +
+                          std::to_string(MH_ABI_VERSION_MINOR) + ".";
+  for (const std::string& line : std::vector<std::string>{
+           abi, "ok    formulation penalty: descriptor",
+           "ok    formulation penalty: create/setup/destroy x3",
+           "ok    formulation penalty: bad options refused",
+           "ok    formulation penalty: analytic tangent against differences of its residual",
+           "ok    formulation penalty: repeated runs bit-identical", "monohydra check: OK"})
+    EXPECT_NE(r.output.find(line), std::string::npos) << line << "\n" << r.output;
+  EXPECT_NE(r.output.find("fourbar.yaml"), std::string::npos) << r.output;
+}
+
+TEST(PluginCheck, AFormulationForTreesOnlyIsCheckedOnATree) {
+  const CliResult r = run_cli("check " + std::string(MH_PLUGIN_DIR) + "/monohydra-open-loop.so");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("double-pendulum.yaml"), std::string::npos) << r.output;
+}
+
+TEST(PluginCheck, ASoundSubsystemPassesOnTheModelGiven) {
+  const CliResult r = run_cli("check " + fixture("sound") + " " + spring_model());
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("ok    subsystem faulty-spring: analytic tangent"), std::string::npos)
+      << r.output;
+}
+
+TEST(PluginCheck, ATangentBlockThatDisagreesWithItsResidualFails) {
+  const CliResult r = run_cli("check " + fixture("wrong_jacobian") + " " + spring_model());
+  EXPECT_EQ(r.code, 1) << r.output;
+  // Its point force jacobian has the wrong sign: K's entry is -k where
+  // differences give +k (k = 40 N/m at the link's tip, 1 m out).
+  EXPECT_NE(r.output.find("FAIL  subsystem faulty-spring: analytic tangent against differences "
+                          "of its residual: K = d(M zdd - Q)/dz (point force jacobians) "
+                          "disagrees with differences: row 1, column z1"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("monohydra check: FAILED (1 failure)"), std::string::npos) << r.output;
+}
+
+TEST(PluginCheck, AFailingCreateFailsWithThePluginsReason) {
+  const CliResult r = run_cli("check " + fixture("failing_create") + " " + spring_model());
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("FAIL  subsystem faulty-spring: create/setup/destroy x3"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("create fails on purpose"), std::string::npos) << r.output;
+}
+
+TEST(PluginCheck, AMissingFunctionFailsNamingIt) {
+  const CliResult r = run_cli("check " + fixture("missing_evaluate") + " " + spring_model());
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("FAIL  subsystem faulty-spring: create/setup/destroy x3"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("evaluate"), std::string::npos) << r.output;
+}
+
+TEST(PluginCheck, AnExceptionThrownAcrossTheCBoundaryFailsAndTheHostSurvives) {
+  const CliResult r = run_cli("check " + fixture("throwing") + " " + spring_model());
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("FAIL  subsystem faulty-spring: create/setup/destroy x3"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("monohydra check: FAILED"), std::string::npos) << r.output;
+}
+
+TEST(PluginCheck, AWrongAbiVersionFailsAtLoadSayingWhichVersions) {
+  const CliResult r = run_cli("check " + std::string(MH_FIXTURE_DIR) + "/mh_fixture_major_one.so");
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("FAIL  load: "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("was built for monohydra ABI 1."), std::string::npos) << r.output;
+}
+
+TEST(PluginCheck, ALibraryWithoutTheEntrySymbolFailsAtLoad) {
+  const CliResult r =
+      run_cli("check " + std::string(MH_FIXTURE_DIR) + "/mh_fixture_not_a_plugin.so");
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("FAIL  load: "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("mh_entry"), std::string::npos) << r.output;
+}
+
+TEST(PluginCheck, BadArgumentsExitTwoWithTheUsage) {
+  const CliResult r = run_cli("check");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("usage: monohydra check PLUGIN.so [MODEL.yaml]"), std::string::npos)
+      << r.output;
+}
+
+}  // namespace
