@@ -27,6 +27,7 @@ int run_local_pool(SweepContext& ctx, JobQueue& queue, int workers, const JobRes
       running.push_back(start_job(ctx, *job));
     }
     std::vector<pollfd> fds;
+    fds.reserve(running.size());
     for (const auto& r : running) fds.push_back(pollfd{r.fd, POLLIN, 0});
     if (::poll(fds.data(), fds.size(), 200) <= 0) continue;  // a timeout or EINTR
     for (std::size_t i = fds.size(); i-- > 0;) {
