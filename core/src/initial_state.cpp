@@ -80,6 +80,7 @@ void Simulation::Engine::solve_initial_rates(double t_eval) {
   if (n_s == 0) return;
   Eigen::VectorXd f0(n_s);
   const int k = static_cast<int>(rate_states.size());
+  if (k == 0) return;  // every state is algebraic: no rate to find (and no 0 x 0 LU)
   Eigen::MatrixXd Jr(k, k);
   Eigen::VectorXd fr(k);
   for (int it = 0; it < 20; ++it) {
