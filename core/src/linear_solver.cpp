@@ -8,18 +8,6 @@
 
 namespace mh {
 
-const char* to_string(LinearSolverKind kind) {
-  switch (kind) {
-    case LinearSolverKind::klu:
-      return "klu";
-    case LinearSolverKind::umfpack:
-      return "umfpack";
-    case LinearSolverKind::dense:
-      return "dense";
-  }
-  return "?";
-}
-
 std::unique_ptr<LinearSolver> make_linear_solver(const SparsePattern& pattern,
                                                  LinearSolverKind kind) {
   switch (kind) {

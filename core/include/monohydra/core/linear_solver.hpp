@@ -27,7 +27,18 @@ class LinearSolver {
 
 enum class LinearSolverKind { klu, umfpack, dense };
 // "klu", "umfpack", "dense": the names the model file uses.
-const char* to_string(LinearSolverKind kind);
+// Inline: the model-file parser (and its fuzzer, which links no solver) names kinds too.
+inline const char* to_string(LinearSolverKind kind) {
+  switch (kind) {
+    case LinearSolverKind::klu:
+      return "klu";
+    case LinearSolverKind::umfpack:
+      return "umfpack";
+    case LinearSolverKind::dense:
+      return "dense";
+  }
+  return "?";
+}
 
 // The shipped solver of that kind for `pattern` (its symbolic analysis done here).
 std::unique_ptr<LinearSolver> make_linear_solver(const SparsePattern& pattern,
