@@ -184,6 +184,7 @@ struct Simulation::Engine {
   // The analytic coupling of subsystems with points to the mechanical
   // unknowns (ABI 2.2 mechanics_map, subsystem_coupling.cpp).
   bool coupling_possible = false;
+  bool any_points = false;  // some subsystem is attached to body points (build_pattern)
   Eigen::VectorXd z_iterate, zd_iterate;  // of the last MH_EVAL_SUBSYSTEMS evaluation
   Eigen::VectorXd z_base, zd_base;        // the iterate's, kept while the tangent differences
   Eigen::MatrixXd map_dz_dx, map_dzd_dx, map_dzd_dxd, map_dzd_total;  // N x n_m

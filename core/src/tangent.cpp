@@ -29,6 +29,8 @@ void Simulation::Engine::build_pattern() {
       }
   }
   pattern = std::make_unique<SparsePattern>(n, std::move(entries));
+  any_points = false;
+  for (const auto& s : subsystems) any_points = any_points || !s.points.empty();
   values.assign(static_cast<size_t>(pattern->nonzeros()), 0.0);
   groups = pattern->column_groups();
 
@@ -104,8 +106,6 @@ mh_status Simulation::Engine::assemble_tangent(double t_eval) {
         dr_dxdd.data(), mech_column_given.data()));
     if (!status_ok(st)) return st;
   }
-  bool any_points = false;
-  for (const auto& s : subsystems) any_points = any_points || !s.points.empty();
   // With the formulation's mechanics map (ABI 2.2) the subsystems with points
   // couple analytically (subsystem_coupling.cpp): no residual is differenced
   // in a state column that feeds the mechanics, nor in a mechanical column the
