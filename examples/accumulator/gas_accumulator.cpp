@@ -32,6 +32,23 @@ namespace {
 class GasAccumulator {
  public:
   static const mh_component_descriptor kDescriptor;
+  // SDK 2.4: the model `monohydra check gas-accumulator.so` checks it on: a
+  // node charged from 8 MPa through a throttle, from 2.5 MPa.
+  static constexpr const char* kExampleModel = R"(
+units: {length: m, mass: kg, time: s, angle: rad}
+gravity: [0, 0, 0]
+bodies:
+  - {name: slider, parent: ground, joint: {type: prismatic, at: [0, 0, 0], axis: [1, 0, 0]},
+     mass: 1.0, com: [0, 0, 0], inertia: [1, 1, 1]}
+subsystems:
+  - {name: acc, type: gas-accumulator, ports: {p: n}, precharge_pressure: 2e6, gas_volume: 1e-3,
+     polytropic_exponent: 1.4, oil_volume: 1e-7, initial_pressure: 2.5e6}
+  - {name: source, type: pressure-source, ports: {p: s}, pressure: 8e6}
+  - {name: line, type: throttle, ports: {a: s, b: n}, area: 1e-5, discharge_coefficient: 0.8,
+     density: 850}
+formulation: open-loop
+solver: {dt: 0.001, t_end: 1}
+)";
 
   explicit GasAccumulator(const mh_host* host) : host_(host) {}
 

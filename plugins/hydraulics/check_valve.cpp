@@ -2,12 +2,14 @@
 // B), once the pressure difference exceeds the cracking pressure of its
 // spring; closed it does not leak (pressure_valve.hpp has the law).
 #include "components.hpp"
+#include "example_models.hpp"
 #include "pressure_valve.hpp"
 
 namespace hyd {
 namespace {
 
 struct CheckTraits {
+  static constexpr const char* kExampleModel = kCheckValveExample;  // SDK 2.4
   static constexpr const char* kInlet = "A";
   static constexpr const char* kOutlet = "B";
   static constexpr double kMinCracking = 0.0;  // a check valve without a spring cracks at 0

@@ -17,6 +17,7 @@
 
 #include "components.hpp"
 #include "end_stop.hpp"
+#include "example_models.hpp"
 #include "gas_release.hpp"
 #include "host_services.hpp"
 #include "touched_states.hpp"
@@ -30,6 +31,7 @@ constexpr double kPi = 3.14159265358979323846;
 class Cylinder {
  public:
   static const mh_component_descriptor kDescriptor;
+  static constexpr const char* kExampleModel = kCylinderExample;  // SDK 2.4, example_models.hpp
 
   explicit Cylinder(const mh_host* host) : host_(host) {}
 

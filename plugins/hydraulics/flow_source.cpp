@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "components.hpp"
+#include "example_models.hpp"
 #include "host_services.hpp"
 
 namespace hyd {
@@ -20,6 +21,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 class FlowSource {
  public:
   static const mh_component_descriptor kDescriptor;
+  static constexpr const char* kExampleModel = kReliefValveExample;  // SDK 2.4, example_models.hpp
 
   explicit FlowSource(const mh_host* host) : host_(host) {}
 

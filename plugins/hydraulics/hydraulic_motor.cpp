@@ -23,6 +23,7 @@
 #include <unsupported/Eigen/AutoDiff>
 
 #include "components.hpp"
+#include "example_models.hpp"
 #include "host_services.hpp"
 #include "touched_states.hpp"
 
@@ -55,6 +56,8 @@ Vec<S> cross(const Vec<S>& a, const Vec<S>& b) {
 class HydraulicMotor {
  public:
   static const mh_component_descriptor kDescriptor;
+  static constexpr const char* kExampleModel =
+      kHydraulicMotorExample;  // SDK 2.4, example_models.hpp
 
   explicit HydraulicMotor(const mh_host* host) : host_(host) {}
 

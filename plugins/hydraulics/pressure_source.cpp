@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "components.hpp"
+#include "example_models.hpp"
 #include "host_services.hpp"
 #include "touched_states.hpp"
 
@@ -16,6 +17,7 @@ namespace {
 class PressureSource {
  public:
   static const mh_component_descriptor kDescriptor;
+  static constexpr const char* kExampleModel = kThrottleExample;  // SDK 2.4, example_models.hpp
 
   explicit PressureSource(const mh_host* host) : host_(host) {}
 

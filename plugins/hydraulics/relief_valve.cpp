@@ -3,12 +3,14 @@
 // and opens along its pressure-flow gradient (the override) to fully open,
 // as catalogues give it (pressure_valve.hpp has the law).
 #include "components.hpp"
+#include "example_models.hpp"
 #include "pressure_valve.hpp"
 
 namespace hyd {
 namespace {
 
 struct ReliefTraits {
+  static constexpr const char* kExampleModel = kReliefValveExample;  // SDK 2.4
   static constexpr const char* kInlet = "P";
   static constexpr const char* kOutlet = "T";
   static constexpr double kMinCracking = 1e-300;  // > 0: a set pressure

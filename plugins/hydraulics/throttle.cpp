@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "components.hpp"
+#include "example_models.hpp"
 #include "host_services.hpp"
 #include "orifice_flow.hpp"
 #include "touched_states.hpp"
@@ -17,6 +18,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 class Throttle {
  public:
   static const mh_component_descriptor kDescriptor;
+  static constexpr const char* kExampleModel = kThrottleExample;  // SDK 2.4, example_models.hpp
 
   explicit Throttle(const mh_host* host) : host_(host) {}
 

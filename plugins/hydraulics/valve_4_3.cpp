@@ -12,6 +12,7 @@
 #include <string>
 
 #include "components.hpp"
+#include "example_models.hpp"
 #include "host_services.hpp"
 #include "orifice_flow.hpp"
 #include "time_table.hpp"
@@ -25,6 +26,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 class Valve43 {
  public:
   static const mh_component_descriptor kDescriptor;
+  static constexpr const char* kExampleModel = kValve43Example;  // SDK 2.4, example_models.hpp
 
   explicit Valve43(const mh_host* host) : host_(host) {}
 

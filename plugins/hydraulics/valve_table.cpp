@@ -12,6 +12,7 @@
 #include <string>
 
 #include "components.hpp"
+#include "example_models.hpp"
 #include "flow_map.hpp"
 #include "host_services.hpp"
 #include "orifice_flow.hpp"
@@ -26,6 +27,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 class ValveTable {
  public:
   static const mh_component_descriptor kDescriptor;
+  static constexpr const char* kExampleModel = kValveTableExample;  // SDK 2.4, example_models.hpp
 
   explicit ValveTable(const mh_host* host) : host_(host) {}
 

@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "components.hpp"
+#include "example_models.hpp"
 #include "gas_release.hpp"
 #include "host_services.hpp"
 #include "touched_states.hpp"
@@ -19,6 +20,7 @@ namespace {
 class Volume {
  public:
   static const mh_component_descriptor kDescriptor;
+  static constexpr const char* kExampleModel = kThrottleExample;  // SDK 2.4, example_models.hpp
 
   explicit Volume(const mh_host* host) : host_(host) {}
 

@@ -4,6 +4,7 @@
 //   tension   T = k (l - l0 - delta) = c ddelta/dt
 //   residual  c ddelta/dt - k (l - l0 - delta) = 0   (row of delta)
 #include "components.hpp"
+#include "example_models.hpp"
 #include "point_pair.hpp"
 
 namespace mech {
@@ -12,6 +13,7 @@ namespace {
 class Maxwell {
  public:
   static const mh_component_descriptor kDescriptor;
+  static constexpr const char* kExampleModel = kSliderExample;  // SDK 2.4, example_models.hpp
 
   explicit Maxwell(const mh_host* host) : host_(host) {}
 

@@ -2,6 +2,7 @@
 // tension T = k (l - l0) + c ldot. No states: its only coupling to the Newton
 // step is the force it applies to the bodies.
 #include "components.hpp"
+#include "example_models.hpp"
 #include "point_pair.hpp"
 
 namespace mech {
@@ -10,6 +11,7 @@ namespace {
 class SpringDamper {
  public:
   static const mh_component_descriptor kDescriptor;
+  static constexpr const char* kExampleModel = kSliderExample;  // SDK 2.4, example_models.hpp
 
   explicit SpringDamper(const mh_host* host) : host_(host) {}
 

@@ -13,5 +13,6 @@ const size_t mh_sdk20_sizeof_host = sizeof(mh_host);
 const size_t mh_sdk20_sizeof_subsystem = sizeof(mh_subsystem);
 const size_t mh_sdk20_sizeof_formulation = sizeof(mh_formulation);
 const size_t mh_sdk20_sizeof_integrator = sizeof(mh_integrator);
+const size_t mh_sdk20_sizeof_subsystem_factory = sizeof(mh_subsystem_factory);
 const size_t mh_sdk20_offset_host_evaluate = offsetof(mh_host, evaluate_mechanics);
 const size_t mh_sdk20_offset_subsystem_get_extension = offsetof(mh_subsystem, get_extension);

@@ -62,10 +62,10 @@ TEST(AbiLayout, FunctionTablesKeepTheirFieldOffsets) {
   EXPECT_EQ(mh_c_offset_subsystem_get_extension, offsetof(mh_subsystem, get_extension));
 }
 
-TEST(AbiLayout, VersionIsTwoThree) {
+TEST(AbiLayout, VersionIsTwoFour) {
   const mh_version v = MH_ABI_VERSION_INIT;
   EXPECT_EQ(v.major, 2u);
-  EXPECT_EQ(v.minor, 3u);
+  EXPECT_EQ(v.minor, 4u);
 }
 
 // ABI 2.1 only appended: every 2.0 field keeps its offset (the frozen 2.0
@@ -75,6 +75,7 @@ extern const size_t mh_sdk20_sizeof_host;
 extern const size_t mh_sdk20_sizeof_subsystem;
 extern const size_t mh_sdk20_sizeof_formulation;
 extern const size_t mh_sdk20_sizeof_integrator;
+extern const size_t mh_sdk20_sizeof_subsystem_factory;
 extern const size_t mh_sdk20_offset_host_evaluate;
 extern const size_t mh_sdk20_offset_subsystem_get_extension;
 }
@@ -109,4 +110,12 @@ TEST(AbiLayout, MinorThreeAppendsTheExplicitStagesToIntegrators) {
   EXPECT_EQ(offsetof(mh_integrator, finish_step),
             offsetof(mh_integrator, stage_rates) + sizeof(void*));
   EXPECT_EQ(sizeof(mh_integrator), offsetof(mh_integrator, finish_step) + sizeof(void*));
+}
+
+// ABI 2.4 appended example_model at the end of mh_subsystem_factory
+// (unchanged from 2.0 to 2.3): a factory of an older SDK ends before it and
+// reads it as NULL ("declares no example model").
+TEST(AbiLayout, MinorFourAppendsTheExampleModelToSubsystemFactories) {
+  EXPECT_EQ(offsetof(mh_subsystem_factory, example_model), mh_sdk20_sizeof_subsystem_factory);
+  EXPECT_EQ(sizeof(mh_subsystem_factory), mh_sdk20_sizeof_subsystem_factory + sizeof(void*));
 }

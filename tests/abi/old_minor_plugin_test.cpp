@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstddef>
+#include <string>
 
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/run.hpp"
@@ -94,6 +96,32 @@ TEST(OldMinorPlugin, MechanicsDerivativesDifferenceTheSdk20SpringsForces) {
   }
   EXPECT_LT((d.K - K).lpNorm<Eigen::Infinity>(), 1e-6 * K.lpNorm<Eigen::Infinity>());
   EXPECT_GT(K.lpNorm<Eigen::Infinity>(), 40.0 * 0.5);  // the spring's 40 N/m shows
+}
+
+// 2.4 appended mh_subsystem_factory.example_model. A plugin built against
+// SDK 2.3 (tests/fixtures/faulty/faulty_spring.c as SDK23_FACTORY: its
+// factory's struct_size ends before the field, its entry says 2.3) loads with
+// its own version, reads as declaring no example model, and runs; so does the
+// 2.0 spring, whose factory is older still.
+TEST(OldMinorPlugin, AnSdk23SubsystemLoadsReadsNoExampleModelAndRuns) {
+  PluginRegistry r;
+  r.load(std::string(MH_CHECK_FIXTURE_DIR) + "/sdk23_spring.so");
+  r.scan({MH_PLUGIN_DIR});
+  const ComponentInfo& c = r.find(ComponentKind::subsystem, "faulty-spring");
+  EXPECT_EQ(c.abi_version.major, 2u);
+  EXPECT_EQ(c.abi_version.minor, 3u);
+  EXPECT_EQ(c.subsystem_factory.struct_size, offsetof(mh_subsystem_factory, example_model));
+  EXPECT_EQ(c.subsystem_factory.example_model, nullptr);
+  const ComponentInfo& old =
+      registry_with_sdk20_plugin().find(ComponentKind::subsystem, "sdk20-spring");
+  EXPECT_EQ(old.subsystem_factory.example_model, nullptr);
+
+  ModelFile file = load_model_file(source_path("tests/fixtures/check/spring-pendulum.yaml"));
+  Simulation sim(file, r, RunChoices{"", "", std::nullopt, 0.5});
+  const RunSummary s = run(sim, nullptr);
+  ASSERT_FALSE(s.failed) << s.failure;
+  EXPECT_EQ(s.steps, 500);
+  EXPECT_GT(sim.kinetic_energy(), 0.1);  // J: it swung
 }
 
 }  // namespace

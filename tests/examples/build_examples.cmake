@@ -1,6 +1,7 @@
 # The examples as a third party gets them: the SDK component installed alone
-# into a fresh prefix (headers, CMake package, docs and example sources), and
-# each INSTALLED example configured and built against that prefix alone.
+# into a fresh prefix (headers, CMake package, test host, docs and example
+# sources), and each INSTALLED example configured, built and unit-tested
+# against that prefix alone.
 foreach(var BINARY_DIR OUT)
   if(NOT DEFINED ${var})
     message(FATAL_ERROR "build_examples.cmake: ${var} is not set")
@@ -14,7 +15,14 @@ function(run)
   endif()
 endfunction()
 set(prefix ${OUT}/prefix)
+get_filename_component(cmake_bin ${CMAKE_COMMAND} DIRECTORY)
+set(ctest ${cmake_bin}/ctest)
 run(${CMAKE_COMMAND} --install ${BINARY_DIR} --prefix ${prefix} --component sdk)
+foreach(file include/monohydra/testhost.hpp lib/libmonohydra_testhost.so)
+  if(NOT EXISTS ${prefix}/${file})
+    message(FATAL_ERROR "the SDK component does not install ${file} (the test host)")
+  endif()
+endforeach()
 foreach(doc sdk plugin-guide integrators hydraulics formulations model-format)
   if(NOT EXISTS ${prefix}/share/doc/monohydra/${doc}.md)
     message(FATAL_ERROR "the SDK's docs lack share/doc/monohydra/${doc}.md")
@@ -27,7 +35,8 @@ run(${CMAKE_COMMAND} --install ${BINARY_DIR} --prefix ${OUT}/full)
 file(GLOB_RECURSE libraries RELATIVE ${OUT}/full ${OUT}/full/*.so)
 foreach(library ${libraries})
   if(NOT library MATCHES "^lib/monohydra/plugins/monohydra-[a-z-]+\\.so$" AND
-     NOT library STREQUAL "lib/monohydra/libmonohydra_sweep_mpi.so")
+     NOT library STREQUAL "lib/monohydra/libmonohydra_sweep_mpi.so" AND
+     NOT library STREQUAL "lib/libmonohydra_testhost.so")
     message(FATAL_ERROR "cmake --install installs ${library}, which is not a shipped plugin")
   endif()
 endforeach()
@@ -44,5 +53,13 @@ foreach(example accumulator:gas-accumulator lagrange-baumgarte:lagrange-baumgart
   run(${CMAKE_COMMAND} --build ${OUT}/build/${folder})
   if(NOT EXISTS ${OUT}/build/${folder}/${library}.so)
     message(FATAL_ERROR "the example ${folder} did not build ${library}.so")
+  endif()
+  # Its own unit test on the installed test host (point-load has none); the
+  # shipped plugins its models use from this build, since the SDK component
+  # installs none.
+  if(NOT folder STREQUAL "point-load")
+    run(${CMAKE_COMMAND} -E env MONOHYDRA_PLUGIN_PATH=${BINARY_DIR}/lib/monohydra/plugins
+        ${ctest} --test-dir ${OUT}/build/${folder} --output-on-failure
+        --no-tests=error)
   endif()
 endforeach()

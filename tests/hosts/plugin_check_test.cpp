@@ -130,4 +130,37 @@ TEST(PluginCheck, BadArgumentsExitTwoWithTheUsage) {
       << r.output;
 }
 
+// SDK 2.4: without a model, each subsystem is checked on the example model
+// its factory declares; a broken one fails naming it; one without is skipped.
+TEST(PluginCheck, EveryShippedSubsystemIsCheckedOnItsDeclaredExampleModel) {
+  for (const char* library : {"monohydra-hydraulics", "monohydra-mechanics"}) {
+    const CliResult r = run_cli("check " + std::string(MH_PLUGIN_DIR) + "/" + library + ".so");
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_EQ(r.output.find("skip"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("(declared by " + std::string(library) + ".so), 20 steps"),
+              std::string::npos)
+        << r.output;
+  }
+}
+
+TEST(PluginCheck, ABrokenDeclaredExampleModelFailsNamingItsFieldAndLine) {
+  const CliResult r = run_cli("check " + fixture("example_broken"));
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("FAIL  subsystem faulty-spring: declared example model: the example "
+                          "model of subsystem 'faulty-spring' (declared by example_broken.so)"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("hinge"), std::string::npos) << r.output;
+}
+
+TEST(PluginCheck, ASubsystemThatDeclaresNoExampleModelIsSkippedWithTheReason) {
+  const CliResult r = run_cli("check " + fixture("sdk23_spring"));
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("ok    load: ABI 2.3.0"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("skip  subsystem faulty-spring: no shipped model uses it and it "
+                          "declares no example model"),
+            std::string::npos)
+      << r.output;
+}
+
 }  // namespace

@@ -91,8 +91,28 @@ static const mh_subsystem* create(const mh_subsystem_factory* f, const mh_host* 
   return s;
 }
 
-static const mh_subsystem_factory factory_ = {sizeof(mh_subsystem_factory), count, describe,
-                                              create};
+/* ABI 2.4: a small model that uses the component, on which `monohydra check
+ * point-load.so` checks it without a model of the user's: a double pendulum
+ * pulled sideways at its tip. */
+static const char* example_model(const mh_subsystem_factory* f, uint32_t i) {
+  (void)f;
+  return i != 0 ? NULL
+                : "units: {length: m, mass: kg, time: s, angle: rad}\n"
+                  "gravity: [0, -9.81, 0]\n"
+                  "bodies:\n"
+                  "  - {name: upper, parent: ground, joint: {type: revolute, at: [0, 0, 0], "
+                  "axis: [0, 0, 1]}, mass: 1.0, shape: {type: beam, length: 1.0}}\n"
+                  "  - {name: lower, parent: upper, joint: {type: revolute, at: [1, 0, 0], "
+                  "axis: [0, 0, 1]}, mass: 1.0, shape: {type: beam, length: 1.0}}\n"
+                  "subsystems:\n"
+                  "  - {name: pull, type: point-load, force: [5, 0, 0], "
+                  "points: {at: {body: lower, at: [1, 0, 0]}}}\n"
+                  "formulation: open-loop\n"
+                  "solver: {dt: 0.001, t_end: 1}\n";
+}
+
+static const mh_subsystem_factory factory_ = {sizeof(mh_subsystem_factory), count, describe, create,
+                                              example_model};
 
 static int init(const char* path) {
   (void)path;

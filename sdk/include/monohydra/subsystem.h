@@ -103,6 +103,11 @@ typedef struct mh_subsystem_factory {
                                                uint32_t index);
   const mh_subsystem* (*create)(const struct mh_subsystem_factory* factory, const mh_host* host,
                                 const char* id);
+  /* ABI 2.4, optional (NULL: none): the YAML text of a small model file that
+   * uses component `index` with example options, or NULL when it declares
+   * none. The text lives as long as the library. `monohydra check PLUGIN.so`
+   * without a model checks the component on it (docs/sdk.md). */
+  const char* (*example_model)(const struct mh_subsystem_factory* factory, uint32_t index);
 } mh_subsystem_factory;
 
 #ifdef __cplusplus

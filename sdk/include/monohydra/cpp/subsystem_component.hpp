@@ -24,6 +24,8 @@
 //                                  double* dF_dv);          // ABI 2.1
 //   mh_status coupling_jacobian(const mh_subsystem_eval& eval, double* dR_dp, double* dR_dv,
 //                               double* dF_dy, double* dF_dydot);   // ABI 2.2
+//   static constexpr const char* kExampleModel = R"(...)";  // ABI 2.4: a small model
+//                               // file (YAML) using it, for `monohydra check PLUGIN.so`
 //
 // setup declares states and outputs with the spec structs of host.h
 // (mh_state_spec, mh_output_spec; monohydra/cpp/specs.hpp fills them).
@@ -108,12 +110,20 @@ struct HasExtension<
     T, std::void_t<decltype(std::declval<T&>().extension(std::declval<const char*>()))>>
     : std::true_type {};
 
+template <class T, class = void>
+struct HasExampleModel : std::false_type {};
+template <class T>
+struct HasExampleModel<T, std::void_t<decltype(static_cast<const char*>(T::kExampleModel))>>
+    : std::true_type {};
+
 }  // namespace detail
 
-// One component of a library: its descriptor and how to create an instance.
+// One component of a library: its descriptor, how to create an instance and
+// its example model (ABI 2.4; NULL: none).
 struct SubsystemComponent {
   const mh_component_descriptor* descriptor;
   const mh_subsystem* (*create)(const mh_host* host);
+  const char* example_model;
 };
 
 // The mh_subsystem of a C++ component class T (see the top of this file).
@@ -253,7 +263,10 @@ class SubsystemAdapter {
 
 template <class T>
 constexpr SubsystemComponent subsystem_component() noexcept {
-  return {&T::kDescriptor, &SubsystemAdapter<T>::create};
+  if constexpr (detail::HasExampleModel<T>::value)
+    return {&T::kDescriptor, &SubsystemAdapter<T>::create, T::kExampleModel};
+  else
+    return {&T::kDescriptor, &SubsystemAdapter<T>::create, nullptr};
 }
 
 // The mh_subsystem_factory over a fixed list of components (a static array
@@ -262,7 +275,7 @@ class SubsystemFactory {
  public:
   template <std::size_t N>
   constexpr explicit SubsystemFactory(const SubsystemComponent (&components)[N]) noexcept
-      : api_{sizeof(mh_subsystem_factory), count, descriptor, create},
+      : api_{sizeof(mh_subsystem_factory), count, descriptor, create, example_model},
         components_(components),
         size_(static_cast<uint32_t>(N)) {}
 
@@ -288,6 +301,10 @@ class SubsystemFactory {
                                                    uint32_t index) noexcept {
     const SubsystemFactory& factory = self(f);
     return index < factory.size_ ? factory.components_[index].descriptor : nullptr;
+  }
+  static const char* example_model(const mh_subsystem_factory* f, uint32_t index) noexcept {
+    const SubsystemFactory& factory = self(f);
+    return index < factory.size_ ? factory.components_[index].example_model : nullptr;
   }
   static const mh_subsystem* create(const mh_subsystem_factory* f, const mh_host* host,
                                     const char* id) noexcept {

@@ -1,0 +1,135 @@
+// The example models the hydraulic components declare (SDK 2.4,
+// mh_component_descriptor.example_model): small model files that use each
+// component with example options, on which `monohydra check
+// monohydra-hydraulics.so` checks it without a model of the user's.
+#pragma once
+
+namespace hyd {
+
+// Throttle, volume and pressure-source: a hose charged from a pump through a throttle.
+inline constexpr const char* kThrottleExample = R"(units: {length: m, mass: kg, time: s, angle: rad}
+gravity: [0, 0, 0]
+bodies:
+  - {name: slider, parent: ground, joint: {type: prismatic, at: [0, 0, 0], axis: [1, 0, 0]},
+     mass: 1.0, com: [0, 0, 0], inertia: [1, 1, 1]}
+subsystems:
+  - {name: pump, type: pressure-source, ports: {p: s}, pressure: 8e6}
+  - {name: line, type: throttle, ports: {a: s, b: n}, area: 1e-6, discharge_coefficient: 0.7, density: 850}
+  - {name: hose, type: volume, ports: {p: n}, volume: 1e-4, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, initial_pressure: 1e6}
+formulation: open-loop
+solver: {dt: 0.001, t_end: 1}
+)";
+
+// A hose charged from a pump through a check valve.
+inline constexpr const char* kCheckValveExample =
+    R"(units: {length: m, mass: kg, time: s, angle: rad}
+gravity: [0, 0, 0]
+bodies:
+  - {name: slider, parent: ground, joint: {type: prismatic, at: [0, 0, 0], axis: [1, 0, 0]},
+     mass: 1.0, com: [0, 0, 0], inertia: [1, 1, 1]}
+subsystems:
+  - {name: pump, type: pressure-source, ports: {p: s}, pressure: 8e6}
+  - {name: valve, type: check-valve, ports: {A: s, B: n}, cracking_pressure: 1e5, override_pressure: 5e5, nominal_flow: 1e-5}
+  - {name: hose, type: volume, ports: {p: n}, volume: 1e-4, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, initial_pressure: 1e6}
+formulation: open-loop
+solver: {dt: 0.001, t_end: 1}
+)";
+
+// A constant flow into a hose, relieved to the tank (also flow-source).
+inline constexpr const char* kReliefValveExample =
+    R"(units: {length: m, mass: kg, time: s, angle: rad}
+gravity: [0, 0, 0]
+bodies:
+  - {name: slider, parent: ground, joint: {type: prismatic, at: [0, 0, 0], axis: [1, 0, 0]},
+     mass: 1.0, com: [0, 0, 0], inertia: [1, 1, 1]}
+subsystems:
+  - {name: pump, type: flow-source, ports: {p: n}, flow: 1e-5}
+  - {name: hose, type: volume, ports: {p: n}, volume: 1e-4, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, initial_pressure: 1e6}
+  - {name: relief, type: relief-valve, ports: {P: n, T: t}, cracking_pressure: 1.5e6, override_pressure: 5e5, nominal_flow: 1e-4}
+  - {name: tank, type: pressure-source, ports: {p: t}, pressure: 1e5}
+formulation: open-loop
+solver: {dt: 0.001, t_end: 1}
+)";
+
+// A 4/3 valve opening between pump, tank and two hoses.
+inline constexpr const char* kValve43Example = R"(units: {length: m, mass: kg, time: s, angle: rad}
+gravity: [0, 0, 0]
+bodies:
+  - {name: slider, parent: ground, joint: {type: prismatic, at: [0, 0, 0], axis: [1, 0, 0]},
+     mass: 10.0, com: [0, 0, 0], inertia: [1, 1, 1], z0: 0}
+subsystems:
+  - {name: valve, type: valve-4-3, ports: {P: s, T: t, A: a, B: b}, flow_coefficient: 2e-8, time_constant: 5e-3,
+     reference: [[0, 0], [0.005, 0], [0.005, 5], [1, 5]]}
+  - {name: pump, type: pressure-source, ports: {p: s}, pressure: 8e6}
+  - {name: tank, type: pressure-source, ports: {p: t}, pressure: 1e5}
+  - {name: hose_a, type: volume, ports: {p: a}, volume: 1e-4, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, initial_pressure: 1e6}
+  - {name: hose_b, type: volume, ports: {p: b}, volume: 1e-4, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, initial_pressure: 1e6}
+formulation: open-loop
+solver: {dt: 0.001, t_end: 1}
+)";
+
+// The same with a measured flow table.
+inline constexpr const char* kValveTableExample =
+    R"(units: {length: m, mass: kg, time: s, angle: rad}
+gravity: [0, 0, 0]
+bodies:
+  - {name: slider, parent: ground, joint: {type: prismatic, at: [0, 0, 0], axis: [1, 0, 0]},
+     mass: 10.0, com: [0, 0, 0], inertia: [1, 1, 1], z0: 0}
+subsystems:
+  - {name: valve, type: valve-table, ports: {P: s, T: t, A: a, B: b}, time_constant: 5e-3,
+     reference: [[0, 0], [0.005, 0], [0.005, 5], [1, 5]],
+     flow_table: [[0, 1e5, 0], [0, 1e7, 0], [5, 1e5, 6e-6], [5, 1e7, 6e-5], [10, 1e5, 1.2e-5], [10, 1e7, 1.2e-4]]}
+  - {name: pump, type: pressure-source, ports: {p: s}, pressure: 8e6}
+  - {name: tank, type: pressure-source, ports: {p: t}, pressure: 1e5}
+  - {name: hose_a, type: volume, ports: {p: a}, volume: 1e-4, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, initial_pressure: 1e6}
+  - {name: hose_b, type: volume, ports: {p: b}, volume: 1e-4, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, initial_pressure: 1e6}
+formulation: open-loop
+solver: {dt: 0.001, t_end: 1}
+)";
+
+// A cylinder pushing a slider, fed and drained through throttles.
+inline constexpr const char* kCylinderExample = R"(units: {length: m, mass: kg, time: s, angle: rad}
+gravity: [0, 0, 0]
+bodies:
+  - {name: slider, parent: ground, joint: {type: prismatic, at: [0, 0, 0], axis: [1, 0, 0]},
+     mass: 10.0, com: [0, 0, 0], inertia: [1, 1, 1], z0: 0}
+subsystems:
+  - {name: ram, type: cylinder, points: {a: {body: ground, at: [-1, 0, 0]}, b: {body: slider, at: [0, 0, 0]}},
+     ports: {A: a, B: b}, piston_diameter: 0.05, rod_diameter: 0.025, length: 1.0, chamber_bulk_modulus: 31500e6,
+     fluid_bulk_modulus: 1500e6, efficiency: 0.9}
+  - {name: pump, type: pressure-source, ports: {p: s}, pressure: 8e6}
+  - {name: tank, type: pressure-source, ports: {p: t}, pressure: 1e5}
+  - {name: in, type: throttle, ports: {a: s, b: a}, area: 1e-6, discharge_coefficient: 0.7, density: 850}
+  - {name: out, type: throttle, ports: {a: b, b: t}, area: 1e-6, discharge_coefficient: 0.7, density: 850}
+  - {name: hose_a, type: volume, ports: {p: a}, volume: 1e-4, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, initial_pressure: 1e6}
+  - {name: hose_b, type: volume, ports: {p: b}, volume: 1e-4, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, initial_pressure: 1e6}
+formulation: open-loop
+solver: {dt: 0.001, t_end: 1}
+)";
+
+// A motor turning an arm against gravity.
+inline constexpr const char* kHydraulicMotorExample =
+    R"(units: {length: m, mass: kg, time: s, angle: rad}
+gravity: [0, 0, -9.81]
+bodies:
+  - {name: arm, parent: ground, joint: {type: revolute, at: [0, 0, 0], axis: [0, 1, 0]},
+     mass: 50, com: [0.5, 0, 0], inertia: [3, 3, 2]}
+subsystems:
+  - {name: pump, type: pressure-source, ports: {p: supply}, pressure: 10e6}
+  - {name: tank, type: pressure-source, ports: {p: return}, pressure: 1e5}
+  - name: motor
+    type: hydraulic-motor
+    points:
+      housing: {body: ground, at: [0, 0, 0]}
+      rotor: {body: arm, at: [0, 0.3, 0]}
+      housing_arm: {body: ground, at: [0.2, 0, 0]}
+      rotor_arm: {body: arm, at: [0, 0.3, 0.2]}
+    ports: {A: supply, B: return}
+    displacement: 8e-6
+    leakage_coefficient: 1e-12
+    viscous_friction: 0.8
+formulation: open-loop
+solver: {dt: 0.001, t_end: 1}
+)";
+
+}  // namespace hyd

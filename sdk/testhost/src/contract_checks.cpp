@@ -1,0 +1,279 @@
+#include "contract_checks.hpp"
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "isolated_check.hpp"
+#include "monohydra/core/input_error.hpp"
+
+namespace mh::testhost {
+namespace {
+
+using monohydra::testhost::Check;
+using monohydra::testhost::TangentComparison;
+
+// How a cycle check says that the component refused the model itself.
+constexpr const char* kRefused = "refused the model: ";
+// A row whose entries are all below this fraction of the matrix's largest
+// (a coordinate nothing pushes along) is compared at that level instead:
+// differences of it are rounding noise.
+constexpr double kRowFloor = 1e-6;
+
+// Unknowns of the tangent by name: the formulation's first, then the states.
+std::string unknown_name(Simulation& sim, int i) {
+  const int n_m = sim.num_mechanical_unknowns();
+  if (i < n_m) return "mechanical unknown " + std::to_string(i + 1);
+  const auto& info = sim.state_info();
+  const auto k = static_cast<size_t>(i - n_m);
+  return "state " + (k < info.size() ? info[k].qualified : std::to_string(k + 1));
+}
+
+// The worst entry of `analytic` against `differences`, relative to its row's
+// largest difference, but never to less than kRowFloor of `reference` (the
+// largest entry of the derivatives checked together: a block of round-off,
+// C where no force depends on the velocities, is not compared at its own
+// size). Sets row and column of the worst; -1 for a non-finite entry.
+double worst_entry(const Eigen::MatrixXd& analytic, const Eigen::MatrixXd& differences,
+                   double reference, Eigen::Index& wr, Eigen::Index& wc) {
+  const double floor = kRowFloor * std::max({differences.cwiseAbs().maxCoeff(), reference, 1e-300});
+  double worst = 0.0;
+  wr = 0;
+  wc = 0;
+  for (Eigen::Index r = 0; r < analytic.rows(); ++r) {
+    const double scale = std::max(differences.row(r).cwiseAbs().maxCoeff(), floor);
+    for (Eigen::Index c = 0; c < analytic.cols(); ++c) {
+      if (!std::isfinite(analytic(r, c))) {
+        wr = r;
+        wc = c;
+        return -1.0;
+      }
+      const double e = std::abs(analytic(r, c) - differences(r, c)) / scale;
+      if (e > worst) {
+        worst = e;
+        wr = r;
+        wc = c;
+      }
+    }
+  }
+  return worst;
+}
+
+// "" within tolerance, else the failure.
+std::string compare_blocks(const char* what, const Eigen::MatrixXd& analytic,
+                           const Eigen::MatrixXd& differences, double reference) {
+  Eigen::Index wr = 0, wc = 0;
+  const double worst = worst_entry(analytic, differences, reference, wr, wc);
+  if (worst < 0.0) return std::string(what) + " holds a non-finite entry";
+  if (worst <= kTangentTolerance) return "";
+  std::ostringstream msg;
+  msg.precision(6);
+  msg << what << " disagrees with differences: row " << wr + 1 << ", column z" << wc + 1
+      << ": analytic " << analytic(wr, wc) << ", differences " << differences(wr, wc) << " (off by "
+      << worst << " of the row's largest entry, tolerance " << kTangentTolerance << ")";
+  return msg.str();
+}
+
+// The host's mechanics derivatives K and C (every subsystem's point force
+// jacobian, ABI 2.1, in them) against central differences of the dynamics
+// residual M zdd - Q in z and zd: what a formulation's analytic tangent is
+// built from.
+std::string mechanics_check(Simulation& sim) {
+  const Eigen::VectorXd z = sim.z(), zd = sim.zd(), zdd = sim.zdd();
+  const Eigen::Index n = z.size();
+  if (n == 0) return "";
+  const Simulation::MechanicsDerivatives d = sim.mechanics_derivatives(z, zd, zdd);
+  Eigen::MatrixXd k(n, n), c(n, n);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const double hz = 1e-6 * (1.0 + std::abs(z[j])), hv = 1e-6 * (1.0 + std::abs(zd[j]));
+    Eigen::VectorXd zp = z, zm = z, vp = zd, vm = zd;
+    zp[j] += hz;
+    zm[j] -= hz;
+    vp[j] += hv;
+    vm[j] -= hv;
+    k.col(j) =
+        (sim.dynamics_residual(zp, zd, zdd) - sim.dynamics_residual(zm, zd, zdd)) / (2.0 * hz);
+    c.col(j) = (sim.dynamics_residual(z, vp, zdd) - sim.dynamics_residual(z, vm, zdd)) / (2.0 * hv);
+  }
+  const double reference = std::max(k.cwiseAbs().maxCoeff(), c.cwiseAbs().maxCoeff());
+  const std::string kc =
+      compare_blocks("K = d(M zdd - Q)/dz (point force jacobians)", d.K, k, reference);
+  return kc.empty()
+             ? compare_blocks("C = d(M zdd - Q)/dzd (point force jacobians)", d.C, c, reference)
+             : kc;
+}
+
+std::string tangent_check(const Setup& s, const PluginRegistry& registry) {
+  Simulation sim(s.file, registry, s.choices);
+  sim.start();
+  for (int i = 0; i < 3; ++i) sim.step();
+  const TangentComparison t = compare_tangent(sim);
+  if (!t.failure.empty()) return t.failure;
+  if (!t.ok) return "the analytic tangent disagrees with differences of the residual: " + t.worst;
+  return mechanics_check(sim);
+}
+
+// z, states and outputs after the run, as bytes.
+std::string fingerprint(const Setup& s, const PluginRegistry& registry) {
+  Simulation sim(s.file, registry, s.choices);
+  sim.start();
+  while (sim.time() < sim.settings().t_end - 0.5 * sim.settings().dt) sim.step();
+  std::string bytes;
+  for (const Eigen::VectorXd* v : {&sim.z(), &sim.zd(), &sim.states(), &sim.outputs()})
+    bytes.append(reinterpret_cast<const char*>(v->data()),
+                 static_cast<size_t>(v->size()) * sizeof(double));
+  return bytes;
+}
+
+// The options of the subject in the model, or null (an integrator's, or a
+// component chosen from the command line without options).
+OptionMap* subject_options(Setup& s, const Subject& who) {
+  if (who.kind == ComponentKind::subsystem) {
+    for (auto& spec : s.file.subsystems)
+      if (spec.type == who.id) return &spec.options;
+    return nullptr;
+  }
+  ComponentChoice& c =
+      who.kind == ComponentKind::formulation ? s.file.formulation : s.file.integrator;
+  return c.name == who.id ? &c.options : nullptr;
+}
+
+// An option the component does not know, then each of its options as a word
+// where it may expect a number: each refused with a message (InputError).
+std::string bad_options_check(const Setup& base, const Subject& who,
+                              const PluginRegistry& registry) {
+  Setup s = base;
+  const OptionMap* options = subject_options(s, who);
+  if (options == nullptr) return "";
+  std::vector<std::string> keys{"monohydra_check_unknown_option"};
+  for (const auto& [key, value] : *options) keys.push_back(key);
+  for (const auto& key : keys) {
+    Setup bad = base;
+    OptionMap& opts = *subject_options(bad, who);
+    OptionValue word;
+    word.kind = OptionValue::Kind::string;
+    word.text = "not-a-valid-value";
+    word.mark = bad.file.formulation.mark;
+    if (opts.count(key) != 0) {
+      if (opts[key].kind == OptionValue::Kind::string) continue;  // any word may be valid
+      word.mark = opts[key].mark;
+    }
+    opts[key] = word;
+    try {
+      Simulation sim(bad.file, registry, bad.choices);
+      sim.start();
+      if (key == keys.front()) return "accepted an option it does not know ('" + key + "')";
+      return "accepted the word 'not-a-valid-value' for its option '" + key + "'";
+    } catch (const InputError&) {  // refused, with the file, field and expectation
+    } catch (const PluginError&) {
+    } catch (const SimulationError&) {
+    }
+  }
+  return "";
+}
+
+}  // namespace
+
+bool model_uses(const ModelFile& file, const Subject& who) {
+  if (who.kind != ComponentKind::subsystem) return true;
+  for (const auto& spec : file.subsystems)
+    if (spec.type == who.id) return true;
+  return false;
+}
+
+Setup setup_for(const ModelFile& file, const Subject& who) {
+  Setup s{file, {}};
+  // The model's own choice keeps its options; another starts from its defaults.
+  if (who.kind == ComponentKind::formulation && s.file.formulation.name != who.id)
+    s.file.formulation = ComponentChoice{who.id, {}, s.file.formulation.mark};
+  if (who.kind == ComponentKind::integrator && s.file.integrator.name != who.id)
+    s.file.integrator = ComponentChoice{who.id, {}, s.file.integrator.mark};
+  return s;
+}
+
+void shorten(Setup& s, int steps) {
+  s.choices.t_end = steps * s.choices.dt.value_or(s.file.solver.dt);
+  s.file.output = OutputSettings{};
+}
+
+TangentComparison compare_tangent(Simulation& sim) {
+  TangentComparison out;
+  out.tolerance = kTangentTolerance;
+  const Eigen::MatrixXd a = sim.assembled_tangent();
+  const Eigen::MatrixXd f = sim.finite_difference_tangent();
+  if (a.rows() != f.rows() || a.cols() != f.cols()) {
+    out.failure = "tangent sizes differ";
+    return out;
+  }
+  if (a.size() == 0) {
+    out.ok = true;
+    return out;
+  }
+  Eigen::Index wr = 0, wc = 0;
+  const double worst = worst_entry(a, f, 0.0, wr, wc);
+  if (worst < 0.0) {
+    out.failure = "the tangent holds a non-finite entry";
+    return out;
+  }
+  out.max_error = worst;
+  out.ok = worst <= kTangentTolerance;
+  std::ostringstream msg;
+  msg.precision(6);
+  msg << "row " << unknown_name(sim, static_cast<int>(wr)) << ", column "
+      << unknown_name(sim, static_cast<int>(wc)) << ": analytic " << a(wr, wc) << ", differences "
+      << f(wr, wc) << " (off by " << worst << " of the row's largest entry, tolerance "
+      << kTangentTolerance << ")";
+  out.worst = msg.str();
+  return out;
+}
+
+void check_subject(const Subject& who, const std::vector<Setup>& candidates,
+                   const PluginRegistry& registry, const Emit& emit) {
+  const std::string name = std::string(to_string(who.kind)) + " " + who.id;
+  const auto report = [&](const std::string& what, const std::string& failure,
+                          const std::string& detail = "") {
+    emit(Check{failure.empty() ? Check::Verdict::passed : Check::Verdict::failed,
+               name + ": " + what, failure.empty() ? detail : failure});
+  };
+  const Setup* setup = nullptr;
+  std::string cycles;
+  for (const Setup& candidate : candidates) {
+    setup = &candidate;
+    cycles = isolated([&] {
+      for (int i = 0; i < kCycles; ++i) {
+        try {
+          Simulation sim(candidate.file, registry, candidate.choices);
+          sim.start();
+        } catch (const InputError& err) {
+          return std::string(kRefused) + err.what();
+        }
+      }
+      return std::string();
+    });
+    if (cycles.rfind(kRefused, 0) != 0) break;
+  }
+  if (setup == nullptr) return;
+  std::ostringstream on;
+  on << setup->file.path << ", " << kSteps << " steps of "
+     << setup->choices.dt.value_or(setup->file.solver.dt) << " s";
+  emit(Check{Check::Verdict::note, name, on.str()});
+  report("create/setup/destroy x" + std::to_string(kCycles), cycles);
+  if (!cycles.empty()) return;  // the rest needs it created
+  Setup counted = *setup;
+  const OptionMap* given_options = subject_options(counted, who);
+  const std::string tried = "an unknown option and " +
+                            std::to_string(given_options != nullptr ? given_options->size() : 0) +
+                            " of the model's options made invalid, one at a time";
+  report("bad options refused", isolated([&] { return bad_options_check(*setup, who, registry); }),
+         tried);
+  report("analytic tangent against differences of its residual",
+         isolated([&] { return tangent_check(*setup, registry); }));
+  report("repeated runs bit-identical", isolated([&] {
+           const std::string a = fingerprint(*setup, registry);
+           const std::string b = fingerprint(*setup, registry);
+           return a == b ? std::string() : std::string("two runs of the same model differ");
+         }));
+}
+
+}  // namespace mh::testhost

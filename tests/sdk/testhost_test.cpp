@@ -1,0 +1,153 @@
+// The test host (sdk/testhost, <monohydra/testhost.hpp>) as a plugin author
+// uses it, linked without the core: a sound spring runs and its series
+// conserve energy, its tangent agrees with differences and every check
+// passes; the broken springs fail where they are broken, as values, never as
+// a crash of the test; a declared example model (SDK 2.4) is what
+// check_library checks a component on, a broken one fails with its file, line
+// and field, and a component without one is skipped with the reason.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <monohydra/testhost.hpp>
+#include <stdexcept>
+#include <string>
+
+namespace {
+
+namespace th = monohydra::testhost;
+
+std::string fixture(const std::string& name) {
+  return std::string(MH_CHECK_FIXTURE_DIR) + "/" + name + ".so";
+}
+
+const th::Model kPendulum =
+    th::Model::file(std::string(MH_SOURCE_DIR) + "/tests/fixtures/check/spring-pendulum.yaml");
+
+th::CheckOptions search_build() {
+  th::CheckOptions o;
+  o.search_path = {MH_PLUGIN_DIR};
+  return o;
+}
+
+const th::Check* find(const th::CheckReport& r, const std::string& what_prefix) {
+  for (const th::Check& c : r.checks)
+    if (c.what.rfind(what_prefix, 0) == 0) return &c;
+  return nullptr;
+}
+
+TEST(TestHost, RunsASoundSpringAndItsSeriesConserveEnergy) {
+  const th::Host host(fixture("sound"), "faulty-spring", {MH_PLUGIN_DIR});
+  EXPECT_EQ(host.kind(), th::Kind::subsystem);
+  EXPECT_EQ(host.version(), "0.0.1");
+  const th::Series s = host.run(kPendulum, 1000);
+  ASSERT_TRUE(s.ok) << s.status;
+  EXPECT_EQ(s.status, "ok");
+  ASSERT_EQ(s.time.size(), 1001u);
+  EXPECT_NEAR(s.time.back(), 1.0, 1e-12);
+  EXPECT_EQ(s.names.size(), s.units.size());
+  // KE + PE + the spring's stored energy stays at its start to the
+  // trapezoidal rule's accuracy while the link swings.
+  const auto ke = s.column("kinetic_energy"), pe = s.column("potential_energy"),
+             stored = s.column("stored_energy");
+  double worst = 0.0, scale = 0.0;
+  for (size_t k = 0; k < ke.size(); ++k) {
+    worst = std::max(worst, std::abs(ke[k] + pe[k] + stored[k]));
+    scale = std::max(scale, ke[k]);
+  }
+  EXPECT_GT(scale, 0.5);  // J: it swung
+  EXPECT_LT(worst, 1e-3 * scale);
+  EXPECT_TRUE(s.has("z1"));
+  EXPECT_THROW(s.column("no-such-column"), std::out_of_range);
+}
+
+TEST(TestHost, MeasuresTheTangentErrorOfASoundAndABrokenJacobian) {
+  const th::TangentComparison sound =
+      th::Host(fixture("sound"), "faulty-spring", {MH_PLUGIN_DIR}).tangent(kPendulum);
+  ASSERT_TRUE(sound.failure.empty()) << sound.failure;
+  EXPECT_TRUE(sound.ok);
+  EXPECT_LT(sound.max_error, 1e-6);
+  EXPECT_EQ(sound.tolerance, 1e-3);
+  // The host differences the mechanical columns of the assembled tangent when
+  // a subsystem acts on body points (docs/sdk.md), so a wrong point force
+  // jacobian shows in the check's comparison of K = d(M zdd - Q)/dz.
+  const th::CheckReport broken =
+      th::Host(fixture("wrong_jacobian"), "faulty-spring", {MH_PLUGIN_DIR}).check(kPendulum);
+  const th::Check* t = find(broken, "subsystem faulty-spring: analytic tangent");
+  ASSERT_NE(t, nullptr);
+  EXPECT_EQ(t->verdict, th::Check::Verdict::failed);
+  EXPECT_NE(t->detail.find("K = d(M zdd - Q)/dz"), std::string::npos) << t->detail;
+}
+
+TEST(TestHost, ASoundSpringPassesEveryCheckAndBrokenOnesFailAsValues) {
+  const th::CheckReport sound =
+      th::Host(fixture("sound"), "faulty-spring", {MH_PLUGIN_DIR}).check(kPendulum);
+  EXPECT_TRUE(sound.passed());
+  EXPECT_GE(sound.checks.size(), 5u);
+  for (const char* broken : {"failing_create", "missing_evaluate", "throwing"}) {
+    const th::Host host(fixture(broken), "faulty-spring", {MH_PLUGIN_DIR});
+    EXPECT_FALSE(host.create_destroy(kPendulum).empty()) << broken;
+    const th::CheckReport r = host.check(kPendulum);
+    EXPECT_FALSE(r.passed()) << broken;
+    const th::Check* c = find(r, "subsystem faulty-spring: create/setup/destroy");
+    ASSERT_NE(c, nullptr) << broken;
+    EXPECT_EQ(c->verdict, th::Check::Verdict::failed) << broken;
+    const th::Series s = host.run(kPendulum, 10);
+    EXPECT_FALSE(s.ok) << broken;
+    EXPECT_FALSE(s.status.empty()) << broken;
+  }
+}
+
+TEST(TestHost, ALibraryItCannotLoadOrAnIdItLacksThrowsWithTheReason) {
+  try {
+    th::Host host(std::string(MH_CHECK_FIXTURE_DIR) + "/no-such.so", "x");
+    FAIL() << "loaded a library that does not exist";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("no-such.so"), std::string::npos) << e.what();
+  }
+  try {
+    th::Host host(fixture("sound"), "no-such-component");
+    FAIL() << "found a component the library does not offer";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("no-such-component"), std::string::npos) << e.what();
+  }
+}
+
+TEST(TestHostExampleModel, ADeclaredModelIsCheckedWhenNoneIsGiven) {
+  const th::CheckReport r = th::check_library(fixture("example_good"), nullptr, search_build());
+  EXPECT_TRUE(r.passed());
+  const th::Check* on = find(r, "subsystem faulty-spring");
+  ASSERT_NE(on, nullptr);
+  EXPECT_EQ(on->verdict, th::Check::Verdict::note);
+  EXPECT_NE(on->detail.find("the example model of subsystem 'faulty-spring'"), std::string::npos)
+      << on->detail;
+  EXPECT_FALSE(th::Host(fixture("example_good"), "faulty-spring").example_model().empty());
+}
+
+TEST(TestHostExampleModel, ABrokenDeclaredModelFailsNamingItsLineAndField) {
+  const th::CheckReport r = th::check_library(fixture("example_broken"), nullptr, search_build());
+  EXPECT_FALSE(r.passed());
+  const th::Check* c = find(r, "subsystem faulty-spring: declared example model");
+  ASSERT_NE(c, nullptr);
+  EXPECT_EQ(c->verdict, th::Check::Verdict::failed);
+  // The example's label, its line (the body's, 4) and the joint type read.
+  EXPECT_NE(c->detail.find("the example model of subsystem 'faulty-spring' (declared by "
+                           "example_broken.so)"),
+            std::string::npos)
+      << c->detail;
+  EXPECT_NE(c->detail.find(":4"), std::string::npos) << c->detail;
+  EXPECT_NE(c->detail.find("hinge"), std::string::npos) << c->detail;
+}
+
+TEST(TestHostExampleModel, AComponentWithoutOneIsSkippedWithTheReason) {
+  for (const char* plugin : {"sound", "sdk23_spring"}) {
+    const th::CheckReport r = th::check_library(fixture(plugin), nullptr, search_build());
+    EXPECT_TRUE(r.passed()) << plugin;
+    const th::Check* c = find(r, "subsystem faulty-spring");
+    ASSERT_NE(c, nullptr) << plugin;
+    EXPECT_EQ(c->verdict, th::Check::Verdict::skipped) << plugin;
+    EXPECT_NE(c->detail.find("declares no example model"), std::string::npos) << c->detail;
+  }
+}
+
+}  // namespace
