@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <monohydra/testhost.hpp>
 #include <string>
 
@@ -83,6 +84,8 @@ TEST(GasAccumulator, IsothermalChargeFollowsBoylesLawAndStoresTheIntegralOfPQ) {
   double worst = 0.0;  // |p V - p0 V0| / (p0 V0) over the whole charge
   for (size_t k = 0; k < c.p.size(); ++k)
     worst = std::max(worst, std::abs(c.p[k] * c.v[k] - kP0 * kV0) / (kP0 * kV0));
+  std::printf("  isothermal: max |p V - p0 V0| / p0 V0 %.2e, energy balance %.2e, E %.4f J\n",
+              worst, energy_balance(c), c.e.back());
   EXPECT_LT(worst, 1e-9);
   EXPECT_NEAR(c.p.back(), kSupply, 1.0);                     // charged: no flow left
   EXPECT_NEAR(c.e.back(), kP0 * kV0 * std::log(4.0), 1e-3);  // p0 V0 ln(V0/V), J
@@ -104,6 +107,7 @@ TEST(GasAccumulator, AdiabaticChargeFollowsThePolytropeAndStoresLessThanIsotherm
 TEST(GasAccumulator, AnalyticJacobianEqualsDifferencesWhileCharging) {
   const th::TangentComparison t = host().tangent(charge(1.4), 50);
   ASSERT_TRUE(t.failure.empty()) << t.failure;
+  std::printf("  tangent after 50 steps: max error %.2e\n", t.max_error);
   EXPECT_LT(t.max_error, 1e-5) << t.worst;
 }
 

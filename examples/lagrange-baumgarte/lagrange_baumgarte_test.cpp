@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <monohydra/testhost.hpp>
 #include <string>
 

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <monohydra/testhost.hpp>
 #include <string>
 
@@ -76,6 +77,7 @@ TEST(Rk4, ErrorFallsBySixteenWhenTheStepHalvesOnADampedOscillator) {
 TEST(Rk4, StopsWithAClearStatusBeyondItsStabilityBound) {
   // k = 2e6 N/m: h sqrt(k/m) = 10 at h = 0.01, far beyond RK4's 2.78.
   const th::Series s = host().run(slider(2e6), 100);
+  std::printf("  k = 2e6 N/m at h = 0.01 s: %s\n", s.status.c_str());
   EXPECT_FALSE(s.ok);
   EXPECT_EQ(s.status.rfind("FAILED at t = ", 0), 0u) << s.status;
   EXPECT_NE(s.status.find(", step "), std::string::npos) << s.status;

@@ -99,18 +99,22 @@ TEST(PluginRegistry, RefusesALibraryWithoutTheEntrySymbol) {
                                   "symbol 'mh_entry'");
 }
 
+// This host's ABI as the refusals name it, from the SDK header.
+const std::string kHostAbi =
+    std::to_string(MH_ABI_VERSION_MAJOR) + "." + std::to_string(MH_ABI_VERSION_MINOR);
+
 TEST(PluginRegistry, RefusesAPluginOfAnIncompatibleAbiMajorVersion) {
   const std::string path = std::string(MH_FIXTURE_DIR) + "/mh_fixture_future_abi.so";
-  EXPECT_EQ(load_error(path), "'" + path +
-                                  "' was built for monohydra ABI 99.0, this host speaks ABI 2.3 "
-                                  "(major versions must match: rebuild the plugin against SDK 2)");
+  EXPECT_EQ(load_error(path),
+            "'" + path + "' was built for monohydra ABI 99.0, this host speaks ABI " + kHostAbi +
+                " (major versions must match: rebuild the plugin against SDK 2)");
 }
 
 TEST(PluginRegistry, RefusesAnAbi1PluginNamingBothVersions) {
   const std::string path = std::string(MH_FIXTURE_DIR) + "/mh_fixture_major_one.so";
-  EXPECT_EQ(load_error(path), "'" + path +
-                                  "' was built for monohydra ABI 1.1, this host speaks ABI 2.3 "
-                                  "(major versions must match: rebuild the plugin against SDK 2)");
+  EXPECT_EQ(load_error(path),
+            "'" + path + "' was built for monohydra ABI 1.1, this host speaks ABI " + kHostAbi +
+                " (major versions must match: rebuild the plugin against SDK 2)");
 }
 
 TEST(PluginRegistry, ScanRecordsRefusalsAndKeepsGoing) {

@@ -36,6 +36,13 @@ const th::Check* find(const th::CheckReport& r, const std::string& what_prefix) 
   return nullptr;
 }
 
+// The line about the component as a whole: the model it is checked on, or why not.
+const th::Check* about(const th::CheckReport& r, const std::string& what) {
+  for (const th::Check& c : r.checks)
+    if (c.what == what) return &c;
+  return nullptr;
+}
+
 TEST(TestHost, RunsASoundSpringAndItsSeriesConserveEnergy) {
   const th::Host host(fixture("sound"), "faulty-spring", {MH_PLUGIN_DIR});
   EXPECT_EQ(host.kind(), th::Kind::subsystem);
@@ -116,7 +123,7 @@ TEST(TestHost, ALibraryItCannotLoadOrAnIdItLacksThrowsWithTheReason) {
 TEST(TestHostExampleModel, ADeclaredModelIsCheckedWhenNoneIsGiven) {
   const th::CheckReport r = th::check_library(fixture("example_good"), nullptr, search_build());
   EXPECT_TRUE(r.passed());
-  const th::Check* on = find(r, "subsystem faulty-spring");
+  const th::Check* on = about(r, "subsystem faulty-spring");
   ASSERT_NE(on, nullptr);
   EXPECT_EQ(on->verdict, th::Check::Verdict::note);
   EXPECT_NE(on->detail.find("the example model of subsystem 'faulty-spring'"), std::string::npos)
@@ -143,7 +150,7 @@ TEST(TestHostExampleModel, AComponentWithoutOneIsSkippedWithTheReason) {
   for (const char* plugin : {"sound", "sdk23_spring"}) {
     const th::CheckReport r = th::check_library(fixture(plugin), nullptr, search_build());
     EXPECT_TRUE(r.passed()) << plugin;
-    const th::Check* c = find(r, "subsystem faulty-spring");
+    const th::Check* c = about(r, "subsystem faulty-spring");
     ASSERT_NE(c, nullptr) << plugin;
     EXPECT_EQ(c->verdict, th::Check::Verdict::skipped) << plugin;
     EXPECT_NE(c->detail.find("declares no example model"), std::string::npos) << c->detail;

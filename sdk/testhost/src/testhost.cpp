@@ -106,6 +106,7 @@ std::vector<std::string> fallback_models(const CheckOptions& options, ComponentK
     if (e.path().extension() == ".yaml") found.emplace_back(e.file_size(ec), e.path().string());
   std::sort(found.begin(), found.end());
   std::vector<std::string> out;
+  out.reserve(found.size());
   for (const auto& f : found) out.push_back(f.second);
   return out;
 }
