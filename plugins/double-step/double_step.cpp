@@ -82,9 +82,19 @@ struct DoubleStep {
   Eigen::VectorXd zdd_i;                // f: scratch
   Eigen::VectorXd dx_i, z_est;          // f, N: the dependent coordinates' estimate
   bool iterate_valid = false;
-  // mechanics_map's scratch: d(Phi_z zd)/dz on the kept rows (r x N), times
-  // R_z (r x f), and the dependent rates' derivative (r x f).
-  Eigen::MatrixXd rate_stiffness, rate_stiffness_R, dzd_dependent;
+  // M' and Q' of the last iterate (N x N, N), kept for the analytic tangent.
+  Eigen::MatrixXd M_prime;
+  Eigen::VectorXd Q_prime;
+  // The derivatives of the last iterate (derivatives()): how z, zd and zdd
+  // move with x at fixed xd, xdd (dz/dx = R_z, dzd_dx, dzdd_dx) and with xd
+  // (dzd/dxd = R_z, dzdd_dxd), N x f each, zero on the independent rows but
+  // R_z's identity; and the tangent blocks dr/dx, dr/dxd (f x f).
+  bool derivatives_valid = false;
+  Eigen::MatrixXd dzd_dx, dzdd_dx, dzdd_dxd, dr_dx, dr_dxd;
+  // Scratch: d(Phi_z zd)/dz, dA/dz, dA/dzd on the kept rows (r x N); products
+  // with R_z (r x f, N x f); e = M' zdd - Q' (N), its multipliers (r, m).
+  Eigen::MatrixXd rate_stiffness, dA_dz_kept, dA_dzd_kept, rhs_rf, work_Nf;
+  Eigen::VectorXd residual_force, lambda_r, lambda_m;
   Eigen::VectorXd column_r, scratch_r;  // r
 
   // Outputs: names (the host may keep the pointers) and indices.
@@ -182,9 +192,17 @@ void size_buffers(DoubleStep& s) {
   s.transform.set_partition(s.partition);
   s.block_lu = Eigen::FullPivLU<Eigen::MatrixXd>(s.r, s.r);
   s.block.setZero(s.r, s.r);
-  s.rate_stiffness.setZero(s.r, s.N);
-  s.rate_stiffness_R.setZero(s.r, s.f);
-  s.dzd_dependent.setZero(s.r, s.f);
+  s.M_prime.setZero(s.N, s.N);
+  s.Q_prime.setZero(s.N);
+  for (Eigen::MatrixXd* a : {&s.dzd_dx, &s.dzdd_dx, &s.dzdd_dxd, &s.work_Nf}) a->setZero(s.N, s.f);
+  s.dr_dx.setZero(s.f, s.f);
+  s.dr_dxd.setZero(s.f, s.f);
+  for (Eigen::MatrixXd* a : {&s.rate_stiffness, &s.dA_dz_kept, &s.dA_dzd_kept})
+    a->setZero(s.r, s.N);
+  s.rhs_rf.setZero(s.r, s.f);
+  s.residual_force.setZero(s.N);
+  s.lambda_r.setZero(s.r);
+  s.lambda_m.setZero(s.m);
   s.column_r.setZero(s.r);
   s.scratch_r.setZero(s.r);
   size_partition(s.candidate, s.N, s.r);
@@ -340,6 +358,8 @@ mh_status two_steps(DoubleStep& s, double t, uint32_t flags) {
   // The velocity-product term at the full zd just completed.
   s.transform.velocity_term(s.dependent.lu(), rs.phi_dot_zd, s.partition);
   s.transform.reduce(rs.M, rs.Q);
+  s.M_prime = Eigen::Map<const Eigen::MatrixXd>(rs.M, s.N, s.N);  // for the tangent
+  s.Q_prime = Eigen::Map<const Eigen::VectorXd>(rs.Q, s.N);
   return MH_OK;
 }
 
@@ -360,6 +380,7 @@ mh_status evaluate_iterate(DoubleStep& s, double t, const double* x, const doubl
     s.z_it = s.z_pred;
   }
   s.iterate_valid = false;
+  s.derivatives_valid = false;
   s.t_it = t;
   for (int k = 0; k < s.f; ++k) {
     const int i = s.partition.independent[static_cast<size_t>(k)];
@@ -471,13 +492,129 @@ mh_status residual(const mh_formulation* fo, double t, const double* x, const do
   });
 }
 
+// Whether the host offers mech_derivatives (ABI 2.1): its table reaches the field.
+bool has_mech_derivatives(const mh_host* host) {
+  return host->struct_size >=
+             offsetof(mh_host, mech_derivatives) + sizeof(host->mech_derivatives) &&
+         host->mech_derivatives != nullptr;
+}
+
+// -dep rows of (Phi_z^d)^{-1} rhs (r x f) into the dependent rows of out (N x f).
+void solve_dependent_rows(DoubleStep& s, const Eigen::MatrixXd& rhs, Eigen::MatrixXd& out) {
+  for (int c = 0; c < s.f; ++c) {
+    s.column_r = -rhs.col(c);
+    lu_solve_in_place(s.dependent.lu(), s.column_r, s.scratch_r);
+    for (int k = 0; k < s.r; ++k)
+      out(s.partition.dependent[static_cast<size_t>(k)], c) = s.column_r[k];
+  }
+}
+
+// The derivatives of the last iterate's z, zd, zdd and rows r = R_z^T e,
+// e = M' zdd - Q' (Eq. 17 with Eq. 15's zdd), from the host's recursions
+// (ABI 2.1), no differences. With z = z(x) on Phi(z) = 0 and the kept rows of
+// Phi_z zd = 0 and A = Phi_z zdd + Phi_z_dot zd = 0 (Eqs. 13-15):
+//   dz/dx = R_z,  Phi_z^d dzd^d/dx = -G R_z,  G = d(Phi_z zd)/dz,
+//   Phi_z^d dzdd^d/dx = -(dA/dz R_z + dA/dzd dzd/dx),
+//   Phi_z^d dzdd^d/dxd = -dA/dzd R_z  (dzd/dxd = R_z, dzdd/dxdd = R_z);
+// and R_z's own derivative, from Phi_z R_z = 0: (dR_z/dx_k)^T e =
+// -R_z^T S R_z e_k with S = d(Phi_z^T lambda)/dz, Phi_z^d^T lambda = e^d. So
+//   dr/dx   = R_z^T ((K - S) R_z + C dzd/dx + M' dzdd/dx),
+//   dr/dxd  = R_z^T (C R_z + M' dzdd/dxd),
+//   dr/dxdd = R_z^T M' R_z = M''.
+mh_status derivatives(DoubleStep& s) {
+  if (s.derivatives_valid) return MH_OK;
+  const Eigen::MatrixXd& R = s.transform.R_z();
+  const Partition& p = s.partition;
+  // lambda on the kept rows from e^d, zero on dropped ones.
+  s.residual_force.noalias() = s.M_prime * s.zdd_it;
+  s.residual_force -= s.Q_prime;
+  for (int k = 0; k < s.r; ++k)
+    s.lambda_r[k] = s.residual_force[p.dependent[static_cast<size_t>(k)]];
+  lu_solve_transpose_in_place(s.dependent.lu(), s.lambda_r, s.scratch_r);
+  s.lambda_m.setZero();
+  for (int a = 0; a < s.r; ++a) s.lambda_m[p.rows[static_cast<size_t>(a)]] = s.lambda_r[a];
+
+  mh_mech_derivatives_request rq{};
+  rq.struct_size = sizeof(rq);
+  rq.flags = MH_DERIV_DYNAMICS | MH_DERIV_CONSTRAINT_FORCES | MH_DERIV_CONSTRAINT_ACCELERATIONS;
+  rq.t = s.t_it;
+  rq.z = s.z_it.data();
+  rq.zd = s.zd_it.data();
+  rq.zdd = s.zdd_it.data();
+  rq.v = s.lambda_m.data();
+  mh_mech_derivatives d{};
+  d.struct_size = sizeof(d);
+  const mh_status st = s.host->mech_derivatives(s.host, &rq, &d);
+  if (st >= MH_DISCARD) return st;
+  using ConstMap = Eigen::Map<const Eigen::MatrixXd>;
+  const ConstMap K(d.K, s.N, s.N), C(d.C, s.N, s.N), S(d.dPhizT_v_dz, s.N, s.N);
+  const ConstMap dA_dz(d.dA_dz, s.m, s.N), dA_dzd(d.dA_dzd, s.m, s.N);
+  for (int a = 0; a < s.r; ++a) {
+    const int row = p.rows[static_cast<size_t>(a)];
+    s.dA_dz_kept.row(a) = dA_dz.row(row);
+    s.dA_dzd_kept.row(a) = dA_dzd.row(row);
+    for (int k = 0; k < s.r; ++k) {
+      const int j = p.dependent[static_cast<size_t>(k)];
+      s.rate_stiffness(a, j) = 0.5 * dA_dzd(row, j);
+    }
+    for (int k = 0; k < s.f; ++k) {
+      const int j = p.independent[static_cast<size_t>(k)];
+      s.rate_stiffness(a, j) = 0.5 * dA_dzd(row, j);
+    }
+  }
+  // Zero on the independent rows, which a re-partition may have moved.
+  s.dzd_dx.setZero();
+  s.dzdd_dx.setZero();
+  s.dzdd_dxd.setZero();
+  s.rhs_rf.noalias() = s.rate_stiffness * R;
+  solve_dependent_rows(s, s.rhs_rf, s.dzd_dx);
+  s.rhs_rf.noalias() = s.dA_dz_kept * R;
+  s.rhs_rf.noalias() += s.dA_dzd_kept * s.dzd_dx;
+  solve_dependent_rows(s, s.rhs_rf, s.dzdd_dx);
+  s.rhs_rf.noalias() = s.dA_dzd_kept * R;
+  solve_dependent_rows(s, s.rhs_rf, s.dzdd_dxd);
+
+  s.work_Nf.noalias() = K * R;
+  s.work_Nf.noalias() -= S * R;
+  s.work_Nf.noalias() += C * s.dzd_dx;
+  s.work_Nf.noalias() += s.M_prime * s.dzdd_dx;
+  s.dr_dx.noalias() = R.transpose() * s.work_Nf;
+  s.work_Nf.noalias() = C * R;
+  s.work_Nf.noalias() += s.M_prime * s.dzdd_dxd;
+  s.dr_dxd.noalias() = R.transpose() * s.work_Nf;
+  s.derivatives_valid = true;
+  return MH_OK;
+}
+
+// The analytic tangent at the last residual call (derivatives()): every
+// column given, so the host differences nothing mechanical. Without
+// mech_derivatives the host differences every column (Eqs. 40-41).
+mh_status tangent(const mh_formulation* fo, double t, const double* x, const double* xd,
+                  const double* xdd, double* dr_dx, double* dr_dxd, double* dr_dxdd,
+                  uint8_t* column_given) noexcept {
+  DoubleStep& s = self(fo);
+  return guarded(s, "tangent", [&]() -> mh_status {
+    const NoHeapScope no_heap;
+    if (!has_mech_derivatives(s.host)) return MH_OK;
+    if (!is_last_iterate(s, x, xd, xdd)) {
+      const mh_status st = evaluate_iterate(s, t, x, xd, xdd, 0u);
+      if (st >= MH_DISCARD) return st;
+    }
+    const mh_status st = derivatives(s);
+    if (st >= MH_DISCARD) return st;
+    Eigen::Map<Eigen::MatrixXd>(dr_dx, s.f, s.f) = s.dr_dx;
+    Eigen::Map<Eigen::MatrixXd>(dr_dxd, s.f, s.f) = s.dr_dxd;
+    Eigen::Map<Eigen::MatrixXd>(dr_dxdd, s.f, s.f) = s.transform.M_reduced();
+    std::fill(column_given, column_given + s.f, uint8_t{1});
+    return MH_OK;
+  });
+}
+
 // How the last residual's mechanics depended on x = z^i (ABI 2.2), so that the
 // host couples the subsystems to them without differences: z = z(z^i) with
 // dz/dz^i = R_z (Eq. 14), zd = R_z zd^i, the rows r = M'' zdd^i - Q'' take Q'
 // as -R_z^T (Eq. 17), and at fixed zd^i the dependent rates move with z^i by
-// Phi_z^d dzd^d = -(d(Phi_z zd)/dz) R_z, where d(Phi_z zd)/dz = (dA/dzd -
-// Phi_z)/2 (A = Phi_z zdd + Phi_z_dot zd is quadratic in zd), from the host's
-// mech_derivatives (ABI 2.1).
+// Phi_z^d dzd^d = -(d(Phi_z zd)/dz) R_z (derivatives()).
 mh_status mechanics_map(const mh_formulation* fo, double* dz_dx, double* dzd_dx, double* dzd_dxd,
                         double* dr_dQ) noexcept {
   DoubleStep& s = self(fo);
@@ -492,45 +629,15 @@ mh_status mechanics_map(const mh_formulation* fo, double* dz_dx, double* dzd_dx,
     for (int k = 0; k < s.f; ++k)
       for (int j = 0; j < s.N; ++j) Q_map(k, j) = -R(j, k);
     if (dz_dx == nullptr || dzd_dx == nullptr || dzd_dxd == nullptr) return MH_OK;  // not needed
-    if (s.host->struct_size <
-            offsetof(mh_host, mech_derivatives) + sizeof(s.host->mech_derivatives) ||
-        s.host->mech_derivatives == nullptr) {
+    if (!has_mech_derivatives(s.host)) {
       log_error(s, "mechanics_map: the host has no mech_derivatives (ABI 2.1)");
       return MH_ERROR;
     }
+    const mh_status st = derivatives(s);
+    if (st >= MH_DISCARD) return st;
     Eigen::Map<Eigen::MatrixXd>(dz_dx, s.N, s.f) = R;
     Eigen::Map<Eigen::MatrixXd>(dzd_dxd, s.N, s.f) = R;
-    mh_mech_derivatives_request rq{};
-    rq.struct_size = sizeof(rq);
-    rq.flags = MH_DERIV_CONSTRAINT_ACCELERATIONS;
-    rq.t = s.t_it;
-    rq.z = s.z_it.data();
-    rq.zd = s.zd_it.data();
-    rq.zdd = s.zdd_it.data();
-    mh_mech_derivatives d{};
-    d.struct_size = sizeof(d);
-    const mh_status st = s.host->mech_derivatives(s.host, &rq, &d);
-    if (st >= MH_DISCARD) return st;
-    const Eigen::Map<const Eigen::MatrixXd> dA_dzd(d.dA_dzd, s.m, s.N);
-    const Partition& p = s.partition;
-    for (int a = 0; a < s.r; ++a) {
-      const int row = p.rows[static_cast<size_t>(a)];
-      for (int k = 0; k < s.r; ++k) {
-        const int j = p.dependent[static_cast<size_t>(k)];
-        s.rate_stiffness(a, j) = 0.5 * (dA_dzd(row, j) - s.dependent.phi_z_d()(a, k));
-      }
-      for (int k = 0; k < s.f; ++k) {
-        const int j = p.independent[static_cast<size_t>(k)];
-        s.rate_stiffness(a, j) = 0.5 * (dA_dzd(row, j) - s.dependent.phi_z_i()(a, k));
-      }
-    }
-    s.rate_stiffness_R.noalias() = s.rate_stiffness * R;
-    Eigen::Map<Eigen::MatrixXd> zd_map(dzd_dx, s.N, s.f);
-    for (int c = 0; c < s.f; ++c) {
-      s.column_r = -s.rate_stiffness_R.col(c);
-      lu_solve_in_place(s.dependent.lu(), s.column_r, s.scratch_r);
-      for (int k = 0; k < s.r; ++k) zd_map(p.dependent[static_cast<size_t>(k)], c) = s.column_r[k];
-    }
+    Eigen::Map<Eigen::MatrixXd>(dzd_dx, s.N, s.f) = s.dzd_dx;
     return MH_OK;
   });
 }
@@ -680,7 +787,7 @@ const mh_formulation kOps = [] {
   f.start = start;
   f.begin_step = begin_step;
   f.residual = residual;
-  f.tangent = nullptr;  // forward differences by the host (Eqs. 40-41)
+  f.tangent = tangent;  // analytic; forward differences without mech_derivatives
   f.iteration_done = nullptr;
   f.accept = accept;
   f.coordinates = coordinates;

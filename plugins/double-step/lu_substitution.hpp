@@ -28,4 +28,24 @@ inline void lu_solve_in_place(const Eigen::PartialPivLU<Eigen::MatrixXd>& lu,
   }
 }
 
+// b := A^{-T} b (A^T = U^T L^T P); `scratch` has b's size.
+inline void lu_solve_transpose_in_place(const Eigen::PartialPivLU<Eigen::MatrixXd>& lu,
+                                        Eigen::Ref<Eigen::VectorXd> b,
+                                        Eigen::Ref<Eigen::VectorXd> scratch) {
+  const Eigen::MatrixXd& LU = lu.matrixLU();
+  const auto& P = lu.permutationP().indices();
+  const Eigen::Index n = LU.rows();
+  for (Eigen::Index i = 0; i < n; ++i) {  // U^T w = b
+    double v = b[i];
+    for (Eigen::Index j = 0; j < i; ++j) v -= LU(j, i) * scratch[j];
+    scratch[i] = v / LU(i, i);
+  }
+  for (Eigen::Index i = n - 1; i >= 0; --i) {  // L^T u = w, unit diagonal
+    double v = scratch[i];
+    for (Eigen::Index j = i + 1; j < n; ++j) v -= LU(j, i) * scratch[j];
+    scratch[i] = v;
+  }
+  for (Eigen::Index i = 0; i < n; ++i) b[i] = scratch[P[i]];  // y = P^T u
+}
+
 }  // namespace mh::double_step
