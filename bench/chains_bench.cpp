@@ -1,8 +1,8 @@
 // One step of generated mechanisms as they grow: the open chain of N beams
 // (targets: 150 us per step at N = 64, 5 ms at N = 256) and a tree of
 // bounded depth (one base, N/2 arms of two beams; target: linear in N), with
-// every linear solver and modified Newton. A new simulation starts every
-// simulated second (untimed), so every N is measured over the same motion.
+// every linear solver (auto: by the tangent's density) and modified Newton. A new simulation starts
+// every simulated second (untimed), so every N is measured over the same motion.
 #include <memory>
 
 #include "bench_support.hpp"
@@ -50,9 +50,11 @@ void add(const std::string& kind, int n, LinearSolverKind linear, NewtonKind new
 
 const int registered = [] {
   for (NewtonKind newton : {NewtonKind::full, NewtonKind::modified})
-    for (LinearSolverKind linear :
-         {LinearSolverKind::klu, LinearSolverKind::umfpack, LinearSolverKind::dense}) {
-      const bool main = linear == LinearSolverKind::klu;  // the default solver to N = 256
+    for (LinearSolverKind linear : {LinearSolverKind::klu, LinearSolverKind::umfpack,
+                                    LinearSolverKind::dense, LinearSolverKind::automatic}) {
+      // KLU (the default) and auto (dense LU for the chain's dense tangent,
+      // KLU for the tree's sparse one) to N = 256; the others on small N.
+      const bool main = linear == LinearSolverKind::klu || linear == LinearSolverKind::automatic;
       for (int n : {2, 4, 8, 16, 32, 64, 128, 256})
         if (main || n <= 64) add("chain", n, linear, newton);
       for (int n : {5, 9, 17, 33, 65, 129})

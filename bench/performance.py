@@ -4,6 +4,7 @@ measurements on this machine: one command, every number.
 
   bench/performance.py [--build build] [--repetitions 3] [--quick]
                        [--no-profile] [--json FILE]
+  bench/performance.py --chains [--build build] [--repetitions 3] [--json FILE]
 
 It runs build/bin/mh_bench (Google Benchmark, JSON output; medians of
 --repetitions runs, CPU time), fits log-log slopes to the chain and tree
@@ -12,7 +13,9 @@ curves, draws them as SVG, profiles a case study and chains with valgrind
 callgrind_annotate), and writes the page. Python 3 from Debian, no pip.
 --json reuses an earlier mh_bench JSON instead of running it (each run keeps
 its own as BUILD/performance.json); --quick runs one repetition and leaves
-out the N = 256 chain.
+out the N = 256 chain. --chains measures only the chains and trees
+(--benchmark_filter='chain|tree') and prints their table and fitted slopes
+(all N, and over N >= 33 for the large end) instead of writing the page.
 """
 
 import argparse
@@ -102,7 +105,7 @@ def git_head():
         return "unknown"
 
 
-def run_bench(build, repetitions, quick):
+def run_bench(build, repetitions, quick, only=None):
     exe = os.path.join(build, "bin", "mh_bench")
     if not os.path.exists(exe):
         sys.exit("performance.py: %s not found: configure with -DMONOHYDRA_BENCH=ON and build" % exe)
@@ -115,6 +118,8 @@ def run_bench(build, repetitions, quick):
                 "--benchmark_report_aggregates_only=true"]
     if quick:
         cmd += ["--benchmark_filter=-/256$"]
+    elif only:
+        cmd += ["--benchmark_filter=" + only]
     run(cmd, stdout=sys.stderr)
     with open(out) as f:
         data = json.load(f)
@@ -418,6 +423,24 @@ def largest_shares(rows):
     return "; ".join(out) or "no category found"
 
 
+def chains_report(res):
+    """Every chain and tree series measured: us per step by N, and log-log slopes."""
+    series = sorted({tuple(name.split("/")[:3]) for name in res
+                     if name.split("/")[0] in ("chain", "tree") and len(name.split("/")) == 4})
+    lines = ["| series | N: us per step (its/step, tangents/step) | slope, all N | slope, N >= 33 |",
+             "|---|---|---|---|"]
+    for kind, l, n in series:
+        pts = curve(res, kind, l, n)
+        cells = ", ".join("%d: %s (%s, %s)" % (N, fmt(us), fmt(r.get("its_per_step")),
+                                                fmt(r.get("tangents_per_step")))
+                          for N, us, r in pts)
+        large = fit_slope([(p[0], p[1]) for p in pts if p[0] >= 33])
+        lines.append("| %s/%s/%s | %s | %s | %s |" % (
+            kind, l, n, cells, fmt(fit_slope([(p[0], p[1]) for p in pts]), 2), fmt(large, 2)))
+    failed = ["%s: %s" % (name, r["error"]) for name, r in sorted(res.items()) if "error" in r]
+    return "\n".join(lines + (["", "failed: " + "; ".join(failed)] if failed else []))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     ap.add_argument("--build", default=os.path.join(ROOT, "build"))
@@ -425,6 +448,8 @@ def main():
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--no-profile", action="store_true")
     ap.add_argument("--json", help="an mh_bench JSON to use instead of running it")
+    ap.add_argument("--chains", action="store_true",
+                    help="measure the chains and trees only and print their table")
     ap.add_argument("--out", default=os.path.join(ROOT, "docs", "performance.md"))
     ap.add_argument("--svg", default=os.path.join(ROOT, "docs", "performance-chains.svg"))
     a = ap.parse_args()
@@ -433,8 +458,12 @@ def main():
         with open(a.json) as f:
             data = json.load(f)
     else:
-        data = run_bench(a.build, 1 if a.quick else a.repetitions, a.quick)
+        data = run_bench(a.build, 1 if a.quick else a.repetitions, a.quick,
+                         "chain|tree" if a.chains else None)
     res = results(data)
+    if a.chains:
+        print(chains_report(res))
+        return
     rows, why = (None, "left out (--no-profile)") if a.no_profile else profile(a.build)
 
     series = []

@@ -3,7 +3,7 @@
 // given simulated time, writing its CSV to /dev/null every step, every 10 ms
 // or not at all.
 //   mh_profile MODEL.yaml|chain:N|tree:N FORMULATION T_END [none|every-step|10ms]
-//              [full|modified]
+//              [full|modified] [klu|umfpack|dense|auto]
 #include <fstream>
 #include <iostream>
 #include <optional>
@@ -14,15 +14,16 @@
 
 int main(int argc, char** argv) {
   using namespace mh;
-  if (argc < 4 || argc > 6) {
+  if (argc < 4 || argc > 7) {
     std::cerr << "usage: mh_profile MODEL.yaml|chain:N|tree:N FORMULATION T_END "
-                 "[none|every-step|10ms] [full|modified]\n";
+                 "[none|every-step|10ms] [full|modified] [klu|umfpack|dense|auto]\n";
     return 2;
   }
   try {
     const std::string what = argv[1];
     const std::string output = argc >= 5 ? argv[4] : "none";
     const std::string newton = argc >= 6 ? argv[5] : "full";
+    const std::string linear = argc >= 7 ? argv[6] : "klu";
     if (newton != "full" && newton != "modified")
       throw std::runtime_error("newton: expected full or modified, got '" + newton + "'");
     if (output != "none" && output != "every-step" && output != "10ms")
@@ -35,6 +36,16 @@ int main(int argc, char** argv) {
     else
       file = bench::shipped_model(what);
     file.solver.newton = newton == "modified" ? NewtonKind::modified : NewtonKind::full;
+    bool known = false;
+    for (LinearSolverKind kind : {LinearSolverKind::klu, LinearSolverKind::umfpack,
+                                  LinearSolverKind::dense, LinearSolverKind::automatic})
+      if (linear == to_string(kind)) {
+        file.solver.linear = kind;
+        known = true;
+      }
+    if (!known)
+      throw std::runtime_error("linear: expected klu, umfpack, dense or auto, got '" + linear +
+                               "'");
     Simulation sim(file, bench::plugins(), RunChoices{argv[2], "", {}, std::stod(argv[3])});
     const CsvLayout layout(sim, OutputSettings{},
                            output == "10ms" ? std::optional<double>(0.01) : std::nullopt);

@@ -147,7 +147,8 @@ void add_point_force(const Model& model, const Data& data, const PointForceTerm&
   }
 }
 
-// Columns of K (rate = false) or C (rate = true) from the body terms, one
+// Entries (i, k) of K (rate = false) or C (rate = true) from the body terms,
+// for i in k's subtree or above it (the others are left as they are), one
 // subtree sweep of body variations per coordinate: the cheaper fill for shallow
 // trees (see use_factored_fill). Only the
 // subtree of coordinate k varies. For i in it, d(b_i . H_i) = (b_k x b_i) . H_i +
@@ -157,21 +158,18 @@ void fill_columns_by_subtree(const Model& model, const Data& data, bool rate,
                              DynamicsDerivativesWorkspace& ws, Eigen::Ref<Eigen::MatrixXd>& out) {
   const int n = model.num_bodies();
   for (int k = 0; k < n; ++k) {
-    for (int j = k; j < n; ++j) {
-      const int p = model.bodies[j].parent;
-      ws.in_subtree[j] = static_cast<char>(j == k || (p >= k && ws.in_subtree[p]));
-      if (!ws.in_subtree[j]) continue;
+    const int* first = ws.subtree_bodies.data() + ws.subtree_start[k];
+    const int* last = ws.subtree_bodies.data() + ws.subtree_start[k + 1];
+    for (const int* it = first; it != last; ++it) {
+      const int j = *it;
       const BodyState s = body_state(model, data, ws, j);
       const BodyVariation dv =
           rate ? detail::variation_zd(data, j, k) : detail::variation_z(data, ws.Zdot, j, k);
       ws.dH[j] = vary_body_residual(s, dv);
     }
-    for (int j = n - 1; j > k; --j) {
-      if (ws.in_subtree[j]) ws.dH[model.bodies[j].parent] += ws.dH[j];
-    }
-    out.col(k).setZero();
-    for (int i = k; i < n; ++i) {
-      if (!ws.in_subtree[i]) continue;
+    for (const int* it = last - 1; it > first; --it) ws.dH[model.bodies[*it].parent] += ws.dH[*it];
+    for (const int* it = first; it != last; ++it) {
+      const int i = *it;
       double value = data.b[i].dot(ws.dH[i]);
       if (!rate && i != k) value += motion_cross(data.b[k], data.b[i]).dot(ws.H[i]);
       out(i, k) = value;
@@ -264,12 +262,8 @@ void fill_columns_factored(const Model& model, const Data& data, DynamicsDerivat
     const Vector6d& bk = data.b[k];
     const Vector6d u = motion_cross(bk, data.Z[k]);
     const Vector6d c = -motion_cross(bk, ws.Zdot[k]) - motion_cross(data.Z[k], u);
-    K.col(k).setZero();
-    C.col(k).setZero();
-    for (int i = k; i < n; ++i) {
-      const int p = model.bodies[i].parent;
-      ws.in_subtree[i] = static_cast<char>(i == k || (p >= k && ws.in_subtree[p]));
-      if (!ws.in_subtree[i]) continue;
+    for (int t = ws.subtree_start[k]; t < ws.subtree_start[k + 1]; ++t) {
+      const int i = ws.subtree_bodies[static_cast<size_t>(t)];
       K(i, k) = ws.row_b[i].dot(bk) - ws.row_rate_b[i].dot(u) + ws.row_c[i].dot(c);
       C(i, k) = ws.row_rate_b[i].dot(bk) - 2.0 * ws.row_c[i].dot(u);
     }
@@ -301,7 +295,15 @@ DynamicsDerivativesWorkspace::DynamicsDerivativesWorkspace(const Model& model) {
   gdot.assign(nb, Eigen::Vector3d::Zero());
   Jw.assign(nb, Eigen::Vector3d::Zero());
   Ja.assign(nb, Eigen::Vector3d::Zero());
-  in_subtree.assign(nb, 0);
+  std::vector<std::vector<int>> below(nb);
+  for (int j = 0; j < model.num_bodies(); ++j)
+    for (int i = j; i != kGround; i = model.bodies[i].parent)
+      below[static_cast<size_t>(i)].push_back(j);
+  subtree_start.assign(nb + 1, 0);
+  for (std::size_t k = 0; k < nb; ++k) {
+    subtree_start[k + 1] = subtree_start[k] + static_cast<int>(below[k].size());
+    subtree_bodies.insert(subtree_bodies.end(), below[k].begin(), below[k].end());
+  }
   cols.setZero(3, model.num_coordinates());
   residual.setZero(model.num_coordinates());
   // The subtree sweep costs two body variations per (coordinate, descendant)
@@ -344,11 +346,30 @@ void dynamics_derivatives(const Model& model, const Data& data, const Eigen::Vec
   }
   for (int i = 0; i < n; ++i) ws.residual[i] = data.b[i].dot(ws.H[i]);  // R_d^T, Eq. (12)
 
+  // Every entry the fill leaves alone is zero: zeroed here, or kept zero by
+  // the caller (zero_unrelated off). Entries of K and C are then set by the
+  // fill (ancestor pairs) or accumulated by the forces between two points
+  // (zeroed below, before the accumulation, where they are no ancestor pair).
+  if (ws.zero_unrelated) {
+    K.setZero();
+    C.setZero();
+  }
   if (ws.use_factored_fill) {
     fill_columns_factored(model, data, ws, K, C);
   } else {
     fill_columns_by_subtree(model, data, false, ws, K);
     fill_columns_by_subtree(model, data, true, ws, C);
+  }
+  if (!ws.zero_unrelated) {
+    for (const PointForceTerm& f : forces) {
+      if (f.point.body == kGround || f.other.body == kGround) continue;
+      for (int k = f.other.body; k != kGround; k = model.bodies[k].parent)
+        for (int i = f.point.body; i != kGround; i = model.bodies[i].parent) {
+          if (is_ancestor_or_self(model, i, k) || is_ancestor_or_self(model, k, i)) continue;
+          K(i, k) = 0.0;
+          C(i, k) = 0.0;
+        }
+    }
   }
   for (const PointForceTerm& f : forces) add_point_force(model, data, f, ws, K, C);
 }

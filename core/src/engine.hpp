@@ -180,7 +180,9 @@ struct Simulation::Engine {
   std::vector<char> column_analytic;       // state columns whose ss entries are all analytic
   Eigen::MatrixXd dr_dx, dr_dxd, dr_dxdd;  // n_m x n_m from the formulation's tangent
   std::vector<uint8_t> mech_column_given;  // n_m
-  std::vector<int> mech_slots;             // n_m x n_m column-major slots
+  // The formulation's unknowns are the coordinates (MH_EXT_COORDINATE_UNKNOWNS):
+  // the mechanical block is the topology's pattern (build_pattern).
+  bool coordinate_unknowns = false;
   // The analytic coupling of subsystems with points to the mechanical
   // unknowns (ABI 2.2 mechanics_map, subsystem_coupling.cpp).
   bool coupling_possible = false;

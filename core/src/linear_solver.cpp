@@ -8,14 +8,22 @@
 
 namespace mh {
 
+LinearSolverKind resolve_linear_solver(const SparsePattern& pattern, LinearSolverKind kind) {
+  if (kind != LinearSolverKind::automatic) return kind;
+  const double n = pattern.size();
+  const double density = n > 0 ? pattern.nonzeros() / (n * n) : 1.0;
+  return density > kAutoDenseDensity ? LinearSolverKind::dense : LinearSolverKind::klu;
+}
+
 std::unique_ptr<LinearSolver> make_linear_solver(const SparsePattern& pattern,
                                                  LinearSolverKind kind) {
-  switch (kind) {
+  switch (resolve_linear_solver(pattern, kind)) {
     case LinearSolverKind::umfpack:
       return std::make_unique<UmfpackSolver>(pattern);
     case LinearSolverKind::dense:
       return std::make_unique<DenseLuSolver>(pattern);
     case LinearSolverKind::klu:
+    case LinearSolverKind::automatic:
       break;
   }
   return std::make_unique<KluSolver>(pattern);

@@ -31,6 +31,9 @@ void Simulation::Engine::size_derivatives() {
   }
   force_terms.assign(terms, PointForceTerm{});
   for (Eigen::MatrixXd* M : {&K, &C, &dPhizT_v_dz}) M->setZero(N, N);
+  // K and C are zeroed here and written by dynamics_derivatives alone, with
+  // the same force terms every call: it need not zero them again (O(N^2)).
+  dyn_ws->zero_unrelated = false;
   dA_dz.setZero(m, N);
   dA_dzd.setZero(m, N);
   saved_outputs.setZero(n_o);

@@ -203,11 +203,7 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
     output_names_.push_back(v.name);
     output_units_.push_back(v.unit);
   }
-  e.build_pattern();
-  // build_pattern analyses the pattern for KLU, the default; another solver
-  // the model file chose replaces it (its own analysis, once per run).
-  if (e.settings.linear != LinearSolverKind::klu)
-    e.linear_solver = make_linear_solver(*e.pattern, e.settings.linear);
+  e.build_pattern();  // and the linear solver the model chose analyses it
   e.reuse.enable(e.settings.newton == NewtonKind::modified);
   e.size_derivatives();
   e.size_explicit();
@@ -332,6 +328,9 @@ int Simulation::num_mechanical_unknowns() const {
 }
 int Simulation::tangent_nonzeros() const {
   return engine_->pattern->nonzeros();
+}
+const SparsePattern& Simulation::tangent_pattern() const {
+  return *engine_->pattern;
 }
 
 Eigen::MatrixXd Simulation::assembled_tangent() {

@@ -163,10 +163,14 @@ mh_status Simulation::Engine::couple_subsystems(double t_eval) {
   // mechanical columns the host differenced hold their whole columns already.
   for (const auto& s : subsystems) {
     if (s.points.empty()) continue;
+    // Outside the pattern (a coordinate that moves none of its points) the
+    // entries are structurally zero and have no slot.
     for (int a : s.touched)
       for (int c = 0; c < n_m; ++c) {
+        const int below = pattern->slot(n_m + a, c);
+        if (below < 0) continue;
         if (mech_column_given[static_cast<size_t>(c)] != 0)
-          values[static_cast<size_t>(pattern->slot(n_m + a, c))] = 0.0;
+          values[static_cast<size_t>(below)] = 0.0;
         values[static_cast<size_t>(pattern->slot(c, n_m + a))] = 0.0;
       }
   }
@@ -220,11 +224,13 @@ mh_status Simulation::Engine::couple_subsystems(double t_eval) {
         const int state = s.touched[row];
         for (int c = 0; c < n_m; ++c) {
           if (mech_column_given[static_cast<size_t>(c)] == 0) continue;  // differenced
+          const int slot = pattern->slot(n_m + state, c);
+          if (slot < 0) continue;  // c moves none of its points
           double d = 0.0;
           for (int i = 0; i < 3; ++i)
             d += s.dR_dp[row * n3 + 3 * a + static_cast<size_t>(i)] * point_dp_dx(i, c) +
                  s.dR_dv[row * n3 + 3 * a + static_cast<size_t>(i)] * point_dv_dx(i, c);
-          values[static_cast<size_t>(pattern->slot(n_m + state, c))] += d;
+          values[static_cast<size_t>(slot)] += d;
         }
       }
       // The mechanical rows in the instance's state columns.
@@ -232,9 +238,10 @@ mh_status Simulation::Engine::couple_subsystems(double t_eval) {
         const Eigen::Vector3d dF(s.dF_dy[b * n3 + 3 * a], s.dF_dy[b * n3 + 3 * a + 1],
                                  s.dF_dy[b * n3 + 3 * a + 2]);
         dQ_dy.noalias() = point_jp.transpose() * dF;
-        for (int rr = 0; rr < n_m; ++rr)
-          values[static_cast<size_t>(pattern->slot(rr, n_m + s.touched[b]))] +=
-              map_dr_dQ.row(rr).dot(dQ_dy);
+        for (int rr = 0; rr < n_m; ++rr) {
+          const int slot = pattern->slot(rr, n_m + s.touched[b]);
+          if (slot >= 0) values[static_cast<size_t>(slot)] += map_dr_dQ.row(rr).dot(dQ_dy);
+        }
       }
     }
   }

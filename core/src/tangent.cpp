@@ -8,22 +8,54 @@
 #include <cmath>
 
 #include "engine.hpp"
+#include "monohydra/core/mechanical_coupling.hpp"
+#include "monohydra/core/plugin_registry.hpp"
 
 namespace mh {
 
 void Simulation::Engine::build_pattern() {
   n = n_m + n_s;
+  // Unknowns that are the joint coordinates (the formulation says so with
+  // MH_EXT_COORDINATE_UNKNOWNS) couple as the topology does
+  // (mechanical_coupling.cpp): a tree of bounded depth gets a tangent of O(N)
+  // entries. Other unknowns couple densely (e.g. independent coordinates,
+  // whose dependent ones may move the whole mechanism).
+  const bool topological =
+      formulation.ops.get_extension != nullptr &&
+      formulation.ops.get_extension(formulation.self, MH_EXT_COORDINATE_UNKNOWNS) != nullptr;
+  if (topological && n_m != N)
+    throw PluginError("formulation '" + formulation_name + "' declares " +
+                      MH_EXT_COORDINATE_UNKNOWNS + " (its unknowns are the " + std::to_string(N) +
+                      " joint coordinates) but added " + std::to_string(n_m) + " unknowns");
+  // The mechanical unknowns each subsystem with points moves and is moved by.
+  std::vector<std::vector<int>> moved(subsystems.size());
+  std::vector<int> all_mechanical(static_cast<size_t>(n_m));
+  for (int k = 0; k < n_m; ++k) all_mechanical[static_cast<size_t>(k)] = k;
+  for (size_t i = 0; i < subsystems.size(); ++i) {
+    const auto& s = subsystems[i];
+    if (s.points.empty()) continue;
+    if (!topological) {
+      moved[i] = all_mechanical;
+      continue;
+    }
+    std::vector<int> bodies;
+    for (const BodyPoint& p : s.points) bodies.push_back(p.body);
+    moved[i] = coordinates_moving(model, bodies);
+  }
   std::vector<std::pair<int, int>> entries;
-  // Mechanical rows and columns: dense (the semirecursive M' couples them all).
-  for (int c = 0; c < n_m; ++c)
-    for (int rr = 0; rr < n_m; ++rr) entries.emplace_back(rr, c);
-  for (const auto& s : subsystems) {
+  if (topological) {
+    entries = mechanical_coupling(model, moved);
+  } else {
+    for (int c = 0; c < n_m; ++c)
+      for (int rr = 0; rr < n_m; ++rr) entries.emplace_back(rr, c);
+  }
+  for (size_t i = 0; i < subsystems.size(); ++i) {
+    const auto& s = subsystems[i];
     for (int a : s.touched)
       for (int b : s.touched) entries.emplace_back(n_m + a, n_m + b);
-    if (s.points.empty()) continue;
-    // Its rows see the kinematics; its forces enter every mechanical row.
+    // Its rows see the kinematics; its forces enter the mechanical rows.
     for (int a : s.touched)
-      for (int k = 0; k < n_m; ++k) {
+      for (int k : moved[i]) {
         entries.emplace_back(n_m + a, k);
         entries.emplace_back(k, n_m + a);
       }
@@ -53,11 +85,6 @@ void Simulation::Engine::build_pattern() {
         group_needs_fd[g] = 1;
     }
   }
-  mech_slots.resize(static_cast<size_t>(n_m) * static_cast<size_t>(n_m));
-  for (int c = 0; c < n_m; ++c)
-    for (int rr = 0; rr < n_m; ++rr)
-      mech_slots[static_cast<size_t>(c) * static_cast<size_t>(n_m) + static_cast<size_t>(rr)] =
-          pattern->slot(rr, c);
   for (Eigen::MatrixXd* b : {&dr_dx, &dr_dxd, &dr_dxdd}) b->setZero(n_m, n_m);
   mech_column_given.assign(static_cast<size_t>(n_m), 0);
   for (auto& s : subsystems) {
@@ -69,7 +96,7 @@ void Simulation::Engine::build_pattern() {
       for (size_t b = 0; b < k; ++b)
         s.slots[a * k + b] = pattern->slot(n_m + s.touched[a], n_m + s.touched[b]);
   }
-  linear_solver = make_linear_solver(*pattern);
+  linear_solver = make_linear_solver(*pattern, settings.linear);
   for (Eigen::VectorXd* v : {&x, &xd, &xdd, &r, &r_pert, &dx, &eps, &x_pred, &xd_off, &xdd_off})
     v->setZero(n);
 }
@@ -100,7 +127,21 @@ mh_status Simulation::Engine::assemble_tangent(double t_eval) {
   // call, which the forward differences below move away from.
   std::fill(mech_column_given.begin(), mech_column_given.end(), 0);
   if (formulation.ops.tangent != nullptr) {
-    for (Eigen::MatrixXd* b : {&dr_dx, &dr_dxd, &dr_dxdd}) b->setZero();
+    if (coordinate_unknowns) {
+      // Zero on entry where the host reads them; outside the topological
+      // pattern the blocks are structurally zero and ignored (O(nonzeros),
+      // not O(n_m^2)).
+      const auto& colptr = pattern->column_start();
+      const auto& rows = pattern->row_index();
+      for (int c = 0; c < n_m; ++c)
+        for (int k = colptr[c]; k < colptr[c + 1] && rows[k] < n_m; ++k) {
+          dr_dx(rows[k], c) = 0.0;
+          dr_dxd(rows[k], c) = 0.0;
+          dr_dxdd(rows[k], c) = 0.0;
+        }
+    } else {
+      for (Eigen::MatrixXd* b : {&dr_dx, &dr_dxd, &dr_dxdd}) b->setZero();
+    }
     const mh_status st = normalized(formulation.ops.tangent(
         formulation.self, t_eval, x.data(), xd.data(), xdd.data(), dr_dx.data(), dr_dxd.data(),
         dr_dxdd.data(), mech_column_given.data()));
@@ -167,10 +208,12 @@ mh_status Simulation::Engine::assemble_tangent(double t_eval) {
                         : kind == MH_UNKNOWN_FIRST_ORDER ? cf.dxd_dx_first
                                                          : 0.0;
       const double ca = kind == MH_UNKNOWN_SECOND_ORDER ? cf.dxdd_dx_second : 0.0;
-      for (int rr = 0; rr < n_m; ++rr)
-        values[static_cast<size_t>(mech_slots[static_cast<size_t>(c) * static_cast<size_t>(n_m) +
-                                              static_cast<size_t>(rr)])] =
-            dr_dx(rr, c) + cv * dr_dxd(rr, c) + ca * dr_dxdd(rr, c);
+      // The column's mechanical rows come first (sorted); entries outside the
+      // pattern are structurally zero (MH_EXT_COORDINATE_UNKNOWNS).
+      for (int k = colptr[c]; k < colptr[c + 1] && rows[k] < n_m; ++k) {
+        const int rr = rows[k];
+        values[static_cast<size_t>(k)] = dr_dx(rr, c) + cv * dr_dxd(rr, c) + ca * dr_dxdd(rr, c);
+      }
     }
   }
   if (coupled) {

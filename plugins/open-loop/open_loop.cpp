@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cstddef>
+#include <cstring>
 #include <string>
 
 #include "monohydra/cpp/formulation_plugin.hpp"
@@ -182,8 +183,12 @@ mh_status coordinates(const mh_formulation* f, double* z, double* zd, double* zd
   });
 }
 
-const void* get_extension(const mh_formulation*, const char*) noexcept {
-  return nullptr;
+// The unknowns are the coordinates, coupled as the mechanics couple them
+// (MH_EXT_COORDINATE_UNKNOWNS): the host's tangent is sparse for trees.
+const char kCoordinateUnknowns = 1;
+const void* get_extension(const mh_formulation*, const char* id) noexcept {
+  return id != nullptr && std::strcmp(id, MH_EXT_COORDINATE_UNKNOWNS) == 0 ? &kCoordinateUnknowns
+                                                                           : nullptr;
 }
 
 const mh_component_descriptor kDescriptor{

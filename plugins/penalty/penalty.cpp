@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdio>
+#include <cstring>
 #include <string>
 #include <utility>
 #include <vector>
@@ -470,8 +471,12 @@ mh_status write_outputs(const mh_formulation* f, double* outputs, uint32_t num_o
   });
 }
 
-const void* get_extension(const mh_formulation*, const char*) noexcept {
-  return nullptr;
+// The unknowns are the coordinates, coupled as the mechanics couple them
+// (MH_EXT_COORDINATE_UNKNOWNS): the host's tangent is sparse for trees.
+const char kCoordinateUnknowns = 1;
+const void* get_extension(const mh_formulation*, const char* id) noexcept {
+  return id != nullptr && std::strcmp(id, MH_EXT_COORDINATE_UNKNOWNS) == 0 ? &kCoordinateUnknowns
+                                                                           : nullptr;
 }
 
 const mh_component_descriptor kDescriptor{

@@ -12,7 +12,7 @@ namespace mh {
 namespace {
 
 constexpr LinearSolverKind kAll[] = {LinearSolverKind::klu, LinearSolverKind::umfpack,
-                                     LinearSolverKind::dense};
+                                     LinearSolverKind::dense, LinearSolverKind::automatic};
 
 std::vector<double> values_of(const SparsePattern& p, const Eigen::MatrixXd& A) {
   std::vector<double> v(static_cast<size_t>(p.nonzeros()));
@@ -91,6 +91,18 @@ TEST(LinearSolver, ASolverRecoversAfterASingularMatrix) {
     EXPECT_NEAR(b[0], 1.0, 1e-15) << to_string(kind);
     EXPECT_NEAR(b[1], 1.0, 1e-15) << to_string(kind);
   }
+}
+
+// auto: dense LU where more than half the entries are in the pattern (a
+// chain's tangent), KLU where it is sparse (a tree's); the other kinds as named.
+TEST(LinearSolver, AutoTakesDenseLuForADensePatternAndKluForASparseOne) {
+  EXPECT_EQ(resolve_linear_solver(tangent_like(6, 0), LinearSolverKind::automatic),
+            LinearSolverKind::dense);
+  EXPECT_EQ(resolve_linear_solver(tangent_like(3, 30), LinearSolverKind::automatic),
+            LinearSolverKind::klu);
+  for (LinearSolverKind kind :
+       {LinearSolverKind::klu, LinearSolverKind::umfpack, LinearSolverKind::dense})
+    EXPECT_EQ(resolve_linear_solver(tangent_like(6, 0), kind), kind);
 }
 
 }  // namespace

@@ -824,15 +824,16 @@ TEST(ModelFileErrors, BadSolverSettings) {
 
 TEST(ModelFileErrors, LinearSolverAndNewtonChoicesAreNamedOrRefusedWithTheChoices) {
   expect_error(valid_body("solver: {linear: lapack}\n"), 8, "solver.linear",
-               "expected one of: klu, umfpack, dense (the tangent's linear solver), got 'lapack'");
+               "expected one of: klu, umfpack, dense, auto (the tangent's linear solver; auto: "
+               "dense LU for a dense tangent, KLU otherwise), got 'lapack'");
   expect_error(valid_body("solver: {linear: [klu]}\n"), 8, "solver.linear", "expected a string");
   expect_error(valid_body("solver: {newton: quasi}\n"), 8, "solver.newton",
                "expected full or modified");
   const ModelFile defaults = parse_model_text(valid_body(""), kLabel);
   EXPECT_EQ(defaults.solver.linear, LinearSolverKind::klu);
   EXPECT_EQ(defaults.solver.newton, NewtonKind::full);
-  for (LinearSolverKind kind :
-       {LinearSolverKind::klu, LinearSolverKind::umfpack, LinearSolverKind::dense}) {
+  for (LinearSolverKind kind : {LinearSolverKind::klu, LinearSolverKind::umfpack,
+                                LinearSolverKind::dense, LinearSolverKind::automatic}) {
     const ModelFile f = parse_model_text(
         valid_body("solver: {linear: " + std::string(to_string(kind)) + "}\n"), kLabel);
     EXPECT_EQ(f.solver.linear, kind) << to_string(kind);

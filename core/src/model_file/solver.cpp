@@ -42,16 +42,17 @@ SolverSettings Parser::solver(const YAML::Node& node) const {
   if (auto linear = map.get("linear")) {
     const std::string name = string(*linear, "solver.linear");
     bool known = false;
-    for (LinearSolverKind kind :
-         {LinearSolverKind::klu, LinearSolverKind::umfpack, LinearSolverKind::dense}) {
+    for (LinearSolverKind kind : {LinearSolverKind::klu, LinearSolverKind::umfpack,
+                                  LinearSolverKind::dense, LinearSolverKind::automatic}) {
       if (name != to_string(kind)) continue;
       settings.linear = kind;
       known = true;
     }
     if (!known)
-      fail(
-          *linear, "solver.linear",
-          "expected one of: klu, umfpack, dense (the tangent's linear solver), got '" + name + "'");
+      fail(*linear, "solver.linear",
+           "expected one of: klu, umfpack, dense, auto (the tangent's linear solver; auto: dense "
+           "LU for a dense tangent, KLU otherwise), got '" +
+               name + "'");
   }
   if (auto newton = map.get("newton")) {
     const std::string name = string(*newton, "solver.newton");

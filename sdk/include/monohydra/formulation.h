@@ -44,6 +44,18 @@ typedef struct mh_step_coefficients {
           independent coordinates); x, xd, xdd hold their values, and the host \
           restarts the integrator from them */
 
+/* Formulation extension (get_extension with this id returns any non-NULL
+ * pointer when it holds): the unknowns are the joint coordinates, x = z in
+ * their order (n = N), and the rows couple them only as the mechanics do:
+ * coordinates i and j when one joint is an ancestor of the other (M', K, C of
+ * Eqs. 5-12), when both move a body of the same cut joint (its constraint
+ * terms), or both move points of the same subsystem instance (its forces).
+ * The host then takes the tangent's mechanical block sparse in that pattern
+ * and ignores the formulation's tangent entries outside it: it zeroes
+ * dr_dx, dr_dxd, dr_dxdd on entry only inside the pattern (outside, they hold
+ * whatever was written there before). Without it the block is dense. */
+#define MH_EXT_COORDINATE_UNKNOWNS "monohydra.coordinate-unknowns/1"
+
 typedef struct mh_formulation {
   uint32_t struct_size; /* sizeof(mh_formulation) of the plugin's SDK */
   const mh_component_descriptor* descriptor;

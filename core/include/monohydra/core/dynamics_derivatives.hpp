@@ -42,11 +42,14 @@ struct DynamicsDerivativesWorkspace {
   std::vector<Matrix6d> SA, SC, SD;
   // Their projections on b_i: K(i, k) = row_b . b_k - row_rate_b . u_k + row_c . c_k.
   std::vector<Vector6d> row_b, row_c, row_rate_b;
-  std::vector<Eigen::Matrix3d> J;                 // world inertia about the COM
-  std::vector<Eigen::Vector3d> gdot;              // COM velocity, Eq. (6)
-  std::vector<Eigen::Vector3d> Jw;                // J omega
-  std::vector<Eigen::Vector3d> Ja;                // J alpha (alpha of the full Zdot)
-  std::vector<char> in_subtree;                   // one coordinate's subtree
+  std::vector<Eigen::Matrix3d> J;     // world inertia about the COM
+  std::vector<Eigen::Vector3d> gdot;  // COM velocity, Eq. (6)
+  std::vector<Eigen::Vector3d> Jw;    // J omega
+  std::vector<Eigen::Vector3d> Ja;    // J alpha (alpha of the full Zdot)
+  // Every body's subtree (itself first, then its descendants in increasing
+  // order): subtree_bodies[subtree_start[k] .. subtree_start[k + 1]). The fill
+  // visits these alone, O(sum of depths), not every body after k.
+  std::vector<int> subtree_start, subtree_bodies;
   Eigen::Matrix<double, 3, Eigen::Dynamic> cols;  // point Jacobian columns (3 x N)
   // M'(z) zdd - Q'(z, zd) (N) with the given point forces: the value whose
   // derivatives are returned, from the same recursion.
@@ -54,6 +57,12 @@ struct DynamicsDerivativesWorkspace {
   // Whether the fill is factored (deep trees: mean depth above 6) or swept
   // coordinate by coordinate (shallow trees); set from the model, both exact.
   bool use_factored_fill = false;
+  // Whether dynamics_derivatives zeroes K and C before filling them (O(N^2)).
+  // A caller whose K and C are zero wherever neither coordinate is an ancestor
+  // of the other (matrices zeroed once, written by this function alone, with
+  // the same point forces every call) may turn it off: the fill then costs
+  // O(sum of depths), linear in N for a tree of bounded depth.
+  bool zero_unrelated = true;
 };
 
 // K = d(M' zdd - Q')/dz and C = d(M' zdd - Q')/dzd (N x N each; row i is the
@@ -63,7 +72,8 @@ struct DynamicsDerivativesWorkspace {
 // Valid after forward_kinematics(model, data, z, zd); data's applied loads and
 // M, Q are not used. zdd of size N. Throws std::invalid_argument on a size
 // mismatch. Does not allocate. Cost O(N) 6 x 6 products, a few dot products per
-// ancestor/descendant pair, O(N^2) to zero K and C, plus O(depth^2) per force.
+// ancestor/descendant pair, O(N^2) to zero K and C (unless ws.zero_unrelated
+// is off), plus O(depth^2) per force (O(depth^3) with zero_unrelated off).
 void dynamics_derivatives(const Model& model, const Data& data, const Eigen::VectorXd& zdd,
                           const std::vector<PointForceTerm>& forces,
                           DynamicsDerivativesWorkspace& ws, Eigen::Ref<Eigen::MatrixXd> K,

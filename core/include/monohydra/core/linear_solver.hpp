@@ -4,7 +4,8 @@
 // right-hand sides; it owns the factorization. Three are shipped: KLU
 // (klu_solver.hpp, the default), UMFPACK (umfpack_solver.hpp) and dense LU
 // (dense_lu_solver.hpp, for small systems); the model file chooses one
-// (`solver: {linear: ...}`).
+// (`solver: {linear: ...}`), or `auto`: dense LU for a dense pattern, KLU
+// otherwise (make_linear_solver).
 #pragma once
 
 #include <memory>
@@ -25,8 +26,8 @@ class LinearSolver {
   virtual const std::string& error() const = 0;
 };
 
-enum class LinearSolverKind { klu, umfpack, dense };
-// "klu", "umfpack", "dense": the names the model file uses.
+enum class LinearSolverKind { klu, umfpack, dense, automatic };
+// "klu", "umfpack", "dense", "auto": the names the model file uses.
 // Inline: the model-file parser (and its fuzzer, which links no solver) names kinds too.
 inline const char* to_string(LinearSolverKind kind) {
   switch (kind) {
@@ -36,9 +37,19 @@ inline const char* to_string(LinearSolverKind kind) {
       return "umfpack";
     case LinearSolverKind::dense:
       return "dense";
+    case LinearSolverKind::automatic:
+      return "auto";
   }
   return "?";
 }
+
+// Above this share of nonzeros `auto` takes dense LU: a blocked dense
+// factorization beats KLU's sparse one on a (nearly) full matrix (measured on
+// the bench's chains, docs/performance.md).
+constexpr double kAutoDenseDensity = 0.5;
+
+// The kind `auto` stands for on `pattern`; any other kind as it is.
+LinearSolverKind resolve_linear_solver(const SparsePattern& pattern, LinearSolverKind kind);
 
 // The shipped solver of that kind for `pattern` (its symbolic analysis done here).
 std::unique_ptr<LinearSolver> make_linear_solver(const SparsePattern& pattern,

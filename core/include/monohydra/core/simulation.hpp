@@ -14,6 +14,7 @@
 
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/plugin_registry.hpp"
+#include "monohydra/core/sparse_pattern.hpp"
 #include "monohydra/types.h"
 
 namespace mh {
@@ -171,6 +172,8 @@ class Simulation {
   int num_unknowns() const;
   int num_mechanical_unknowns() const;
   int tangent_nonzeros() const;
+  // The tangent's sparsity pattern (tangent.cpp build_pattern), analysed once.
+  const SparsePattern& tangent_pattern() const;
 
   struct Engine;
 
