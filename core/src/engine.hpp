@@ -91,6 +91,14 @@ struct Node {
   SourceMark mark;  // of the first port naming it
 };
 
+// The work of solve_initial_rates (initial_state.cpp), sized by
+// classify_states: it runs at time events, inside the time step.
+struct RatesWorkspace {
+  Eigen::VectorXd f0, f1, fr, dr, step;
+  Eigen::MatrixXd J, Jr;
+  Eigen::FullPivLU<Eigen::MatrixXd> lu;
+};
+
 struct Simulation::Engine {
   explicit Engine(const Model& source) : model(source), data(model) {}
   const ModelFile* file = nullptr;
@@ -140,6 +148,7 @@ struct Simulation::Engine {
   Eigen::VectorXd state_tol;
   std::vector<char> algebraic;              // states whose rate no row involves (constructor)
   std::vector<int> rate_states, rate_rows;  // the others, and the rows that involve rates
+  RatesWorkspace rates_ws;
   std::vector<Node> nodes;
   std::vector<double> time_events;  // sorted, unique (constructor)
   size_t next_event = 0;            // the first event after the accepted time
@@ -300,6 +309,17 @@ struct Simulation::Engine {
     if (status_ok(s)) return;
     if (s == MH_DISCARD) fail_step(status_reason(s, what));
     fail(status_reason(s, what));
+  }
+  // The same for the time step's calls: the message is made only on failure
+  // (a std::string of a literal would allocate at every call).
+  void check(mh_status s, const char* what) const {
+    if (status_ok(s)) return;
+    check(s, std::string(what));
+  }
+  // ... naming an instance: "PREFIX 'NAME' SUFFIX".
+  void check(mh_status s, const char* prefix, const std::string& name, const char* suffix) const {
+    if (status_ok(s)) return;
+    check(s, std::string(prefix) + " '" + name + "' " + suffix);
   }
   // The plugin that made state row `row` non-finite at the kinematics in data.
   std::string nonfinite_source(int row);
