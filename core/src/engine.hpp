@@ -165,6 +165,12 @@ struct Simulation::Engine {
   Constraints constraints;
   Eigen::VectorXd phi, phi_dot_zd;
   Eigen::MatrixXd phi_z;
+  // phi, phi_z, phi_dot_zd hold the constraints at (con_z, con_zd) when
+  // constraints_valid: a formulation asks for them at the same kinematics more
+  // than once per iteration (its multiplier update, then the residual), and the
+  // accepted state's measure after its projections.
+  bool constraints_valid = false;
+  Eigen::VectorXd con_z, con_zd;
   Eigen::VectorXd z0, zd0;
 
   // Derivatives of the mechanics (host service mech_derivatives, ABI 2.1).
@@ -227,6 +233,8 @@ struct Simulation::Engine {
   mh_status evaluate_mechanics(uint32_t flags, double t_eval, const double* zq, const double* zdq);
   // forward_kinematics at (zq, zdq) unless `data` holds them already; counted.
   void kinematics_at(const double* zq, const double* zdq);
+  // phi, phi_z, phi_dot_zd at the kinematics in `data`, unless they hold them already.
+  void constraints_at_kinematics();
   // Evaluates every subsystem at the kinematics in `data` and the current y,
   // ydot, adding rows to `rows` (zeroed first) and forces to the bodies.
   mh_status evaluate_subsystems(double t_eval, double* rows);
