@@ -168,7 +168,8 @@ void add_point_force(const Model& model, const Data& data, const PointForceTerm&
   // point's motion: the host fills one half and zeros the other. A zero half
   // would add exact zeros: skipped.
   const auto zero = [](const auto& a) { return (a.array() == 0.0).all(); };
-  if (!zero(f.F_W) || !zero(f.dF_dp) || !zero(f.dF_dv)) add_own_point_force(model, data, f, ws, K, C);
+  if (!zero(f.F_W) || !zero(f.dF_dp) || !zero(f.dF_dv))
+    add_own_point_force(model, data, f, ws, K, C);
   if (!zero(f.dF_dp_other) || !zero(f.dF_dv_other)) add_other_point_force(model, data, f, ws, K, C);
 }
 

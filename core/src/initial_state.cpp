@@ -174,7 +174,7 @@ void Simulation::Engine::solve_algebraic_and_equilibrium() {
   if (equilibrium) {
     if (m > 0) {
       evaluate_constraints(model, data, constraints, phi, phi_z, phi_dot_zd);
-    constraints_valid = false;  // at kinematics of its own, not kept
+      constraints_valid = false;  // at kinematics of its own, not kept
       R = Eigen::FullPivLU<Eigen::MatrixXd>(phi_z).kernel();
     } else {
       R = Eigen::MatrixXd::Identity(N, N);

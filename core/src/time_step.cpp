@@ -226,8 +226,8 @@ void Simulation::Engine::accept_step(double t_next, bool event, double h) {
     reuse.invalidate();  // x may mean something else now, or jump
     restart_integrator();
   } else {
-    check(integrator.ops.accept(integrator.self, t, x.data(), xd.data(), xdd.data()),
-          "integrator", integrator_name, "accept");
+    check(integrator.ops.accept(integrator.self, t, x.data(), xd.data(), xdd.data()), "integrator",
+          integrator_name, "accept");
   }
   measure_mechanism();
 }
