@@ -99,13 +99,12 @@ BodyState body_state(const Model& model, const Data& data, const DynamicsDerivat
   return s;
 }
 
-// One point force's share: residual -= J_p^T F (the Q' of apply_point_force), and
-// its derivatives. Column i of J_p is col_i = b_i at p for i on p's path (Eq. 4).
-void add_point_force(const Model& model, const Data& data, const PointForceTerm& f,
-                     DynamicsDerivativesWorkspace& ws, Eigen::Ref<Eigen::MatrixXd>& K,
-                     Eigen::Ref<Eigen::MatrixXd>& C) {
+// The point's own force F_W: residual -= J_p^T F, and its derivatives in the
+// point's motion.
+void add_own_point_force(const Model& model, const Data& data, const PointForceTerm& f,
+                         DynamicsDerivativesWorkspace& ws, Eigen::Ref<Eigen::MatrixXd>& K,
+                         Eigen::Ref<Eigen::MatrixXd>& C) {
   const int e = f.point.body;
-  if (e == kGround) return;  // the ground takes it
   const Eigen::Vector3d p = point_position(data, f.point);
   const Eigen::Vector3d omega = data.Z[e].tail<3>();
   for (int i = e; i != kGround; i = model.bodies[i].parent) {
@@ -129,9 +128,19 @@ void add_point_force(const Model& model, const Data& data, const PointForceTerm&
       C(i, k) -= ws.cols.col(i).dot(dF_rate);
     }
   }
-  // Dependence on the other point's motion (forces between two points).
+}
+
+// Dependence of the point's force on the other point's motion (forces between
+// two points): the columns J_p^T of the point's path, differentiated along the
+// other point's path.
+void add_other_point_force(const Model& model, const Data& data, const PointForceTerm& f,
+                           DynamicsDerivativesWorkspace& ws, Eigen::Ref<Eigen::MatrixXd>& K,
+                           Eigen::Ref<Eigen::MatrixXd>& C) {
+  const int e = f.point.body;
   const int o = f.other.body;
   if (o == kGround) return;
+  const Eigen::Vector3d p = point_position(data, f.point);
+  for (int i = e; i != kGround; i = model.bodies[i].parent) ws.cols.col(i) = twist_at(data.b[i], p);
   const Eigen::Vector3d q = point_position(data, f.other);
   const Eigen::Vector3d omega_o = data.Z[o].tail<3>();
   for (int k = o; k != kGround; k = model.bodies[k].parent) {
@@ -145,6 +154,23 @@ void add_point_force(const Model& model, const Data& data, const PointForceTerm&
       C(i, k) -= ws.cols.col(i).dot(dF_rate);
     }
   }
+}
+
+// One point force's share: residual -= J_p^T F (the Q' of apply_point_force), and
+// its derivatives. Column i of J_p is col_i = b_i at p for i on p's path (Eq. 4).
+void add_point_force(const Model& model, const Data& data, const PointForceTerm& f,
+                     DynamicsDerivativesWorkspace& ws, Eigen::Ref<Eigen::MatrixXd>& K,
+                     Eigen::Ref<Eigen::MatrixXd>& C) {
+  const int e = f.point.body;
+  if (e == kGround) return;  // the ground takes it
+  // A term carries the point's own force and its derivatives in its own
+  // motion (the other point is the point itself), or the dependence on another
+  // point's motion: the host fills one half and zeros the other. A zero half
+  // would add exact zeros: skipped.
+  const auto zero = [](const auto& a) { return (a.array() == 0.0).all(); };
+  if (!zero(f.F_W) || !zero(f.dF_dp) || !zero(f.dF_dv))
+    add_own_point_force(model, data, f, ws, K, C);
+  if (!zero(f.dF_dp_other) || !zero(f.dF_dv_other)) add_other_point_force(model, data, f, ws, K, C);
 }
 
 // Entries (i, k) of K (rate = false) or C (rate = true) from the body terms,

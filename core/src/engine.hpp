@@ -91,6 +91,14 @@ struct Node {
   SourceMark mark;  // of the first port naming it
 };
 
+// The work of solve_initial_rates (initial_state.cpp), sized by
+// classify_states: it runs at time events, inside the time step.
+struct RatesWorkspace {
+  Eigen::VectorXd f0, f1, fr, dr, step;
+  Eigen::MatrixXd J, Jr;
+  Eigen::FullPivLU<Eigen::MatrixXd> lu;
+};
+
 struct Simulation::Engine {
   explicit Engine(const Model& source) : model(source), data(model) {}
   const ModelFile* file = nullptr;
@@ -140,6 +148,7 @@ struct Simulation::Engine {
   Eigen::VectorXd state_tol;
   std::vector<char> algebraic;              // states whose rate no row involves (constructor)
   std::vector<int> rate_states, rate_rows;  // the others, and the rows that involve rates
+  RatesWorkspace rates_ws;
   std::vector<Node> nodes;
   std::vector<double> time_events;  // sorted, unique (constructor)
   size_t next_event = 0;            // the first event after the accepted time
@@ -156,6 +165,12 @@ struct Simulation::Engine {
   Constraints constraints;
   Eigen::VectorXd phi, phi_dot_zd;
   Eigen::MatrixXd phi_z;
+  // phi, phi_z, phi_dot_zd hold the constraints at (con_z, con_zd) when
+  // constraints_valid: a formulation asks for them at the same kinematics more
+  // than once per iteration (its multiplier update, then the residual), and the
+  // accepted state's measure after its projections.
+  bool constraints_valid = false;
+  Eigen::VectorXd con_z, con_zd;
   Eigen::VectorXd z0, zd0;
 
   // Derivatives of the mechanics (host service mech_derivatives, ABI 2.1).
@@ -220,6 +235,8 @@ struct Simulation::Engine {
   mh_status evaluate_mechanics(uint32_t flags, double t_eval, const double* zq, const double* zdq);
   // forward_kinematics at (zq, zdq) unless `data` holds them already; counted.
   void kinematics_at(const double* zq, const double* zdq);
+  // phi, phi_z, phi_dot_zd at the kinematics in `data`, unless they hold them already.
+  void constraints_at_kinematics();
   // Evaluates every subsystem at the kinematics in `data` and the current y,
   // ydot, adding rows to `rows` (zeroed first) and forces to the bodies.
   mh_status evaluate_subsystems(double t_eval, double* rows);
@@ -302,6 +319,17 @@ struct Simulation::Engine {
     if (status_ok(s)) return;
     if (s == MH_DISCARD) fail_step(status_reason(s, what));
     fail(status_reason(s, what));
+  }
+  // The same for the time step's calls: the message is made only on failure
+  // (a std::string of a literal would allocate at every call).
+  void check(mh_status s, const char* what) const {
+    if (status_ok(s)) return;
+    check(s, std::string(what));
+  }
+  // ... naming an instance: "PREFIX 'NAME' SUFFIX".
+  void check(mh_status s, const char* prefix, const std::string& name, const char* suffix) const {
+    if (status_ok(s)) return;
+    check(s, std::string(prefix) + " '" + name + "' " + suffix);
   }
   // The plugin that made state row `row` non-finite at the kinematics in data.
   std::string nonfinite_source(int row);

@@ -512,10 +512,17 @@ mh_status Simulation::Engine::evaluate_subsystems(double t_eval, double* rows) {
 // tangent (the dependent coordinates' last check, M' and Q', derivatives).
 void Simulation::Engine::kinematics_at(const double* zq, const double* zdq) {
   const Eigen::Map<const Eigen::VectorXd> zm(zq, N), zdm(zdq, N);
-  if (kinematics_valid && data.z == zm && data.zd == zdm) return;
-  kin_z = zm;
+  const bool same_z = kinematics_valid && data.z == zm;
+  if (same_z && data.zd == zdm) return;
   kin_zd = zdm;
-  forward_kinematics(model, data, kin_z, kin_zd);
+  if (same_z) {
+    // New rates at the same z (a projection of zd, a rate column): the
+    // positions and rotations stand.
+    forward_velocities(model, data, kin_zd);
+  } else {
+    kin_z = zm;
+    forward_kinematics(model, data, kin_z, kin_zd);
+  }
   kinematics_valid = true;
   ++counters.kinematics_passes;
 }
@@ -537,9 +544,16 @@ mh_status Simulation::Engine::evaluate_mechanics(uint32_t flags, double t_eval, 
     }
   }
   if ((flags & MH_EVAL_DYNAMICS) != 0) mass_matrix_and_forces(model, data);
-  if ((flags & MH_EVAL_CONSTRAINTS) != 0)
-    evaluate_constraints(model, data, constraints, phi, phi_z, phi_dot_zd);
+  if ((flags & MH_EVAL_CONSTRAINTS) != 0) constraints_at_kinematics();
   return MH_OK;
+}
+
+void Simulation::Engine::constraints_at_kinematics() {
+  if (constraints_valid && con_z == data.z && con_zd == data.zd) return;
+  evaluate_constraints(model, data, constraints, phi, phi_z, phi_dot_zd);
+  con_z = data.z;  // sized N after the first call: no allocation after it
+  con_zd = data.zd;
+  constraints_valid = true;
 }
 
 }  // namespace mh

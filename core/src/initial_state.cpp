@@ -22,12 +22,11 @@ static void rows_at(Simulation::Engine& e, double t_eval, Eigen::VectorXd& f) {
   e.check(st, "subsystem evaluation");
 }
 
-// d rows / d ydot by forward differences, with the entries that are round-off
-// (below 1e-9 of their row's largest) set to zero: a state is algebraic when
-// no row involves its rate.
-static Eigen::MatrixXd rate_jacobian(Simulation::Engine& e, double t_eval) {
-  Eigen::VectorXd f0(e.n_s), f1(e.n_s);
-  Eigen::MatrixXd J(e.n_s, e.n_s);
+// d rows / d ydot by forward differences into J (n_s x n_s), with the
+// entries that are round-off (below 1e-9 of their row's largest) set to zero:
+// a state is algebraic when no row involves its rate. f0, f1: n_s each.
+static void rate_jacobian(Simulation::Engine& e, double t_eval, Eigen::VectorXd& f0,
+                          Eigen::VectorXd& f1, Eigen::MatrixXd& J) {
   rows_at(e, t_eval, f0);
   for (int c = 0; c < e.n_s; ++c) {
     // Large enough to show against a row's other terms (a volume's C pdot
@@ -43,7 +42,6 @@ static Eigen::MatrixXd rate_jacobian(Simulation::Engine& e, double t_eval) {
     for (int c = 0; c < e.n_s; ++c)
       if (std::abs(J(r, c)) <= 1e-9 * big) J(r, c) = 0.0;
   }
-  return J;
 }
 
 // Which states are algebraic (no row involves their rate, e.g. a pressure
@@ -56,7 +54,11 @@ void Simulation::Engine::classify_states() {
   if (n_s == 0) return;
   forward_kinematics(model, data, z0, zd0);
   ydot.setZero(n_s);
-  const Eigen::MatrixXd J = rate_jacobian(*this, 0.0);
+  rates_ws.f0.setZero(n_s);
+  rates_ws.f1.setZero(n_s);
+  rates_ws.J.setZero(n_s, n_s);
+  rate_jacobian(*this, 0.0, rates_ws.f0, rates_ws.f1, rates_ws.J);
+  const Eigen::MatrixXd& J = rates_ws.J;
   for (int c = 0; c < n_s; ++c) {
     if (J.col(c).lpNorm<Eigen::Infinity>() == 0.0)
       algebraic[static_cast<size_t>(c)] = 1;
@@ -69,6 +71,14 @@ void Simulation::Engine::classify_states() {
     fail("the state rates cannot be found: " + std::to_string(rate_rows.size()) +
          " subsystem rows involve rates, but " + std::to_string(rate_states.size()) +
          " states have rates that rows involve");
+  // solve_initial_rates' work, sized once: it runs at time events too,
+  // inside the time step.
+  const Eigen::Index k = static_cast<Eigen::Index>(rate_states.size());
+  rates_ws.Jr.setZero(k, k);
+  rates_ws.fr.setZero(k);
+  rates_ws.dr.setZero(k);
+  rates_ws.step.setZero(n_s);
+  rates_ws.lu = Eigen::FullPivLU<Eigen::MatrixXd>(k, k);
 }
 
 // ydot: the state rows are F(ydot, y) = 0 at the current kinematics; Newton
@@ -78,29 +88,34 @@ void Simulation::Engine::classify_states() {
 // would let round-off move a state between the classes.
 void Simulation::Engine::solve_initial_rates(double t_eval) {
   if (n_s == 0) return;
-  Eigen::VectorXd f0(n_s);
   const int k = static_cast<int>(rate_states.size());
   if (k == 0) return;  // every state is algebraic: no rate to find (and no 0 x 0 LU)
-  Eigen::MatrixXd Jr(k, k);
-  Eigen::VectorXd fr(k);
+  // In the workspace classify_states() sized: no allocation at a time event.
+  RatesWorkspace& w = rates_ws;
   for (int it = 0; it < 20; ++it) {
-    const Eigen::MatrixXd J = rate_jacobian(*this, t_eval);
-    rows_at(*this, t_eval, f0);
+    rate_jacobian(*this, t_eval, w.f0, w.f1, w.J);
+    rows_at(*this, t_eval, w.f0);
     for (int a = 0; a < k; ++a) {
-      fr[a] = f0[rate_rows[static_cast<size_t>(a)]];
+      w.fr[a] = w.f0[rate_rows[static_cast<size_t>(a)]];
       for (int b = 0; b < k; ++b)
-        Jr(a, b) = J(rate_rows[static_cast<size_t>(a)], rate_states[static_cast<size_t>(b)]);
+        w.Jr(a, b) = w.J(rate_rows[static_cast<size_t>(a)], rate_states[static_cast<size_t>(b)]);
     }
-    Eigen::FullPivLU<Eigen::MatrixXd> lu(Jr);
-    if (!lu.isInvertible())
+    w.lu.compute(w.Jr);
+    if (!w.lu.isInvertible())
       fail(
           "the state rates cannot be found: the subsystem rows do not determine every state's "
           "rate (is each state's own term missing?)");
-    const Eigen::VectorXd dr = lu.solve(-fr);
-    Eigen::VectorXd step_ydot = Eigen::VectorXd::Zero(n_s);
-    for (int b = 0; b < k; ++b) step_ydot[rate_states[static_cast<size_t>(b)]] = dr[b];
-    ydot += step_ydot;
-    if (step_ydot.norm() <= 1e-12 * (1.0 + ydot.norm())) break;
+    // dr = Jr^-1 (-fr), as FullPivLU::solve computes it (Jr = P^-1 L U Q^-1),
+    // in place: solve() would allocate its intermediate vector.
+    w.fr = -w.fr;
+    w.dr.noalias() = w.lu.permutationP() * w.fr;
+    w.lu.matrixLU().triangularView<Eigen::UnitLower>().solveInPlace(w.dr);
+    w.lu.matrixLU().triangularView<Eigen::Upper>().solveInPlace(w.dr);
+    w.fr.noalias() = w.lu.permutationQ() * w.dr;
+    w.step.setZero();
+    for (int b = 0; b < k; ++b) w.step[rate_states[static_cast<size_t>(b)]] = w.fr[b];
+    ydot += w.step;
+    if (w.step.norm() <= 1e-12 * (1.0 + ydot.norm())) break;
   }
 }
 
@@ -142,7 +157,8 @@ void Simulation::Engine::solve_algebraic_and_equilibrium() {
 
   // Algebraic states and rows, at the rates the state starts with (zero).
   forward_kinematics(model, data, z0, zd0);
-  const Eigen::MatrixXd Jd = rate_jacobian(*this, t0);
+  rate_jacobian(*this, t0, rates_ws.f0, rates_ws.f1, rates_ws.J);
+  const Eigen::MatrixXd Jd = rates_ws.J;
   std::vector<int> rows;
   for (int c = 0; c < n_s; ++c)
     if (Jd.col(c).lpNorm<Eigen::Infinity>() == 0.0 && is_unknown[static_cast<size_t>(c)] == 0) {
@@ -158,6 +174,7 @@ void Simulation::Engine::solve_algebraic_and_equilibrium() {
   if (equilibrium) {
     if (m > 0) {
       evaluate_constraints(model, data, constraints, phi, phi_z, phi_dot_zd);
+      constraints_valid = false;  // at kinematics of its own, not kept
       R = Eigen::FullPivLU<Eigen::MatrixXd>(phi_z).kernel();
     } else {
       R = Eigen::MatrixXd::Identity(N, N);

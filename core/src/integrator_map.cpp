@@ -12,8 +12,8 @@ void Simulation::Engine::begin_step(double t_next, double h) {
   map.x_predicted = x_pred.data();
   map.xd_offset = xd_off.data();
   map.xdd_offset = xdd_off.data();
-  check(integrator.ops.begin_step(integrator.self, t_next, h, &map),
-        "integrator '" + integrator_name + "' begin_step");
+  check(integrator.ops.begin_step(integrator.self, t_next, h, &map), "integrator", integrator_name,
+        "begin_step");
 }
 
 void Simulation::Engine::rates_of(const Eigen::VectorXd& xq, Eigen::VectorXd& xdq,
@@ -38,8 +38,8 @@ void Simulation::Engine::rates_of(const Eigen::VectorXd& xq, Eigen::VectorXd& xd
 }
 
 void Simulation::Engine::restart_integrator() {
-  check(integrator.ops.restart(integrator.self, t, x.data(), xd.data(), xdd.data()),
-        "integrator '" + integrator_name + "' restart");
+  check(integrator.ops.restart(integrator.self, t, x.data(), xd.data(), xdd.data()), "integrator",
+        integrator_name, "restart");
 }
 
 }  // namespace mh

@@ -106,6 +106,42 @@ void forward_kinematics(const Model& model, Data& data, const Eigen::VectorXd& z
   }
 }
 
+void forward_velocities(const Model& model, Data& data, const Eigen::VectorXd& zd) {
+  const int n = model.num_bodies();
+  if (zd.size() != model.num_coordinates()) {
+    throw_size("forward_velocities", "zd", model.num_coordinates(), zd.size());
+  }
+  check_data("forward_velocities", model, data);
+  data.zd = zd;
+  for (int j = 0; j < n; ++j) {
+    const Body& body = model.bodies[j];
+    const int p = body.parent;
+    if (p < kGround || p >= j) {  // parents precede children (model.hpp)
+      throw std::invalid_argument("forward_velocities: bodies[" + std::to_string(j) +
+                                  "].parent: expected " + std::to_string(kGround) + ".." +
+                                  std::to_string(j - 1) + ", got " + std::to_string(p));
+    }
+    // As forward_kinematics, with u, o and b as it left them.
+    const Vector6d Z_P = p == kGround ? Vector6d::Zero() : data.Z[p];
+    const Vector6d Zdot0_P = p == kGround ? Vector6d::Zero() : data.Zdot0[p];
+    const Eigen::Vector3d sdot_P = Z_P.head<3>();
+    const Eigen::Vector3d omega_P = Z_P.tail<3>();
+    const Eigen::Vector3d& u = data.u_W[j];
+    const Eigen::Vector3d udot = omega_P.cross(u);
+    Vector6d bdot;
+    if (body.joint == JointType::revolute) {
+      const Eigen::Vector3d& o = data.o_W[j];
+      const Eigen::Vector3d odot = sdot_P + omega_P.cross(o);
+      bdot << odot.cross(u) + o.cross(udot), udot;
+    } else {
+      bdot << udot, Eigen::Vector3d::Zero();
+    }
+    data.Z[j] = Z_P + data.b[j] * zd[j];  // Eq. (2)
+    data.d[j] = bdot * zd[j];             // Eq. (3)
+    data.Zdot0[j] = Zdot0_P + data.d[j];  // Eq. (3) with zdd = 0
+  }
+}
+
 Eigen::Vector3d point_position(const Data& data, const BodyPoint& point) {
   check_body("point_position", data, point.body);
   if (point.body == kGround) return point.p_B;

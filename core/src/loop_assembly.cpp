@@ -40,6 +40,7 @@ void Simulation::Engine::assemble_loops() {
   for (int it = 0; it < 50 && !closed; ++it) {
     forward_kinematics(model, data, z0, zd0);
     evaluate_constraints(model, data, constraints, phi, phi_z, phi_dot_zd);
+    constraints_valid = false;  // at kinematics of its own, not kept
     residual = phi.lpNorm<Eigen::Infinity>();
     if (residual <= 1e-13 * scale) {
       closed = true;

@@ -86,6 +86,7 @@ mh_status differenced_point_forces(SubsystemInstance& s, mh_subsystem_eval ev) {
 mh_status Simulation::Engine::mechanics_derivatives(const mh_mech_derivatives_request& rq) {
   kinematics_at(rq.z, rq.zd);
   if ((rq.flags & MH_DERIV_DYNAMICS) != 0) {
+    ++counters.derivative_passes;
     // The subsystems at this motion, their states held: forces and their
     // derivatives. Outputs are restored after: they stay the iterate's.
     saved_outputs = outputs;

@@ -3,6 +3,7 @@
 // the acceptance that the formulation may correct (the projections of Eqs.
 // 20-21) and the integrator's history follows. Time events restart the
 // integrator at their right limit.
+#include <algorithm>
 #include <cmath>
 
 #include "engine.hpp"
@@ -62,6 +63,11 @@ void Simulation::Engine::start() {
   zdd.setZero(N);
   last_plugin_error.clear();
   counters = Simulation::WorkCounters{};
+  // The step's statistics grow by one entry per iteration: sized here so
+  // that a step allocates nothing (only a retried step may need more).
+  const size_t per_attempt = static_cast<size_t>(std::max(settings.max_iterations, 1)) + 2;
+  stats.increment_norms.reserve(4 * per_attempt);
+  stats.residual_norms.reserve(4 * per_attempt);
   // Algebraic states, and the equilibrium the model asks for, before the
   // formulation computes its initial accelerations from them.
   solve_algebraic_and_equilibrium();
@@ -205,7 +211,7 @@ void Simulation::Engine::accept_step(double t_next, bool event, double h) {
     if (s.api.ops.accept == nullptr) continue;
     mh_subsystem_eval ev = subsystem_eval(t_next, scratch_rows.data());
     point_at(ev, s);
-    check(s.api.ops.accept(s.api.self, &ev), "subsystem '" + s.spec->name + "' accept");
+    check(s.api.ops.accept(s.api.self, &ev), "subsystem", s.spec->name, "accept");
   }
   t = t_next;
   kinematics_at(z.data(), zd.data());
@@ -220,8 +226,8 @@ void Simulation::Engine::accept_step(double t_next, bool event, double h) {
     reuse.invalidate();  // x may mean something else now, or jump
     restart_integrator();
   } else {
-    check(integrator.ops.accept(integrator.self, t, x.data(), xd.data(), xdd.data()),
-          "integrator '" + integrator_name + "' accept");
+    check(integrator.ops.accept(integrator.self, t, x.data(), xd.data(), xdd.data()), "integrator",
+          integrator_name, "accept");
   }
   measure_mechanism();
 }

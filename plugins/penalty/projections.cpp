@@ -22,10 +22,17 @@ bool Projector::factorize(const ConstMatrixMap& W, const ConstMatrixMap& phi_z, 
   // for every constraint, so alpha is a scalar).
   A_ = W_;
   add_penalty_matrix(A_, phi_z_, c_alpha_);
+  if (!A_.allFinite()) return false;
   lu_.compute(A_);
   // The penalty term's scale (alpha dt^2/4 ~ 1e5 M) makes A's condition large
-  // by design; only a numerically singular A is refused.
-  return lu_.rcond() > 1e-15 && A_.allFinite();
+  // by design; only a numerically singular A is refused. The test is on U's
+  // pivots, which partial pivoting leaves at hand: cond(U) >= max |u_ii| /
+  // min |u_ii|, so a ratio below 1e-15 means a numerically singular matrix.
+  // (Eigen's rcond() estimate costs two more solves and allocates its
+  // work vectors: not at every step.)
+  const auto pivots = lu_.matrixLU().diagonal().cwiseAbs();
+  const double largest = pivots.maxCoeff();
+  return pivots.allFinite() && largest > 0.0 && pivots.minCoeff() > 1e-15 * largest;
 }
 
 void Projector::project_velocities(const Eigen::VectorXd& zd_prime, Eigen::VectorXd& zd) {

@@ -65,6 +65,29 @@ double relative_error(const Eigen::Vector3d& got, const Eigen::Vector3d& expecte
 }
 
 // Tolerance: fourth-order first difference, h = 1e-3: 1e-9 relative.
+// New rates at unchanged positions (kinematics_at in the host): the velocity
+// level alone gives what the full pass gives, bit for bit.
+TEST(OpenLoopKinematics, VelocityLevelPassEqualsFullPassBitForBit) {
+  for (unsigned seed : kSeeds) {
+    const RandomCase c = random_case(seed);
+    Rng rng(seed + 1000u);
+    const Eigen::VectorXd zd2 = random_vector(rng, c.model.num_coordinates(), -2.0, 2.0);
+    Data full(c.model), fast(c.model);
+    forward_kinematics(c.model, full, c.z, zd2);
+    forward_kinematics(c.model, fast, c.z, c.zd);
+    forward_velocities(c.model, fast, zd2);
+    for (int j = 0; j < c.model.num_bodies(); ++j) {
+      const auto k = static_cast<size_t>(j);
+      EXPECT_EQ(fast.Z[k], full.Z[k]) << "seed " << seed << ", body " << j;
+      EXPECT_EQ(fast.d[k], full.d[k]) << "seed " << seed << ", body " << j;
+      EXPECT_EQ(fast.Zdot0[k], full.Zdot0[k]) << "seed " << seed << ", body " << j;
+      EXPECT_EQ(fast.R_W_B[k], full.R_W_B[k]) << "seed " << seed << ", body " << j;
+    }
+    EXPECT_EQ(fast.zd, zd2);
+    EXPECT_NE(full.Z.back(), Data(c.model).Z.back());  // the rates did move the bodies
+  }
+}
+
 TEST(OpenLoopKinematics, PointVelocityIsTimeDerivativeOfPointPosition) {
   double worst = 0.0;
   for (unsigned seed : kSeeds) {

@@ -232,3 +232,38 @@ TEST(Penalty, RejectsProjectionsOtherThanZeroOrOne) {
 
 }  // namespace
 }  // namespace mh
+
+namespace mh {
+namespace {
+
+// The K, C recursion of the host (mech_derivatives, ABI 2.1) is the
+// formulation's most expensive call: once per tangent assembled and once per
+// step for the projections' W (Eqs. 20-21) at the converged state, never
+// more; and the kinematics at most 6 passes per step (issue 11's target).
+TEST(PenaltyWork, TheDerivativeRecursionRunsOncePerTangentAndOncePerStep) {
+  for (const char* model : {"fourbar.yaml", "quickreturn.yaml"}) {
+    for (NewtonKind newton : {NewtonKind::full, NewtonKind::modified}) {
+      ModelFile file = load_model_file(test::source_path(std::string("models/") + model));
+      file.solver.newton = newton;
+      Simulation sim(file, test::build_plugins(), RunChoices{"penalty", "", {}, {}});
+      sim.start();
+      constexpr long kSteps = 2000;
+      long tangents = 0;
+      for (long k = 0; k < kSteps; ++k) {
+        sim.step();
+        tangents += sim.last_step().tangents;
+      }
+      const Simulation::WorkCounters& c = sim.counters();
+      const std::string what = std::string(model) + " " + to_string(newton);
+      EXPECT_EQ(c.derivative_passes, tangents + kSteps) << what;
+      EXPECT_LE(static_cast<double>(c.kinematics_passes) / kSteps, 6.0) << what;
+      std::printf("%s: %.3f tangents, %.3f derivative passes, %.3f kinematics passes per step\n",
+                  what.c_str(), static_cast<double>(tangents) / kSteps,
+                  static_cast<double>(c.derivative_passes) / kSteps,
+                  static_cast<double>(c.kinematics_passes) / kSteps);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace mh

@@ -15,6 +15,13 @@ namespace mh {
 void forward_kinematics(const Model& model, Data& data, const Eigen::VectorXd& z,
                         const Eigen::VectorXd& zd);
 
+// The velocity level of forward_kinematics alone: Z_j, d_j and Zdot0_j at new
+// rates zd, the positions, orientations and b_j kept from the last
+// forward_kinematics (at data.z, which must be where they were computed). The
+// same values, bit for bit, as forward_kinematics(model, data, data.z, zd),
+// without rebuilding the rotations. Same checks; does not allocate.
+void forward_velocities(const Model& model, Data& data, const Eigen::VectorXd& zd);
+
 // World position and velocity of a point fixed on a body (ground: the point itself,
 // zero velocity). Valid after forward_kinematics.
 Eigen::Vector3d point_position(const Data& data, const BodyPoint& point);

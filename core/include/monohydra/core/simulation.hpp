@@ -139,6 +139,8 @@ class Simulation {
   struct WorkCounters {
     long kinematics_passes = 0;
     long residual_evaluations = 0;
+    // Runs of the K, C recursion (mech_derivatives with MH_DERIV_DYNAMICS).
+    long derivative_passes = 0;
   };
   const WorkCounters& counters() const;
 
