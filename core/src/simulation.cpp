@@ -326,6 +326,9 @@ int Simulation::num_unknowns() const {
 int Simulation::num_mechanical_unknowns() const {
   return engine_->n_m;
 }
+bool Simulation::explicit_integration() const {
+  return engine_->explicit_method;
+}
 int Simulation::tangent_nonzeros() const {
   return engine_->pattern->nonzeros();
 }
@@ -333,8 +336,22 @@ const SparsePattern& Simulation::tangent_pattern() const {
   return *engine_->pattern;
 }
 
+namespace {
+// An explicit integrator has no per-step map x -> (xd, xdd) and no Newton
+// step: there is no tangent to assemble or difference (and its begin_step is
+// NULL). Refused with a reason instead of calling through a null pointer.
+void refuse_explicit(const Simulation::Engine& e, const char* what) {
+  if (e.explicit_method)
+    throw SimulationError(e.t, e.step,
+                          std::string(what) +
+                              " needs an implicit integrator's step; this run's integrator is "
+                              "explicit and takes no Newton step");
+}
+}  // namespace
+
 Eigen::MatrixXd Simulation::assembled_tangent() {
   Engine& e = *engine_;
+  refuse_explicit(e, "the assembled tangent");
   const double t_next = e.t + e.settings.dt;
   e.prepare_step(t_next, e.settings.dt);
   if (!status_ok(e.residual(t_next, e.x, e.r)) || !status_ok(e.assemble_tangent(t_next)))
@@ -350,6 +367,7 @@ Eigen::MatrixXd Simulation::assembled_tangent() {
 
 Eigen::MatrixXd Simulation::finite_difference_tangent() {
   Engine& e = *engine_;
+  refuse_explicit(e, "the differenced tangent");
   const double t_next = e.t + e.settings.dt;
   e.prepare_step(t_next, e.settings.dt);
   Eigen::MatrixXd J(e.n, e.n);
@@ -367,6 +385,7 @@ Eigen::MatrixXd Simulation::finite_difference_tangent() {
 
 Eigen::MatrixXd Simulation::central_difference_tangent() {
   Engine& e = *engine_;
+  refuse_explicit(e, "the differenced tangent");
   const double t_next = e.t + e.settings.dt;
   e.prepare_step(t_next, e.settings.dt);
   Eigen::MatrixXd J(e.n, e.n);
@@ -387,6 +406,7 @@ Eigen::MatrixXd Simulation::central_difference_tangent() {
 
 Simulation::CoordinateMaps Simulation::coordinate_maps() {
   Engine& e = *engine_;
+  refuse_explicit(e, "the coordinate maps");
   if (e.formulation.ops.mechanics_map == nullptr)
     throw SimulationError(e.t, e.step, "the formulation gives no mechanics_map");
   const double t_next = e.t + e.settings.dt;

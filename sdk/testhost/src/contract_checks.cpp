@@ -267,8 +267,17 @@ void check_subject(const Subject& who, const std::vector<Setup>& candidates,
                             " of the model's options made invalid, one at a time";
   report("bad options refused", isolated([&] { return bad_options_check(*setup, who, registry); }),
          tried);
-  report("analytic tangent against differences of its residual",
-         isolated([&] { return tangent_check(*setup, registry); }));
+  // An explicit integrator takes no Newton step: there is no tangent to check.
+  const std::string method = isolated([&] {
+    const Simulation sim(setup->file, registry, setup->choices);
+    return std::string(sim.explicit_integration() ? "explicit" : "");
+  });
+  if (method == "explicit")
+    emit(Check{Check::Verdict::skipped, name + ": analytic tangent against differences of its residual",
+               "an explicit integrator takes no Newton step, so there is no tangent to check"});
+  else
+    report("analytic tangent against differences of its residual",
+           isolated([&] { return tangent_check(*setup, registry); }));
   report("repeated runs bit-identical", isolated([&] {
            const std::string a = fingerprint(*setup, registry);
            const std::string b = fingerprint(*setup, registry);

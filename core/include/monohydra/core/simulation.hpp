@@ -173,6 +173,9 @@ class Simulation {
   CoordinateMaps coordinate_maps();
   int num_unknowns() const;
   int num_mechanical_unknowns() const;
+  // True when the run's integrator is explicit (ABI 2.3 stages): it takes no
+  // Newton step, so the tangent accessors refuse it.
+  bool explicit_integration() const;
   int tangent_nonzeros() const;
   // The tangent's sparsity pattern (tangent.cpp build_pattern), analysed once.
   const SparsePattern& tangent_pattern() const;
