@@ -259,7 +259,9 @@ int run_prepared(PreparedRun& prepared, const RunRequest& request, const std::st
             << " iterations per step on average, " << s.max_iterations << " at most\n"
             << "retries:      " << s.retries << " halvings of failed steps\n"
             << (sim.explicit_stability().checks > 0
-                    ? "stability:    " + stability_text(sim.explicit_stability()) + "\n"
+                    ? "stability:    " + stability_text(sim.explicit_stability()) + " (" +
+                          std::to_string(sim.explicit_stability().checks) + " checks, " +
+                          std::to_string(1e3 * sim.explicit_stability().cpu_seconds) + " ms CPU)\n"
                     : std::string())
             << "solver:       " << to_string(sim.settings().linear) << ", "
             << to_string(sim.settings().newton) << " Newton, "
