@@ -218,8 +218,8 @@ int run_prepared(PreparedRun& prepared, const RunRequest& request, const std::st
       return 2;
     }
   }
+  ResultProvenance provenance;
   if (!out_path.empty()) {
-    ResultProvenance provenance;
     provenance.model_path = request.model_path;
     provenance.formulation = sim.formulation_name();
     provenance.integrator = sim.integrator_name();
@@ -243,6 +243,11 @@ int run_prepared(PreparedRun& prepared, const RunRequest& request, const std::st
     drop_partial_last_line(out_path);
   }
   if (bar.enabled && s.failed) std::fputc('\n', stderr);
+  // The stability check is known once the run has made it: the sidecar again, with it.
+  if (!out_path.empty() && sim.explicit_stability().checks > 0) {
+    provenance.stability = &sim.explicit_stability();
+    if (!write_sidecar(out_path, provenance)) return 2;
+  }
   if (s.end == RunEnd::bad_input) {  // nothing ran: the error alone
     std::cerr << "monohydra: " << s.failure << '\n';
     return 2;
@@ -260,8 +265,7 @@ int run_prepared(PreparedRun& prepared, const RunRequest& request, const std::st
             << "retries:      " << s.retries << " halvings of failed steps\n"
             << (sim.explicit_stability().checks > 0
                     ? "stability:    " + stability_text(sim.explicit_stability()) + " (" +
-                          std::to_string(sim.explicit_stability().checks) + " checks, " +
-                          std::to_string(1e3 * sim.explicit_stability().cpu_seconds) + " ms CPU)\n"
+                          stability_cost_text(sim.explicit_stability()) + ")\n"
                     : std::string())
             << "solver:       " << to_string(sim.settings().linear) << ", "
             << to_string(sim.settings().newton) << " Newton, "

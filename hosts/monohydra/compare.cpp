@@ -186,6 +186,7 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
         provenance.solver.t_end =
             runs.back().dt > 0.0 ? runs.back().t_end : job.t_end.value_or(file.solver.t_end);
         provenance.plugins = used;
+        provenance.stability = &runs.back().stability;
         if (!write_sidecar(csv, provenance)) return 2;
       }
       if (bar.enabled && runs.back().failed && runs.back().rows() > 0) std::cerr << '\n';

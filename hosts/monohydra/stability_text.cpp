@@ -34,4 +34,9 @@ std::string stability_text(const ExplicitStability& s) {
   return text;
 }
 
+std::string stability_cost_text(const ExplicitStability& s) {
+  return std::to_string(s.checks) + (s.checks == 1 ? " check, " : " checks, ") +
+         number(1e3 * s.cpu_seconds) + " ms CPU";
+}
+
 }  // namespace mh::cli

@@ -11,5 +11,7 @@ namespace mh::cli {
 
 // "" when no check ran (an implicit integrator, or the check is off).
 std::string stability_text(const ExplicitStability& s);
+// What the checks cost: "1 check, 0.152 ms CPU".
+std::string stability_cost_text(const ExplicitStability& s);
 
 }  // namespace mh::cli

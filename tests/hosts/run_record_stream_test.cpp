@@ -110,6 +110,7 @@ TEST(RunRecordStream, TheExplicitStabilityCheckComesBackAndReadsAsCompareSaysIt)
   EXPECT_EQ(stability_text(d),
             "unstable: dt = 1 ms, |R| = 9984 (lambda = -2.306e+04 - 12.5i 1/s, at t = 0.25 s), "
             "stable below ~ 0.121 ms");
+  EXPECT_EQ(stability_cost_text(d), "3 checks, 0.15 ms CPU");
   rec.stability = ExplicitStability{};  // an implicit run: nothing to say
   EXPECT_EQ(stability_text(rec.stability), "");
 }
