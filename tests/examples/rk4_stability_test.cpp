@@ -17,6 +17,7 @@
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/plugin_registry.hpp"
 #include "monohydra/core/simulation.hpp"
+#include "hosts/cli_runner.hpp"
 #include "test_support.hpp"
 
 namespace mh {
@@ -193,6 +194,34 @@ TEST(ExplicitStability, TheModelFileChoosesThePolicyAndABadOneIsNamed) {
     EXPECT_NE(what.find("solver.explicit_stability"), std::string::npos) << what;
     EXPECT_NE(what.find("expected error, warn or off"), std::string::npos) << what;
   }
+}
+
+// As a user sees it: compare's line under the table, and run stopped by
+// --explicit-stability error.
+TEST(ExplicitStability, CompareSaysItUnderTheTableAndRunStopsOnError) {
+  const std::string env = "MONOHYDRA_PLUGIN_PATH=" + std::string(MH_EXAMPLES_DIR) + "/rk4 ";
+  const std::string model = test::source_path("models/fourbar.yaml");
+  const auto at_1ms = mh::test::run_cli(
+      "compare " + model + " --formulations double-step --integrators trapezoidal,rk4 --t-end 0.01",
+      env);
+  EXPECT_EQ(at_1ms.code, 0) << at_1ms.output;
+  EXPECT_NE(at_1ms.output.find("explicit step: rk4 unstable: dt = 1 ms, |R| = "), std::string::npos)
+      << at_1ms.output;
+  EXPECT_NE(at_1ms.output.find("stable below ~ 0.1"), std::string::npos) << at_1ms.output;
+  EXPECT_EQ(at_1ms.output.find("explicit step: trapezoidal"), std::string::npos);  // implicit
+  const auto at_01ms = mh::test::run_cli("compare " + model +
+                                             " --formulations double-step --integrators "
+                                             "trapezoidal,rk4 --dt 1e-4 --t-end 0.002",
+                                         env);
+  EXPECT_EQ(at_01ms.code, 0) << at_01ms.output;
+  EXPECT_NE(at_01ms.output.find("explicit step: rk4 stable: dt = 0.1 ms"), std::string::npos)
+      << at_01ms.output;
+  const auto strict = mh::test::run_cli(
+      "run " + model + " --integrator rk4 --t-end 0.01 --explicit-stability error", env);
+  EXPECT_EQ(strict.code, 1) << strict.output;
+  EXPECT_NE(strict.output.find("t = 0.001 s, step 1: the explicit integrator 'rk4' is unstable"),
+            std::string::npos)
+      << strict.output;
 }
 
 }  // namespace
