@@ -13,11 +13,11 @@
 #include <memory>
 #include <string>
 
+#include "hosts/cli_runner.hpp"
 #include "monohydra/core/explicit_stability.hpp"
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/plugin_registry.hpp"
 #include "monohydra/core/simulation.hpp"
-#include "hosts/cli_runner.hpp"
 #include "test_support.hpp"
 
 namespace mh {
