@@ -197,11 +197,18 @@ void Simulation::Engine::check_explicit_stability(double h) {
   stability_next_step = step + kStabilityInterval;
   if (settings.explicit_stability == ExplicitStabilityPolicy::off || !amplification) return;
   const double cpu0 = cpu_now();
-  // The check's rate solves are not the step's: its statistics stay the step's own.
+  // The check only looks: its rate solves leave the step's statistics and
+  // the rates' kept Jacobian as they were (a fresh Jacobian every check
+  // would change how the step's Newton converges, and so its results).
   const StepStats kept = stats;
+  const Eigen::MatrixXd kept_jacobian = rates_jacobian;
+  const Eigen::PartialPivLU<Eigen::MatrixXd> kept_lu = rates_lu;
+  const bool kept_valid = rates_jacobian_valid;
   const std::vector<std::complex<double>> eigenvalues = rates_eigenvalues(t, h);
   stats = kept;
-  rates_jacobian_valid = false;  // the step's Newton starts from its own Jacobian
+  rates_jacobian = kept_jacobian;
+  rates_lu = kept_lu;
+  rates_jacobian_valid = kept_valid;
   double worst = 0.0;
   std::complex<double> worst_lambda;
   try {
