@@ -204,11 +204,26 @@ void Simulation::Engine::check_explicit_stability(double h) {
   const Eigen::MatrixXd kept_jacobian = rates_jacobian;
   const Eigen::PartialPivLU<Eigen::MatrixXd> kept_lu = rates_lu;
   const bool kept_valid = rates_jacobian_valid;
-  const std::vector<std::complex<double>> eigenvalues = rates_eigenvalues(t, h);
+  std::vector<std::complex<double>> eigenvalues;
+  bool linearised = true;
+  try {
+    eigenvalues = rates_eigenvalues(t, h);
+  } catch (const SimulationError&) {
+    // A rate solve at a perturbed state failed (Newton on the rates near a
+    // throttle's zero pressure drop): this check is skipped, the step goes
+    // on as it would without it, and the next check is due as usual.
+    linearised = false;
+  }
   stats = kept;
   rates_jacobian = kept_jacobian;
   rates_lu = kept_lu;
   rates_jacobian_valid = kept_valid;
+  last_plugin_error.clear();
+  if (!linearised) {
+    ++stability.skipped;
+    stability.cpu_seconds += cpu_now() - cpu0;
+    return;
+  }
   double worst = 0.0;
   std::complex<double> worst_lambda;
   try {

@@ -97,6 +97,7 @@ void read_description(Reader& in, RunRecord& rec) {
   s.eigenvalue = {re, in.get<double>()};
   s.stable_dt = in.get<double>();
   s.cpu_seconds = in.get<double>();
+  s.skipped = in.get<int32_t>();
   if (rec.columns.size() != rec.names.size()) rec.columns.assign(rec.names.size(), {});
 }
 
@@ -140,6 +141,7 @@ void append_record_description(std::string& out, const RunRecord& rec, bool fina
   put(p, s.eigenvalue.imag());
   put(p, s.stable_dt);
   put(p, s.cpu_seconds);
+  put(p, static_cast<int32_t>(s.skipped));
   append_message(out, final ? 'F' : 'D', p);
 }
 

@@ -36,6 +36,7 @@ std::string stability_text(const ExplicitStability& s) {
 
 std::string stability_cost_text(const ExplicitStability& s) {
   return std::to_string(s.checks) + (s.checks == 1 ? " check, " : " checks, ") +
+         (s.skipped > 0 ? std::to_string(s.skipped) + " skipped (a rate solve failed), " : "") +
          number(1e3 * s.cpu_seconds) + " ms CPU";
 }
 

@@ -45,6 +45,7 @@ struct ExplicitStability {
   // up to 2^40 dt is unstable (every mode at rest).
   double stable_dt = std::numeric_limits<double>::infinity();
   double cpu_seconds = 0.0;  // all checks together (process CPU time)
+  int skipped = 0;           // checks whose rate solve failed at a perturbed state
 };
 
 // The stability check's margin: |R| may exceed the exact flow's growth by
