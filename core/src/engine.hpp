@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 #include <chrono>
+#include <complex>
 #include <memory>
 #include <set>
 #include <sstream>
@@ -138,6 +139,16 @@ struct Simulation::Engine {
   Eigen::VectorXd xs, xds, xdds, r_rates, r_rates_pert, rates_step, rate_scale;
   Eigen::MatrixXd rates_jacobian;
   Eigen::PartialPivLU<Eigen::MatrixXd> rates_lu;
+  // explicit_stability.cpp: the step's stability, checked before the first
+  // step, after every restart and every kStabilityInterval steps.
+  static constexpr long kStabilityInterval = 1000;
+  std::unique_ptr<StageAmplification> amplification;  // its own integrator instance
+  bool stability_due = false;
+  long stability_next_step = 0;
+  double stability_worst_excess = 0.0;
+  ExplicitStability stability;
+  void check_explicit_stability(double h);
+  std::vector<std::complex<double>> rates_eigenvalues(double t_eval, double h);
 
   // Subsystems and their states (the last n_s unknowns).
   std::vector<SubsystemInstance> subsystems;

@@ -146,6 +146,7 @@ void Simulation::Engine::explicit_attempt(double t_eval, double h) {
   const auto checked = [this](mh_status st, const char* op) {
     if (!status_ok(st)) check(st, "integrator '" + integrator_name + "' " + op);
   };
+  if (stability_due || step >= stability_next_step) check_explicit_stability(h);
   const uint32_t stages = integrator.ops.num_stages;
   for (uint32_t s = 0; s < stages; ++s) {
     xs = x;  // guesses: the accepted values

@@ -40,6 +40,7 @@ void Simulation::Engine::rates_of(const Eigen::VectorXd& xq, Eigen::VectorXd& xd
 void Simulation::Engine::restart_integrator() {
   check(integrator.ops.restart(integrator.self, t, x.data(), xd.data(), xdd.data()), "integrator",
         integrator_name, "restart");
+  stability_due = explicit_method;  // a new start: its stability is checked again
 }
 
 }  // namespace mh

@@ -2,6 +2,7 @@
 // that reaches the step loop is finite, sized and said back in the message.
 #include "monohydra/core/run_limits.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -40,7 +41,8 @@ long planned_steps(const SolverSettings& settings) {
 }
 
 long check_run_settings(const ModelFile& file, const SolverSettings& settings,
-                        const RunLimits& limits, std::size_t csv_columns, SettingOrigins origins) {
+                        const RunLimits& limits, std::size_t csv_columns, SettingOrigins origins,
+                        long rows_every) {
   const Origin dt = origin(file, file.solver.dt_mark, origins.dt_flag, "--dt", "dt");
   const Origin t_end = origin(file, file.solver.t_end_mark, origins.t_end_flag, "--t-end", "t_end");
   const auto require_written = [&](const Origin& o, bool flag, const SourceMark& written) {
@@ -70,7 +72,7 @@ long check_run_settings(const ModelFile& file, const SolverSettings& settings,
                          " steps, above the limit of " + num(limits.max_steps) +
                          " steps (raise it with --max-steps N)");
   if (csv_columns > 0) {
-    const double rows = steps + 1.0;
+    const double rows = std::floor(steps / static_cast<double>(std::max(1L, rows_every))) + 1.0;
     const double bytes = rows * static_cast<double>(csv_columns) * kCsvBytesPerCell;
     if (!(bytes <= limits.max_output_bytes))
       throw InputError(t_end.mark, t_end.field,

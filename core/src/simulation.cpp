@@ -194,6 +194,13 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
   const mh_status ist = normalized(in.setup(e.integrator.self, &problem));
   if (!status_ok(ist)) throw_setup_failure(e, file.integrator.mark, iwho);
   e.check_unread_options(*e.integrator_host);
+  if (e.explicit_method) {  // its stability check's own instance (explicit_stability.hpp)
+    const mh_integrator* probe =
+        iinfo->integrator_factory.create(static_cast<const mh_integrator_factory*>(iinfo->factory),
+                                         &e.integrator_host->table, e.integrator_name.c_str());
+    if (probe == nullptr) throw_setup_failure(e, file.integrator.mark, iwho);
+    e.amplification = std::make_unique<StageAmplification>(probe);
+  }
 
   for (const auto& v : e.state_info) {
     state_names_.push_back(v.name);
@@ -212,6 +219,9 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
 
 Simulation::~Simulation() = default;
 
+const ExplicitStability& Simulation::explicit_stability() const {
+  return engine_->stability;
+}
 const SolverSettings& Simulation::settings() const {
   return engine_->settings;
 }

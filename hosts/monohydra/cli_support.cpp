@@ -16,6 +16,13 @@ namespace mh::cli {
 // strtod, not stod: stod throws for a subnormal like 1e-320 and for 1e400,
 // which then read as "not a number"; both are numbers that the settings
 // check refuses with their accepted range.
+std::optional<ExplicitStabilityPolicy> parse_stability_option(const std::string& text) {
+  ExplicitStabilityPolicy policy{};
+  if (parse_explicit_stability(text, policy)) return policy;
+  std::cerr << "monohydra: --explicit-stability expects error, warn or off, got '" << text << "'\n";
+  return std::nullopt;
+}
+
 std::optional<double> parse_number(const std::string& flag, const std::string& text) {
   if (!text.empty() && std::isspace(static_cast<unsigned char>(text.front())) == 0) {
     char* end = nullptr;

@@ -5,12 +5,16 @@
 #include <optional>
 #include <string>
 
+#include "monohydra/core/explicit_stability.hpp"
 #include "monohydra/core/run_limits.hpp"
 #include "monohydra/types.h"
 
 namespace mh::cli {
 
 // The number in `text`, or nullopt after telling the user that `flag` expects one.
+// --explicit-stability's value: error, warn or off; nullopt after saying what is wrong.
+std::optional<ExplicitStabilityPolicy> parse_stability_option(const std::string& text);
+
 std::optional<double> parse_number(const std::string& flag, const std::string& text);
 
 // --max-steps N or --max-output-bytes N into `limits`; false after telling the user.

@@ -23,6 +23,7 @@
 #include "monohydra/core/simulation.hpp"
 #include "result_sidecar.hpp"
 #include "run_setup.hpp"
+#include "stability_text.hpp"
 #include "stop_signals.hpp"
 #include "subcommand_parser.hpp"
 
@@ -72,6 +73,8 @@ const char* kUsage =
     "                          analytic tangent against differences, bit-identical reruns;\n"
     "                          each in a child process (exit 0 or 1)\n"
     "  COMMAND --help          that command's options\n"
+    "  --explicit-stability error|warn|off (run, validate, compare): an explicit integrator's\n"
+    "  step beyond its stability bound stops the run, is reported (default) or not checked\n"
     "  LIMITS: --max-steps N (default 1e8), --max-output-bytes N (default 1e10)\n"
     "SIGINT or SIGTERM stops a run after its current row (exit 130 or 143).\n"
     "--log-level error|warn|info|debug (any command): the plugins' and the host's log lines\n"
@@ -121,7 +124,16 @@ std::optional<int> parse_run_args(const std::vector<std::string>& args, const ch
   auto* steps_opt = app.add_option("--max-steps", max_steps, "refuse runs of more steps (1e8)");
   auto* bytes_opt =
       app.add_option("--max-output-bytes", max_bytes, "refuse larger CSVs (1e10 bytes)");
+  std::string stability;
+  auto* stability_opt = app.add_option(
+      "--explicit-stability", stability,
+      "error|warn|off: an explicit step beyond its stability bound stops the run, is reported "
+      "(default, or solver: explicit_stability) or is not checked");
   if (const auto code = parse_subcommand(app, args)) return code;
+  if (stability_opt->count() > 0) {
+    request.explicit_stability = parse_stability_option(stability);
+    if (!request.explicit_stability) return 2;
+  }
 
   if (models.size() > 1) {
     std::cerr << "monohydra: one model file at a time (got '" << models[0] << "' and '" << models[1]
@@ -206,8 +218,8 @@ int run_prepared(PreparedRun& prepared, const RunRequest& request, const std::st
       return 2;
     }
   }
+  ResultProvenance provenance;
   if (!out_path.empty()) {
-    ResultProvenance provenance;
     provenance.model_path = request.model_path;
     provenance.formulation = sim.formulation_name();
     provenance.integrator = sim.integrator_name();
@@ -231,6 +243,11 @@ int run_prepared(PreparedRun& prepared, const RunRequest& request, const std::st
     drop_partial_last_line(out_path);
   }
   if (bar.enabled && s.failed) std::fputc('\n', stderr);
+  // The stability check is known once the run has made it: the sidecar again, with it.
+  if (!out_path.empty() && sim.explicit_stability().checks > 0) {
+    provenance.stability = &sim.explicit_stability();
+    if (!write_sidecar(out_path, provenance)) return 2;
+  }
   if (s.end == RunEnd::bad_input) {  // nothing ran: the error alone
     std::cerr << "monohydra: " << s.failure << '\n';
     return 2;
@@ -246,6 +263,10 @@ int run_prepared(PreparedRun& prepared, const RunRequest& request, const std::st
                             : 0.0)
             << " iterations per step on average, " << s.max_iterations << " at most\n"
             << "retries:      " << s.retries << " halvings of failed steps\n"
+            << (sim.explicit_stability().checks > 0
+                    ? "stability:    " + stability_text(sim.explicit_stability()) + " (" +
+                          stability_cost_text(sim.explicit_stability()) + ")\n"
+                    : std::string())
             << "solver:       " << to_string(sim.settings().linear) << ", "
             << to_string(sim.settings().newton) << " Newton, "
             << (s.steps > 0 ? static_cast<double>(s.tangents) / static_cast<double>(s.steps) : 0.0)
@@ -259,6 +280,11 @@ int run_prepared(PreparedRun& prepared, const RunRequest& request, const std::st
               << prepared.layout->every_steps() << " steps)\n"
               << "provenance:   " << sidecar_path(out_path) << "\n";
   print_used_components(std::cout, prepared.used);
+  if (sim.explicit_stability().unstable && s.end != RunEnd::simulation_failed)
+    std::cerr << "monohydra: warning: the explicit integrator '" << sim.integrator_name()
+              << "' is unstable at this dt (" << stability_text(sim.explicit_stability())
+              << "): its results grow without bound however bounded they look; use a step "
+                 "below the bound or an implicit integrator\n";
   switch (s.end) {
     case RunEnd::completed:
       break;

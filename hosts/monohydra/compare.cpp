@@ -20,6 +20,7 @@
 #include "report_html.hpp"
 #include "result_sidecar.hpp"
 #include "run_record.hpp"
+#include "stability_text.hpp"
 #include "stop_signals.hpp"
 #include "subcommand_parser.hpp"
 
@@ -124,6 +125,8 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
       return 2;
     }
   }
+  // --explicit-stability over the file's solver.explicit_stability.
+  if (job.explicit_stability) file.solver.explicit_stability = *job.explicit_stability;
   PluginRegistry registry;
   try {
     load_model_plugins(file, registry);
@@ -183,6 +186,7 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
         provenance.solver.t_end =
             runs.back().dt > 0.0 ? runs.back().t_end : job.t_end.value_or(file.solver.t_end);
         provenance.plugins = used;
+        provenance.stability = &runs.back().stability;
         if (!write_sidecar(csv, provenance)) return 2;
       }
       if (bar.enabled && runs.back().failed && runs.back().rows() > 0) std::cerr << '\n';
@@ -199,6 +203,13 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
   const PaperNumbers* paper = job.study != nullptr ? &job.study->paper : nullptr;
   const TextTable table = comparison_table(c, paper);
   out << render_text(table);
+  // An explicit integrator's stability check, under the table: a bounded
+  // run can still be an unstable one (docs/integrators.md).
+  std::vector<std::string> stability_lines;
+  for (const auto& r : c.runs)
+    if (r.stability.checks > 0)
+      stability_lines.push_back(r.label + " " + stability_text(r.stability));
+  for (const auto& line : stability_lines) out << "explicit step: " << line << '\n';
   print_used_components(out, loaded);
 
   if (!job.report_dir.empty()) {
@@ -220,6 +231,7 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
     page.facts.push_back("model: " + file.model.name + " (" + job.model_path + ")");
     page.facts.push_back("formulations: " + joined(formulations));
     page.facts.push_back("integrators: " + joined(integrators));
+    for (const auto& line : stability_lines) page.facts.push_back("explicit step: " + line);
     std::vector<std::string> control_names;
     control_names.reserve(controls.size());
     for (const auto& col : controls) control_names.push_back(col.name);
@@ -273,7 +285,16 @@ int compare(const std::vector<std::string>& args) {
   auto* steps_opt = app.add_option("--max-steps", max_steps, "refuse runs of more steps (1e8)");
   auto* bytes_opt =
       app.add_option("--max-output-bytes", max_bytes, "refuse larger outputs (1e10 bytes)");
+  std::string stability;
+  auto* stability_opt = app.add_option(
+      "--explicit-stability", stability,
+      "error|warn|off: an explicit step beyond its stability bound stops the run, is reported "
+      "(default, or solver: explicit_stability) or is not checked");
   if (const auto code = parse_subcommand(app, args)) return *code;
+  if (stability_opt->count() > 0) {
+    job.explicit_stability = parse_stability_option(stability);
+    if (!job.explicit_stability) return 2;
+  }
   if (models.size() > 1) {
     std::cerr << "monohydra: compare takes one model file (got '" << models[0] << "' and '"
               << models[1] << "')\n";

@@ -22,7 +22,8 @@ struct CompareJob {
   std::string report_dir;    // "" for no report and no CSVs
   std::optional<double> dt;  // override the model file's solver settings
   std::optional<double> t_end;
-  RunLimits limits;                  // --max-steps, --max-output-bytes
+  RunLimits limits;                                           // --max-steps, --max-output-bytes
+  std::optional<ExplicitStabilityPolicy> explicit_stability;  // unset: the model file's
   const CaseStudy* study = nullptr;  // the paper's numbers beside ours, when set
 };
 

@@ -3,6 +3,7 @@
 #include <nettle/sha2.h>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -102,9 +103,22 @@ bool write_sidecar(const std::string& result, const ResultProvenance& p) {
     << "    \"output_interval\": "
     << (p.output_interval ? json_number(*p.output_interval) : std::string("null")) << ",\n"
     << "    \"real_time_newton_cap\": "
-    << (p.real_time_cap > 0 ? std::to_string(p.real_time_cap) : std::string("null")) << "\n"
+    << (p.real_time_cap > 0 ? std::to_string(p.real_time_cap) : std::string("null")) << ",\n"
+    << "    \"explicit_stability\": " << json_string(to_string(p.solver.explicit_stability)) << "\n"
     << "  },\n"
-    << "  \"plugins\": [";
+    << "  \"explicit_stability\": ";
+  if (p.stability != nullptr && p.stability->checks > 0) {
+    const ExplicitStability& s = *p.stability;
+    j << "{\"unstable\": " << (s.unstable ? "true" : "false") << ", \"checks\": " << s.checks
+      << ", \"t\": " << json_number(s.t) << ", \"step\": " << s.step
+      << ", \"dt\": " << json_number(s.h) << ", \"amplification\": " << json_number(s.amplification)
+      << ", \"eigenvalue\": [" << json_number(s.eigenvalue.real()) << ", "
+      << json_number(s.eigenvalue.imag()) << "], \"stable_dt\": "
+      << (std::isinf(s.stable_dt) ? std::string("null") : json_number(s.stable_dt)) << "},\n";
+  } else {
+    j << "null,\n";
+  }
+  j << "  \"plugins\": [";
   for (size_t i = 0; i < p.plugins.size(); ++i) {
     const UsedComponent& u = p.plugins[i];
     j << (i == 0 ? "\n" : ",\n") << "    {\"kind\": " << json_string(to_string(u.kind))

@@ -20,6 +20,9 @@ struct ResultProvenance {
   std::optional<double> output_interval;  // --output-interval, when given
   int real_time_cap = 0;                  // --real-time's Newton cap (0: off)
   std::vector<UsedComponent> plugins;
+  // An explicit integrator's stability check, once the run has made it
+  // (null, or no checks: "explicit_stability": null).
+  const ExplicitStability* stability = nullptr;
 };
 
 // The sidecar's path: `result` with its extension replaced by .meta.json.

@@ -16,7 +16,8 @@ RunMetrics compute_metrics(const RunRecord& run) {
   const auto& drift = run.values("drift");
   const auto& work = run.values("W");
   const auto& phi = run.values("phi_norm");
-  m.steps = static_cast<long>(rows) - 1;
+  // Rows are every step, or every output.interval: the steps from the time.
+  m.steps = run.dt > 0.0 ? std::lround(t.back() / run.dt) : static_cast<long>(rows) - 1;
   m.simulated_seconds = t.back();
   double iteration_sum = 0.0;
   double step_wall = 0.0;
@@ -27,7 +28,7 @@ RunMetrics compute_metrics(const RunRecord& run) {
   }
   m.wall_seconds = wall[0] + step_wall;
   if (m.steps > 0) {
-    m.avg_iterations = iteration_sum / static_cast<double>(m.steps);
+    m.avg_iterations = iteration_sum / static_cast<double>(rows - 1);  // over the rows kept
     m.seconds_per_step = step_wall / static_cast<double>(m.steps);
   }
   if (m.wall_seconds > 0.0) m.real_time_factor = m.simulated_seconds / m.wall_seconds;

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "monohydra/core/csv_layout.hpp"
 #include "monohydra/core/run.hpp"
 #include "monohydra/core/run_limits.hpp"
 
@@ -64,11 +65,11 @@ void record_row(const Simulation& sim, double wall_seconds, RunRecord& rec) {
   push(wall_seconds);
 }
 
-// `monohydra run`'s row (write_csv_row) with the wall time appended.
-void write_row(std::ostream& csv, std::ostringstream& line, const Simulation& sim,
-               double wall_seconds) {
+// `monohydra run`'s row (its output: columns) with the wall time appended.
+void write_row(std::ostream& csv, std::ostringstream& line, const CsvLayout& layout,
+               const Simulation& sim, double wall_seconds) {
   line.str("");
-  write_csv_row(line, sim);
+  layout.row(line, sim);
   std::string text = line.str();
   text.back() = ',';  // the row's '\n'
   char buf[32];
@@ -119,11 +120,17 @@ RunRecord record_run(const ModelFile& file, const PluginRegistry& registry,
   rec.t_end = sim->settings().t_end;
   name_columns(file, *sim, rec);
   long total = 0;
+  std::unique_ptr<CsvLayout> layout;
   try {
     check_column_names(file, *sim);
-    // Every row is kept in memory too: count it like a CSV.
+    // The model file's output: rows every every_steps() steps and the CSV's
+    // columns, as `run` writes them (the rows kept in memory keep every
+    // column: the table is computed from them).
+    layout = std::make_unique<CsvLayout>(*sim, file.output, std::nullopt);
+    // Every row kept is in memory too: count it like a CSV.
     total = check_run_settings(file, sim->settings(), options.limits, rec.names.size(),
-                               SettingOrigins{options.dt.has_value(), options.t_end.has_value()});
+                               SettingOrigins{options.dt.has_value(), options.t_end.has_value()},
+                               layout->every_steps());
   } catch (const InputError& err) {
     rec.failed = true;
     rec.failure = err.what();
@@ -149,14 +156,16 @@ RunRecord record_run(const ModelFile& file, const PluginRegistry& registry,
     if (options.on_row) options.on_row(rec);
     if (csv.is_open()) {
       line.str("");
-      write_csv_header(line, *sim);
+      layout->header(line);
       std::string header = line.str();
       header.pop_back();  // the header's '\n'
       csv << header << ',' << kWallColumn << '\n';
-      write_row(csv, line, *sim, wall);
+      write_row(csv, line, *layout, *sim, wall);
       csv.flush();
     }
     const long report_every = std::max(1L, total / 100);
+    const long every = layout->every_steps();
+    double wall_since_row = 0.0;  // the steps since the last row kept
     for (long k = 0; k < total; ++k) {
       if (options.stop != nullptr && *options.stop != 0) {
         rec.stopped_by = static_cast<int>(*options.stop);
@@ -168,20 +177,25 @@ RunRecord record_run(const ModelFile& file, const PluginRegistry& registry,
       }
       t0 = Clock::now();
       sim->step();
-      wall = seconds_since(t0);
-      record_row(*sim, wall, rec);
-      if (options.on_row) options.on_row(rec);
-      if (csv.is_open()) {
-        write_row(csv, line, *sim, wall);
-        csv.flush();  // the rows before a crash stay on disk
-        if (!csv) throw std::runtime_error("cannot write '" + options.csv_path + "'");
+      wall_since_row += seconds_since(t0);
+      if ((k + 1) % every == 0) {
+        record_row(*sim, wall_since_row, rec);
+        if (options.on_row) options.on_row(rec);
+        if (csv.is_open()) {
+          write_row(csv, line, *layout, *sim, wall_since_row);
+          csv.flush();  // the rows before a crash stay on disk
+          if (!csv) throw std::runtime_error("cannot write '" + options.csv_path + "'");
+        }
+        wall_since_row = 0.0;
       }
       if (options.progress && (k + 1) % report_every == 0)
         options.progress(static_cast<double>(k + 1) / static_cast<double>(total));
     }
     if (csv.is_open() && !csv.flush())
       throw std::runtime_error("cannot write '" + options.csv_path + "'");
+    rec.stability = sim->explicit_stability();
   } catch (const SimulationError& err) {
+    rec.stability = sim->explicit_stability();
     rec.failed = true;
     rec.failure = err.what();
     rec.failure_time = err.time();

@@ -17,8 +17,9 @@
 namespace mh::cli {
 
 // The column the comparison adds after `monohydra run`'s columns: the wall time
-// (s) spent computing the row, start() for t = 0 and one step() after that
-// (writing the CSV is not counted).
+// (s) spent computing the row, start() for t = 0 and the steps since the
+// last row after that (one step, unless output.interval skips rows; writing
+// the CSV is not counted).
 inline constexpr const char* kWallColumn = "wall_s";
 
 struct RunRecord {
@@ -39,7 +40,8 @@ struct RunRecord {
   int num_coordinates = 0;                   // z1..zN are columns 1..N
   int num_states = 0;                        // written states follow them
   std::string csv_path;                      // "" when no CSV was written
-  int stopped_by = 0;  // the signal that stopped the run between two steps, 0 if none
+  int stopped_by = 0;           // the signal that stopped the run between two steps, 0 if none
+  ExplicitStability stability;  // an explicit integrator's stability checks (checks = 0: none)
   int crashed_by = 0;  // the signal that killed the run's process (isolated_run.hpp), 0 if none
 
   size_t rows() const { return columns.empty() ? 0 : columns.front().size(); }

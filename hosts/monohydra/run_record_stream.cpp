@@ -86,6 +86,18 @@ void read_description(Reader& in, RunRecord& rec) {
   rec.num_states = in.get<int32_t>();
   rec.csv_path = in.get_string();
   rec.stopped_by = in.get<int32_t>();
+  ExplicitStability& s = rec.stability;
+  s.checks = in.get<int32_t>();
+  s.unstable = in.get<uint8_t>() != 0;
+  s.t = in.get<double>();
+  s.step = static_cast<long>(in.get<int64_t>());
+  s.h = in.get<double>();
+  s.amplification = in.get<double>();
+  const auto re = in.get<double>();
+  s.eigenvalue = {re, in.get<double>()};
+  s.stable_dt = in.get<double>();
+  s.cpu_seconds = in.get<double>();
+  s.skipped = in.get<int32_t>();
   if (rec.columns.size() != rec.names.size()) rec.columns.assign(rec.names.size(), {});
 }
 
@@ -118,6 +130,18 @@ void append_record_description(std::string& out, const RunRecord& rec, bool fina
   put(p, static_cast<int32_t>(rec.num_states));
   put_string(p, rec.csv_path);
   put(p, static_cast<int32_t>(rec.stopped_by));
+  const ExplicitStability& s = rec.stability;
+  put(p, static_cast<int32_t>(s.checks));
+  put(p, static_cast<uint8_t>(s.unstable));
+  put(p, s.t);
+  put(p, static_cast<int64_t>(s.step));
+  put(p, s.h);
+  put(p, s.amplification);
+  put(p, s.eigenvalue.real());
+  put(p, s.eigenvalue.imag());
+  put(p, s.stable_dt);
+  put(p, s.cpu_seconds);
+  put(p, static_cast<int32_t>(s.skipped));
   append_message(out, final ? 'F' : 'D', p);
 }
 

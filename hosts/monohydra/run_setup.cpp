@@ -22,6 +22,8 @@ std::unique_ptr<PreparedRun> prepare_run(const RunRequest& request) {
     std::cerr << "monohydra: " << err.what() << '\n';
     return nullptr;
   }
+  // --explicit-stability over the file's solver.explicit_stability.
+  if (request.explicit_stability) p->file.solver.explicit_stability = *request.explicit_stability;
   const SettingOrigins origins{request.dt.has_value(), request.t_end.has_value()};
   try {
     // The settings are checked before any plugin reads them (the output's
@@ -51,7 +53,7 @@ std::unique_ptr<PreparedRun> prepare_run(const RunRequest& request) {
     check_column_names(p->file, *p->sim);
     p->used = used_components(p->file, p->registry, request.formulation, request.integrator);
     p->steps = check_run_settings(p->file, p->sim->settings(), request.limits,
-                                  request.csv ? p->columns : 0, origins);
+                                  request.csv ? p->columns : 0, origins, p->layout->every_steps());
   } catch (const InputError& err) {
     std::cerr << "monohydra: " << err.what() << '\n';
     return nullptr;

@@ -29,6 +29,7 @@ struct RunRequest {
   std::optional<double> output_interval;  // --output-interval: overrides output.interval
   int real_time_cap = 0;                  // --real-time: Newton iterations per step (0: off)
   RunLimits limits;
+  std::optional<ExplicitStabilityPolicy> explicit_stability;  // unset: the model file's
 };
 
 struct PreparedRun {

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -173,6 +174,62 @@ TEST(Compare, CsvIsTheRunCommandsCsvWithTheWallTimeAppended) {
     begin = end + 1;
   }
   EXPECT_EQ(stripped, run_text);
+}
+
+// The double pendulum with `extra` appended (an output: block).
+std::string pendulum_with(const fs::path& folder, const std::string& extra) {
+  const fs::path path = folder / "pendulum.yaml";
+  std::ofstream(path) << read_text(shipped_model("double-pendulum.yaml")) << extra;
+  return path.string();
+}
+
+// Each line of a comparison's CSV without its last column (wall_s).
+std::string without_wall_column(const std::string& text) {
+  std::string stripped;
+  size_t begin = 0;
+  while (begin < text.size()) {
+    const size_t end = text.find('\n', begin);
+    const std::string line = text.substr(begin, end - begin);
+    stripped += line.substr(0, line.rfind(',')) + '\n';
+    begin = end + 1;
+  }
+  return stripped;
+}
+
+TEST(Compare, HonoursTheModelFilesOutputIntervalAndColumnsLikeRun) {
+  const fs::path dir = scratch_dir("output-block");
+  const std::string model =
+      pendulum_with(dir, "output: {interval: 0.05, columns: [t, z2, KE, drift]}\n");
+  ASSERT_EQ(run_cli("run " + model + " --t-end 0.5 --out " + (dir / "run.csv").string()).code, 0);
+  const CliResult r =
+      run_cli("compare " + model + " --t-end 0.5 --report " + (dir / "cmp").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::string cmp_text = read_text(dir / "cmp" / "open-loop.csv");
+  EXPECT_EQ(cmp_text.substr(0, cmp_text.find('\n')), "t,z2,KE,drift,wall_s");
+  // Row for row the run's: 11 rows at multiples of 50 ms.
+  EXPECT_EQ(without_wall_column(cmp_text), read_text(dir / "run.csv"));
+  EXPECT_EQ(read_csv(dir / "cmp" / "open-loop.csv").rows, 11u);
+  // The table counts the steps, not the rows: 500 steps of 1 ms.
+  EXPECT_NE(r.output.find("500"), std::string::npos) << r.output;
+}
+
+TEST(Compare, MaxOutputBytesCountsOnlyTheRowsWritten) {
+  const fs::path dir = scratch_dir("output-bytes");
+  // 10 s at 1 ms: 10001 rows of every step are ~2.4 MB; one row per 0.1 s, 101 rows, ~25 kB.
+  const std::string sparse = pendulum_with(dir, "output: {interval: 0.1}\n");
+  const std::string every = shipped_model("double-pendulum.yaml");
+  for (const std::string command : {"compare ", "run "}) {
+    const std::string out =
+        command == "run " ? " --out " + (dir / "r.csv").string() : std::string();
+    const CliResult ok = run_cli(command + sparse + " --max-output-bytes 1e5" + out);
+    EXPECT_EQ(ok.code, 0) << command << ok.output;
+    const CliResult refused = run_cli(command + every + " --max-output-bytes 1e5" + out);
+    // run refuses to start (2); compare reports the run as failed at setup (1).
+    EXPECT_EQ(refused.code, command == "run " ? 2 : 1) << command << refused.output;
+    EXPECT_NE(refused.output.find("10001 rows"), std::string::npos) << refused.output;
+    EXPECT_NE(refused.output.find("above the limit of 100000 bytes"), std::string::npos)
+        << refused.output;
+  }
 }
 
 TEST(Compare, IntegratorsAloneVaryTheRunsAreNamedAfterThemAndAgreeToTheirOrder) {

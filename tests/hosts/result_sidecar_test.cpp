@@ -92,6 +92,38 @@ TEST(ResultSidecar, EveryCompareCsvGetsOneNamingItsOwnFormulationsLibrary) {
   }
 }
 
+TEST(ResultSidecar, AnExplicitRunsStabilityCheckIsInItsSidecarAndAnImplicitRunsIsNull) {
+  const auto dir = mh::test::scratch_dir("sidecar-stability");
+  mh::cli::ResultProvenance p;
+  p.model_path = mh::test::shipped_model("fourbar.yaml");
+  p.formulation = "double-step";
+  p.integrator = "rk4";
+  mh::ExplicitStability s;
+  s.checks = 2;
+  s.unstable = true;
+  s.t = 0.5;
+  s.step = 501;
+  s.h = 1e-3;
+  s.amplification = 9984.0;
+  s.eigenvalue = {-23060.0, 0.0};
+  s.stable_dt = 1.21e-4;
+  p.stability = &s;
+  const auto result = (dir / "rk4.csv").string();
+  ASSERT_TRUE(mh::cli::write_sidecar(result, p));
+  pt::ptree meta;
+  ASSERT_NO_THROW(meta = read_json_file(dir / "rk4.meta.json"));
+  EXPECT_EQ(meta.get<std::string>("settings.explicit_stability"), "warn");
+  EXPECT_TRUE(meta.get<bool>("explicit_stability.unstable"));
+  EXPECT_EQ(meta.get<int>("explicit_stability.checks"), 2);
+  EXPECT_EQ(meta.get<long>("explicit_stability.step"), 501);
+  EXPECT_DOUBLE_EQ(meta.get<double>("explicit_stability.amplification"), 9984.0);
+  EXPECT_DOUBLE_EQ(meta.get<double>("explicit_stability.stable_dt"), 1.21e-4);
+  p.stability = nullptr;  // an implicit run
+  ASSERT_TRUE(mh::cli::write_sidecar(result, p));
+  ASSERT_NO_THROW(meta = read_json_file(dir / "rk4.meta.json"));
+  EXPECT_EQ(meta.get<std::string>("explicit_stability"), "null");
+}
+
 TEST(ResultSidecar, ItsPathReplacesTheResultsExtension) {
   EXPECT_EQ(mh::cli::sidecar_path("out/run.csv"), "out/run.meta.json");
   EXPECT_EQ(mh::cli::sidecar_path("results"), "results.meta.json");

@@ -7,6 +7,9 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <utility>
+
+#include "stability_text.hpp"
 
 namespace mh::cli {
 namespace {
@@ -75,6 +78,43 @@ TEST(RunRecordStream, ACompleteRecordComesBackBitForBit) {
     for (size_t k = 0; k < 2; ++k)
       EXPECT_TRUE(same_bits(d.record.columns[c][k], rec.columns[c][k])) << c << ", " << k;
   }
+}
+
+TEST(RunRecordStream, TheExplicitStabilityCheckComesBackAndReadsAsCompareSaysIt) {
+  RunRecord rec = two_row_record();
+  rec.integrator = "rk4";
+  ExplicitStability& s = rec.stability;
+  s.checks = 3;
+  s.unstable = true;
+  s.t = 0.25;
+  s.step = 251;
+  s.h = 1e-3;
+  s.amplification = 9984.25;
+  s.eigenvalue = {-23060.0, -12.5};
+  s.stable_dt = 1.21e-4;
+  s.cpu_seconds = 1.5e-4;
+  s.skipped = 1;
+  std::string bytes = stream_of(rec);
+  append_record_description(bytes, rec, true);
+  const ExplicitStability d = decode_record_stream(bytes).record.stability;
+  EXPECT_EQ(d.checks, 3);
+  EXPECT_TRUE(d.unstable);
+  EXPECT_EQ(d.step, 251);
+  EXPECT_EQ(d.skipped, 1);
+  for (const auto& [a, b] : {std::pair{d.t, s.t},
+                             {d.h, s.h},
+                             {d.amplification, s.amplification},
+                             {d.eigenvalue.real(), s.eigenvalue.real()},
+                             {d.eigenvalue.imag(), s.eigenvalue.imag()},
+                             {d.stable_dt, s.stable_dt},
+                             {d.cpu_seconds, s.cpu_seconds}})
+    EXPECT_TRUE(same_bits(a, b)) << a << " vs " << b;
+  EXPECT_EQ(stability_text(d),
+            "unstable: dt = 1 ms, |R| = 9984 (lambda = -2.306e+04 - 12.5i 1/s, at t = 0.25 s), "
+            "stable below ~ 0.121 ms");
+  EXPECT_EQ(stability_cost_text(d), "3 checks, 1 skipped (a rate solve failed), 0.15 ms CPU");
+  rec.stability = ExplicitStability{};  // an implicit run: nothing to say
+  EXPECT_EQ(stability_text(rec.stability), "");
 }
 
 TEST(RunRecordStream, AStreamCutInsideARowKeepsTheWholeRowsBeforeIt) {

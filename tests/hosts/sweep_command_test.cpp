@@ -12,6 +12,8 @@
 #include <chrono>
 #include <fstream>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include "cli_runner.hpp"
 #include "results_table.hpp"
@@ -247,6 +249,36 @@ TEST(SweepCommand, ABadStudyFileIsRefusedWithItsLineAndNothingRuns) {
     EXPECT_EQ(b.code, 2) << bad << ": " << b.output;
     EXPECT_FALSE(fs::exists(dir / "x" / "results.csv")) << bad;
   }
+}
+
+TEST(SweepCommand, HelpListsEveryOptionAndExitsZero) {
+  const auto r = run_cli("sweep --help");
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("Usage: monohydra sweep"), std::string::npos) << r.output;
+  for (const char* option :
+       {"STUDY.yaml", "--out", "--jobs", "--dt", "--t-end", "--report", "--keep-csv", "--help"})
+    EXPECT_NE(r.output.find(option), std::string::npos) << option << "\n" << r.output;
+}
+
+TEST(SweepCommand, ABadOptionValueGetsTheClearErrorOfTheHandWrittenParser) {
+  const fs::path dir = study("badargs", kSmallStudy);
+  const std::string head =
+      "sweep " + (dir / "study.yaml").string() + " --out " + (dir / "out").string() + " ";
+  for (const auto& [bad, message] : std::vector<std::pair<std::string, std::string>>{
+           {"--jobs 0", "--jobs expects a whole number from 1 to 4096"},
+           {"--jobs 1.5", "--jobs expects a whole number from 1 to 4096"},
+           {"--dt -1", "--dt expects a positive number of seconds, got '-1'"},
+           {"--t-end nan", "--t-end expects a positive number of seconds, got 'nan'"},
+           {"--jobs", "--jobs"},
+           {"--frobnicate", "unknown option '--frobnicate'"}}) {
+    const auto r = run_cli(head + bad);
+    EXPECT_EQ(r.code, 2) << bad << ": " << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << bad << ": " << r.output;
+  }
+  const auto two = run_cli(head + (dir / "study.yaml").string());
+  EXPECT_EQ(two.code, 2);
+  EXPECT_NE(two.output.find("one study file at a time"), std::string::npos) << two.output;
+  EXPECT_FALSE(fs::exists(dir / "out" / "results.csv"));
 }
 
 }  // namespace

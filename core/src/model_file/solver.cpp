@@ -12,9 +12,9 @@ const char* to_string(NewtonKind kind) {
 namespace mh::model_file_detail {
 
 SolverSettings Parser::solver(const YAML::Node& node) const {
-  const MapView map(
-      *this, node, "solver",
-      {"dt", "t_end", "max_iterations", "tol_position", "max_step_halvings", "linear", "newton"});
+  const MapView map(*this, node, "solver",
+                    {"dt", "t_end", "max_iterations", "tol_position", "max_step_halvings", "linear",
+                     "newton", "explicit_stability"});
   SolverSettings settings;
   settings.mark = mark(node);
   if (auto dt = map.get("dt")) {
@@ -64,6 +64,14 @@ SolverSettings Parser::solver(const YAML::Node& node) const {
       fail(*newton, "solver.newton",
            "expected full or modified (Newton that keeps its factorization), got '" + name + "'");
     }
+  }
+  if (auto stability = map.get("explicit_stability")) {
+    const std::string name = string(*stability, "solver.explicit_stability");
+    if (!parse_explicit_stability(name, settings.explicit_stability))
+      fail(*stability, "solver.explicit_stability",
+           "expected error, warn or off (what an explicit integrator's step beyond its "
+           "stability bound does to the run), got '" +
+               name + "'");
   }
   return settings;
 }

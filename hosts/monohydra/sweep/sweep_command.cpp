@@ -9,12 +9,14 @@
 #include <map>
 #include <memory>
 #include <thread>
+#include <tuple>
 
 #include "cli_support.hpp"
 #include "local_pool.hpp"
 #include "mpi_transport.hpp"
 #include "progress.hpp"
 #include "stop_signals.hpp"
+#include "subcommand_parser.hpp"
 #include "sweep_report.hpp"
 
 namespace fs = std::filesystem;
@@ -28,57 +30,62 @@ struct SweepArgs {
   bool report = false;
 };
 
-const char* kSweepUsage =
-    "usage: monohydra sweep STUDY.yaml --out DIR [--jobs N] [--dt S] [--t-end S] [--report]\n"
-    "                       [--keep-csv]\n";
-
+// The sweep's arguments (CLI11, with --help); an exit code when they are
+// wrong or help was asked for. Values are checked here with the messages the
+// hand-written loop gave.
 std::optional<int> parse(const std::vector<std::string>& args, SweepArgs& a,
                          sweep::SweepContext& ctx) {
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& s = args[i];
-    const bool takes = s == "--out" || s == "--jobs" || s == "--dt" || s == "--t-end";
-    if (takes && i + 1 == args.size()) {
-      std::cerr << "monohydra: " << s << " expects a value\n";
-      return 2;
-    }
-    if (s == "--out") {
-      a.out = args[++i];
-    } else if (s == "--jobs") {
-      const auto n = parse_number(s, args[++i]);
-      if (!n) return 2;
-      if (!(*n >= 1 && *n <= 4096) || *n != std::floor(*n)) {  // NaN too
-        std::cerr << "monohydra: --jobs expects a whole number from 1 to 4096\n";
-        return 2;
-      }
-      a.jobs = static_cast<int>(*n);
-    } else if (s == "--dt" || s == "--t-end") {
-      const auto v = parse_number(s, args[++i]);
-      if (!v) return 2;
-      if (!std::isfinite(*v) || !(*v > 0)) {
-        std::cerr << "monohydra: " << s << " expects a positive number of seconds, got '" << args[i]
-                  << "'\n";
-        return 2;
-      }
-      (s == "--dt" ? ctx.dt : ctx.t_end) = *v;
-    } else if (s == "--report") {
-      a.report = true;
-    } else if (s == "--keep-csv") {
-      ctx.keep_csv = true;
-    } else if (!s.empty() && s[0] == '-') {
-      std::cerr << "monohydra: unknown option '" << s << "'\n" << kSweepUsage;
-      return 2;
-    } else if (a.study.empty()) {
-      a.study = s;
-    } else {
-      std::cerr << "monohydra: one study file at a time (got '" << a.study << "' and '" << s
-                << "')\n";
-      return 2;
-    }
-  }
-  if (a.study.empty() || a.out.empty()) {
-    std::cerr << "monohydra: sweep needs a study file and --out DIR\n" << kSweepUsage;
+  const auto app_holder = subcommand_app(
+      "sweep",
+      "Run every case of STUDY.yaml (docs/sweeps.md) on all cores, or on every rank under "
+      "mpirun; one row per case in DIR/results.csv. Started again with the same DIR, it runs "
+      "only the cases left.");
+  CLI::App& app = *app_holder;
+  std::vector<std::string> studies;
+  std::string jobs, dt, t_end;
+  app.add_option("STUDY.yaml", studies, "the study file");
+  app.add_option("--out", a.out, "the folder for results.csv, references/ and the report");
+  auto* jobs_opt = app.add_option("--jobs", jobs, "local workers, 1 to 4096 (default: every core)");
+  auto* dt_opt = app.add_option("--dt", dt, "time step (s) of every case, replaces solver: dt");
+  auto* t_end_opt =
+      app.add_option("--t-end", t_end, "end time (s) of every case, replaces solver: t_end");
+  app.add_flag("--report", a.report, "write DIR/report.html with the study's plots");
+  app.add_flag("--keep-csv", ctx.keep_csv, "keep each case's CSV in DIR/cases/");
+  if (const auto code = parse_subcommand(app, args)) return code;
+
+  if (studies.size() > 1) {
+    std::cerr << "monohydra: one study file at a time (got '" << studies[0] << "' and '"
+              << studies[1] << "')\n";
     return 2;
   }
+  if (jobs_opt->count() > 0) {
+    const auto n = parse_number("--jobs", jobs);
+    if (!n) return 2;
+    if (!(*n >= 1 && *n <= 4096) || *n != std::floor(*n)) {  // NaN too
+      std::cerr << "monohydra: --jobs expects a whole number from 1 to 4096\n";
+      return 2;
+    }
+    a.jobs = static_cast<int>(*n);
+  }
+  for (const auto& [opt, name, text, target] :
+       {std::tuple{dt_opt, "--dt", &dt, &ctx.dt},
+        std::tuple{t_end_opt, "--t-end", &t_end, &ctx.t_end}}) {
+    if (opt->count() == 0) continue;
+    const auto v = parse_number(name, *text);
+    if (!v) return 2;
+    if (!std::isfinite(*v) || !(*v > 0)) {
+      std::cerr << "monohydra: " << name << " expects a positive number of seconds, got '" << *text
+                << "'\n";
+      return 2;
+    }
+    *target = *v;
+  }
+  if (studies.empty() || a.out.empty()) {
+    std::cerr << "monohydra: sweep needs a study file and --out DIR (sweep --help lists its "
+                 "options)\n";
+    return 2;
+  }
+  a.study = studies.front();
   return std::nullopt;
 }
 

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "monohydra/core/explicit_stability.hpp"
 #include "monohydra/core/input_error.hpp"
 #include "monohydra/core/linear_solver.hpp"
 #include "monohydra/core/model.hpp"
@@ -72,6 +73,8 @@ struct SolverSettings {
   double tol_position = 1e-7;  // rad or m: Newton increment tolerance on coordinates
   LinearSolverKind linear = LinearSolverKind::klu;  // the tangent's linear solver
   NewtonKind newton = NewtonKind::full;
+  // An explicit integrator's step beyond its stability bound (explicit_stability.hpp).
+  ExplicitStabilityPolicy explicit_stability = ExplicitStabilityPolicy::warn;
   SourceMark mark;
   SourceMark dt_mark, t_end_mark;  // where the file writes them (line 0: it does not)
 };

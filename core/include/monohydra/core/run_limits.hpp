@@ -32,12 +32,13 @@ struct SettingOrigins {
 long planned_steps(const SolverSettings& settings);
 
 // Checks dt, t_end and the output of a run of `settings` with `csv_columns`
-// columns (0: no CSV) and returns its step count. Requires the model file to
+// columns (0: no CSV), a row every `rows_every` steps (output.interval: only
+// the rows written count), and returns its step count. Requires the model file to
 // give solver.dt and solver.t_end unless the flags did: every model ends with
 // its solver block, so a file cut short stops here. Throws InputError.
 long check_run_settings(const ModelFile& file, const SolverSettings& settings,
                         const RunLimits& limits, std::size_t csv_columns,
-                        SettingOrigins origins = {});
+                        SettingOrigins origins = {}, long rows_every = 1);
 
 // Every key under a subsystem's states: and outputs: names a state or output
 // the component declared. Throws InputError.

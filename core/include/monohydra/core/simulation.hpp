@@ -133,6 +133,8 @@ class Simulation {
   double dissipated_energy() const;
   double phi_norm() const;  // norm of the cut-joint constraints at z
   const StepStats& last_step() const;
+  // An explicit integrator's stability checks so far (checks = 0: none).
+  const ExplicitStability& explicit_stability() const;
   // What the run has cost since start(): passes of the kinematics (every
   // forward_kinematics the host made, for any service) and residual
   // evaluations (the Newton iterate's and the differenced ones).
