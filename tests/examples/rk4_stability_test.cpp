@@ -159,6 +159,30 @@ TEST(ExplicitStability, TheDoubleStepFourBarIsFlaggedAtOneMillisecondAndNotAtATe
   }
 }
 
+// An explicit integrator takes no Newton step and has no begin_step: asking
+// for the step's tangent is refused with a reason (it once called through
+// RK4's NULL begin_step and crashed `monohydra check`), and the run goes on.
+TEST(ExplicitStability, TheTangentOfAnExplicitRunIsRefusedWithAReasonNotACrash) {
+  const ModelFile file = load_model_file(test::source_path("models/fourbar.yaml"));
+  Simulation sim(file, plugins(), RunChoices{"double-step", "rk4", 1e-4, 1e-3});
+  sim.start();
+  sim.step();
+  EXPECT_TRUE(sim.explicit_integration());
+  for (const auto& ask : {+[](Simulation& s) { (void)s.assembled_tangent(); },
+                          +[](Simulation& s) { (void)s.finite_difference_tangent(); },
+                          +[](Simulation& s) { (void)s.central_difference_tangent(); }}) {
+    try {
+      ask(sim);
+      ADD_FAILURE() << "an explicit run gave a tangent";
+    } catch (const SimulationError& err) {
+      EXPECT_NE(std::string(err.what()).find("explicit"), std::string::npos) << err.what();
+    }
+  }
+  const double t = sim.time();
+  sim.step();
+  EXPECT_GT(sim.time(), t);
+}
+
 TEST(ExplicitStability, WithTheErrorPolicyAnUnstableRunStopsBeforeItsFirstStep) {
   ModelFile file = load_model_file(test::source_path("models/fourbar.yaml"));
   file.solver.explicit_stability = ExplicitStabilityPolicy::error;

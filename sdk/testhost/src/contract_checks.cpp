@@ -273,7 +273,8 @@ void check_subject(const Subject& who, const std::vector<Setup>& candidates,
     return std::string(sim.explicit_integration() ? "explicit" : "");
   });
   if (method == "explicit")
-    emit(Check{Check::Verdict::skipped, name + ": analytic tangent against differences of its residual",
+    emit(Check{Check::Verdict::skipped,
+               name + ": analytic tangent against differences of its residual",
                "an explicit integrator takes no Newton step, so there is no tangent to check"});
   else
     report("analytic tangent against differences of its residual",
