@@ -15,6 +15,19 @@ function(run)
   endif()
 endfunction()
 set(prefix ${OUT}/prefix)
+# Under the sanitizers (.ci/sanitize) the installed test host is instrumented:
+# an example's test executable must then carry the ASan runtime first, so the
+# examples are built with the same flags.
+set(sanitize_flags)
+if(SANITIZE)
+  set(flags "-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined")
+  foreach(kind C CXX)
+    list(APPEND sanitize_flags "-DCMAKE_${kind}_FLAGS=${flags}")
+  endforeach()
+  foreach(kind EXE SHARED MODULE)
+    list(APPEND sanitize_flags "-DCMAKE_${kind}_LINKER_FLAGS=${flags}")
+  endforeach()
+endif()
 get_filename_component(cmake_bin ${CMAKE_COMMAND} DIRECTORY)
 set(ctest ${cmake_bin}/ctest)
 run(${CMAKE_COMMAND} --install ${BINARY_DIR} --prefix ${prefix} --component sdk)
@@ -49,7 +62,7 @@ foreach(example accumulator:gas-accumulator lagrange-baumgarte:lagrange-baumgart
   list(GET parts 0 folder)
   list(GET parts 1 library)
   run(${CMAKE_COMMAND} -S ${prefix}/share/doc/monohydra/examples/${folder} -B ${OUT}/build/${folder}
-      -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_BUILD_TYPE=Release)
+      -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_BUILD_TYPE=Release ${sanitize_flags})
   run(${CMAKE_COMMAND} --build ${OUT}/build/${folder})
   if(NOT EXISTS ${OUT}/build/${folder}/${library}.so)
     message(FATAL_ERROR "the example ${folder} did not build ${library}.so")
