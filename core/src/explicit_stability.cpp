@@ -17,27 +17,6 @@
 
 namespace mh {
 
-const char* to_string(ExplicitStabilityPolicy policy) {
-  switch (policy) {
-    case ExplicitStabilityPolicy::off:
-      return "off";
-    case ExplicitStabilityPolicy::error:
-      return "error";
-    default:
-      return "warn";
-  }
-}
-
-bool parse_explicit_stability(const std::string& text, ExplicitStabilityPolicy& policy) {
-  for (const auto p : {ExplicitStabilityPolicy::off, ExplicitStabilityPolicy::warn,
-                       ExplicitStabilityPolicy::error})
-    if (text == to_string(p)) {
-      policy = p;
-      return true;
-    }
-  return false;
-}
-
 namespace {
 
 // The test equation's two first-order unknowns.

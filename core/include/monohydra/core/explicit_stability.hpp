@@ -11,6 +11,7 @@
 #pragma once
 
 #include <complex>
+#include <initializer_list>
 #include <limits>
 #include <memory>
 #include <string>
@@ -26,9 +27,28 @@ namespace mh {
 // error stops the run with the time, the step and the reason; off skips the
 // check.
 enum class ExplicitStabilityPolicy { off, warn, error };
-const char* to_string(ExplicitStabilityPolicy policy);  // "off", "warn", "error"
+// Inline: the model-file parser uses them, and the loader's fuzzer links the
+// parser without the engine.
+inline const char* to_string(ExplicitStabilityPolicy policy) {  // "off", "warn", "error"
+  switch (policy) {
+    case ExplicitStabilityPolicy::off:
+      return "off";
+    case ExplicitStabilityPolicy::error:
+      return "error";
+    default:
+      return "warn";
+  }
+}
 // "off", "warn" or "error"; false for anything else.
-bool parse_explicit_stability(const std::string& text, ExplicitStabilityPolicy& policy);
+inline bool parse_explicit_stability(const std::string& text, ExplicitStabilityPolicy& policy) {
+  for (const auto p : {ExplicitStabilityPolicy::off, ExplicitStabilityPolicy::warn,
+                       ExplicitStabilityPolicy::error})
+    if (text == to_string(p)) {
+      policy = p;
+      return true;
+    }
+  return false;
+}
 
 // What the run's checks found: the worst one (the largest excess
 // |R| / max(1, |exp(h lambda)|)) and the smallest stable step seen.
