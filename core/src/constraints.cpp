@@ -43,6 +43,29 @@ Eigen::Vector3d angular_bias(const Data& data, int body) {
   return body == kGround ? Eigen::Vector3d::Zero() : Eigen::Vector3d(data.Zdot0[body].tail<3>());
 }
 
+// A point's position, velocity and velocity-product (zdd = 0) acceleration,
+// the expressions of point_position, point_velocity and
+// point_bias_acceleration (kinematics.cpp) computed from one position.
+struct PointMotion {
+  Eigen::Vector3d p, v, a0;
+};
+
+PointMotion point_motion(const Data& data, const BodyPoint& point) {
+  PointMotion m;
+  m.p = point_position(data, point);
+  if (point.body == kGround) {
+    m.v.setZero();
+    m.a0.setZero();
+    return m;
+  }
+  const Vector6d& Z = data.Z[point.body];
+  const Vector6d& Zdot0 = data.Zdot0[point.body];
+  const Eigen::Vector3d omega = Z.tail<3>();
+  m.v = Z.head<3>() + omega.cross(m.p);
+  m.a0 = Zdot0.head<3>() + Zdot0.tail<3>().cross(m.p) + omega.cross(m.v);
+  return m;
+}
+
 void angular_jacobian_or_zero(const Model& model, const Data& data, int body,
                               Eigen::Matrix<double, 3, Eigen::Dynamic>& J) {
   if (body == kGround)
@@ -97,38 +120,85 @@ Constraints build_constraints(const Model& model, const Data& data) {
   return out;
 }
 
-void evaluate_constraints(const Model& model, const Data& data, Constraints& cs,
-                          Eigen::Ref<Eigen::VectorXd> phi, Eigen::Ref<Eigen::MatrixXd> phi_z,
-                          Eigen::Ref<Eigen::VectorXd> phi_dot_zd) {
+void evaluate_constraint_positions(const Model& model, const Data& data, Constraints& cs,
+                                   Eigen::Ref<Eigen::VectorXd> phi,
+                                   Eigen::Ref<Eigen::MatrixXd> phi_z) {
+  // Rows of one joint follow each other and share their bodies: their point
+  // or angular Jacobians are built once per joint and row kind, not per row.
+  int built_joint = -1;
+  ConstraintRow::Kind built_kind = ConstraintRow::Kind::point;
+  int built_frame = kGround;
+  Eigen::Vector3d r = Eigen::Vector3d::Zero();
+  for (int i = 0; i < cs.size(); ++i) {
+    const ConstraintRow& row = cs.rows[static_cast<size_t>(i)];
+    const bool built = row.joint == built_joint && row.kind == built_kind &&
+                       (row.kind == ConstraintRow::Kind::dot || row.frame == built_frame);
+    if (row.kind == ConstraintRow::Kind::point) {
+      // f = n . r, r = p_b - p_a, n fixed in `frame`.
+      const Eigen::Vector3d n = body_rotation(data, row.frame) * row.n;
+      if (!built) {
+        r = point_position(data, row.b) - point_position(data, row.a);
+        // Jacobian rows from the point Jacobians (velocity = J zd).
+        if (row.b.body == kGround)
+          cs.J1.setZero();
+        else
+          point_jacobian(model, data, row.b, cs.J1);
+        if (row.a.body == kGround)
+          cs.J2.setZero();
+        else
+          point_jacobian(model, data, row.a, cs.J2);
+        angular_jacobian_or_zero(model, data, row.frame, cs.J3);
+      }
+      phi[i] = n.dot(r);
+      phi_z.row(i).noalias() = n.transpose() * (cs.J1 - cs.J2) + n.cross(r).transpose() * cs.J3;
+    } else {
+      // f = c . d with c on body a, d on body b.
+      const Eigen::Vector3d c = body_rotation(data, row.a.body) * row.c;
+      const Eigen::Vector3d d = body_rotation(data, row.b.body) * row.d;
+      phi[i] = c.dot(d);
+      if (!built) {
+        angular_jacobian_or_zero(model, data, row.a.body, cs.J1);
+        angular_jacobian_or_zero(model, data, row.b.body, cs.J2);
+      }
+      phi_z.row(i).noalias() = c.cross(d).transpose() * (cs.J1 - cs.J2);
+    }
+    built_joint = row.joint;
+    built_kind = row.kind;
+    built_frame = row.frame;
+  }
+}
+
+void evaluate_constraint_velocity_terms(const Data& data, const Constraints& cs,
+                                        Eigen::Ref<Eigen::VectorXd> phi_dot_zd) {
+  // As for the positions, rows of one joint share r, its rates and the
+  // frame's motion: each point's position, velocity and velocity-product
+  // acceleration is computed once per joint (as point_velocity and
+  // point_bias_acceleration compute them) rather than once per call.
+  int built_joint = -1;
+  int built_frame = kGround;
+  Eigen::Vector3d r = Eigen::Vector3d::Zero(), rd = r, rdd0 = r, w = r, alpha0 = r;
   for (int i = 0; i < cs.size(); ++i) {
     const ConstraintRow& row = cs.rows[static_cast<size_t>(i)];
     if (row.kind == ConstraintRow::Kind::point) {
-      // f = n . r, r = p_b - p_a, n fixed in `frame` (rotating with omega_F):
+      // f = n . r, n fixed in `frame` (rotating with omega_F):
       // fdot = (n x r) . omega_F + n . (v_b - v_a).
-      const Eigen::Matrix3d RF = body_rotation(data, row.frame);
-      const Eigen::Vector3d n = RF * row.n;
-      const Eigen::Vector3d w = body_angular_velocity(data, row.frame);
-      const Eigen::Vector3d r = point_position(data, row.b) - point_position(data, row.a);
-      const Eigen::Vector3d rd = point_velocity(data, row.b) - point_velocity(data, row.a);
-      const Eigen::Vector3d rdd0 =
-          point_bias_acceleration(data, row.b) - point_bias_acceleration(data, row.a);
+      if (row.joint != built_joint || row.frame != built_frame) {
+        const PointMotion b = point_motion(data, row.b);
+        const PointMotion a = point_motion(data, row.a);
+        r = b.p - a.p;
+        rd = b.v - a.v;
+        rdd0 = b.a0 - a.a0;
+        w = body_angular_velocity(data, row.frame);
+        alpha0 = angular_bias(data, row.frame);
+        built_joint = row.joint;
+        built_frame = row.frame;
+      }
+      const Eigen::Vector3d n = body_rotation(data, row.frame) * row.n;
       const Eigen::Vector3d nd = w.cross(n);
-      const Eigen::Vector3d ndd0 = angular_bias(data, row.frame).cross(n) + w.cross(nd);
-      phi[i] = n.dot(r);
-      // Jacobian rows from the point Jacobians (velocity = J zd).
-      if (row.b.body == kGround)
-        cs.J1.setZero();
-      else
-        point_jacobian(model, data, row.b, cs.J1);
-      if (row.a.body == kGround)
-        cs.J2.setZero();
-      else
-        point_jacobian(model, data, row.a, cs.J2);
-      angular_jacobian_or_zero(model, data, row.frame, cs.J3);
-      phi_z.row(i).noalias() = n.transpose() * (cs.J1 - cs.J2) + n.cross(r).transpose() * cs.J3;
+      const Eigen::Vector3d ndd0 = alpha0.cross(n) + w.cross(nd);
       phi_dot_zd[i] = ndd0.dot(r) + 2.0 * nd.dot(rd) + n.dot(rdd0);
     } else {
-      // f = c . d with c on body a, d on body b: fdot = (c x d) . (omega_a - omega_b).
+      // f = c . d: fdot = (c x d) . (omega_a - omega_b).
       const Eigen::Vector3d c = body_rotation(data, row.a.body) * row.c;
       const Eigen::Vector3d d = body_rotation(data, row.b.body) * row.d;
       const Eigen::Vector3d wa = body_angular_velocity(data, row.a.body);
@@ -136,13 +206,17 @@ void evaluate_constraints(const Model& model, const Data& data, Constraints& cs,
       const Eigen::Vector3d cd = wa.cross(c), dd = wb.cross(d);
       const Eigen::Vector3d cdd0 = angular_bias(data, row.a.body).cross(c) + wa.cross(cd);
       const Eigen::Vector3d ddd0 = angular_bias(data, row.b.body).cross(d) + wb.cross(dd);
-      phi[i] = c.dot(d);
-      angular_jacobian_or_zero(model, data, row.a.body, cs.J1);
-      angular_jacobian_or_zero(model, data, row.b.body, cs.J2);
-      phi_z.row(i).noalias() = c.cross(d).transpose() * (cs.J1 - cs.J2);
       phi_dot_zd[i] = cdd0.dot(d) + 2.0 * cd.dot(dd) + c.dot(ddd0);
+      built_joint = -1;
     }
   }
+}
+
+void evaluate_constraints(const Model& model, const Data& data, Constraints& cs,
+                          Eigen::Ref<Eigen::VectorXd> phi, Eigen::Ref<Eigen::MatrixXd> phi_z,
+                          Eigen::Ref<Eigen::VectorXd> phi_dot_zd) {
+  evaluate_constraint_positions(model, data, cs, phi, phi_z);
+  evaluate_constraint_velocity_terms(data, cs, phi_dot_zd);
 }
 
 }  // namespace mh

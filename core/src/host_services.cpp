@@ -549,9 +549,15 @@ mh_status Simulation::Engine::evaluate_mechanics(uint32_t flags, double t_eval, 
 }
 
 void Simulation::Engine::constraints_at_kinematics() {
-  if (constraints_valid && con_z == data.z && con_zd == data.zd) return;
-  evaluate_constraints(model, data, constraints, phi, phi_z, phi_dot_zd);
-  con_z = data.z;  // sized N after the first call: no allocation after it
+  // Phi and Phi_z depend on z alone: new rates at the same z (double-step's
+  // zd after its dependent coordinates converge) need only the velocity terms.
+  const bool same_z = constraints_valid && con_z == data.z;
+  if (same_z && con_zd == data.zd) return;
+  if (!same_z) {
+    evaluate_constraint_positions(model, data, constraints, phi, phi_z);
+    con_z = data.z;  // sized N after the first call: no allocation after it
+  }
+  evaluate_constraint_velocity_terms(data, constraints, phi_dot_zd);
   con_zd = data.zd;
   constraints_valid = true;
 }

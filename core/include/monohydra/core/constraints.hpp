@@ -41,9 +41,20 @@ struct Constraints {
 Constraints build_constraints(const Model& model, const Data& data);
 
 // Phi (m), Phi_z (m x N) and Phi_z_dot zd (m) at the kinematics in `data`
-// (after forward_kinematics). Does not allocate.
+// (after forward_kinematics). Does not allocate. The two halves below, apart:
+// Phi and Phi_z depend on z alone, so a caller that changes only zd (the
+// rates of a converged z) needs only the velocity terms again.
 void evaluate_constraints(const Model& model, const Data& data, Constraints& constraints,
                           Eigen::Ref<Eigen::VectorXd> phi, Eigen::Ref<Eigen::MatrixXd> phi_z,
                           Eigen::Ref<Eigen::VectorXd> phi_dot_zd);
+
+// Phi and Phi_z only (positions).
+void evaluate_constraint_positions(const Model& model, const Data& data, Constraints& constraints,
+                                   Eigen::Ref<Eigen::VectorXd> phi,
+                                   Eigen::Ref<Eigen::MatrixXd> phi_z);
+
+// Phi_z_dot zd only (velocities and the velocity-product accelerations in `data`).
+void evaluate_constraint_velocity_terms(const Data& data, const Constraints& constraints,
+                                        Eigen::Ref<Eigen::VectorXd> phi_dot_zd);
 
 }  // namespace mh
