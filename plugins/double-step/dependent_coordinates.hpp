@@ -29,7 +29,9 @@ class DependentCoordinates {
   // z[independent], from the z[dependent] given; zd only feeds the host's
   // velocity term, unused here. Converged when the last increment is at most
   // `tolerance` in every coordinate; with Newton's quadratic convergence the
-  // error left is then of order tolerance^2, i.e. round-off. On convergence the
+  // error left is then of order tolerance^2, i.e. round-off. An increment at
+  // the round-off of z itself (64 ulps of the largest |z^d|) is not applied:
+  // z is then returned exactly as evaluated. On convergence the
   // last evaluation was at the returned z, and phi_z_d(), phi_z_i() and lu()
   // hold Phi_z^d, Phi_z^i and the LU of Phi_z^d there.
   DependentSolveResult solve(const mh_host* host, double t, const Partition& p, double tolerance,
