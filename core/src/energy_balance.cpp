@@ -57,7 +57,7 @@ void Simulation::Engine::measure_mechanism() {
   pe = mh::potential_energy(model, data);
   phi_norm = 0.0;
   if (m > 0) {
-    constraints_at_kinematics();  // usually the formulation's last evaluation, kept
+    constraints_at_kinematics(false);  // usually the formulation's last evaluation, kept
     phi_norm = phi.norm();
   }
 }

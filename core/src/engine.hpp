@@ -180,7 +180,10 @@ struct Simulation::Engine {
   // constraints_valid: a formulation asks for them at the same kinematics more
   // than once per iteration (its multiplier update, then the residual), and the
   // accepted state's measure after its projections.
+  // Phi and Phi_z at con_z when constraints_valid; phi_dot_zd at (con_z,
+  // con_zd) when also constraint_rates_valid.
   bool constraints_valid = false;
+  bool constraint_rates_valid = false;
   Eigen::VectorXd con_z, con_zd;
   Eigen::VectorXd z0, zd0;
 
@@ -247,7 +250,7 @@ struct Simulation::Engine {
   // forward_kinematics at (zq, zdq) unless `data` holds them already; counted.
   void kinematics_at(const double* zq, const double* zdq);
   // phi, phi_z, phi_dot_zd at the kinematics in `data`, unless they hold them already.
-  void constraints_at_kinematics();
+  void constraints_at_kinematics(bool rates = true);
   // Evaluates every subsystem at the kinematics in `data` and the current y,
   // ydot, adding rows to `rows` (zeroed first) and forces to the bodies.
   mh_status evaluate_subsystems(double t_eval, double* rows);

@@ -325,7 +325,7 @@ mh_status host_evaluate_mechanics(const mh_host* host, const mh_mech_request* re
   out.Q = dyn ? e.data.Q.data() : nullptr;
   out.phi = con ? e.phi.data() : nullptr;
   out.phi_z = con ? e.phi_z.data() : nullptr;
-  out.phi_dot_zd = con ? e.phi_dot_zd.data() : nullptr;
+  out.phi_dot_zd = con && (rq.flags & MH_EVAL_POSITIONS_ONLY) == 0 ? e.phi_dot_zd.data() : nullptr;
   if (!write_struct(result, out)) return MH_ERROR;
   return s;
 }
@@ -544,22 +544,28 @@ mh_status Simulation::Engine::evaluate_mechanics(uint32_t flags, double t_eval, 
     }
   }
   if ((flags & MH_EVAL_DYNAMICS) != 0) mass_matrix_and_forces(model, data);
-  if ((flags & MH_EVAL_CONSTRAINTS) != 0) constraints_at_kinematics();
+  if ((flags & MH_EVAL_CONSTRAINTS) != 0)
+    constraints_at_kinematics((flags & MH_EVAL_POSITIONS_ONLY) == 0);
   return MH_OK;
 }
 
-void Simulation::Engine::constraints_at_kinematics() {
+void Simulation::Engine::constraints_at_kinematics(bool rates) {
   // Phi and Phi_z depend on z alone: new rates at the same z (double-step's
-  // zd after its dependent coordinates converge) need only the velocity terms.
-  const bool same_z = constraints_valid && con_z == data.z;
-  if (same_z && con_zd == data.zd) return;
-  if (!same_z) {
+  // zd after its dependent coordinates converge) need only the velocity
+  // terms, and a caller that reads positions only (MH_EVAL_POSITIONS_ONLY:
+  // double-step's dependent solve, the accepted state's |Phi|) none.
+  if (!(constraints_valid && con_z == data.z)) {
     evaluate_constraint_positions(model, data, constraints, phi, phi_z);
     con_z = data.z;  // sized N after the first call: no allocation after it
+    constraints_valid = true;
+    constraint_rates_valid = false;
+    ++counters.constraint_position_passes;
   }
+  if (!rates || (constraint_rates_valid && con_zd == data.zd)) return;
   evaluate_constraint_velocity_terms(data, constraints, phi_dot_zd);
   con_zd = data.zd;
-  constraints_valid = true;
+  constraint_rates_valid = true;
+  ++counters.constraint_rate_passes;
 }
 
 }  // namespace mh

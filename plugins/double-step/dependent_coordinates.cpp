@@ -63,7 +63,9 @@ DependentSolveResult DependentCoordinates::solve(const mh_host* host, double t, 
   bool converged = false;
   for (;;) {
     mh_mech_result rs{};
-    out.host_status = evaluate(host, MH_EVAL_CONSTRAINTS, t, z.data(), zd.data(), rs);
+    // Phi and Phi_z only: the velocity term is of no use until z converges.
+    out.host_status =
+        evaluate(host, MH_EVAL_CONSTRAINTS | MH_EVAL_POSITIONS_ONLY, t, z.data(), zd.data(), rs);
     if (out.host_status >= MH_DISCARD) {
       out.outcome = DependentSolveResult::Outcome::host_failed;
       return out;

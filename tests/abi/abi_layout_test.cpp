@@ -62,10 +62,20 @@ TEST(AbiLayout, FunctionTablesKeepTheirFieldOffsets) {
   EXPECT_EQ(mh_c_offset_subsystem_get_extension, offsetof(mh_subsystem, get_extension));
 }
 
-TEST(AbiLayout, VersionIsTwoFour) {
+TEST(AbiLayout, VersionIsTwoFive) {
   const mh_version v = MH_ABI_VERSION_INIT;
   EXPECT_EQ(v.major, 2u);
-  EXPECT_EQ(v.minor, 4u);
+  EXPECT_EQ(v.minor, 5u);
+}
+
+// ABI 2.5 added a modifier bit of evaluate_mechanics' flags, no field: it is
+// distinct from every flag of 2.0, whose values stand.
+TEST(AbiLayout, MinorFiveAddsThePositionsOnlyBitBesideTheTwoZeroFlags) {
+  EXPECT_EQ(MH_EVAL_DYNAMICS, 0x1u);
+  EXPECT_EQ(MH_EVAL_CONSTRAINTS, 0x2u);
+  EXPECT_EQ(MH_EVAL_SUBSYSTEMS, 0x4u);
+  EXPECT_EQ(MH_EVAL_POSITIONS_ONLY & (MH_EVAL_DYNAMICS | MH_EVAL_CONSTRAINTS | MH_EVAL_SUBSYSTEMS),
+            0u);
 }
 
 // ABI 2.1 only appended: every 2.0 field keeps its offset (the frozen 2.0

@@ -156,6 +156,33 @@ TEST(DoubleStep, FullPivotingPicksZ3OnTheFourBarAndZ4OnTheQuickReturn) {
   }
 }
 
+// ABI 2.5: the dependent solve asks the host for Phi and Phi_z alone
+// (MH_EVAL_POSITIONS_ONLY); the velocity term Phi_z_dot zd is evaluated only
+// for the dynamics at the converged z, i.e. at most once per residual call
+// (and for the accepted state's projections-free measure, never).
+TEST(DoubleStep, DependentSolveEvaluatesTheConstraintVelocityTermOncePerResidualAtMost) {
+  const ModelFile file = load_model_file(test::source_path("models/fourbar.yaml"));
+  Simulation sim(file, test::build_plugins(), "double-step");
+  sim.start();
+  for (int k = 0; k < 1500; ++k) sim.step();  // the valve opens at t = 1 s: moving from there
+  const Simulation::WorkCounters before = sim.counters();
+  for (int k = 0; k < 500; ++k) sim.step();
+  const Simulation::WorkCounters& c = sim.counters();
+  const long residuals = c.residual_evaluations - before.residual_evaluations;
+  const long rates = c.constraint_rate_passes - before.constraint_rate_passes;
+  const long positions = c.constraint_position_passes - before.constraint_position_passes;
+  std::printf(
+      "[ measured ] 500 steps: %ld residuals, %ld Phi/Phi_z passes, %ld Phi_z_dot zd passes\n",
+      residuals, positions, rates);
+  EXPECT_GT(residuals, 500);
+  EXPECT_LE(rates, residuals);
+  // Without the bit every Phi evaluation would bring its velocity term.
+  EXPECT_LT(rates, positions);
+  // Each residual solves z^d from its estimate (one Phi evaluation at least)
+  // and, unless the estimate is the solution to round-off, once more.
+  EXPECT_GE(positions, residuals);
+}
+
 // ------------------------------------------------ the free mechanisms ----
 
 TEST(DoubleStep, FreeFourBarHoldsItsConstraintsToRoundOffOverTenSeconds) {

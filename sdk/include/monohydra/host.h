@@ -25,6 +25,9 @@ extern "C" {
 #define MH_EVAL_SUBSYSTEMS                                         \
   0x4u /* this is the Newton iterate's evaluation: the subsystems' \
           residual rows (and powers) are recorded as the step's */
+#define MH_EVAL_POSITIONS_ONLY                                          \
+  0x8u /* with MH_EVAL_CONSTRAINTS: Phi and Phi_z only, phi_dot_zd NULL \
+          (ABI 2.5; an earlier host ignores the bit and computes it) */
 /* The subsystems' forces always enter Q' under MH_EVAL_DYNAMICS, evaluated at the
  * host's current subsystem states and rates. */
 

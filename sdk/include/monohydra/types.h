@@ -20,7 +20,7 @@ extern "C" {
 #endif
 
 #define MH_ABI_VERSION_MAJOR 2u
-#define MH_ABI_VERSION_MINOR 4u
+#define MH_ABI_VERSION_MINOR 5u
 #define MH_ABI_VERSION_PATCH 0u
 
 typedef struct mh_version {

@@ -143,6 +143,10 @@ class Simulation {
     long residual_evaluations = 0;
     // Runs of the K, C recursion (mech_derivatives with MH_DERIV_DYNAMICS).
     long derivative_passes = 0;
+    // Evaluations of Phi and Phi_z, and of Phi_z_dot zd (the host keeps
+    // each while its kinematics stand; MH_EVAL_POSITIONS_ONLY skips the latter).
+    long constraint_position_passes = 0;
+    long constraint_rate_passes = 0;
   };
   const WorkCounters& counters() const;
 
