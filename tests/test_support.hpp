@@ -1,9 +1,11 @@
 // What the tests share: the build's plugin registry and models from text.
 #pragma once
 
+#include <map>
 #include <memory>
 #include <sstream>
 #include <string>
+#include <utility>
 
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/plugin_registry.hpp"
@@ -17,6 +19,21 @@ inline const PluginRegistry& build_plugins() {
     r->scan({MH_PLUGIN_DIR});
     return r;
   }();
+  return *registry;
+}
+
+// A registry holding the plugin library at `library` and then the plugins of
+// this build, as the example tests need it: loaded once per path and process
+// (the tests call it from one thread).
+inline const PluginRegistry& build_plugins_with(const std::string& library) {
+  static std::map<std::string, std::unique_ptr<PluginRegistry>> registries;
+  std::unique_ptr<PluginRegistry>& registry = registries[library];
+  if (registry == nullptr) {
+    auto r = std::make_unique<PluginRegistry>();
+    r->load(library);
+    r->scan({MH_PLUGIN_DIR});
+    registry = std::move(r);
+  }
   return *registry;
 }
 

@@ -141,11 +141,6 @@ void Simulation::Engine::explicit_attempt(double t_eval, double h) {
   c.dxd_dx_second = 2.0 / h;
   c.dxdd_dx_second = 4.0 / (h * h);
   c.dxd_dx_first = 2.0 / h;
-  // The integrator's status, named only when it failed: no string is built
-  // on the step's path.
-  const auto checked = [this](mh_status st, const char* op) {
-    if (!status_ok(st)) check(st, "integrator '" + integrator_name + "' " + op);
-  };
   if (stability_due || step >= stability_next_step) check_explicit_stability(h);
   const uint32_t stages = integrator.ops.num_stages;
   for (uint32_t s = 0; s < stages; ++s) {
@@ -153,8 +148,10 @@ void Simulation::Engine::explicit_attempt(double t_eval, double h) {
     xds = xd;
     xdds = xdd;
     double t_stage = t;
-    checked(integrator.ops.stage_state(integrator.self, s, h, &t_stage, xs.data(), xds.data()),
-            "stage_state");
+    // The integrator's status, named only when it failed (Engine::check):
+    // no string is built on the step's path.
+    check(integrator.ops.stage_state(integrator.self, s, h, &t_stage, xs.data(), xds.data()),
+          "integrator", integrator_name, "stage_state");
     if (!(t_stage >= t && t_stage <= t + h))
       fail("integrator '" + integrator_name + "' put stage " + std::to_string(s) +
            " at t = " + short_number(t_stage) + " s, outside the step [" + short_number(t) + ", " +
@@ -169,10 +166,11 @@ void Simulation::Engine::explicit_attempt(double t_eval, double h) {
           formulation.ops.begin_step(formulation.self, t_stage, xs.data(), xds.data(), xdds.data()),
           "formulation begin_step");
     solve_rates(std::min(t_stage, t_eval), h, xs, xds, xdds);
-    checked(integrator.ops.stage_rates(integrator.self, s, xs.data(), xds.data(), xdds.data()),
-            "stage_rates");
+    check(integrator.ops.stage_rates(integrator.self, s, xs.data(), xds.data(), xdds.data()),
+          "integrator", integrator_name, "stage_rates");
   }
-  checked(integrator.ops.finish_step(integrator.self, h, x.data(), xd.data()), "finish_step");
+  check(integrator.ops.finish_step(integrator.self, h, x.data(), xd.data()), "integrator",
+        integrator_name, "finish_step");
   for (int i = 0; i < n; ++i)
     if (!std::isfinite(x[i]) || !std::isfinite(xd[i]))
       fail("the explicit integrator '" + integrator_name + "' diverged: " + unknown_name(i) +

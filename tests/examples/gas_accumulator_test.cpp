@@ -9,7 +9,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <memory>
 #include <string>
 
 #include "monohydra/core/model_file.hpp"
@@ -20,14 +19,9 @@
 namespace mh {
 namespace {
 
+// The build's plugins and the example gas-accumulator.
 const PluginRegistry& plugins() {
-  static const std::unique_ptr<PluginRegistry> registry = [] {
-    auto r = std::make_unique<PluginRegistry>();
-    r->load(std::string(MH_EXAMPLES_DIR) + "/accumulator/gas-accumulator.so");
-    r->scan({MH_PLUGIN_DIR});
-    return r;
-  }();
-  return *registry;
+  return test::build_plugins_with(std::string(MH_EXAMPLES_DIR) + "/accumulator/gas-accumulator.so");
 }
 
 // A free slider (no mechanics to speak of) and a node n: the accumulator

@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <memory>
 #include <sstream>
 #include <string>
 
@@ -21,14 +20,10 @@
 namespace mh {
 namespace {
 
+// The build's plugins and the example lagrange-baumgarte.
 const PluginRegistry& plugins() {
-  static const std::unique_ptr<PluginRegistry> registry = [] {
-    auto r = std::make_unique<PluginRegistry>();
-    r->load(std::string(MH_EXAMPLES_DIR) + "/lagrange-baumgarte/lagrange-baumgarte.so");
-    r->scan({MH_PLUGIN_DIR});
-    return r;
-  }();
-  return *registry;
+  return test::build_plugins_with(std::string(MH_EXAMPLES_DIR) +
+                                  "/lagrange-baumgarte/lagrange-baumgarte.so");
 }
 
 std::string read(const std::string& path) {

@@ -10,7 +10,6 @@
 
 #include <cmath>
 #include <complex>
-#include <memory>
 #include <string>
 
 #include "hosts/cli_runner.hpp"
@@ -23,14 +22,9 @@
 namespace mh {
 namespace {
 
+// The build's plugins and the example rk4.
 const PluginRegistry& plugins() {
-  static const std::unique_ptr<PluginRegistry> registry = [] {
-    auto r = std::make_unique<PluginRegistry>();
-    r->load(std::string(MH_EXAMPLES_DIR) + "/rk4/rk4.so");
-    r->scan({MH_PLUGIN_DIR});
-    return r;
-  }();
-  return *registry;
+  return test::build_plugins_with(std::string(MH_EXAMPLES_DIR) + "/rk4/rk4.so");
 }
 
 // RK4's amplification polynomial R(z) = 1 + z + z^2/2 + z^3/6 + z^4/24.

@@ -10,7 +10,6 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 #include <complex>
-#include <memory>
 #include <string>
 
 #include "monohydra/core/model_file.hpp"
@@ -21,14 +20,9 @@
 namespace mh {
 namespace {
 
+// The build's plugins and the example rk4.
 const PluginRegistry& plugins() {
-  static const std::unique_ptr<PluginRegistry> registry = [] {
-    auto r = std::make_unique<PluginRegistry>();
-    r->load(std::string(MH_EXAMPLES_DIR) + "/rk4/rk4.so");
-    r->scan({MH_PLUGIN_DIR});
-    return r;
-  }();
-  return *registry;
+  return test::build_plugins_with(std::string(MH_EXAMPLES_DIR) + "/rk4/rk4.so");
 }
 
 constexpr double kMass = 2.0;        // kg
