@@ -242,6 +242,108 @@ def svg_plot(series, path):
         f.write("\n".join(o) + "\n")
 
 
+# Exclusive instruction counts per time step of the case studies (modified
+# Newton, no output), grouped by kernel: the budget that 20 ms per 10 s has to
+# fit. Differences of two runs (1 s and 3 s) over the 2000 steps between them,
+# so loading and start-up cancel (bench/instructions_per_step.sh does the same
+# for the total).
+BUDGET_CASES = [("fourbar", "double-step"), ("fourbar", "penalty"),
+                ("quickreturn", "double-step"), ("quickreturn", "penalty")]
+BUDGET_GROUPS = [
+    ("kinematics (positions, velocities)", [r"mh::forward_kinematics\(", r"mh::forward_velocities\(",
+                                            r"AngleAxis", r"sincos", r"mh::kinematics_at|Engine::kinematics_at\("]),
+    ("M' and Q' (Eq. 12)", [r"mh::mass_matrix_and_forces\(", r"mh::reset_applied_forces\(",
+                           r"mh::apply_point_force\("]),
+    ("constraints (Phi, Phi_z, velocity term)", [r"evaluate_constraint", r"mh::point_\w+\(",
+                                                 r"mh::angular_jacobian\(", r"mh::body_\w+\(",
+                                                 r"constraints_at_kinematics"]),
+    ("K and C (penalty's projections, tangents)", [r"dynamics_derivatives", r"mechanics_derivatives",
+                                                   r"vary_body_residual", r"variation_z",
+                                                   r"variation_zd", r"body_state", r"point_force",
+                                                   r"motion_cross", r"is_ancestor"]),
+    ("subsystems (hydraulics)", [r"evaluate_subsystems", r"hyd::", r"SubsystemAdapter"]),
+    ("formulation's own algebra (LU of Phi_z^d, R_z, projections)",
+     [r"double_step::", r"mh_penalty::", r"Projector", r"PartialPivLU", r"partial_lu", r"FullPivLU",
+      r"general_matrix_vector", r"general_matrix_matrix", r"triangular_solve"]),
+    ("Newton, KLU, integrator map", [r"klu_", r"KluSolver", r"newton_solve", r"rates_of",
+                                    r"Engine::residual\(", r"integ::"]),
+]
+
+
+def step_budget(build):
+    """Instructions per step by kernel group, for the four case studies (modified Newton)."""
+    if shutil.which("valgrind") is None or shutil.which("callgrind_annotate") is None:
+        return None
+    exe = os.path.join(build, "bin", "mh_profile")
+    out_rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for model, form in BUDGET_CASES:
+            per = []
+            for t in ("1", "3"):
+                out = os.path.join(tmp, "cg." + t)
+                run(["valgrind", "--tool=callgrind", "--callgrind-out-file=" + out, exe,
+                     os.path.join(ROOT, "models", model + ".yaml"), form, t, "none", "modified"],
+                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=tmp)
+                text = subprocess.run(["callgrind_annotate", "--inclusive=no", "--threshold=100",
+                                       "--auto=no", out], capture_output=True, text=True,
+                                      check=True).stdout
+                costs = {}
+                for line in text.splitlines():
+                    m = re.match(r"\s*([\d,]+)\s+\(\s*[\d.]+%\)\s+(.*)$", line)
+                    if m:
+                        costs[m.group(2)] = int(m.group(1).replace(",", ""))
+                per.append(costs)
+            steps = 2000.0
+            diff = {f: (per[1].get(f, 0) - per[0].get(f, 0)) / steps for f in per[1]}
+            total = next((v for f, v in diff.items() if f.startswith("PROGRAM TOTALS")), None)
+            groups = [0.0] * len(BUDGET_GROUPS)
+            for f, v in diff.items():
+                if f.startswith("PROGRAM TOTALS"):
+                    continue
+                for i, (_, pats) in enumerate(BUDGET_GROUPS):
+                    if any(re.search(p, f) for p in pats):
+                        groups[i] += v
+                        break
+            out_rows.append((model, form, total, groups))
+        # The instruction rate: one whole 10 s run's instructions over the
+        # bench's CPU time for it (four-bar, double-step, modified Newton).
+        out = os.path.join(tmp, "cg.10")
+        run(["valgrind", "--tool=callgrind", "--callgrind-out-file=" + out, exe,
+             os.path.join(ROOT, "models", "fourbar.yaml"), "double-step", "10", "none", "modified"],
+            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=tmp)
+        text = subprocess.run(["callgrind_annotate", "--inclusive=yes", "--threshold=100",
+                               "--auto=no", out], capture_output=True, text=True, check=True).stdout
+        whole = next((int(m.group(1).replace(",", "")) for line in text.splitlines()
+                      for m in [re.match(r"\s*([\d,]+)\s+\(\s*[\d.]+%\)\s+(.*)$", line)]
+                      if m and re.search(PROFILE_TOTAL, m.group(2))), None)
+    return out_rows, whole
+
+
+def budget_section(budget, res):
+    if not budget:
+        return "Not measured (valgrind missing)."
+    rows, whole = budget
+    head = ("| case (modified Newton) | instructions per step | residuals per step | "
+            + " | ".join(g[0] for g in BUDGET_GROUPS) + " | other |")
+    lines = [head, "|---" * (len(BUDGET_GROUPS) + 4) + "|"]
+    for model, form, total, groups in rows:
+        r = res.get("case/%s/%s/trapezoidal/klu/modified" % (model, form), {})
+        other = total - sum(groups) if total else None
+        cells = ["%.1fk (%.0f %%)" % (g / 1e3, 100.0 * g / total) for g in groups] if total else []
+        lines.append("| %s, %s | %s | %s | %s | %s |" % (
+            model, form, "{:,.0f}".format(total) if total else "—",
+            fmt(r.get("residuals_per_step")), " | ".join(cells),
+            "%.1fk (%.0f %%)" % (other / 1e3, 100.0 * other / total) if total else "—"))
+    cpu = res.get("case/fourbar/double-step/trapezoidal/klu/modified", {}).get("cpu_us")
+    if whole and cpu:
+        rate = whole / (cpu * 1e3)  # per ns
+        lines += ["", "Instruction rate: a whole 10 s run of the four-bar, double-step, modified "
+                  "Newton, is %s instructions (`mh::run`) in the bench's %s ms of CPU: %.1f "
+                  "instructions per ns, so 2 us per step is about %.0fk instructions per step." % (
+                      "{:,}".format(whole), fmt(cpu / 1e3), rate, 2.0 * rate)]
+    return "\n".join(lines)
+
+
 def profile(build):
     if shutil.which("valgrind") is None or shutil.which("callgrind_annotate") is None:
         return None, "valgrind is not installed (apt-get install valgrind)"
@@ -391,6 +493,21 @@ def targets(res):
         verdict = "met" if best <= goal else "missed by %.1fx" % (best / goal)
         out.append("- chain N = %d: %s us per step at best: target %s us %s." % (
             N, fmt(best), fmt(goal), verdict))
+    full64 = [res.get("chain/%s/full/64" % l, {}).get("cpu_us") for l in ("klu", "auto")]
+    full64 = [v for v in full64 if v is not None]
+    if full64:
+        out.append("- chain N = 64 with full Newton (a fresh tangent every iteration): %s us per "
+                   "step at best (KLU or auto): %s." % (
+                       fmt(min(full64)), "met" if min(full64) <= TARGET_CHAIN_US[64]
+                       else "missed by %.1fx; the target holds with modified Newton only"
+                       % (min(full64) / TARGET_CHAIN_US[64])))
+    for (model, form) in sorted(PAPER_SECONDS):
+        for n in ("full", "modified"):
+            r = res.get("case/%s/%s/trapezoidal/klu/%s" % (model, form, n), {})
+            k = kin(r)
+            if k is not None:
+                out.append("- kinematics passes per step, %s, %s, %s Newton: %s (target at most 6) "
+                           "%s." % (model, form, n, fmt(k), "met" if k <= 6.0 else "missed"))
     tree = curve(res, "tree", "klu", "full")
     slope = fit_slope([(p[0], p[1]) for p in tree])
     if slope is not None:
@@ -465,6 +582,7 @@ def main():
         print(chains_report(res))
         return
     rows, why = (None, "left out (--no-profile)") if a.no_profile else profile(a.build)
+    budget = None if a.no_profile else step_budget(a.build)
 
     series = []
     for kind, n, colour, dash in (("chain", "full", "#1f77b4", False),
@@ -554,6 +672,31 @@ formulation, trapezoidal, dt = 1 ms, KLU. Plot: `performance-chains.svg`
 Where the time goes (the profile below, the two largest inclusive shares
 of each profiled run): {largest}.
 
+### What stands in the way of 20 ms per 10 s
+
+20 ms for 10 000 steps is 2 us per step. The fastest runs are the
+modified-Newton ones (one factorization kept across steps): their cost is
+almost all residual calls, about three per step (Newton's iterations plus
+the evaluation of the converged iterate, which the step accepts), and each
+residual runs the semirecursive kinematics, M' and Q', the constraints and
+the hydraulics once or twice. Exclusive instructions per step by kernel
+(callgrind, 1 s to 3 s of each run, `bench/performance.py`):
+
+{budget}
+
+No one kernel holds the time: each is a few hundred instructions per body
+per call (a 3D kinematics pass is about 2.5k instructions for the
+four-bar's three bodies, M' and Q' about 2.2k, scalar SSE2 code as the
+Release build compiles it), called about ten times per step; at the rate
+measured above, 2 us per step leaves a third to a quarter of the
+instructions the case studies now take. Closing that gap needs
+fewer calls per step rather than faster kernels: a predictor good enough
+for one Newton iteration per step (the paper's Taylor predictor of Eq. 34
+leaves 1.75-2.4 iterations; a third-order extrapolation tried here cut them
+by 3-13 % only, pressures set the count), a residual that reuses
+the converged iterate's evaluation, and for penalty the projections' K
+and C (Eqs. 20-21) without a recursion of their own each step.
+
 ## Profile
 
 `valgrind --tool=callgrind` of `build/bin/mh_profile` (one run of a model,
@@ -590,7 +733,7 @@ Measured by `studies/speedup.sh` and kept in `docs/sweeps.md` (section
         solver_table=solver_table(res),
         ranking=", ".join("%s/%s %s ms" % (l, n, fmt(v)) for (l, n), v in ranking) or "—",
         output_table=output_table(res), slopes="\n".join(slopes), chain_table=chain_table(res),
-        targets=targets(res), largest=largest_shares(rows), profile=profile_section(rows, why), base_chain=base_chain,
+        targets=targets(res), largest=largest_shares(rows), budget=budget_section(budget, res), profile=profile_section(rows, why), base_chain=base_chain,
         sweep_speedup=sweep_speedup())
     with open(a.out, "w") as f:
         f.write(page)
