@@ -282,7 +282,7 @@ def step_budget(build):
             for t in ("1", "3"):
                 out = os.path.join(tmp, "cg." + t)
                 run(["valgrind", "--tool=callgrind", "--callgrind-out-file=" + out, exe,
-                     os.path.join(ROOT, "models", model + ".yaml"), form, t, "none", "modified"],
+                     model + ".yaml", form, t, "none", "modified"],
                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=tmp)
                 text = subprocess.run(["callgrind_annotate", "--inclusive=no", "--threshold=100",
                                        "--auto=no", out], capture_output=True, text=True,
@@ -309,7 +309,7 @@ def step_budget(build):
         # bench's CPU time for it (four-bar, double-step, modified Newton).
         out = os.path.join(tmp, "cg.10")
         run(["valgrind", "--tool=callgrind", "--callgrind-out-file=" + out, exe,
-             os.path.join(ROOT, "models", "fourbar.yaml"), "double-step", "10", "none", "modified"],
+             "fourbar.yaml", "double-step", "10", "none", "modified"],
             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=tmp)
         text = subprocess.run(["callgrind_annotate", "--inclusive=yes", "--threshold=100",
                                "--auto=no", out], capture_output=True, text=True, check=True).stdout

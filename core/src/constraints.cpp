@@ -150,7 +150,8 @@ void evaluate_constraint_positions(const Model& model, const Data& data, Constra
         angular_jacobian_or_zero(model, data, row.frame, cs.J3);
       }
       phi[i] = n.dot(r);
-      phi_z.row(i).noalias() = n.transpose() * (cs.J1 - cs.J2) + n.cross(r).transpose() * cs.J3;
+      phi_z.row(i).noalias() =
+          n.transpose().lazyProduct(cs.J1 - cs.J2) + n.cross(r).transpose().lazyProduct(cs.J3);
     } else {
       // f = c . d with c on body a, d on body b.
       const Eigen::Vector3d c = body_rotation(data, row.a.body) * row.c;
@@ -160,7 +161,7 @@ void evaluate_constraint_positions(const Model& model, const Data& data, Constra
         angular_jacobian_or_zero(model, data, row.a.body, cs.J1);
         angular_jacobian_or_zero(model, data, row.b.body, cs.J2);
       }
-      phi_z.row(i).noalias() = c.cross(d).transpose() * (cs.J1 - cs.J2);
+      phi_z.row(i).noalias() = c.cross(d).transpose().lazyProduct(cs.J1 - cs.J2);
     }
     built_joint = row.joint;
     built_kind = row.kind;

@@ -374,7 +374,7 @@ mh_status evaluate_iterate(DoubleStep& s, double t, const double* x, const doubl
   // step's prediction.
   if (s.iterate_valid) {
     s.dx_i = Eigen::Map<const Eigen::VectorXd>(x, s.f) - s.x_it;
-    s.z_est.noalias() = s.transform.R_z() * s.dx_i;
+    s.z_est.noalias() = s.transform.R_z().lazyProduct(s.dx_i);
     s.z_it += s.z_est;
   } else {
     s.z_it = s.z_pred;
@@ -486,7 +486,7 @@ mh_status residual(const mh_formulation* fo, double t, const double* x, const do
       s.zdd_i[k] = s.zdd_it[s.partition.independent[static_cast<size_t>(k)]];
     // Eq. (17) as rows (Eq. 38 without dt^2/4): M'' zdd^i - Q''.
     Eigen::Map<Eigen::VectorXd> rows(r, s.f);
-    rows.noalias() = s.transform.M_reduced() * s.zdd_i;
+    rows.noalias() = s.transform.M_reduced().lazyProduct(s.zdd_i);
     rows -= s.transform.Q_reduced();
     return MH_OK;
   });

@@ -36,7 +36,7 @@ void VelocityTransformation::rates(const Eigen::PartialPivLU<Eigen::MatrixXd>& l
     W_.col(k) = sol_;
   }
   for (Eigen::Index k = 0; k < f; ++k) vi_[k] = zd[p.independent[static_cast<size_t>(k)]];
-  sol_.noalias() = W_ * vi_;
+  sol_.noalias() = W_.lazyProduct(vi_);
   for (size_t a = 0; a < p.dependent.size(); ++a) {
     const auto row = static_cast<Eigen::Index>(a);
     R_z_.row(p.dependent[a]) = -W_.row(row);  // Eq. (14)
@@ -57,11 +57,11 @@ void VelocityTransformation::velocity_term(const Eigen::PartialPivLU<Eigen::Matr
 void VelocityTransformation::reduce(const double* M, const double* Q) {
   const Eigen::Map<const Eigen::MatrixXd> M_prime(M, N_, N_);
   const Eigen::Map<const Eigen::VectorXd> Q_prime(Q, N_);
-  MR_.noalias() = M_prime * R_z_;
-  M_reduced_.noalias() = R_z_.transpose() * MR_;  // Eq. (17): M''
+  MR_.noalias() = M_prime.lazyProduct(R_z_);
+  M_reduced_.noalias() = R_z_.transpose().lazyProduct(MR_);  // Eq. (17): M''
   force_ = Q_prime;
-  force_.noalias() -= M_prime * Rdot_zd_;
-  Q_reduced_.noalias() = R_z_.transpose() * force_;  // Eq. (17): Q''
+  force_.noalias() -= M_prime.lazyProduct(Rdot_zd_);
+  Q_reduced_.noalias() = R_z_.transpose().lazyProduct(force_);  // Eq. (17): Q''
 }
 
 void VelocityTransformation::accelerations(const Partition& p, Eigen::VectorXd& zdd) const {

@@ -114,7 +114,7 @@ mh_status evaluate(Penalty& s, uint32_t flags, double t, const double* z, const 
 
 // phi_dot_norm = ||Phi_z zd|| (Phi_z at the accepted z, m x N).
 void cache_phi_dot(Penalty& s, const ConstMatrixMap& phi_z, const Eigen::VectorXd& zd) {
-  s.phi_dot.noalias() = phi_z * zd;
+  s.phi_dot.noalias() = phi_z.lazyProduct(zd);
   s.phi_dot_norm = s.phi_dot.norm();
 }
 
@@ -282,7 +282,7 @@ mh_status residual(const mh_formulation* f, double t, const double* x, const dou
     // Eq. (18) (Eq. 39 without dt^2/4): M' zdd + Phi_z^T (alpha Phi + lambda) - Q'.
     s.multiplier_force = s.alpha * phi + s.lambda;
     VectorMap rr(r, s.N);
-    rr.noalias() = M * ConstVectorMap(xdd, s.N);
+    rr.noalias() = M.lazyProduct(ConstVectorMap(xdd, s.N));
     add_constraint_forces(rr, phi_z, s.multiplier_force, 1.0);
     rr -= Q;
     // Kept for the tangent, and for the projections and phi_dot_norm in accept().

@@ -36,7 +36,7 @@ bool Projector::factorize(const ConstMatrixMap& W, const ConstMatrixMap& phi_z, 
 }
 
 void Projector::project_velocities(const Eigen::VectorXd& zd_prime, Eigen::VectorXd& zd) {
-  rhs_.noalias() = W_ * zd_prime;  // Eq. (20): W zd'
+  rhs_.noalias() = W_.lazyProduct(zd_prime);  // Eq. (20): W zd'
   zd = lu_.solve(rhs_);
 }
 
@@ -44,7 +44,7 @@ void Projector::project_accelerations(const Eigen::VectorXd& zdd_prime,
                                       const ConstVectorMap& phi_dot_zd, Eigen::VectorXd& zdd) {
   // Eq. (21): W zdd' - dt^2/4 Phi_z^T alpha (Phidot_z zd). Scleronomic
   // constraints: no time-derivative terms (the paper's note under Eq. 21).
-  rhs_.noalias() = W_ * zdd_prime;
+  rhs_.noalias() = W_.lazyProduct(zdd_prime);
   add_constraint_forces(rhs_, phi_z_, phi_dot_zd, -c_alpha_);
   zdd = lu_.solve(rhs_);
 }
