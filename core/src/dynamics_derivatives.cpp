@@ -83,6 +83,22 @@ Vector6d vary_body_residual(const BodyState& s, const BodyVariation& dv) {
   return dh;
 }
 
+// vary_body_residual for a rate's variation: the geometry stands (twist 0),
+// so every term of dg and of the turning of J drops out (the same sums less
+// their exact zeros).
+Vector6d vary_body_residual_rate(const BodyState& s, const Vector6d& dZ, const Vector6d& dZdot) {
+  const Eigen::Vector3d domega = dZ.tail<3>();
+  const Eigen::Vector3d dalpha = dZdot.tail<3>();
+  const Eigen::Vector3d dgdot = dZ.head<3>() + domega.cross(s.g);  // Eq. (6)
+  const Eigen::Vector3d dA = dZdot.head<3>() + dalpha.cross(s.g);
+  const Eigen::Vector3d dF = s.m * (dA + domega.cross(s.gdot) + s.omega.cross(dgdot));
+  const Eigen::Vector3d dJw = s.J * domega;
+  const Eigen::Vector3d dT = s.J * dalpha + domega.cross(s.Jw) + s.omega.cross(dJw);
+  Vector6d dh;
+  dh << dF, s.g.cross(dF) + dT;
+  return dh;
+}
+
 BodyState body_state(const Model& model, const Data& data, const DynamicsDerivativesWorkspace& ws,
                      int j) {
   const Body& body = model.bodies[j];
@@ -173,35 +189,42 @@ void add_point_force(const Model& model, const Data& data, const PointForceTerm&
   if (!zero(f.dF_dp_other) || !zero(f.dF_dv_other)) add_other_point_force(model, data, f, ws, K, C);
 }
 
-// Entries (i, k) of K (rate = false) or C (rate = true) from the body terms,
+// Entries (i, k) of K and C from the body terms,
 // for i in k's subtree or above it (the others are left as they are), one
 // subtree sweep of body variations per coordinate: the cheaper fill for shallow
 // trees (see use_factored_fill). Only the
 // subtree of coordinate k varies. For i in it, d(b_i . H_i) = (b_k x b_i) . H_i +
 // b_i . dH_i (b_k itself is fixed on the parent; b_i does not depend on rates);
 // for i above k, H_i contains the whole subtree: b_i . dH_k.
-void fill_columns_by_subtree(const Model& model, const Data& data, bool rate,
-                             DynamicsDerivativesWorkspace& ws, Eigen::Ref<Eigen::MatrixXd>& out) {
+void fill_columns_by_subtree(const Model& model, const Data& data, DynamicsDerivativesWorkspace& ws,
+                             Eigen::Ref<Eigen::MatrixXd>& K, Eigen::Ref<Eigen::MatrixXd>& C) {
   const int n = model.num_bodies();
   for (int k = 0; k < n; ++k) {
     const int* first = ws.subtree_bodies.data() + ws.subtree_start[k];
     const int* last = ws.subtree_bodies.data() + ws.subtree_start[k + 1];
+    // K's and C's columns in one sweep: each body's state is gathered once.
     for (const int* it = first; it != last; ++it) {
       const int j = *it;
       const BodyState s = body_state(model, data, ws, j);
-      const BodyVariation dv =
-          rate ? detail::variation_zd(data, j, k) : detail::variation_z(data, ws.Zdot, j, k);
-      ws.dH[j] = vary_body_residual(s, dv);
+      ws.dH[j] = vary_body_residual(s, detail::variation_z(data, ws.Zdot, j, k));
+      const BodyVariation dv = detail::variation_zd(data, j, k);
+      ws.dH_rate[j] = vary_body_residual_rate(s, dv.Z, dv.Zdot);
     }
-    for (const int* it = last - 1; it > first; --it) ws.dH[model.bodies[*it].parent] += ws.dH[*it];
+    for (const int* it = last - 1; it > first; --it) {
+      const int p = model.bodies[*it].parent;
+      ws.dH[p] += ws.dH[*it];
+      ws.dH_rate[p] += ws.dH_rate[*it];
+    }
     for (const int* it = first; it != last; ++it) {
       const int i = *it;
       double value = data.b[i].dot(ws.dH[i]);
-      if (!rate && i != k) value += motion_cross(data.b[k], data.b[i]).dot(ws.H[i]);
-      out(i, k) = value;
+      if (i != k) value += motion_cross(data.b[k], data.b[i]).dot(ws.H[i]);
+      K(i, k) = value;
+      C(i, k) = data.b[i].dot(ws.dH_rate[i]);
     }
     for (int i = model.bodies[k].parent; i != kGround; i = model.bodies[i].parent) {
-      out(i, k) = data.b[i].dot(ws.dH[k]);
+      K(i, k) = data.b[i].dot(ws.dH[k]);
+      C(i, k) = data.b[i].dot(ws.dH_rate[k]);
     }
   }
 }
@@ -311,6 +334,7 @@ DynamicsDerivativesWorkspace::DynamicsDerivativesWorkspace(const Model& model) {
   h.assign(nb, Vector6d::Zero());
   H.assign(nb, Vector6d::Zero());
   dH.assign(nb, Vector6d::Zero());
+  dH_rate.assign(nb, Vector6d::Zero());
   SA.assign(nb, Matrix6d::Zero());
   SC.assign(nb, Matrix6d::Zero());
   SD.assign(nb, Matrix6d::Zero());
@@ -383,8 +407,7 @@ void dynamics_derivatives(const Model& model, const Data& data, const Eigen::Vec
   if (ws.use_factored_fill) {
     fill_columns_factored(model, data, ws, K, C);
   } else {
-    fill_columns_by_subtree(model, data, false, ws, K);
-    fill_columns_by_subtree(model, data, true, ws, C);
+    fill_columns_by_subtree(model, data, ws, K, C);
   }
   if (!ws.zero_unrelated) {
     for (const PointForceTerm& f : forces) {

@@ -33,10 +33,11 @@ struct PointForceTerm {
 struct DynamicsDerivativesWorkspace {
   explicit DynamicsDerivativesWorkspace(const Model& model);
 
-  std::vector<Vector6d> Zdot;  // full Zdot_j at zdd, Eq. (5)
-  std::vector<Vector6d> h;     // Mbar_j Zdot_j - Qbar_j (Eqs. 9-10), gravity only
-  std::vector<Vector6d> H;     // h summed over each body's subtree (T^T of Eq. 12)
-  std::vector<Vector6d> dH;    // H's variation for one coordinate (subtree fill)
+  std::vector<Vector6d> Zdot;     // full Zdot_j at zdd, Eq. (5)
+  std::vector<Vector6d> h;        // Mbar_j Zdot_j - Qbar_j (Eqs. 9-10), gravity only
+  std::vector<Vector6d> H;        // h summed over each body's subtree (T^T of Eq. 12)
+  std::vector<Vector6d> dH;       // H's variation for one coordinate (subtree fill)
+  std::vector<Vector6d> dH_rate;  // and for its rate
   // Subtree sums of a body's residual variation per unit b_k, c_k (z) and
   // b_k (zd): see fill_columns_factored in dynamics_derivatives.cpp.
   std::vector<Matrix6d> SA, SC, SD;
