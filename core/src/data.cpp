@@ -17,9 +17,9 @@ Data::Data(const Model& model) {
   Zdot0.assign(nb, Vector6d::Zero());
   f_W.assign(nb, Eigen::Vector3d::Zero());
   tau_W.assign(nb, Eigen::Vector3d::Zero());
-  Mbar.assign(nb, Matrix6d::Zero());
-  Qbar.assign(nb, Vector6d::Zero());
-  Mbar_sum.assign(nb, Matrix6d::Zero());
+  m_sum.assign(nb, 0.0);
+  c_sum.assign(nb, Eigen::Vector3d::Zero());
+  I_sum.assign(nb, Eigen::Matrix3d::Zero());
   Q_sum.assign(nb, Vector6d::Zero());
   M = Eigen::MatrixXd::Zero(n, n);
   Q = Eigen::VectorXd::Zero(n);

@@ -8,12 +8,6 @@
 namespace mh {
 namespace {
 
-Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d S;
-  S << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-  return S;
-}
-
 bool is_body(const Data& data, int body) {
   return body >= 0 && body < static_cast<int>(data.f_W.size());
 }
@@ -74,17 +68,15 @@ void mass_matrix_and_forces(const Model& model, Data& data) {
     const double m = body.mass;
     const Eigen::Vector3d& g = data.g_W[j];
     const Eigen::Matrix3d J = world_inertia(body, data.R_W_B[j]);
-    const Eigen::Matrix3d gt = skew(g);
     const Eigen::Vector3d sdot = data.Z[j].head<3>();
     const Eigen::Vector3d omega = data.Z[j].tail<3>();
     const Eigen::Vector3d gdot = sdot + omega.cross(g);  // Eq. (6)
 
-    // Eq. (9): Mbar_j = D_j^T M_j D_j.
-    Matrix6d& Mb = data.Mbar[j];
-    Mb.topLeftCorner<3, 3>() = m * Eigen::Matrix3d::Identity();
-    Mb.topRightCorner<3, 3>() = -m * gt;
-    Mb.bottomLeftCorner<3, 3>() = m * gt;
-    Mb.bottomRightCorner<3, 3>() = J - m * gt * gt;
+    // Eq. (9): Mbar_j = D_j^T M_j D_j = [m I, -m g~; m g~, J - m g~ g~], kept as
+    // (m, c = m g, I_O = J - m g~ g~), with -g~ g~ = |g|^2 I - g g^T.
+    const Eigen::Vector3d c = m * g;
+    Eigen::Matrix3d I_O = J - c * g.transpose();
+    I_O.diagonal().array() += c.dot(g);
 
     // Eq. (10): Qbar_j = D_j^T (Q_j - M_j e_j). Zdot here is the plain time
     // derivative of Z (Eq. 5, d_j = bdot_j zd_j), and then Eq. (7)'s velocity
@@ -92,12 +84,18 @@ void mass_matrix_and_forces(const Model& model, Data& data) {
     // omega x (omega x g) in its place; the two differ by omega x sdot, which is
     // not zero in general (e.g. a pendulum whose axis misses the world origin).
     const Eigen::Vector3d f_net = data.f_W[j] - m * omega.cross(gdot);
-    Vector6d& Qb = data.Qbar[j];
-    Qb.head<3>() = f_net;
-    Qb.tail<3>() = data.tau_W[j] - omega.cross(J * omega) + g.cross(f_net);
+    const Eigen::Vector3d tau = data.tau_W[j] - omega.cross(J * omega) + g.cross(f_net);
 
-    data.Mbar_sum[j] = Mb;
-    data.Q_sum[j] = Qb - Mb * data.Zdot0[j];  // Eq. (11): Qbar - Mbar T Rdot_d zd, per body
+    // Eq. (11): Qbar - Mbar T Rdot_d zd, per body, with Mbar [a; alpha] =
+    // [m a - c x alpha; c x a + I_O alpha].
+    const Eigen::Vector3d a0 = data.Zdot0[j].head<3>();
+    const Eigen::Vector3d alpha0 = data.Zdot0[j].tail<3>();
+    Vector6d& Qs = data.Q_sum[j];
+    Qs.head<3>() = f_net - (m * a0 - c.cross(alpha0));
+    Qs.tail<3>() = tau - (c.cross(a0) + I_O * alpha0);
+    data.m_sum[j] = m;
+    data.c_sum[j] = c;
+    data.I_sum[j] = I_O;
   }
 
   // T^T (...) of Eq. (12): accumulate each body's terms into all its ancestors.
@@ -106,16 +104,22 @@ void mass_matrix_and_forces(const Model& model, Data& data) {
   for (int j = n - 1; j >= 0; --j) {
     const int p = model.bodies[j].parent;
     if (p == kGround) continue;
-    data.Mbar_sum[p] += data.Mbar_sum[j];
+    data.m_sum[p] += data.m_sum[j];
+    data.c_sum[p] += data.c_sum[j];
+    data.I_sum[p] += data.I_sum[j];
     data.Q_sum[p] += data.Q_sum[j];
   }
 
   // Eq. (12): (T^T Mbar T)_{ik} = sum of Mbar_j over bodies j below both i and k,
-  // which for i an ancestor of k (or k itself) is Mbar_sum_k; zero when neither
-  // is an ancestor of the other.
+  // which for i an ancestor of k (or k itself) is the composite of k; zero when
+  // neither is an ancestor of the other.
   data.M.setZero();
   for (int k = 0; k < n; ++k) {
-    const Vector6d Mb_k = data.Mbar_sum[k] * data.b[k];
+    const Eigen::Vector3d bv = data.b[k].head<3>();
+    const Eigen::Vector3d bw = data.b[k].tail<3>();
+    const Eigen::Vector3d& c = data.c_sum[k];
+    Vector6d Mb_k;
+    Mb_k << data.m_sum[k] * bv - c.cross(bw), c.cross(bv) + data.I_sum[k] * bw;
     for (int i = k; i != kGround; i = model.bodies[i].parent) {
       const double value = data.b[i].dot(Mb_k);
       data.M(i, k) = value;

@@ -33,13 +33,16 @@ struct Data {
   std::vector<Eigen::Vector3d> f_W;
   std::vector<Eigen::Vector3d> tau_W;
 
-  // Dynamics (Eqs. 8-12).
-  std::vector<Matrix6d> Mbar;      // Eq. (9)
-  std::vector<Vector6d> Qbar;      // Eq. (10), with omega x gdot for omega x (omega x g)
-  std::vector<Matrix6d> Mbar_sum;  // composite: body plus all descendants
-  std::vector<Vector6d> Q_sum;     // composite of Qbar - Mbar Zdot0
-  Eigen::MatrixXd M;               // M' (N x N), Eq. (12)
-  Eigen::VectorXd Q;               // Q' (N), Eq. (12)
+  // Dynamics (Eqs. 8-12). Mbar_j of Eq. (9) is [m I, -c~; c~, I_O] with
+  // c = m g and I_O = J - m g~ g~ (the inertia about the world origin), and
+  // a sum of such matrices keeps the form: the composites below hold it as
+  // (mass, c, I_O), 13 numbers, instead of 36.
+  std::vector<double> m_sum;           // composite mass: body plus all descendants
+  std::vector<Eigen::Vector3d> c_sum;  // composite first moment, sum of m g
+  std::vector<Eigen::Matrix3d> I_sum;  // composite inertia about the world origin
+  std::vector<Vector6d> Q_sum;         // composite of Qbar - Mbar Zdot0 (Eqs. 10, 11)
+  Eigen::MatrixXd M;                   // M' (N x N), Eq. (12)
+  Eigen::VectorXd Q;                   // Q' (N), Eq. (12)
 
   // Copies of the coordinates the kinematics were last computed at.
   Eigen::VectorXd z;
