@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 
 #include "monohydra/core/kinematics.hpp"
+#include "motion_variation.hpp"
 
 namespace mh {
 namespace {
@@ -43,27 +44,14 @@ Eigen::Vector3d angular_bias(const Data& data, int body) {
   return body == kGround ? Eigen::Vector3d::Zero() : Eigen::Vector3d(data.Zdot0[body].tail<3>());
 }
 
-// A point's position, velocity and velocity-product (zdd = 0) acceleration,
-// the expressions of point_position, point_velocity and
-// point_bias_acceleration (kinematics.cpp) computed from one position.
-struct PointMotion {
-  Eigen::Vector3d p, v, a0;
-};
-
-PointMotion point_motion(const Data& data, const BodyPoint& point) {
-  PointMotion m;
-  m.p = point_position(data, point);
-  if (point.body == kGround) {
-    m.v.setZero();
-    m.a0.setZero();
-    return m;
-  }
-  const Vector6d& Z = data.Z[point.body];
-  const Vector6d& Zdot0 = data.Zdot0[point.body];
-  const Eigen::Vector3d omega = Z.tail<3>();
-  m.v = Z.head<3>() + omega.cross(m.p);
-  m.a0 = Zdot0.head<3>() + Zdot0.tail<3>().cross(m.p) + omega.cross(m.v);
-  return m;
+// A point's position, velocity and velocity-product (zdd = 0) acceleration
+// from one position (motion_variation.hpp's, as the constraint derivatives
+// compute them; the ground's point stands).
+detail::PointMotion point_motion(const Data& data, const BodyPoint& point) {
+  if (point.body == kGround)
+    return detail::point_motion(point.p_B, Vector6d::Zero(), Vector6d::Zero());
+  return detail::point_motion(point_position(data, point), data.Z[point.body],
+                              data.Zdot0[point.body]);
 }
 
 void angular_jacobian_or_zero(const Model& model, const Data& data, int body,
@@ -184,11 +172,11 @@ void evaluate_constraint_velocity_terms(const Data& data, const Constraints& cs,
       // f = n . r, n fixed in `frame` (rotating with omega_F):
       // fdot = (n x r) . omega_F + n . (v_b - v_a).
       if (row.joint != built_joint || row.frame != built_frame) {
-        const PointMotion b = point_motion(data, row.b);
-        const PointMotion a = point_motion(data, row.a);
+        const detail::PointMotion b = point_motion(data, row.b);
+        const detail::PointMotion a = point_motion(data, row.a);
         r = b.p - a.p;
         rd = b.v - a.v;
-        rdd0 = b.a0 - a.a0;
+        rdd0 = b.a - a.a;
         w = body_angular_velocity(data, row.frame);
         alpha0 = angular_bias(data, row.frame);
         built_joint = row.joint;
