@@ -690,12 +690,14 @@ four-bar's three bodies, M' and Q' about 2.2k, scalar SSE2 code as the
 Release build compiles it), called about ten times per step; at the rate
 measured above, 2 us per step leaves a third to a quarter of the
 instructions the case studies now take. Closing that gap needs
-fewer calls per step rather than faster kernels: a predictor good enough
-for one Newton iteration per step (the paper's Taylor predictor of Eq. 34
-leaves 1.75-2.4 iterations; a third-order extrapolation tried here cut them
-by 3-13 % only, pressures set the count), a residual that reuses
-the converged iterate's evaluation, and for penalty the projections' K
-and C (Eqs. 20-21) without a recursion of their own each step.
+fewer calls per step rather than faster kernels. The converged iterate's
+evaluation stays (it makes the accepted state consistent: double-step's
+dependent coordinates, the rates, the outputs), so two residual calls per
+step is the floor and the lever is a predictor good enough for one Newton
+iteration per step (the paper's Taylor predictor of Eq. 34 leaves 1.75-2.4
+iterations; a third-order extrapolation tried here cut them by 3-13 % only,
+pressures set the count); and for penalty, the projections' K and C
+(Eqs. 20-21) without a recursion of their own each step.
 
 ## Profile
 
