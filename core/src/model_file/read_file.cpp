@@ -61,15 +61,16 @@ ModelFile Parser::parse(const YAML::Node& root, const std::string& base_dir) {
   if (auto subsystems_node = top.get("subsystems"))
     file.subsystems = subsystems(*subsystems_node, columns);
   if (auto nodes_node = top.get("nodes")) parse_nodes(*nodes_node, file, columns);
+  check_node_columns(file);
   if (auto equilibrium_node = top.get("equilibrium")) parse_equilibrium(*equilibrium_node, file);
 
   file.formulation.mark = mark(root);
   if (auto formulation_node = top.get("formulation")) {
-    file.formulation = component_choice(*formulation_node, "formulation", "open-loop");
+    file.formulation = component_choice(*formulation_node, "formulation", kDefaultFormulation);
   }
   file.integrator.mark = mark(root);
   if (auto integrator_node = top.get("integrator")) {
-    file.integrator = component_choice(*integrator_node, "integrator", "trapezoidal");
+    file.integrator = component_choice(*integrator_node, "integrator", kDefaultIntegrator);
   }
   if (auto compare_node = top.get("compare")) parse_compare(*compare_node, file);
   file.output.mark = mark(root);

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "monohydra/core/model_file.hpp"
+
 namespace mh::cli::sweep {
 namespace {
 
@@ -13,9 +15,9 @@ bool is_component(const std::string& key) {
   return key == "formulation" || key == "integrator";
 }
 
-// The default component when the file names none (docs/model-format.md).
+// The default component when the file names none (the core's choice).
 const char* default_component(const std::string& key) {
-  return key == "formulation" ? "open-loop" : "trapezoidal";
+  return key == "formulation" ? kDefaultFormulation : kDefaultIntegrator;
 }
 
 std::string keys_of(const YAML::Node& map) {

@@ -89,14 +89,19 @@ struct OutputSettings {
   SourceMark mark, interval_mark;
 };
 
+// The components a model file that names none gets (docs/model-format.md):
+// the one place they are named; hosts ask here.
+inline constexpr const char* kDefaultFormulation = "open-loop";
+inline constexpr const char* kDefaultIntegrator = "trapezoidal";
+
 struct ModelFile {
   std::string path;  // as given
   Model model;
   std::vector<SourceMark> body_marks;  // parallel to model.bodies
   SourceMark assembly_mark;            // assembly.fixed (the file alone when absent)
   std::vector<SubsystemSpec> subsystems;
-  ComponentChoice formulation{"open-loop", {}, {}};
-  ComponentChoice integrator{"trapezoidal", {}, {}};
+  ComponentChoice formulation{kDefaultFormulation, {}, {}};
+  ComponentChoice integrator{kDefaultIntegrator, {}, {}};
   SolverSettings solver;
   OutputSettings output;
   // compare/formulations and compare/integrators: what `compare` runs by default.
