@@ -118,6 +118,17 @@ TEST(MonohydraCli, FailedRunExitsWithOneNamesTheStepAndKeepsEarlierRows) {
   EXPECT_EQ(lines[1].rfind("0,0,0,", 0), 0u) << lines[1];
 }
 
+TEST(MonohydraCli, UnknownCommandIsNamedInItsErrorWithTheCommandsThereAre) {
+  const auto r = run_cli("frobnicate models/fourbar.yaml");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("unknown command 'frobnicate'"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("plugins, run, compare, validate, sweep, check"), std::string::npos)
+      << r.output;
+  const auto option = run_cli("--frob");
+  EXPECT_EQ(option.code, 2);
+  EXPECT_NE(option.output.find("unknown command '--frob'"), std::string::npos) << option.output;
+}
+
 TEST(MonohydraCli, NonNumericFlagValueIsAUsageError) {
   const CliResult r = run_cli("run " + model("double-pendulum.yaml") + " --dt nope");
   EXPECT_EQ(r.code, 2);
