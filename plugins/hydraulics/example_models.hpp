@@ -46,8 +46,8 @@ bodies:
 subsystems:
   - {name: pump, type: flow-source, ports: {p: n}, flow: 1e-5}
   - {name: hose, type: volume, ports: {p: n}, volume: 1e-4, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, initial_pressure: 1e6}
-  - {name: relief, type: relief-valve, ports: {P: n, T: t}, cracking_pressure: 1.5e6, override_pressure: 5e5, nominal_flow: 1e-4}
-  - {name: tank, type: pressure-source, ports: {p: t}, pressure: 1e5}
+  - {name: relief, type: relief-valve, ports: {P: n, T: tank}, cracking_pressure: 1.5e6, override_pressure: 5e5, nominal_flow: 1e-4}
+  - {name: tank, type: pressure-source, ports: {p: tank}, pressure: 1e5}
 formulation: open-loop
 solver: {dt: 0.001, t_end: 1}
 )";
@@ -59,10 +59,10 @@ bodies:
   - {name: slider, parent: ground, joint: {type: prismatic, at: [0, 0, 0], axis: [1, 0, 0]},
      mass: 10.0, com: [0, 0, 0], inertia: [1, 1, 1], z0: 0}
 subsystems:
-  - {name: valve, type: valve-4-3, ports: {P: s, T: t, A: a, B: b}, flow_coefficient: 2e-8, time_constant: 5e-3,
+  - {name: valve, type: valve-4-3, ports: {P: s, T: tank, A: a, B: b}, flow_coefficient: 2e-8, time_constant: 5e-3,
      reference: [[0, 0], [0.005, 0], [0.005, 5], [1, 5]]}
   - {name: pump, type: pressure-source, ports: {p: s}, pressure: 8e6}
-  - {name: tank, type: pressure-source, ports: {p: t}, pressure: 1e5}
+  - {name: tank, type: pressure-source, ports: {p: tank}, pressure: 1e5}
   - {name: hose_a, type: volume, ports: {p: a}, volume: 1e-4, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, initial_pressure: 1e6}
   - {name: hose_b, type: volume, ports: {p: b}, volume: 1e-4, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, initial_pressure: 1e6}
 formulation: open-loop
@@ -77,11 +77,11 @@ bodies:
   - {name: slider, parent: ground, joint: {type: prismatic, at: [0, 0, 0], axis: [1, 0, 0]},
      mass: 10.0, com: [0, 0, 0], inertia: [1, 1, 1], z0: 0}
 subsystems:
-  - {name: valve, type: valve-table, ports: {P: s, T: t, A: a, B: b}, time_constant: 5e-3,
+  - {name: valve, type: valve-table, ports: {P: s, T: tank, A: a, B: b}, time_constant: 5e-3,
      reference: [[0, 0], [0.005, 0], [0.005, 5], [1, 5]],
      flow_table: [[0, 1e5, 0], [0, 1e7, 0], [5, 1e5, 6e-6], [5, 1e7, 6e-5], [10, 1e5, 1.2e-5], [10, 1e7, 1.2e-4]]}
   - {name: pump, type: pressure-source, ports: {p: s}, pressure: 8e6}
-  - {name: tank, type: pressure-source, ports: {p: t}, pressure: 1e5}
+  - {name: tank, type: pressure-source, ports: {p: tank}, pressure: 1e5}
   - {name: hose_a, type: volume, ports: {p: a}, volume: 1e-4, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, initial_pressure: 1e6}
   - {name: hose_b, type: volume, ports: {p: b}, volume: 1e-4, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, initial_pressure: 1e6}
 formulation: open-loop
@@ -99,9 +99,9 @@ subsystems:
      ports: {A: a, B: b}, piston_diameter: 0.05, rod_diameter: 0.025, length: 1.0, chamber_bulk_modulus: 31500e6,
      fluid_bulk_modulus: 1500e6, efficiency: 0.9}
   - {name: pump, type: pressure-source, ports: {p: s}, pressure: 8e6}
-  - {name: tank, type: pressure-source, ports: {p: t}, pressure: 1e5}
+  - {name: tank, type: pressure-source, ports: {p: tank}, pressure: 1e5}
   - {name: in, type: throttle, ports: {a: s, b: a}, area: 1e-6, discharge_coefficient: 0.7, density: 850}
-  - {name: out, type: throttle, ports: {a: b, b: t}, area: 1e-6, discharge_coefficient: 0.7, density: 850}
+  - {name: out, type: throttle, ports: {a: b, b: tank}, area: 1e-6, discharge_coefficient: 0.7, density: 850}
   - {name: hose_a, type: volume, ports: {p: a}, volume: 1e-4, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, initial_pressure: 1e6}
   - {name: hose_b, type: volume, ports: {p: b}, volume: 1e-4, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, initial_pressure: 1e6}
 formulation: open-loop

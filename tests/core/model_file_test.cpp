@@ -922,6 +922,18 @@ TEST(ModelFileCircuits, NodeColumnsAreUniqueAmongResultColumns) {
       "nodes.n1", "duplicate result column");
 }
 
+TEST(ModelFileCircuits, ANodeNamedAfterAColumnEveryRunWritesIsRefusedUnlessRenamed) {
+  expect_error(kCircuitHead + "    ports: {a: t, b: n2}\n", 6, "subsystems[0].ports.a",
+               "a node name that is not a result column every run has, got 't' (a column every "
+               "run writes)");
+  expect_error(kCircuitHead + "    ports: {a: n1, b: KE}\nnodes: {KE: null}\n", 6,
+               "subsystems[0].ports.b", "got 'KE'");
+  // Renamed under nodes:, its column is the new name: accepted.
+  const ModelFile f =
+      parse_model_text(kCircuitHead + "    ports: {a: t, b: n2}\nnodes: {t: p_t}\n", kLabel);
+  EXPECT_EQ(f.node_columns.at("t"), "p_t");
+}
+
 TEST(ModelFileCircuits, EquilibriumNeedsAListOfStates) {
   expect_error(kCircuitHead + "    ports: {a: n1, b: n2}\nequilibrium: {free: p1}\n", 7,
                "equilibrium.free", "expected a non-empty list");

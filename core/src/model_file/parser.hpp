@@ -163,6 +163,8 @@ class Parser {
                           std::map<std::string, SourceMark>& columns) const;
   void parse_nodes(const YAML::Node& node, ModelFile& file,
                    std::map<std::string, SourceMark>& columns) const;
+  std::string reserved_column(const std::string& column) const;
+  void check_node_columns(const ModelFile& file) const;
   void parse_equilibrium(const YAML::Node& node, ModelFile& file) const;
   std::vector<SubsystemSpec> subsystems(const YAML::Node& node,
                                         std::map<std::string, SourceMark>& columns) const;
@@ -187,7 +189,9 @@ class Parser {
   mutable std::vector<std::pair<YAML::Node, YAML::Mark>> null_value_marks_;
   double angle_scale_ = 1.0;
   bool planar_ = false;
-  std::vector<std::string> body_file_names_;    // bodies in file order
+  std::vector<std::string> body_file_names_;  // bodies in file order
+  // Each node a port names: its first port's YAML node and field.
+  mutable std::map<std::string, std::pair<YAML::Node, std::string>> port_nodes_;
   std::vector<std::string> body_topo_names_;    // bodies in Model::bodies order
   std::map<std::string, int> body_topo_index_;  // name -> index into Model::bodies
 };

@@ -21,16 +21,36 @@ std::string Parser::column_name(const YAML::Node& node, const std::string& field
     fail(node, field,
          "expected a column name without commas, quotes or spaces, got '" + column + "'");
   }
-  for (const char* fixed : kFixedColumns)
-    if (column == fixed)
-      fail(node, field, "'" + column + "' is a column every run writes; pick another name");
-  for (std::size_t i = 0; i < body_file_names_.size(); ++i)
-    if (column == "z" + std::to_string(i + 1))
-      fail(node, field,
-           "'" + column + "' is the coordinate column of body '" + body_file_names_[i] +
-               "'; pick another name");
+  const std::string taken = reserved_column(column);
+  if (!taken.empty()) fail(node, field, "'" + column + "' is " + taken + "; pick another name");
   check_unique(columns, column, node, field, "result column");
   return column;
+}
+
+// Why `column` is a column of every run ("" when it is free).
+std::string Parser::reserved_column(const std::string& column) const {
+  for (const char* fixed : kFixedColumns)
+    if (column == fixed) return "a column every run writes";
+  for (std::size_t i = 0; i < body_file_names_.size(); ++i)
+    if (column == "z" + std::to_string(i + 1))
+      return "the coordinate column of body '" + body_file_names_[i] + "'";
+  return "";
+}
+
+// A node that nodes: does not rename writes its pressure (or other effort)
+// under its own name: a node named `t` or `z1` would write a second column of
+// that name, which no reader of the CSV can tell apart.
+void Parser::check_node_columns(const ModelFile& file) const {
+  for (const auto& [node_name, where] : port_nodes_) {
+    const auto renamed = file.node_columns.find(node_name);
+    if (renamed != file.node_columns.end() && !renamed->second.empty()) continue;
+    const std::string taken = reserved_column(node_name);
+    if (!taken.empty())
+      fail(where.first, where.second,
+           "a node name that is not a result column every run has, got '" + node_name + "' (" +
+               taken + "); rename the node, or give it a column under nodes: {" + node_name +
+               ": NAME}");
+  }
 }
 
 // nodes: {NODE: COLUMN | null}. Every node must be some port's.
@@ -97,6 +117,7 @@ std::vector<SubsystemSpec> Parser::subsystems(const YAML::Node& node,
                 p.value, ports.field(p.key),
                 "expected one node name (a port joins exactly one node), got " + describe(p.value));
           spec.ports[p.key] = PortSpec{name(p.value, ports.field(p.key)), mark(p.value)};
+          port_nodes_.emplace(spec.ports[p.key].node, std::make_pair(p.value, ports.field(p.key)));
         }
       } else if (entry.key == "states" || entry.key == "outputs") {
         // Column names of the instance's states and outputs; null hides one.
