@@ -1,4 +1,4 @@
-// `monohydra check` is the test host's check_library (sdk/testhost): one
+// `monohydra check` is the test host's check_library (hosts/testhost): one
 // implementation of the contract checks for the command line and for plugin
 // authors' unit tests. This file parses the arguments, chooses the shipped
 // models the checks fall back on and prints the lines as they come.

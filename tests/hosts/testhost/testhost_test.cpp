@@ -1,4 +1,4 @@
-// The test host (sdk/testhost, <monohydra/testhost.hpp>) as a plugin author
+// The test host (hosts/testhost, <monohydra/testhost.hpp>) as a plugin author
 // uses it, linked without the core: a sound spring runs and its series
 // conserve energy, its tangent agrees with differences and every check
 // passes; the broken springs fail where they are broken, as values, never as
