@@ -81,6 +81,16 @@ TEST(PluginCheck, ATangentBlockThatDisagreesWithItsResidualFails) {
   EXPECT_NE(r.output.find("monohydra check: FAILED (1 failure)"), std::string::npos) << r.output;
 }
 
+TEST(PluginCheck, ARunThatFailsIsReportedAsAFailedRunWithItsTimeNotAsAnException) {
+  const CliResult r = run_cli("check " + fixture("failing_evaluate") + " " + spring_model());
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("FAIL  subsystem faulty-spring: analytic tangent against differences "
+                          "of its residual: the run failed: "),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("an exception reached the host"), std::string::npos) << r.output;
+}
+
 TEST(PluginCheck, AFailingCreateFailsWithThePluginsReason) {
   const CliResult r = run_cli("check " + fixture("failing_create") + " " + spring_model());
   EXPECT_EQ(r.code, 1) << r.output;

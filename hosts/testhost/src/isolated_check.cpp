@@ -13,6 +13,10 @@
 #include <exception>
 #include <iostream>
 
+#include "monohydra/core/input_error.hpp"
+#include "monohydra/core/plugin_registry.hpp"
+#include "monohydra/core/simulation.hpp"
+
 namespace mh::testhost {
 namespace {
 
@@ -39,6 +43,12 @@ std::string isolated(const std::function<std::string()>& body) {
     std::string verdict;
     try {
       verdict = body();
+    } catch (const SimulationError& err) {  // a run that failed, with its time and step
+      verdict = std::string("the run failed: ") + err.what();
+    } catch (const PluginError& err) {
+      verdict = std::string("a plugin failed: ") + err.what();
+    } catch (const InputError& err) {
+      verdict = std::string("the model was refused: ") + err.what();
     } catch (const std::exception& err) {
       verdict = std::string("an exception reached the host: ") + err.what();
     } catch (...) {
