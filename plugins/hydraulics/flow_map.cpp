@@ -78,7 +78,9 @@ bool FlowMap::assign(const double* data, uint32_t rows, const OrificeFlow& law,
 void FlowMap::locate(const std::vector<double>& axis, double x, size_t& i, double& w,
                      double& slope) {
   slope = 0.0;
-  if (axis.size() == 1 || x <= axis.front()) {
+  // At the first grid point itself the slope is the first cell's (the
+  // one-sided derivative a spool at |U| = 0 opens along), not the clamp's 0.
+  if (axis.size() == 1 || x < axis.front()) {
     i = 0;
     w = 0.0;
     return;
