@@ -414,6 +414,126 @@ Eigen::MatrixXd Simulation::central_difference_tangent() {
   return J;
 }
 
+Simulation::TangentSample Simulation::tangent_sample(double h) {
+  Engine& e = *engine_;
+  refuse_explicit(e, "the tangent sample");
+  TangentSample out;
+  out.h = h;
+  e.prepare_step(e.t + e.settings.dt, e.settings.dt);
+  const Eigen::VectorXd x0 = e.x;  // the model's own prediction: every value in range
+  const double t_next = e.t + h;
+  if (h != e.settings.dt) {
+    e.begin_step(t_next, h);
+    e.x = x0;
+    e.rates_of(e.x, e.xd, e.xdd);
+    if (e.formulation.ops.begin_step != nullptr)
+      e.check(e.formulation.ops.begin_step(e.formulation.self, t_next, e.x.data(), e.xd.data(),
+                                           e.xdd.data()),
+              "formulation begin_step");
+  }
+  if (!status_ok(e.residual(t_next, e.x, e.r)) || !status_ok(e.assemble_tangent(t_next)))
+    throw SimulationError(e.t, e.step, "tangent assembly failed: " + e.last_plugin_error);
+  out.analytic = Eigen::MatrixXd::Zero(e.n, e.n);
+  const auto& colptr = e.pattern->column_start();
+  const auto& rows = e.pattern->row_index();
+  for (int c = 0; c < e.n; ++c)
+    for (int k = colptr[c]; k < colptr[c + 1]; ++k)
+      out.analytic(rows[k], c) = e.values[static_cast<size_t>(k)];
+  const Eigen::VectorXd r0 = e.r;
+  const auto residual_at = [&](int c, double value) -> const Eigen::VectorXd& {
+    e.x[c] = value;
+    const mh_status st = e.residual(t_next, e.x, e.r_pert);
+    e.x[c] = x0[c];
+    if (!status_ok(st))
+      throw SimulationError(e.t, e.step,
+                            "residual failed at a perturbed x: " + e.last_plugin_error);
+    return e.r_pert;
+  };
+  out.forward.resize(e.n, e.n);
+  out.backward.resize(e.n, e.n);
+  out.central_coarse.resize(e.n, e.n);
+  for (int c = 0; c < e.n; ++c) {
+    const double scale = std::max(1e-2, std::abs(x0[c]));
+    const double fine = 1e-6 * scale, coarse = 1e-5 * scale;
+    out.forward.col(c) = (residual_at(c, x0[c] + fine) - r0) / fine;
+    out.backward.col(c) = (r0 - residual_at(c, x0[c] - fine)) / fine;
+    out.central_coarse.col(c) = residual_at(c, x0[c] + coarse);
+    out.central_coarse.col(c) =
+        (out.central_coarse.col(c) - residual_at(c, x0[c] - coarse)) / (2.0 * coarse);
+  }
+  e.residual(t_next, e.x, e.r);
+  return out;
+}
+
+Simulation::FormulationBlocks Simulation::formulation_blocks() {
+  Engine& e = *engine_;
+  refuse_explicit(e, "the formulation's blocks");
+  FormulationBlocks out;
+  const double t_next = e.t + e.settings.dt;
+  e.prepare_step(t_next, e.settings.dt);
+  const Eigen::VectorXd x0 = e.x, xd0 = e.xd, xdd0 = e.xdd;
+  const int n_m = e.n_m;
+  // r(x, xd, xdd) of the formulation's rows, the three arguments given
+  // independently (the subsystems' rows land in `full` through the host).
+  Eigen::VectorXd full(e.n);
+  Eigen::VectorXd args[3] = {x0, xd0, xdd0};
+  const auto rows_at = [&]() -> Eigen::VectorXd {
+    e.xd = args[1];
+    e.xdd = args[2];
+    e.y = args[0].tail(e.n_s);
+    e.ydot = args[1].tail(e.n_s);
+    full.setZero();
+    e.rows_target = full.data() + n_m;
+    e.iterate_evaluated = false;
+    const mh_status st = normalized(e.formulation.ops.residual(
+        e.formulation.self, t_next, args[0].data(), e.xd.data(), e.xdd.data(), full.data()));
+    e.rows_target = nullptr;
+    if (!status_ok(st))
+      throw SimulationError(
+          e.t, e.step,
+          "formulation '" + e.formulation_name + "' residual failed: " + e.last_plugin_error);
+    return full.head(n_m);
+  };
+  const Eigen::VectorXd r0 = rows_at();
+  Eigen::MatrixXd analytic[3];
+  for (auto& a : analytic) a = Eigen::MatrixXd::Zero(n_m, n_m);
+  if (e.formulation.ops.tangent != nullptr) {
+    out.given.assign(static_cast<size_t>(n_m), 0);
+    const mh_status st = normalized(e.formulation.ops.tangent(
+        e.formulation.self, t_next, args[0].data(), e.xd.data(), e.xdd.data(), analytic[0].data(),
+        analytic[1].data(), analytic[2].data(), out.given.data()));
+    if (!status_ok(st))
+      throw SimulationError(
+          e.t, e.step,
+          "formulation '" + e.formulation_name + "' tangent failed: " + e.last_plugin_error);
+  }
+  for (int b = 0; b < 3; ++b) {
+    TangentSample& t = out.block[b];
+    t.h = e.settings.dt;
+    t.analytic = analytic[b];
+    t.forward.resize(n_m, n_m);
+    t.backward.resize(n_m, n_m);
+    t.central_coarse.resize(n_m, n_m);
+    Eigen::VectorXd& v = args[b];
+    for (int c = 0; c < n_m; ++c) {
+      const double v0 = v[c], scale = std::max(1e-2, std::abs(v0));
+      const double fine = 1e-6 * scale, coarse = 1e-5 * scale;
+      v[c] = v0 + fine;
+      t.forward.col(c) = (rows_at() - r0) / fine;
+      v[c] = v0 - fine;
+      t.backward.col(c) = (r0 - rows_at()) / fine;
+      v[c] = v0 + coarse;
+      t.central_coarse.col(c) = rows_at();
+      v[c] = v0 - coarse;
+      t.central_coarse.col(c) = (t.central_coarse.col(c) - rows_at()) / (2.0 * coarse);
+      v[c] = v0;
+    }
+  }
+  e.x = x0;
+  e.residual(t_next, e.x, e.r);  // the engine at the prediction again, rates by the map
+  return out;
+}
+
 Simulation::CoordinateMaps Simulation::coordinate_maps() {
   Engine& e = *engine_;
   refuse_explicit(e, "the coordinate maps");

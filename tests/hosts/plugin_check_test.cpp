@@ -71,14 +71,67 @@ TEST(PluginCheck, ASoundSubsystemPassesOnTheModelGiven) {
 TEST(PluginCheck, ATangentBlockThatDisagreesWithItsResidualFails) {
   const CliResult r = run_cli("check " + fixture("wrong_jacobian") + " " + spring_model());
   EXPECT_EQ(r.code, 1) << r.output;
-  // Its point force jacobian has the wrong sign: K's entry is -k where
-  // differences give +k (k = 40 N/m at the link's tip, 1 m out).
+  // Its point force jacobian has the wrong sign: K's entry is off by 2k
+  // (k = 40 N/m at the link's tip, 1 m out), seen in the assembled tangent at
+  // the coarse step, where c_a M' no longer hides K.
   EXPECT_NE(r.output.find("FAIL  subsystem faulty-spring: analytic tangent against differences "
-                          "of its residual: K = d(M zdd - Q)/dz (point force jacobians) "
-                          "disagrees with differences: row 1, column z1"),
+                          "of its residual: the analytic tangent disagrees with differences of "
+                          "the residual: at a step of 0.1 s: row mechanical unknown 1, column "
+                          "mechanical unknown 1: analytic 93.38"),
             std::string::npos)
       << r.output;
   EXPECT_NE(r.output.find("monohydra check: FAILED (1 failure)"), std::string::npos) << r.output;
+}
+
+// Errors a plugin author planted in a tangent when check compared each row at
+// its largest entry, and that it passed: each now fails on the four-bar at its
+// own dt, naming the block, the row and the column.
+struct PlantedError {
+  const char* fixture;
+  const char* expected;
+};
+
+class BrokenTangent : public ::testing::TestWithParam<PlantedError> {};
+
+TEST_P(BrokenTangent, FailsTheCheckOnTheFourBarAtItsOwnDt) {
+  const CliResult r = run_cli("check " + fixture(GetParam().fixture) + " " +
+                              mh::test::shipped_model("fourbar.yaml"));
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find(GetParam().expected), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("monohydra check: FAILED"), std::string::npos) << r.output;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    PluginCheck, BrokenTangent,
+    ::testing::Values(
+        // K = d(M' zdd - Q')/dz dropped, or ten times over: dr/dx at the
+        // four-bar's crank row; S = d(Phi_z^T lambda)/dz dropped: the same block.
+        PlantedError{"tangent_k_zero",
+                     "FAIL  formulation lagrange-baumgarte-broken: its tangent blocks against "
+                     "differences of its residual in x, xd, xdd: dr/dx disagrees"},
+        PlantedError{"tangent_k_times_ten", "dr/dx disagrees"},
+        PlantedError{"tangent_s_dropped", "dr/dx disagrees"},
+        // The constraint rows (unknowns 4 and 5 of the four-bar) 1 % too large.
+        PlantedError{"tangent_phi_z_one_percent",
+                     "dr/dx disagrees with differences of its "
+                     "residual in that argument: row 4"},
+        // The throttle's d/dp 1 % off: seen at the coarse step, where c_v V/K
+        // no longer hides it in the node's row.
+        PlantedError{"tangent_throttle_dp",
+                     "FAIL  subsystem throttle: analytic tangent against differences of its "
+                     "residual: the analytic tangent disagrees with differences of the residual: "
+                     "at a step of 0.1 s: row state n1"}),
+    [](const ::testing::TestParamInfo<PlantedError>& param) {
+      return std::string(param.param.fixture);
+    });
+
+TEST(PluginCheck, AFormulationsOwnBlocksAreComparedAndSaySoWhenTheyPass) {
+  const CliResult r = run_cli("check " + std::string(MH_PLUGIN_DIR) + "/monohydra-penalty.so");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("ok    formulation penalty: its tangent blocks against differences of "
+                          "its residual in x, xd, xdd: 3 of 3 columns given"),
+            std::string::npos)
+      << r.output;
 }
 
 TEST(PluginCheck, ARunThatFailsIsReportedAsAFailedRunWithItsTimeNotAsAnException) {

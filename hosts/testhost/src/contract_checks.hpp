@@ -20,10 +20,20 @@ namespace mh::testhost {
 constexpr int kSteps = 20;
 // Create/setup/destroy cycles.
 constexpr int kCycles = 3;
-// The assembled tangent agrees with forward differences when every entry is
-// within this fraction of its row's largest difference (forward differences
-// carry errors of about sqrt(machine epsilon) ~ 1e-8 relative, far below).
+// The assembled tangent agrees with central differences when every entry is
+// within this fraction of its own scale (TangentComparison says which).
 constexpr double kTangentTolerance = 1e-3;
+// An entry's scale is at least this fraction of the geometric mean of its
+// row's and its column's largest difference, so an entry that should be zero
+// may be off by kTangentTolerance x kEntryFloor = 1e-6 of that mean (the
+// host's own forward-differenced blocks are about that good), yet a
+// derivative in other units (d/dp ~ 1e-11 m^3/(s Pa) beside d/dzd ~ 1e-3 m^2)
+// is compared at its own size.
+constexpr double kEntryFloor = 1e-3;
+// The coarse step of the second comparison: at least this, and 10 dt. At
+// dt = 1 ms the trapezoidal rule's c_a = 4/dt^2 puts 4e6 M' in every
+// mechanical row, hiding K and C at 1e-6; at 0.1 s, c_a = 400.
+constexpr double kCoarseStep = 0.1;
 
 struct Subject {
   ComponentKind kind;
@@ -49,8 +59,14 @@ Setup setup_for(const ModelFile& file, const Subject& who);
 // Run length: `steps` steps of the model's dt, no result file.
 void shorten(Setup& s, int steps);
 
-// The analytic tangent of a started run against forward differences.
+// The analytic tangent of a started run against central differences, at the
+// model's dt and at the coarse step.
 monohydra::testhost::TangentComparison compare_tangent(Simulation& sim);
+
+// A formulation's own blocks dr/dx, dr/dxd, dr/dxdd against differences of
+// its residual in each argument alone (Simulation::formulation_blocks): ""
+// or the failure; `detail` says how many columns it gave and the worst.
+std::string formulation_blocks_check(Simulation& sim, std::string& detail);
 
 // Every check on the first of `candidates` the subject accepts (a
 // formulation for trees only refuses the four-bar's cut joints with an input

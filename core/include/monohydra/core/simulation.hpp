@@ -177,6 +177,32 @@ class Simulation {
     Eigen::MatrixXd dz_dx, dzd_dx, dz_dx_cd, dzd_dx_cd;
   };
   CoordinateMaps coordinate_maps();
+  // The conformance check's matrices (monohydra check): at the prediction x
+  // of the next step of the model's dt, the assembled tangent and differences
+  // of the residual, with the rates tied to x by the integrator's map for a
+  // step of `h`. A coarse h makes K and C visible beside c_a M' (at h = 1 ms,
+  // c_a = 4e6 1/s^2 hides them at 1e-6 of each row). Forward and backward
+  // differences at the relative step 1e-6 (their mean is the central one; at
+  // a kink of the model, a valve's spool crossing zero, the analytic tangent
+  // is one of them), and central differences at 1e-5, whose distance from
+  // those at 1e-6 estimates the differences' own error entry by entry.
+  struct TangentSample {
+    Eigen::MatrixXd analytic, forward, backward, central_coarse;
+    double h = 0.0;
+  };
+  TangentSample tangent_sample(double h);
+  // The formulation's own analytic blocks dr/dx, dr/dxd, dr/dxdd (its n_m
+  // rows and columns, subsystem states held) at the prediction of the next
+  // step, each against differences of its residual in that argument alone,
+  // the other two held: what its tangent op promises, whether or not this
+  // host uses the block (without mechanics_map the host differences the
+  // mechanical columns of a model whose subsystems have points). `given`:
+  // the columns the formulation wrote (empty when it has no tangent op).
+  struct FormulationBlocks {
+    TangentSample block[3];  // of x, xd, xdd
+    std::vector<unsigned char> given;
+  };
+  FormulationBlocks formulation_blocks();
   int num_unknowns() const;
   int num_mechanical_unknowns() const;
   // True when the run's integrator is explicit (ABI 2.3 stages): it takes no

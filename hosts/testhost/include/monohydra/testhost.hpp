@@ -107,13 +107,27 @@ struct Series {
   MONOHYDRA_TESTHOST_API bool has(const std::string& name) const;
 };
 
-// The analytic tangent against forward differences of the residual.
+// The analytic tangent against central differences of the residual, entry by
+// entry, at the model's dt and at a coarse step where K and C show beside
+// c_a M'. Each entry is compared at its own scale: its magnitude, but at
+// least 1e-3 of the geometric mean of its row's and its column's largest
+// (so rows and columns in other units, a pressure's beside a stroke's, are
+// each seen), and never below ten times the differences' own estimated error.
 struct TangentComparison {
-  bool ok = false;         // max_error within `tolerance`
-  double max_error = 0.0;  // worst |analytic - differences| / its row's largest difference
-  double tolerance = 0.0;  // what `monohydra check` accepts (1e-3)
-  std::string worst;       // the worst entry: row, column, both values
-  std::string failure;     // when the comparison could not be made ("" otherwise)
+  bool ok = false;          // max_error within `tolerance` at both steps
+  double max_error = 0.0;   // worst |analytic - differences| / the entry's scale
+  double tolerance = 0.0;   // what `monohydra check` accepts (1e-3)
+  double worst_step = 0.0;  // s: the step (of the two) where the worst entry is
+  std::string worst;        // the worst entry: step, row, column, both values
+  std::string failure;      // when the comparison could not be made ("" otherwise)
+  // Both matrices at each step, n x n column-major: the assembled tangent and
+  // central differences of the residual (steps[0] is the model's dt).
+  struct Sample {
+    double step = 0.0;  // s
+    int n = 0;
+    std::vector<double> analytic, differences;
+  };
+  std::vector<Sample> samples;
 };
 
 // The host for one component of one library. The library is loaded (probed
