@@ -46,7 +46,17 @@ inline std::string short_number(double v) {
 }
 
 // What the host knows about one component instance; its mh_host table points here.
+// One plugin instance's side of the host table. Its table's address is the
+// handle the instance gets; the host keeps the handles it gave in a registry
+// (host_services.cpp) from make_host to this struct's destruction, and every
+// service refuses any other: NULL, forged, or kept past the instance.
 struct InstanceHost {
+  InstanceHost() = default;
+  InstanceHost(const InstanceHost&) = delete;
+  InstanceHost& operator=(const InstanceHost&) = delete;
+  InstanceHost(InstanceHost&&) = delete;
+  InstanceHost& operator=(InstanceHost&&) = delete;
+  ~InstanceHost();
   Simulation::Engine* engine = nullptr;
   std::string source;  // for log lines: "subsystem 'spring'"
   const OptionMap* options = nullptr;
@@ -154,6 +164,7 @@ struct Simulation::Engine {
   std::vector<SubsystemInstance> subsystems;
   int n_s = 0;
   std::vector<VariableInfo> state_info;  // n_s: CSV name, qualified name, unit, role
+  std::set<std::string> declared_names;  // qualified states and outputs: each once
   Eigen::VectorXd y, ydot;               // current (iterate or accepted)
   Eigen::VectorXd y_k, ydot_k;           // accepted at t_k
   Eigen::VectorXd state_tol;

@@ -2,7 +2,10 @@
 // model file, logging, state and point registration, and the semirecursive
 // kinematics and dynamics. No exception crosses the C boundary.
 #include <cmath>
+#include <cstdio>
 #include <cstring>
+#include <mutex>
+#include <unordered_set>
 
 #include "abi_struct.hpp"
 #include "engine.hpp"
@@ -12,12 +15,45 @@
 namespace mh {
 namespace {
 
-InstanceHost& self(const mh_host* host) {
-  return *static_cast<InstanceHost*>(host->host_data);
+// The handles the host gave and has not withdrawn, in every engine of the
+// process (never destroyed: an engine may outlive static destruction).
+std::mutex& live_mutex() {
+  static auto* m = new std::mutex;
+  return *m;
+}
+std::unordered_set<const mh_host*>& live_hosts() {
+  static auto* s = new std::unordered_set<const mh_host*>;
+  return *s;
+}
+
+// The instance behind `host`, or null (said on stderr: with no valid handle
+// there is no instance to name) when the host did not give it.
+InstanceHost* live(const mh_host* host, const char* service) {
+  if (host != nullptr) {
+    const std::lock_guard<std::mutex> lock(live_mutex());
+    if (live_hosts().count(host) != 0) return static_cast<InstanceHost*>(host->host_data);
+  }
+  std::fprintf(stderr,
+               "monohydra: a plugin called the host service %s with a handle the host did not "
+               "give it (%s); the call is refused\n",
+               service, host == nullptr ? "NULL" : "forged, or kept past its instance's destroy");
+  return nullptr;
+}
+
+// A NULL out-pointer: refused and said, naming the service and the option.
+mh_status no_place(const mh_host* host, const char* service, const char* key) {
+  InstanceHost& h = *static_cast<InstanceHost*>(host->host_data);
+  const std::string msg = std::string(service) + "('" + (key != nullptr ? key : "") +
+                          "'): expected a place for the result, got NULL";
+  h.engine->last_plugin_error = h.source + ": " + msg;
+  if (h.engine->log) h.engine->log(MH_LOG_ERROR, h.source, msg);
+  return MH_ERROR;
 }
 
 void host_log(const mh_host* host, mh_log_level level, const char* message) {
-  InstanceHost& h = self(host);
+  InstanceHost* hp = live(host, "log");
+  if (hp == nullptr) return;
+  InstanceHost& h = *hp;
   const std::string msg = message != nullptr ? message : "";
   if (level >= MH_LOG_ERROR) h.engine->last_plugin_error = h.source + ": " + msg;
   if (h.engine->log) h.engine->log(level, h.source, msg);
@@ -51,7 +87,10 @@ mh_status missing(InstanceHost& h, const char* key, const char* what) {
 
 mh_status host_option_number(const mh_host* host, const char* key, int required, double fallback,
                              double* out) {
-  InstanceHost& h = self(host);
+  InstanceHost* hp = live(host, "option_number");
+  if (hp == nullptr) return MH_ERROR;
+  if (out == nullptr) return no_place(host, "option_number", key);
+  InstanceHost& h = *hp;
   const OptionValue* v = lookup(h, key);
   if (v == nullptr) {
     if (required != 0) return missing(h, key, "a number");
@@ -66,7 +105,10 @@ mh_status host_option_number(const mh_host* host, const char* key, int required,
 
 mh_status host_option_string(const mh_host* host, const char* key, int required,
                              const char* fallback, const char** out) {
-  InstanceHost& h = self(host);
+  InstanceHost* hp = live(host, "option_string");
+  if (hp == nullptr) return MH_ERROR;
+  if (out == nullptr) return no_place(host, "option_string", key);
+  InstanceHost& h = *hp;
   const OptionValue* v = lookup(h, key);
   if (v == nullptr) {
     if (required != 0) return missing(h, key, "a string");
@@ -81,7 +123,10 @@ mh_status host_option_string(const mh_host* host, const char* key, int required,
 
 mh_status host_option_table(const mh_host* host, const char* key, int required, uint32_t columns,
                             const double** data, uint32_t* rows) {
-  InstanceHost& h = self(host);
+  InstanceHost* hp = live(host, "option_table");
+  if (hp == nullptr) return MH_ERROR;
+  if (data == nullptr || rows == nullptr) return no_place(host, "option_table", key);
+  InstanceHost& h = *hp;
   const OptionValue* v = lookup(h, key);
   const std::string expected = "a table of rows with " + std::to_string(columns) + " numbers each";
   if (v == nullptr) {
@@ -101,7 +146,9 @@ mh_status host_option_table(const mh_host* host, const char* key, int required, 
 }
 
 mh_status host_option_error(const mh_host* host, const char* key, const char* expected) {
-  InstanceHost& h = self(host);
+  InstanceHost* hp = live(host, "option_error");
+  if (hp == nullptr) return MH_ERROR;
+  InstanceHost& h = *hp;
   const OptionValue* v = lookup(h, key);
   const std::string got = v != nullptr ? ", got '" + v->text + "'" : "";
   return report(h, v != nullptr ? v->mark : h.mark, key,
@@ -109,7 +156,9 @@ mh_status host_option_error(const mh_host* host, const char* key, const char* ex
 }
 
 mh_status host_mech_info(const mh_host* host, mh_mech_info* out) {
-  const Simulation::Engine& e = *self(host).engine;
+  const InstanceHost* hp = live(host, "mech_info");
+  if (hp == nullptr) return MH_ERROR;
+  const Simulation::Engine& e = *hp->engine;
   mh_mech_info info{};
   info.struct_size = sizeof(info);
   info.num_coordinates = static_cast<uint32_t>(e.N);
@@ -160,13 +209,19 @@ std::string text(const char* s) {
   return s != nullptr ? s : "";
 }
 
+// Declared states or outputs of one model at most: a plugin that declares
+// without end is refused with the number, not left to exhaust the machine.
+constexpr size_t kMaxDeclared = 1000000;
+
 // A role and range are optional; a range, when given, must be ordered.
 bool valid_range(double lo, double hi) {
   return std::isfinite(lo) && std::isfinite(hi) && lo <= hi;
 }
 
 mh_status host_add_state(const mh_host* host, const mh_state_spec* spec_in, int32_t* index) {
-  InstanceHost& h = self(host);
+  InstanceHost* hp = live(host, "add_state");
+  if (hp == nullptr) return MH_ERROR;
+  InstanceHost& h = *hp;
   if (setup_only(h, "add_state", true, false) != MH_OK) return MH_ERROR;
   const mh_state_spec spec = read_struct(spec_in);
   Simulation::Engine& e = *h.engine;
@@ -182,11 +237,17 @@ mh_status host_add_state(const mh_host* host, const mh_state_spec* spec_in, int3
                  .c_str());
     return MH_ERROR;
   }
-  for (const auto& v : e.state_info)
-    if (v.qualified == qualified) {
-      host_log(host, MH_LOG_ERROR, ("state '" + qualified + "' declared twice").c_str());
-      return MH_ERROR;
-    }
+  if (e.state_info.size() >= kMaxDeclared) {
+    host_log(host, MH_LOG_ERROR,
+             ("add_state '" + local + "': at most " + std::to_string(kMaxDeclared) +
+              " states in a model; this would be one more")
+                 .c_str());
+    return MH_ERROR;
+  }
+  if (!e.declared_names.insert(qualified).second) {
+    host_log(host, MH_LOG_ERROR, ("state '" + qualified + "' declared twice").c_str());
+    return MH_ERROR;
+  }
   auto named = s.spec->state_names.find(local);
   VariableInfo info;
   info.name = named != s.spec->state_names.end() ? named->second : qualified;
@@ -202,7 +263,10 @@ mh_status host_add_state(const mh_host* host, const mh_state_spec* spec_in, int3
 }
 
 mh_status host_find_state(const mh_host* host, const char* qualified_name, int32_t* index) {
-  InstanceHost& h = self(host);
+  InstanceHost* hp = live(host, "find_state");
+  if (hp == nullptr) return MH_ERROR;
+  if (index == nullptr) return no_place(host, "find_state", qualified_name);
+  InstanceHost& h = *hp;
   if (setup_only(h, "find_state", true, false) != MH_OK) return MH_ERROR;
   Simulation::Engine& e = *h.engine;
   const std::string q = text(qualified_name);
@@ -220,7 +284,10 @@ mh_status host_find_state(const mh_host* host, const char* qualified_name, int32
 }
 
 mh_status host_add_point(const mh_host* host, const char* key, int32_t* index) {
-  InstanceHost& h = self(host);
+  InstanceHost* hp = live(host, "add_point");
+  if (hp == nullptr) return MH_ERROR;
+  if (index == nullptr) return no_place(host, "add_point", key);
+  InstanceHost& h = *hp;
   if (setup_only(h, "add_point", true, false) != MH_OK) return MH_ERROR;
   SubsystemInstance& s = h.engine->subsystems[static_cast<size_t>(h.subsystem)];
   const std::string k = text(key);
@@ -242,7 +309,9 @@ mh_status host_add_point(const mh_host* host, const char* key, int32_t* index) {
 }
 
 mh_status host_add_output(const mh_host* host, const mh_output_spec* spec_in, int32_t* index) {
-  InstanceHost& h = self(host);
+  InstanceHost* hp = live(host, "add_output");
+  if (hp == nullptr) return MH_ERROR;
+  InstanceHost& h = *hp;
   if (setup_only(h, "add_output", true, true) != MH_OK) return MH_ERROR;
   const mh_output_spec spec = read_struct(spec_in);
   Simulation::Engine& e = *h.engine;
@@ -259,11 +328,17 @@ mh_status host_add_output(const mh_host* host, const mh_output_spec* spec_in, in
              ("add_output '" + local + "': expected a name and an ordered range").c_str());
     return MH_ERROR;
   }
-  for (const auto& v : e.output_info)
-    if (v.qualified == qualified) {
-      host_log(host, MH_LOG_ERROR, ("output '" + qualified + "' declared twice").c_str());
-      return MH_ERROR;
-    }
+  if (e.output_info.size() >= kMaxDeclared) {
+    host_log(host, MH_LOG_ERROR,
+             ("add_output '" + local + "': at most " + std::to_string(kMaxDeclared) +
+              " outputs in a model; this would be one more")
+                 .c_str());
+    return MH_ERROR;
+  }
+  if (!e.declared_names.insert("output " + qualified).second) {
+    host_log(host, MH_LOG_ERROR, ("output '" + qualified + "' declared twice").c_str());
+    return MH_ERROR;
+  }
   VariableInfo info;
   info.qualified = qualified;
   info.name = qualified;
@@ -282,7 +357,9 @@ mh_status host_add_output(const mh_host* host, const mh_output_spec* spec_in, in
 }
 
 mh_status host_add_unknown(const mh_host* host, const mh_unknown_spec* spec_in, int32_t* index) {
-  InstanceHost& h = self(host);
+  InstanceHost* hp = live(host, "add_unknown");
+  if (hp == nullptr) return MH_ERROR;
+  InstanceHost& h = *hp;
   if (setup_only(h, "add_unknown", false, true) != MH_OK) return MH_ERROR;
   const mh_unknown_spec spec = read_struct(spec_in);
   Simulation::Engine& e = *h.engine;
@@ -308,7 +385,9 @@ mh_status host_add_unknown(const mh_host* host, const mh_unknown_spec* spec_in, 
 
 mh_status host_evaluate_mechanics(const mh_host* host, const mh_mech_request* request,
                                   mh_mech_result* result) {
-  InstanceHost& h = self(host);
+  InstanceHost* hp = live(host, "evaluate_mechanics");
+  if (hp == nullptr) return MH_ERROR;
+  InstanceHost& h = *hp;
   const mh_mech_request rq = read_struct(request);
   if (h.role != InstanceHost::Role::formulation || request == nullptr || result == nullptr ||
       rq.z == nullptr || rq.zd == nullptr) {
@@ -332,7 +411,9 @@ mh_status host_evaluate_mechanics(const mh_host* host, const mh_mech_request* re
 
 mh_status host_mech_derivatives(const mh_host* host, const mh_mech_derivatives_request* request,
                                 mh_mech_derivatives* result) {
-  InstanceHost& h = self(host);
+  InstanceHost* hp = live(host, "mech_derivatives");
+  if (hp == nullptr) return MH_ERROR;
+  InstanceHost& h = *hp;
   const mh_mech_derivatives_request rq = read_struct(request);
   const bool needs_zdd = (rq.flags & (MH_DERIV_DYNAMICS | MH_DERIV_CONSTRAINT_ACCELERATIONS)) != 0;
   const bool needs_v = (rq.flags & MH_DERIV_CONSTRAINT_FORCES) != 0;
@@ -360,7 +441,9 @@ mh_status host_mech_derivatives(const mh_host* host, const mh_mech_derivatives_r
 }
 
 mh_status host_add_port(const mh_host* host, const mh_port_spec* spec, int32_t* index) {
-  InstanceHost& h = self(host);
+  InstanceHost* hp = live(host, "add_port");
+  if (hp == nullptr) return MH_ERROR;
+  InstanceHost& h = *hp;
   if (setup_only(h, "add_port", true, false) != MH_OK) return MH_ERROR;
   if (spec == nullptr || index == nullptr) {
     host_log(host, MH_LOG_ERROR, "add_port: expected an mh_port_spec and an index");
@@ -372,7 +455,9 @@ mh_status host_add_port(const mh_host* host, const mh_port_spec* spec, int32_t* 
 // The point's world position at the assembled initial configuration (the
 // constructor leaves the kinematics there while the instances are set up).
 mh_status host_point_position(const mh_host* host, int32_t point, double* position3) {
-  InstanceHost& h = self(host);
+  InstanceHost* hp = live(host, "point_position");
+  if (hp == nullptr) return MH_ERROR;
+  InstanceHost& h = *hp;
   if (setup_only(h, "point_position", true, false) != MH_OK) return MH_ERROR;
   const SubsystemInstance& s = h.engine->subsystems[static_cast<size_t>(h.subsystem)];
   if (point < 0 || static_cast<size_t>(point) >= s.points.size() || position3 == nullptr) {
@@ -386,7 +471,9 @@ mh_status host_point_position(const mh_host* host, int32_t point, double* positi
 }
 
 mh_status host_add_time_event(const mh_host* host, double t) {
-  InstanceHost& h = self(host);
+  InstanceHost* hp = live(host, "add_time_event");
+  if (hp == nullptr) return MH_ERROR;
+  InstanceHost& h = *hp;
   if (setup_only(h, "add_time_event", true, false) != MH_OK) return MH_ERROR;
   if (!std::isfinite(t)) {
     host_log(host, MH_LOG_ERROR, "add_time_event: expected a finite time");
@@ -401,6 +488,11 @@ const void* host_get_extension(const mh_host*, const char*) {
 }
 
 }  // namespace
+
+InstanceHost::~InstanceHost() {
+  const std::lock_guard<std::mutex> lock(live_mutex());
+  live_hosts().erase(&table);
+}
 
 void Simulation::Engine::make_host(InstanceHost& h, const std::string& source,
                                    const OptionMap* options, const SourceMark& mark,
@@ -431,6 +523,8 @@ void Simulation::Engine::make_host(InstanceHost& h, const std::string& source,
   h.table.add_unknown = host_add_unknown;
   h.table.evaluate_mechanics = host_evaluate_mechanics;
   h.table.mech_derivatives = host_mech_derivatives;
+  const std::lock_guard<std::mutex> lock(live_mutex());
+  live_hosts().insert(&h.table);
 }
 
 int Simulation::Engine::add_state_record(const VariableInfo& info, double initial,

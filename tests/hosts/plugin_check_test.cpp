@@ -144,6 +144,30 @@ TEST(PluginCheck, ARunThatFailsIsReportedAsAFailedRunWithItsTimeNotAsAnException
   EXPECT_EQ(r.output.find("an exception reached the host"), std::string::npos) << r.output;
 }
 
+TEST(HostServices, NullOutPointersAndNullOrForgedHandlesAreRefusedWithAMessageNotACrash) {
+  // The fixture's setup makes each bad call and fails, naming it, if one is
+  // accepted; refused, it goes on as the sound spring and the model runs.
+  const auto path = mh::test::scratch_dir("check-model") / "bad-host-calls.yaml";
+  {
+    std::ifstream in(spring_model());
+    std::ofstream out(path);
+    out << in.rdbuf() << "plugins: {faulty-spring: " << fixture("bad_host_calls") << "}\n";
+  }
+  const CliResult r = run_cli("validate " + path.string());
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(r.output.find("accepted a bad call"), std::string::npos) << r.output;
+  for (const char* said :
+       {"option_number('stiffness'): expected a place for the result, got NULL",
+        "option_table('table'): expected a place for the result, got NULL",
+        "find_state('spring.x'): expected a place for the result, got NULL",
+        "add_point('a'): expected a place for the result, got NULL",
+        "the host service option_number with a handle the host did not give it (NULL)",
+        "the host service add_state with a handle the host did not give it (forged, or kept past "
+        "its instance's destroy)",
+        "the host service log with a handle the host did not give it (NULL)"})
+    EXPECT_NE(r.output.find(said), std::string::npos) << said << "\n" << r.output;
+}
+
 TEST(PluginCheck, AFailingCreateFailsWithThePluginsReason) {
   const CliResult r = run_cli("check " + fixture("failing_create") + " " + spring_model());
   EXPECT_EQ(r.code, 1) << r.output;
