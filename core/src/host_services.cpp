@@ -1,7 +1,9 @@
 // The mh_host table the core hands to every plugin instance: options from the
 // model file, logging, state and point registration, and the semirecursive
 // kinematics and dynamics. No exception crosses the C boundary.
+#include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <mutex>
@@ -25,13 +27,28 @@ std::unordered_set<const mh_host*>& live_hosts() {
   static auto* s = new std::unordered_set<const mh_host*>;
   return *s;
 }
+// Bumped whenever a handle is withdrawn. A thread's last validated handle is
+// trusted while the generation it saw stands, so the time step's calls (the
+// same handles again and again) take neither the lock nor the hash.
+std::atomic<std::uint64_t> withdrawn_generation{0};
+struct LastLive {
+  const mh_host* host = nullptr;
+  std::uint64_t generation = 0;
+};
+thread_local LastLive last_live;
 
 // The instance behind `host`, or null (said on stderr: with no valid handle
 // there is no instance to name) when the host did not give it.
 InstanceHost* live(const mh_host* host, const char* service) {
   if (host != nullptr) {
+    const std::uint64_t generation = withdrawn_generation.load(std::memory_order_acquire);
+    if (host == last_live.host && generation == last_live.generation)
+      return static_cast<InstanceHost*>(host->host_data);
     const std::lock_guard<std::mutex> lock(live_mutex());
-    if (live_hosts().count(host) != 0) return static_cast<InstanceHost*>(host->host_data);
+    if (live_hosts().count(host) != 0) {
+      last_live = {host, generation};
+      return static_cast<InstanceHost*>(host->host_data);
+    }
   }
   std::fprintf(stderr,
                "monohydra: a plugin called the host service %s with a handle the host did not "
@@ -213,6 +230,25 @@ std::string text(const char* s) {
 // without end is refused with the number, not left to exhaust the machine.
 constexpr size_t kMaxDeclared = 1000000;
 
+// A new state or output (`kind`), `count` of its kind already declared: at
+// most kMaxDeclared of a kind, and each qualified name once (found in a set,
+// so a plugin declaring many does not scan every earlier one).
+bool declare_once(const mh_host* host, Simulation::Engine& e, const std::string& kind, size_t count,
+                  const std::string& local, const std::string& qualified) {
+  if (count >= kMaxDeclared) {
+    host_log(host, MH_LOG_ERROR,
+             ("add_" + kind + " '" + local + "': at most " + std::to_string(kMaxDeclared) + " " +
+              kind + "s in a model; this would be one more")
+                 .c_str());
+    return false;
+  }
+  if (!e.declared_names.insert(kind + " " + qualified).second) {
+    host_log(host, MH_LOG_ERROR, (kind + " '" + qualified + "' declared twice").c_str());
+    return false;
+  }
+  return true;
+}
+
 // A role and range are optional; a range, when given, must be ordered.
 bool valid_range(double lo, double hi) {
   return std::isfinite(lo) && std::isfinite(hi) && lo <= hi;
@@ -237,17 +273,7 @@ mh_status host_add_state(const mh_host* host, const mh_state_spec* spec_in, int3
                  .c_str());
     return MH_ERROR;
   }
-  if (e.state_info.size() >= kMaxDeclared) {
-    host_log(host, MH_LOG_ERROR,
-             ("add_state '" + local + "': at most " + std::to_string(kMaxDeclared) +
-              " states in a model; this would be one more")
-                 .c_str());
-    return MH_ERROR;
-  }
-  if (!e.declared_names.insert(qualified).second) {
-    host_log(host, MH_LOG_ERROR, ("state '" + qualified + "' declared twice").c_str());
-    return MH_ERROR;
-  }
+  if (!declare_once(host, e, "state", e.state_info.size(), local, qualified)) return MH_ERROR;
   auto named = s.spec->state_names.find(local);
   VariableInfo info;
   info.name = named != s.spec->state_names.end() ? named->second : qualified;
@@ -328,17 +354,7 @@ mh_status host_add_output(const mh_host* host, const mh_output_spec* spec_in, in
              ("add_output '" + local + "': expected a name and an ordered range").c_str());
     return MH_ERROR;
   }
-  if (e.output_info.size() >= kMaxDeclared) {
-    host_log(host, MH_LOG_ERROR,
-             ("add_output '" + local + "': at most " + std::to_string(kMaxDeclared) +
-              " outputs in a model; this would be one more")
-                 .c_str());
-    return MH_ERROR;
-  }
-  if (!e.declared_names.insert("output " + qualified).second) {
-    host_log(host, MH_LOG_ERROR, ("output '" + qualified + "' declared twice").c_str());
-    return MH_ERROR;
-  }
+  if (!declare_once(host, e, "output", e.output_info.size(), local, qualified)) return MH_ERROR;
   VariableInfo info;
   info.qualified = qualified;
   info.name = qualified;
@@ -492,6 +508,7 @@ const void* host_get_extension(const mh_host*, const char*) {
 InstanceHost::~InstanceHost() {
   const std::lock_guard<std::mutex> lock(live_mutex());
   live_hosts().erase(&table);
+  withdrawn_generation.fetch_add(1, std::memory_order_release);
 }
 
 void Simulation::Engine::make_host(InstanceHost& h, const std::string& source,
