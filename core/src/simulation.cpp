@@ -357,6 +357,43 @@ void refuse_explicit(const Simulation::Engine& e, const char* what) {
                               " needs an implicit integrator's step; this run's integrator is "
                               "explicit and takes no Newton step");
 }
+
+// The assembled tangent's values as a dense matrix, through its pattern.
+Eigen::MatrixXd dense_tangent(const Simulation::Engine& e) {
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(e.n, e.n);
+  const auto& colptr = e.pattern->column_start();
+  const auto& rows = e.pattern->row_index();
+  for (int c = 0; c < e.n; ++c)
+    for (int k = colptr[c]; k < colptr[c + 1]; ++k)
+      J(rows[k], c) = e.values[static_cast<size_t>(k)];
+  return J;
+}
+
+// The check's three estimates of d rows / d v, one column for each of the
+// first `n` entries of `v`: forward and backward at 1e-6 and central at 1e-5
+// of the entry's scale. `rows()` evaluates at the current `v`; each entry is
+// restored after.
+template <class Rows>
+void difference_columns(Eigen::VectorXd& v, Eigen::Index n, const Eigen::VectorXd& r0, Rows&& rows,
+                        Simulation::TangentSample& out) {
+  const Eigen::Index m = r0.size();
+  out.forward.resize(m, n);
+  out.backward.resize(m, n);
+  out.central_coarse.resize(m, n);
+  for (Eigen::Index c = 0; c < n; ++c) {
+    const double v0 = v[c], scale = std::max(1e-2, std::abs(v0));
+    const double fine = 1e-6 * scale, coarse = 1e-5 * scale;
+    v[c] = v0 + fine;
+    out.forward.col(c) = (rows() - r0) / fine;
+    v[c] = v0 - fine;
+    out.backward.col(c) = (r0 - rows()) / fine;
+    v[c] = v0 + coarse;
+    out.central_coarse.col(c) = rows();
+    v[c] = v0 - coarse;
+    out.central_coarse.col(c) = (out.central_coarse.col(c) - rows()) / (2.0 * coarse);
+    v[c] = v0;
+  }
+}
 }  // namespace
 
 Eigen::MatrixXd Simulation::assembled_tangent() {
@@ -366,13 +403,7 @@ Eigen::MatrixXd Simulation::assembled_tangent() {
   e.prepare_step(t_next, e.settings.dt);
   if (!status_ok(e.residual(t_next, e.x, e.r)) || !status_ok(e.assemble_tangent(t_next)))
     throw SimulationError(e.t, e.step, "tangent assembly failed: " + e.last_plugin_error);
-  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(e.n, e.n);
-  const auto& colptr = e.pattern->column_start();
-  const auto& rows = e.pattern->row_index();
-  for (int c = 0; c < e.n; ++c)
-    for (int k = colptr[c]; k < colptr[c + 1]; ++k)
-      J(rows[k], c) = e.values[static_cast<size_t>(k)];
-  return J;
+  return dense_tangent(e);
 }
 
 Eigen::MatrixXd Simulation::finite_difference_tangent() {
@@ -433,34 +464,18 @@ Simulation::TangentSample Simulation::tangent_sample(double h) {
   }
   if (!status_ok(e.residual(t_next, e.x, e.r)) || !status_ok(e.assemble_tangent(t_next)))
     throw SimulationError(e.t, e.step, "tangent assembly failed: " + e.last_plugin_error);
-  out.analytic = Eigen::MatrixXd::Zero(e.n, e.n);
-  const auto& colptr = e.pattern->column_start();
-  const auto& rows = e.pattern->row_index();
-  for (int c = 0; c < e.n; ++c)
-    for (int k = colptr[c]; k < colptr[c + 1]; ++k)
-      out.analytic(rows[k], c) = e.values[static_cast<size_t>(k)];
+  out.analytic = dense_tangent(e);
   const Eigen::VectorXd r0 = e.r;
-  const auto residual_at = [&](int c, double value) -> const Eigen::VectorXd& {
-    e.x[c] = value;
-    const mh_status st = e.residual(t_next, e.x, e.r_pert);
-    e.x[c] = x0[c];
-    if (!status_ok(st))
-      throw SimulationError(e.t, e.step,
-                            "residual failed at a perturbed x: " + e.last_plugin_error);
-    return e.r_pert;
-  };
-  out.forward.resize(e.n, e.n);
-  out.backward.resize(e.n, e.n);
-  out.central_coarse.resize(e.n, e.n);
-  for (int c = 0; c < e.n; ++c) {
-    const double scale = std::max(1e-2, std::abs(x0[c]));
-    const double fine = 1e-6 * scale, coarse = 1e-5 * scale;
-    out.forward.col(c) = (residual_at(c, x0[c] + fine) - r0) / fine;
-    out.backward.col(c) = (r0 - residual_at(c, x0[c] - fine)) / fine;
-    out.central_coarse.col(c) = residual_at(c, x0[c] + coarse);
-    out.central_coarse.col(c) =
-        (out.central_coarse.col(c) - residual_at(c, x0[c] - coarse)) / (2.0 * coarse);
-  }
+  difference_columns(
+      e.x, e.n, r0,
+      [&]() -> const Eigen::VectorXd& {
+        if (!status_ok(e.residual(t_next, e.x, e.r_pert)))
+          throw SimulationError(e.t, e.step,
+                                "residual failed at a perturbed x: " + e.last_plugin_error);
+        return e.r_pert;
+      },
+      out);
+  e.x = x0;
   e.residual(t_next, e.x, e.r);
   return out;
 }
@@ -511,23 +526,7 @@ Simulation::FormulationBlocks Simulation::formulation_blocks() {
     TangentSample& t = out.block[b];
     t.h = e.settings.dt;
     t.analytic = analytic[b];
-    t.forward.resize(n_m, n_m);
-    t.backward.resize(n_m, n_m);
-    t.central_coarse.resize(n_m, n_m);
-    Eigen::VectorXd& v = args[b];
-    for (int c = 0; c < n_m; ++c) {
-      const double v0 = v[c], scale = std::max(1e-2, std::abs(v0));
-      const double fine = 1e-6 * scale, coarse = 1e-5 * scale;
-      v[c] = v0 + fine;
-      t.forward.col(c) = (rows_at() - r0) / fine;
-      v[c] = v0 - fine;
-      t.backward.col(c) = (r0 - rows_at()) / fine;
-      v[c] = v0 + coarse;
-      t.central_coarse.col(c) = rows_at();
-      v[c] = v0 - coarse;
-      t.central_coarse.col(c) = (t.central_coarse.col(c) - rows_at()) / (2.0 * coarse);
-      v[c] = v0;
-    }
+    difference_columns(args[b], n_m, r0, rows_at, t);
   }
   e.x = x0;
   e.residual(t_next, e.x, e.r);  // the engine at the prediction again, rates by the map
