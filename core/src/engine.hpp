@@ -26,8 +26,8 @@
 #include "monohydra/core/simulation.hpp"
 #include "monohydra/core/sparse_pattern.hpp"
 #include "monohydra/monohydra.h"
-#include "plugin_instance.hpp"
-#include "tangent_reuse.hpp"
+#include "plugins/plugin_instance.hpp"
+#include "solver/tangent_reuse.hpp"
 
 namespace mh {
 

@@ -1,5 +1,5 @@
 // A Simulation whose construction throws half-way destroys every plugin
-// instance it had already created (core/src/plugin_instance.hpp): the first
+// instance it had already created (core/src/plugins/plugin_instance.hpp): the first
 // subsystem is set up, the second refuses its options. In the sanitizer
 // build (.ci/sanitize) LeakSanitizer checks at exit that nothing the plugins
 // allocated is left; everywhere, the error names the second subsystem and a

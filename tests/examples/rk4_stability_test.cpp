@@ -1,4 +1,4 @@
-// The explicit step's stability check (core/src/explicit_stability.cpp) with
+// The explicit step's stability check (core/src/step/explicit_stability.cpp) with
 // the example integrator examples/rk4: on a damped slider whose eigenvalues
 // are known in closed form, the linearised rates give them, the plugin's own
 // stages give RK4's amplification polynomial, and the largest stable step is

@@ -393,7 +393,7 @@ TEST(DoubleStep, FourBarConvergesAtSecondOrder) {
 // against central differences of it, at the next step's iterate after `steps`
 // steps of `dt`, in the block the formulation gives (its rows and columns;
 // the subsystems' rows are the host's coupling, tested in
-// tests/core/subsystem_coupling_test.cpp): the worst over its columns of
+// tests/core/step/subsystem_coupling_test.cpp): the worst over its columns of
 // max |J - J_cd| / max |J_cd|.
 struct TangentErrors {
   double analytic = 0.0, forward = 0.0;

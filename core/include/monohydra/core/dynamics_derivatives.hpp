@@ -2,7 +2,7 @@
 // Eqs. 1-12): the tangent of the residual M'(z) zdd - Q'(z, zd) that an implicit
 // integrator's Newton iteration needs, without finite differences. The
 // recursion differentiates Z, Zdot, R_W_B and the positions through the tree, as
-// Pinocchio's RNEA derivatives do; see core/src/motion_variation.hpp.
+// Pinocchio's RNEA derivatives do; see core/src/algorithms/motion_variation.hpp.
 #pragma once
 
 #include <Eigen/Core>

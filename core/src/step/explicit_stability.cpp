@@ -12,7 +12,7 @@
 #include <ctime>
 #include <stdexcept>
 
-#include "abi_struct.hpp"
+#include "plugins/abi_struct.hpp"
 #include "engine.hpp"
 
 namespace mh {

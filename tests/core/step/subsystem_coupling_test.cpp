@@ -1,4 +1,4 @@
-// The analytic tangent end to end (core/src/subsystem_coupling.cpp with the
+// The analytic tangent end to end (core/src/step/subsystem_coupling.cpp with the
 // formulations' tangent and mechanics_map, ABI 2.2): the whole assembled
 // Newton tangent of runs whose subsystems act at body points (the hydraulic
 // cylinder of the case studies, the Maxwell element) equals central

@@ -7,7 +7,7 @@
 #include <optional>
 #include <string>
 
-#include "plugin_probe.hpp"
+#include "plugins/plugin_probe.hpp"
 
 namespace mh {
 

@@ -11,10 +11,10 @@
 #include <optional>
 #include <sstream>
 
-#include "abi_struct.hpp"
+#include "plugins/abi_struct.hpp"
 #include "monohydra/entry.h"
-#include "plugin_probe.hpp"
-#include "probe_cache.hpp"
+#include "plugins/plugin_probe.hpp"
+#include "plugins/probe_cache.hpp"
 
 namespace fs = std::filesystem;
 

@@ -7,7 +7,7 @@
 
 #include <utility>
 
-#include "abi_struct.hpp"
+#include "plugins/abi_struct.hpp"
 #include "monohydra/monohydra.h"
 
 namespace mh {

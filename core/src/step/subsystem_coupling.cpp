@@ -15,7 +15,7 @@
 
 #include "engine.hpp"
 #include "monohydra/core/kinematics.hpp"
-#include "motion_variation.hpp"
+#include "algorithms/motion_variation.hpp"
 
 namespace mh {
 

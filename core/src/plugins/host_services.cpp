@@ -9,7 +9,7 @@
 #include <mutex>
 #include <unordered_set>
 
-#include "abi_struct.hpp"
+#include "plugins/abi_struct.hpp"
 #include "engine.hpp"
 #include "monohydra/core/dynamics.hpp"
 #include "monohydra/core/kinematics.hpp"

@@ -1,4 +1,4 @@
-#include "probe_cache.hpp"
+#include "plugins/probe_cache.hpp"
 
 #include <sys/stat.h>
 #include <unistd.h>

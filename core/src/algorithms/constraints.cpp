@@ -3,7 +3,7 @@
 #include <Eigen/Geometry>
 
 #include "monohydra/core/kinematics.hpp"
-#include "motion_variation.hpp"
+#include "algorithms/motion_variation.hpp"
 
 namespace mh {
 namespace {

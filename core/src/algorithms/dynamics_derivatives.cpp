@@ -14,7 +14,7 @@
 #include <string>
 
 #include "monohydra/core/kinematics.hpp"
-#include "motion_variation.hpp"
+#include "algorithms/motion_variation.hpp"
 
 namespace mh {
 namespace {

@@ -1,4 +1,4 @@
-// The tangent's mechanical pattern from the topology (core/src/mechanical_coupling.cpp):
+// The tangent's mechanical pattern from the topology (core/src/algorithms/mechanical_coupling.cpp):
 // every nonzero of M', K and C (the analytic fill) and of the residual's
 // differences on random trees with point forces lies inside it; without a
 // point force's group the same check finds nonzeros outside (the check can

@@ -1,4 +1,4 @@
-#include "plugin_probe.hpp"
+#include "plugins/plugin_probe.hpp"
 
 #include <dlfcn.h>
 #include <fcntl.h>

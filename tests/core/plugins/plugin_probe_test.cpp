@@ -1,7 +1,7 @@
 // A library that crashes or hangs while being loaded is refused, with the
-// reason, and the host lives on (core/src/plugin_probe.hpp); verdicts are
-// cached by path, size and mtime (core/src/probe_cache.hpp).
-#include "../../core/src/plugin_probe.hpp"
+// reason, and the host lives on (core/src/plugins/plugin_probe.hpp); verdicts are
+// cached by path, size and mtime (core/src/plugins/probe_cache.hpp).
+#include "../../../core/src/plugins/plugin_probe.hpp"
 
 #include <gtest/gtest.h>
 #include <sys/stat.h>
