@@ -11,8 +11,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "monohydra/core/kinematics.hpp"
 #include "algorithms/motion_variation.hpp"
+#include "monohydra/core/kinematics.hpp"
 
 namespace mh {
 namespace {

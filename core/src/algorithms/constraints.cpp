@@ -2,8 +2,8 @@
 
 #include <Eigen/Geometry>
 
-#include "monohydra/core/kinematics.hpp"
 #include "algorithms/motion_variation.hpp"
+#include "monohydra/core/kinematics.hpp"
 
 namespace mh {
 namespace {

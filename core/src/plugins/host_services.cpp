@@ -9,10 +9,10 @@
 #include <mutex>
 #include <unordered_set>
 
-#include "plugins/abi_struct.hpp"
 #include "engine.hpp"
 #include "monohydra/core/dynamics.hpp"
 #include "monohydra/core/kinematics.hpp"
+#include "plugins/abi_struct.hpp"
 
 namespace mh {
 namespace {

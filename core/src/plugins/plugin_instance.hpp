@@ -7,8 +7,8 @@
 
 #include <utility>
 
-#include "plugins/abi_struct.hpp"
 #include "monohydra/monohydra.h"
+#include "plugins/abi_struct.hpp"
 
 namespace mh {
 

@@ -11,8 +11,8 @@
 #include <optional>
 #include <sstream>
 
-#include "plugins/abi_struct.hpp"
 #include "monohydra/entry.h"
+#include "plugins/abi_struct.hpp"
 #include "plugins/plugin_probe.hpp"
 #include "plugins/probe_cache.hpp"
 

@@ -12,8 +12,8 @@
 #include <ctime>
 #include <stdexcept>
 
-#include "plugins/abi_struct.hpp"
 #include "engine.hpp"
+#include "plugins/abi_struct.hpp"
 
 namespace mh {
 

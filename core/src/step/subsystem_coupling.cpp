@@ -13,9 +13,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "algorithms/motion_variation.hpp"
 #include "engine.hpp"
 #include "monohydra/core/kinematics.hpp"
-#include "algorithms/motion_variation.hpp"
 
 namespace mh {
 
