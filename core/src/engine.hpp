@@ -1,10 +1,10 @@
 // Private: the state behind a Simulation, shared by the files that implement
 // it along the data flow: host services (host_services.cpp), construction
 // (simulation.cpp), consistent initial states (initial_state.cpp), the
-// integrator's map (integrator_map.cpp), the tangent (tangent.cpp), the Newton
-// loop (newton_solve.cpp), the step (time_step.cpp) and the energy balance
-// (energy_balance.cpp). Everything here is sized in the constructor and
-// start(); step() allocates nothing.
+// integrator's map (integrator_map.cpp), the tangent (tangent.cpp), the
+// step's Newton problem (newton_solve.cpp), the step (time_step.cpp) and the
+// energy balance (energy_balance.cpp). Everything here is sized in the
+// constructor and start(); step() allocates nothing.
 #pragma once
 
 #include <Eigen/Core>
@@ -105,7 +105,7 @@ struct Node {
 // The work of solve_initial_rates (initial_state.cpp), sized by
 // classify_states: it runs at time events, inside the time step.
 struct RatesWorkspace {
-  Eigen::VectorXd f0, f1, fr, dr, step;
+  Eigen::VectorXd f0, f1, fr, dr, du, step;
   Eigen::MatrixXd J, Jr;
   Eigen::FullPivLU<Eigen::MatrixXd> lu;
 };

@@ -1,79 +1,109 @@
 // The Newton-Raphson iteration of one step (Eq. 37) over every unknown at
-// once, monolithically: the formulation's and the subsystem states. It knows
-// Newton and nothing else: the rates come from the integrator's map
-// (integrator_map.cpp), the tangent from tangent.cpp, its solution from the
-// linear solver.
+// once, monolithically: the formulation's and the subsystem states, as a
+// problem of the one Newton iteration (newton.hpp). The rates come from the
+// integrator's map (integrator_map.cpp), the tangent from tangent.cpp, its
+// solution from the linear solver.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 
 #include "engine.hpp"
+#include "solver/newton.hpp"
 
 namespace mh {
 
-void Simulation::Engine::newton_solve(double t_eval, double t_next) {
-  mh_status st = residual(t_eval, x, r);
-  check(st, "residual evaluation");
-  stats.residual_norms.push_back(r.lpNorm<Eigen::Infinity>());
-  double worst = 0.0;
-  int worst_i = 0;
-  reuse.begin_step();
-  // Real-time mode replaces the iteration limit by its cap, at which the step
-  // is accepted (below) rather than failed.
-  const int limit = real_time_cap > 0 ? real_time_cap : settings.max_iterations;
-  for (int its = 0; its < limit; ++its) {
-    if (!r.allFinite()) {
-      int bad = 0;
-      while (bad < n && std::isfinite(r[bad])) ++bad;
-      fail_step(
-          "the residual is not finite in the row of " + unknown_name(bad) + ", written by " +
-          (bad < n_m ? "formulation '" + formulation_name + "'" : nonfinite_source(bad - n_m)));
-    }
-    if (reuse.needs_tangent(map.coefficients)) {  // always, unless modified Newton
-      check(assemble_tangent(t_eval), "tangent assembly");
-      if (!linear_solver->factor(values.data())) fail_step(linear_solver->error());
-      reuse.factored(map.coefficients);
-      ++stats.tangents;
-    }
-    dx = -r;
-    linear_solver->solve(dx.data());  // Eq. (37)
-    x += dx;
-    ++stats.iterations;
-    worst = 0.0;
-    for (int i = 0; i < n; ++i) {
-      const double ratio = std::abs(dx[i]) / tol[i];
+namespace {
+
+// The step's system r(x) = 0 over every unknown: the engine's residual and
+// tangent, its linear solver, full or modified Newton (TangentReuse), the
+// formulation's iteration_done, and real time's cap and deadline.
+class StepProblem final : public NewtonProblem {
+ public:
+  StepProblem(Simulation::Engine& e, double t_eval, double t_next)
+      : e_(e), t_eval_(t_eval), t_next_(t_next) {}
+
+  void residual(Eigen::VectorXd& f) override {
+    e_.check(e_.residual(t_eval_, e_.x, f), "residual evaluation");
+    e_.stats.residual_norms.push_back(f.lpNorm<Eigen::Infinity>());
+  }
+  bool needs_setup() override { return e_.reuse.needs_tangent(e_.map.coefficients); }
+  void setup() override {
+    e_.check(e_.assemble_tangent(t_eval_), "tangent assembly");
+    if (!e_.linear_solver->factor(e_.values.data())) e_.fail_step(e_.linear_solver->error());
+    e_.reuse.factored(e_.map.coefficients);
+    ++e_.stats.tangents;
+  }
+  void solve(const Eigen::VectorXd& f, Eigen::VectorXd& du) override {
+    du = -f;
+    e_.linear_solver->solve(du.data());
+  }
+  void add(const Eigen::VectorXd& du) override { e_.x += du; }
+  void subtract(const Eigen::VectorXd& du) override { e_.x -= du; }
+  double measure(const Eigen::VectorXd& du, int& worst_i) override {
+    double worst = 0.0;
+    for (int i = 0; i < e_.n; ++i) {
+      const double ratio = std::abs(du[i]) / e_.tol[i];
       if (!(ratio <= worst)) {
         worst = ratio;
         worst_i = i;
       }
     }
-    stats.increment_norms.push_back(worst);
-    reuse.increment(worst);
-    if (reuse.diverging()) {  // modified Newton: back to the last iterate, a fresh tangent
-      x -= dx;                // r is still its residual: no residual call since
-      continue;
-    }
-    if (formulation.ops.iteration_done != nullptr) {
-      rates_of(x, xd, xdd);
-      st = normalized(formulation.ops.iteration_done(formulation.self, t_next, x.data(), xd.data(),
-                                                     xdd.data()));
-      check(st, "formulation iteration");
-    }
-    st = residual(t_eval, x, r);
-    check(st, "residual evaluation");
-    stats.residual_norms.push_back(r.lpNorm<Eigen::Infinity>());
-    if (reuse.converged(worst)) return;
-    // Real-time mode: a late or over-long step is accepted as it stands.
-    if (real_time_cap > 0 &&
-        (its + 1 >= real_time_cap || std::chrono::steady_clock::now() >= step_deadline)) {
-      stats.converged = false;
-      stats.unconverged = std::max(stats.unconverged, worst);
+    return worst;
+  }
+  // Modified Newton: an increment of a kept factorization that grew is undone
+  // and the next iteration factors anew.
+  bool keep(double size) override {
+    ++e_.stats.iterations;
+    e_.stats.increment_norms.push_back(size);
+    e_.reuse.increment(size);
+    return !e_.reuse.diverging();
+  }
+  void accepted() override {
+    if (e_.formulation.ops.iteration_done == nullptr) return;
+    e_.rates_of(e_.x, e_.xd, e_.xdd);
+    e_.check(normalized(e_.formulation.ops.iteration_done(e_.formulation.self, t_next_, e_.x.data(),
+                                                          e_.xd.data(), e_.xdd.data())),
+             "formulation iteration");
+  }
+  bool converged(double size) override { return e_.reuse.converged(size); }
+  // Real-time mode: a late or over-long step is accepted as it stands.
+  bool stop_early(int iteration) override {
+    return e_.real_time_cap > 0 && (iteration + 1 >= e_.real_time_cap ||
+                                    std::chrono::steady_clock::now() >= e_.step_deadline);
+  }
+
+ private:
+  Simulation::Engine& e_;
+  double t_eval_, t_next_;
+};
+
+}  // namespace
+
+void Simulation::Engine::newton_solve(double t_eval, double t_next) {
+  reuse.begin_step();
+  StepProblem problem(*this, t_eval, t_next);
+  // Real-time mode replaces the iteration limit by its cap, at which the step
+  // is accepted rather than failed.
+  const int limit = real_time_cap > 0 ? real_time_cap : settings.max_iterations;
+  const NewtonOutcome out = newton_iterate(problem, limit, r, dx);
+  switch (out.end) {
+    case NewtonOutcome::End::converged:
       return;
-    }
+    case NewtonOutcome::End::stopped:
+      stats.converged = false;
+      stats.unconverged = std::max(stats.unconverged, out.size);
+      return;
+    case NewtonOutcome::End::not_finite:
+      fail_step("the residual is not finite in the row of " + unknown_name(out.row) +
+                ", written by " +
+                (out.row < n_m ? "formulation '" + formulation_name + "'"
+                               : nonfinite_source(out.row - n_m)));
+    case NewtonOutcome::End::not_converged:
+      break;
   }
   fail_step("Newton did not converge in " + std::to_string(settings.max_iterations) +
-            " iterations; the largest increment was " + short_number(worst) +
-            " times the tolerance, in " + unknown_name(worst_i));
+            " iterations; the largest increment was " + short_number(out.size) +
+            " times the tolerance, in " + unknown_name(out.worst));
 }
 
 // Evaluates the subsystems one by one at the current kinematics, states and

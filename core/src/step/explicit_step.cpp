@@ -13,6 +13,7 @@
 #include <limits>
 
 #include "engine.hpp"
+#include "solver/newton.hpp"
 
 namespace mh {
 
@@ -56,19 +57,97 @@ mh_status Simulation::Engine::rates_residual(double t_eval, const Eigen::VectorX
   return st;
 }
 
+namespace {
+
+// The rates at an explicit stage: r(x, xd, xdd) = 0 for the unknown of each
+// row by its kind (xdd, xd, or x itself for an algebraic one), x held, with
+// a differenced dense Jacobian kept while it halves the increment.
+class StageRatesProblem final : public NewtonProblem {
+ public:
+  StageRatesProblem(Simulation::Engine& e, double t_eval, Eigen::VectorXd& xq, Eigen::VectorXd& xdq,
+                    Eigen::VectorXd& xddq)
+      : e_(e), t_eval_(t_eval), xq_(xq), xdq_(xdq), xddq_(xddq) {}
+
+  void residual(Eigen::VectorXd& f) override {
+    e_.check(e_.rates_residual(t_eval_, xq_, xdq_, xddq_, f), "residual evaluation");
+    if (evaluated_) e_.stats.residual_norms.push_back(f.lpNorm<Eigen::Infinity>());
+    evaluated_ = true;
+  }
+  bool needs_setup() override { return !e_.rates_jacobian_valid; }
+  void setup() override {
+    for (int j = 0; j < e_.n; ++j) {
+      double& u = unknown(j);
+      const double saved = u;
+      const double d = 1.5e-8 * std::max(std::abs(u), e_.rate_scale[j] * 1e3);
+      u = saved + d;
+      e_.check(e_.rates_residual(t_eval_, xq_, xdq_, xddq_, e_.r_rates_pert),
+               "residual evaluation");
+      u = saved;
+      e_.rates_jacobian.col(j) = (e_.r_rates_pert - e_.r_rates) / d;
+    }
+    e_.rates_lu.compute(e_.rates_jacobian);
+    e_.rates_jacobian_valid = true;
+    ++e_.stats.tangents;
+  }
+  void solve(const Eigen::VectorXd& f, Eigen::VectorXd& du) override {
+    du.noalias() = e_.rates_lu.solve(f);
+    du = -du;
+  }
+  void add(const Eigen::VectorXd& du) override {
+    for (int i = 0; i < e_.n; ++i) unknown(i) += du[i];
+  }
+  void subtract(const Eigen::VectorXd& du) override {
+    for (int i = 0; i < e_.n; ++i) unknown(i) -= du[i];
+  }
+  double measure(const Eigen::VectorXd& du, int& worst_i) override {
+    double worst = 0.0;
+    for (int i = 0; i < e_.n; ++i) {
+      const double ratio = std::abs(du[i]) / (kRateTolerance * e_.rate_scale[i] +
+                                              kRateRelative * std::abs(unknown(i)));
+      if (!(ratio <= worst)) {
+        worst = ratio;
+        worst_i = i;
+      }
+    }
+    return worst;
+  }
+  bool keep(double size) override {
+    ++e_.stats.iterations;
+    e_.stats.increment_norms.push_back(size);
+    return true;
+  }
+  // A kept Jacobian that no longer halves the increment is renewed.
+  bool converged(double size) override {
+    if (size <= 1.0) return true;
+    if (!(size <= 0.5 * last_)) e_.rates_jacobian_valid = false;
+    last_ = size;
+    return false;
+  }
+
+ private:
+  // The unknown of row i: xdd, xd or x by the kind of unknown i.
+  double& unknown(int i) {
+    switch (e_.kinds[static_cast<size_t>(i)]) {
+      case MH_UNKNOWN_SECOND_ORDER:
+        return xddq_[i];
+      case MH_UNKNOWN_FIRST_ORDER:
+        return xdq_[i];
+      default:
+        return xq_[i];
+    }
+  }
+
+  Simulation::Engine& e_;
+  double t_eval_;
+  Eigen::VectorXd &xq_, &xdq_, &xddq_;
+  bool evaluated_ = false;
+  double last_ = std::numeric_limits<double>::infinity();
+};
+
+}  // namespace
+
 void Simulation::Engine::solve_rates(double t_eval, double h, Eigen::VectorXd& xq,
                                      Eigen::VectorXd& xdq, Eigen::VectorXd& xddq) {
-  // The unknown of row i: xdd, xd or x by the kind of unknown i.
-  auto unknown = [&](int i) -> double& {
-    switch (kinds[static_cast<size_t>(i)]) {
-      case MH_UNKNOWN_SECOND_ORDER:
-        return xddq[i];
-      case MH_UNKNOWN_FIRST_ORDER:
-        return xdq[i];
-      default:
-        return xq[i];
-    }
-  };
   for (int i = 0; i < n; ++i) {
     const uint8_t k = kinds[static_cast<size_t>(i)];
     rate_scale[i] = k == MH_UNKNOWN_SECOND_ORDER  ? tol[i] / (h * h)
@@ -77,55 +156,22 @@ void Simulation::Engine::solve_rates(double t_eval, double h, Eigen::VectorXd& x
     if (k != MH_UNKNOWN_SECOND_ORDER) xddq[i] = 0.0;
     if (k == MH_UNKNOWN_ALGEBRAIC) xdq[i] = 0.0;
   }
-  check(rates_residual(t_eval, xq, xdq, xddq, r_rates), "residual evaluation");
-  double last = std::numeric_limits<double>::infinity();
-  for (int its = 0; its < settings.max_iterations; ++its) {
-    if (!r_rates.allFinite()) {
-      int bad = 0;
-      while (bad < n && std::isfinite(r_rates[bad])) ++bad;
-      fail_step("the residual is not finite in the row of " + unknown_name(bad) +
+  StageRatesProblem problem(*this, t_eval, xq, xdq, xddq);
+  const NewtonOutcome out = newton_iterate(problem, settings.max_iterations, r_rates, rates_step);
+  switch (out.end) {
+    case NewtonOutcome::End::converged:
+    case NewtonOutcome::End::stopped:
+      return;
+    case NewtonOutcome::End::not_finite:
+      fail_step("the residual is not finite in the row of " + unknown_name(out.row) +
                 " at an explicit stage (t = " + short_number(t_eval) + " s)");
-    }
-    if (!rates_jacobian_valid) {
-      for (int j = 0; j < n; ++j) {
-        double& u = unknown(j);
-        const double saved = u;
-        const double d = 1.5e-8 * std::max(std::abs(u), rate_scale[j] * 1e3);
-        u = saved + d;
-        check(rates_residual(t_eval, xq, xdq, xddq, r_rates_pert), "residual evaluation");
-        u = saved;
-        rates_jacobian.col(j) = (r_rates_pert - r_rates) / d;
-      }
-      rates_lu.compute(rates_jacobian);
-      rates_jacobian_valid = true;
-      ++stats.tangents;
-    }
-    rates_step.noalias() = rates_lu.solve(r_rates);
-    double worst = 0.0;
-    int worst_i = 0;
-    for (int i = 0; i < n; ++i) {
-      unknown(i) -= rates_step[i];
-      const double ratio = std::abs(rates_step[i]) /
-                           (kRateTolerance * rate_scale[i] + kRateRelative * std::abs(unknown(i)));
-      if (!(ratio <= worst)) {
-        worst = ratio;
-        worst_i = i;
-      }
-    }
-    ++stats.iterations;
-    stats.increment_norms.push_back(worst);
-    check(rates_residual(t_eval, xq, xdq, xddq, r_rates), "residual evaluation");
-    stats.residual_norms.push_back(r_rates.lpNorm<Eigen::Infinity>());
-    if (worst <= 1.0) return;
-    // A kept Jacobian that no longer halves the increment is renewed.
-    if (!(worst <= 0.5 * last)) rates_jacobian_valid = false;
-    last = worst;
-    if (its + 1 == settings.max_iterations)
-      fail_step("the rates at an explicit stage (t = " + short_number(t_eval) +
-                " s) did not converge in " + std::to_string(settings.max_iterations) +
-                " Newton iterations; the largest increment was " + short_number(worst) +
-                " times its tolerance, in the rate (or value) of " + unknown_name(worst_i));
+    case NewtonOutcome::End::not_converged:
+      break;
   }
+  fail_step("the rates at an explicit stage (t = " + short_number(t_eval) +
+            " s) did not converge in " + std::to_string(settings.max_iterations) +
+            " Newton iterations; the largest increment was " + short_number(out.size) +
+            " times its tolerance, in the rate (or value) of " + unknown_name(out.worst));
 }
 
 // The step from the accepted t by h: the integrator's stages, each with the

@@ -12,6 +12,7 @@
 #include "engine.hpp"
 #include "monohydra/core/dynamics.hpp"
 #include "monohydra/core/kinematics.hpp"
+#include "solver/newton.hpp"
 
 namespace mh {
 
@@ -77,46 +78,89 @@ void Simulation::Engine::classify_states() {
   rates_ws.Jr.setZero(k, k);
   rates_ws.fr.setZero(k);
   rates_ws.dr.setZero(k);
+  rates_ws.du.setZero(k);
   rates_ws.step.setZero(n_s);
   rates_ws.lu = Eigen::FullPivLU<Eigen::MatrixXd>(k, k);
 }
+
+namespace {
 
 // ydot: the state rows are F(ydot, y) = 0 at the current kinematics; Newton
 // with a forward-difference Jacobian, over the rates and rows the structure
 // found at t0 (classify_states): which rows involve rates does not change
 // during a run, and deciding it anew from differences at every time event
-// would let round-off move a state between the classes.
-void Simulation::Engine::solve_initial_rates(double t_eval) {
-  if (n_s == 0) return;
-  const int k = static_cast<int>(rate_states.size());
-  if (k == 0) return;  // every state is algebraic: no rate to find (and no 0 x 0 LU)
-  // In the workspace classify_states() sized: no allocation at a time event.
-  RatesWorkspace& w = rates_ws;
-  for (int it = 0; it < 20; ++it) {
-    rate_jacobian(*this, t_eval, w.f0, w.f1, w.J);
-    rows_at(*this, t_eval, w.f0);
-    for (int a = 0; a < k; ++a) {
-      w.fr[a] = w.f0[rate_rows[static_cast<size_t>(a)]];
-      for (int b = 0; b < k; ++b)
-        w.Jr(a, b) = w.J(rate_rows[static_cast<size_t>(a)], rate_states[static_cast<size_t>(b)]);
-    }
-    w.lu.compute(w.Jr);
-    if (!w.lu.isInvertible())
-      fail(
+// would let round-off move a state between the classes. In the workspace
+// classify_states() sized: no allocation at a time event.
+class InitialRatesProblem final : public NewtonProblem {
+ public:
+  InitialRatesProblem(Simulation::Engine& e, double t_eval) : e_(e), w_(e.rates_ws), t_(t_eval) {}
+
+  void residual(Eigen::VectorXd& f) override {
+    rows_at(e_, t_, w_.f0);
+    for (size_t a = 0; a < e_.rate_rows.size(); ++a)
+      f[static_cast<Eigen::Index>(a)] = w_.f0[e_.rate_rows[a]];
+  }
+  void setup() override {
+    rate_jacobian(e_, t_, w_.f0, w_.f1, w_.J);
+    const size_t k = e_.rate_states.size();
+    for (size_t a = 0; a < k; ++a)
+      for (size_t b = 0; b < k; ++b)
+        w_.Jr(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) =
+            w_.J(e_.rate_rows[a], e_.rate_states[b]);
+    w_.lu.compute(w_.Jr);
+    if (!w_.lu.isInvertible())
+      e_.fail(
           "the state rates cannot be found: the subsystem rows do not determine every state's "
           "rate (is each state's own term missing?)");
-    // dr = Jr^-1 (-fr), as FullPivLU::solve computes it (Jr = P^-1 L U Q^-1),
-    // in place: solve() would allocate its intermediate vector.
-    w.fr = -w.fr;
-    w.dr.noalias() = w.lu.permutationP() * w.fr;
-    w.lu.matrixLU().triangularView<Eigen::UnitLower>().solveInPlace(w.dr);
-    w.lu.matrixLU().triangularView<Eigen::Upper>().solveInPlace(w.dr);
-    w.fr.noalias() = w.lu.permutationQ() * w.dr;
-    w.step.setZero();
-    for (int b = 0; b < k; ++b) w.step[rate_states[static_cast<size_t>(b)]] = w.fr[b];
-    ydot += w.step;
-    if (w.step.norm() <= 1e-12 * (1.0 + ydot.norm())) break;
   }
+  // du = Jr^-1 (-f), as FullPivLU::solve computes it (Jr = P^-1 L U Q^-1),
+  // in place: solve() would allocate its intermediate vector.
+  void solve(const Eigen::VectorXd& f, Eigen::VectorXd& du) override {
+    du = -f;
+    w_.dr.noalias() = w_.lu.permutationP() * du;
+    w_.lu.matrixLU().triangularView<Eigen::UnitLower>().solveInPlace(w_.dr);
+    w_.lu.matrixLU().triangularView<Eigen::Upper>().solveInPlace(w_.dr);
+    du.noalias() = w_.lu.permutationQ() * w_.dr;
+  }
+  void add(const Eigen::VectorXd& du) override { move(du, 1.0); }
+  void subtract(const Eigen::VectorXd& du) override { move(du, -1.0); }
+  // Converged when the step is round-off beside the rates.
+  double measure(const Eigen::VectorXd& du, int& worst) override {
+    const double norm = w_.step.norm(), bound = 1e-12 * (1.0 + e_.ydot.norm());
+    done_ = norm <= bound;
+    du.cwiseAbs().maxCoeff(&worst);
+    worst = e_.rate_states[static_cast<size_t>(worst)];
+    return norm / bound;
+  }
+  bool converged(double /*size*/) override { return done_; }
+
+ private:
+  void move(const Eigen::VectorXd& du, double sign) {
+    w_.step.setZero();
+    for (size_t b = 0; b < e_.rate_states.size(); ++b)
+      w_.step[e_.rate_states[b]] = sign * du[static_cast<Eigen::Index>(b)];
+    e_.ydot += w_.step;
+  }
+
+  Simulation::Engine& e_;
+  RatesWorkspace& w_;
+  double t_;
+  bool done_ = false;
+};
+
+}  // namespace
+
+void Simulation::Engine::solve_initial_rates(double t_eval) {
+  if (n_s == 0) return;
+  if (rate_states.empty()) return;  // every state is algebraic: no rate to find (and no 0 x 0 LU)
+  InitialRatesProblem problem(*this, t_eval);
+  const NewtonOutcome out = newton_iterate(problem, 20, rates_ws.fr, rates_ws.du);
+  // Twenty iterations that leave more than round-off keep the best rates
+  // found: the step's own Newton starts from them.
+  if (out.end == NewtonOutcome::End::not_finite)
+    fail("the state rates cannot be found: the row of state '" +
+         state_info[static_cast<size_t>(rate_rows[static_cast<size_t>(out.row)])].name +
+         "' is not finite");
 }
 
 // Gauss-Newton on the unknown states u (algebraic ones, and equilibrium.free)
@@ -197,39 +241,74 @@ void Simulation::Engine::solve_algebraic_and_equilibrium() {
   };
   const Eigen::VectorXd saved_ydot = ydot;
   if (equilibrium) ydot.setZero();
-  Eigen::VectorXd F(n_rows), F1(n_rows);
-  Eigen::MatrixXd J(n_rows, k);
-  Eigen::VectorXd scale(n_rows);
-  double worst = 0.0;
-  for (int it = 0; it < 50; ++it) {
-    equations(F);
-    for (int j = 0; j < k; ++j) {
-      const int c = unknowns[static_cast<size_t>(j)];
-      const double h = 1e-7 * std::max(std::abs(y[c]), 1e3 * state_tol[c]);
-      y[c] += h;
-      equations(F1);
-      y[c] -= h;
-      J.col(j) = (F1 - F) / h;
+  // Gauss-Newton: the Jacobian differenced, rows in units of the unknowns'
+  // tolerances, the least-squares (minimum-norm) increment.
+  struct AlgebraicProblem final : NewtonProblem {
+    Simulation::Engine& e;
+    const std::vector<int>& unknowns;
+    const decltype(equations)& equations_of;
+    Eigen::VectorXd F1, scale;
+    Eigen::MatrixXd J;
+    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod;
+    const Eigen::VectorXd* F = nullptr;  // the residual setup() differences from
+    AlgebraicProblem(Simulation::Engine& engine, const std::vector<int>& u,
+                     const decltype(equations)& eq, int n_rows)
+        : e(engine),
+          unknowns(u),
+          equations_of(eq),
+          F1(n_rows),
+          scale(n_rows),
+          J(n_rows, static_cast<Eigen::Index>(u.size())) {}
+    double& unknown(size_t j) { return e.y[unknowns[j]]; }
+    double tolerance(size_t j) const { return e.state_tol[unknowns[j]]; }
+    void residual(Eigen::VectorXd& f) override {
+      equations_of(f);
+      F = &f;
     }
-    // Rows in units of the unknowns' tolerances.
-    for (int i = 0; i < n_rows; ++i) {
-      double s = 0.0;
-      for (int j = 0; j < k; ++j)
-        s += std::abs(J(i, j)) * state_tol[unknowns[static_cast<size_t>(j)]];
-      scale[i] = s > 0.0 ? 1.0 / s : 0.0;
+    void setup() override {
+      for (size_t j = 0; j < unknowns.size(); ++j) {
+        const double h = 1e-7 * std::max(std::abs(unknown(j)), 1e3 * tolerance(j));
+        unknown(j) += h;
+        equations_of(F1);
+        unknown(j) -= h;
+        J.col(static_cast<Eigen::Index>(j)) = (F1 - *F) / h;
+      }
+      for (Eigen::Index i = 0; i < J.rows(); ++i) {
+        double sum = 0.0;
+        for (size_t j = 0; j < unknowns.size(); ++j)
+          sum += std::abs(J(i, static_cast<Eigen::Index>(j))) * tolerance(j);
+        scale[i] = sum > 0.0 ? 1.0 / sum : 0.0;
+      }
+      cod.compute(scale.asDiagonal() * J);
     }
-    const Eigen::MatrixXd Js = scale.asDiagonal() * J;
-    const Eigen::VectorXd du =
-        Js.completeOrthogonalDecomposition().solve(-(scale.asDiagonal() * F));
-    worst = 0.0;
-    for (int j = 0; j < k; ++j) {
-      const int c = unknowns[static_cast<size_t>(j)];
-      y[c] += du[j];
-      worst = std::max(worst, std::abs(du[j]) / state_tol[c]);
+    void solve(const Eigen::VectorXd& f, Eigen::VectorXd& du) override {
+      du = cod.solve(-(scale.asDiagonal() * f));
     }
-    if (worst <= 1e-3) break;
-  }
-  equations(F);
+    void add(const Eigen::VectorXd& du) override {
+      for (size_t j = 0; j < unknowns.size(); ++j) unknown(j) += du[static_cast<Eigen::Index>(j)];
+    }
+    void subtract(const Eigen::VectorXd& du) override {
+      for (size_t j = 0; j < unknowns.size(); ++j) unknown(j) -= du[static_cast<Eigen::Index>(j)];
+    }
+    double measure(const Eigen::VectorXd& du, int& worst) override {
+      double size = 0.0;
+      for (size_t j = 0; j < unknowns.size(); ++j) {
+        const double ratio = std::abs(du[static_cast<Eigen::Index>(j)]) / tolerance(j);
+        if (ratio > size) worst = unknowns[j];
+        size = std::max(size, ratio);
+      }
+      return size;
+    }
+    // A thousandth of the tolerances: the rows then hold to round-off.
+    bool converged(double size) override { return size <= 1e-3; }
+  };
+  AlgebraicProblem problem(*this, unknowns, equations, n_rows);
+  Eigen::VectorXd F(n_rows), du(k);
+  const NewtonOutcome out = newton_iterate(problem, 50, F, du);
+  const double worst = out.size;
+  const Eigen::VectorXd& scale = problem.scale;
+  if (out.end == NewtonOutcome::End::not_finite)
+    fail("the initial states could not be solved: an equation is not finite at the start");
   if (!(worst <= 1.0))
     fail("the initial states could not be solved (the last correction was " + short_number(worst) +
          " times the tolerance)");

@@ -9,6 +9,7 @@
 
 #include "engine.hpp"
 #include "monohydra/core/kinematics.hpp"
+#include "solver/newton.hpp"
 
 namespace mh {
 
@@ -35,23 +36,55 @@ void Simulation::Engine::assemble_loops() {
     for (int c = 0; c < nf; ++c) A.col(c) = Pz.col(free_cols[static_cast<size_t>(c)]);
   };
   const double scale = std::max(1.0, settings.tol_position);
-  double residual = 0.0;
-  bool closed = false;
-  for (int it = 0; it < 50 && !closed; ++it) {
-    forward_kinematics(model, data, z0, zd0);
-    evaluate_constraints(model, data, constraints, phi, phi_z, phi_dot_zd);
-    constraints_valid = false;  // at kinematics of its own, not kept
-    residual = phi.lpNorm<Eigen::Infinity>();
-    if (residual <= 1e-13 * scale) {
-      closed = true;
-      break;
+  // Newton on Phi(z0) = 0 in the free coordinates, solved when |Phi| is
+  // round-off; the minimum-norm increment of the least-squares problem.
+  struct ClosureProblem final : NewtonProblem {
+    Simulation::Engine& e;
+    const std::vector<int>& free_cols;
+    Eigen::MatrixXd& A;
+    double bound;
+    double residual_norm = 0.0;
+    ClosureProblem(Simulation::Engine& engine, const std::vector<int>& cols, Eigen::MatrixXd& a,
+                   double b)
+        : e(engine), free_cols(cols), A(a), bound(b) {}
+    void residual(Eigen::VectorXd& f) override {
+      forward_kinematics(e.model, e.data, e.z0, e.zd0);
+      evaluate_constraints(e.model, e.data, e.constraints, e.phi, e.phi_z, e.phi_dot_zd);
+      e.constraints_valid = false;  // at kinematics of its own, not kept
+      f = e.phi;
+      residual_norm = f.lpNorm<Eigen::Infinity>();
     }
-    // Every body fixed: nothing can move, and an m x 0 matrix must not reach the QR.
-    if (nf == 0) break;
-    free_part(phi_z);
-    const Eigen::VectorXd dz = A.completeOrthogonalDecomposition().solve(-phi);
-    for (int c = 0; c < nf; ++c) z0[free_cols[static_cast<size_t>(c)]] += dz[c];
-  }
+    void setup() override {
+      for (size_t c = 0; c < free_cols.size(); ++c)
+        A.col(static_cast<Eigen::Index>(c)) = e.phi_z.col(free_cols[c]);
+    }
+    void solve(const Eigen::VectorXd& f, Eigen::VectorXd& du) override {
+      du = A.completeOrthogonalDecomposition().solve(-f);
+    }
+    void add(const Eigen::VectorXd& du) override {
+      for (size_t c = 0; c < free_cols.size(); ++c)
+        e.z0[free_cols[c]] += du[static_cast<Eigen::Index>(c)];
+    }
+    void subtract(const Eigen::VectorXd& du) override {
+      for (size_t c = 0; c < free_cols.size(); ++c)
+        e.z0[free_cols[c]] -= du[static_cast<Eigen::Index>(c)];
+    }
+    double measure(const Eigen::VectorXd& du, int& worst) override {
+      Eigen::Index i = 0;
+      const double size = du.size() > 0 ? du.cwiseAbs().maxCoeff(&i) : 0.0;
+      worst = free_cols.empty() ? 0 : free_cols[static_cast<size_t>(i)];
+      return size;
+    }
+    bool converged(double /*size*/) override { return false; }  // by the residual alone
+    bool solved(const Eigen::VectorXd& /*f*/) override { return residual_norm <= bound; }
+  };
+  ClosureProblem problem(*this, free_cols, A, 1e-13 * scale);
+  Eigen::VectorXd f(m), dz(nf);
+  // Every body fixed: nothing can move, and an m x 0 matrix must not reach
+  // the QR; the residual alone says whether the loops are closed.
+  const NewtonOutcome out = newton_iterate(problem, nf == 0 ? 0 : 50, f, dz);
+  const double residual = problem.residual_norm;
+  const bool closed = out.end == NewtonOutcome::End::converged;
   if (!closed && nf == 0)
     throw InputError(file->assembly_mark, "assembly.fixed",
                      "lists every body, so nothing can move to close the loops: the constraint "
