@@ -208,6 +208,7 @@ struct Simulation::Engine {
   // Newton over x = [formulation unknowns; subsystem states].
   int n = 0;
   Eigen::VectorXd x, xd, xdd, r, r_pert, dx, tol, eps;
+  Eigen::VectorXd dx_trial, dx_correction;  // the line search's (solver.line_search)
   Eigen::VectorXd xd_pert, xdd_pert;  // rates of a perturbed x (forward differences)
   std::unique_ptr<SparsePattern> pattern;
   std::unique_ptr<LinearSolver> linear_solver;

@@ -172,6 +172,7 @@ RunSummary run(Simulation& sim, std::ostream* csv, const RunOptions& options) {
       summary.iterations += it;
       summary.max_iterations = std::max(summary.max_iterations, it);
       summary.retries += sim.last_step().retries;
+      summary.damped += sim.last_step().damped;
       summary.max_abs_drift = std::max(summary.max_abs_drift, std::abs(sim.drift()));
       summary.max_phi_norm = std::max(summary.max_phi_norm, sim.phi_norm());
       if ((k + 1) % every == 0) write_row();

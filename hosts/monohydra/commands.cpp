@@ -263,12 +263,16 @@ int run_prepared(PreparedRun& prepared, const RunRequest& request, const std::st
                             : 0.0)
             << " iterations per step on average, " << s.max_iterations << " at most\n"
             << "retries:      " << s.retries << " halvings of failed steps\n"
+            << (sim.settings().line_search
+                    ? "line search:  " + std::to_string(s.damped) + " increments shortened\n"
+                    : std::string())
             << (sim.explicit_stability().checks > 0
                     ? "stability:    " + stability_text(sim.explicit_stability()) + " (" +
                           stability_cost_text(sim.explicit_stability()) + ")\n"
                     : std::string())
             << "solver:       " << to_string(sim.settings().linear) << ", "
-            << to_string(sim.settings().newton) << " Newton, "
+            << to_string(sim.settings().newton) << " Newton"
+            << (sim.settings().line_search ? " with line search, " : ", ")
             << (s.steps > 0 ? static_cast<double>(s.tangents) / static_cast<double>(s.steps) : 0.0)
             << " tangents factored per step\n"
             << "peak |drift|: " << s.max_abs_drift << " J\n"

@@ -100,6 +100,7 @@ bool write_sidecar(const std::string& result, const ResultProvenance& p) {
     << "    \"tol_position\": " << json_number(p.solver.tol_position) << ",\n"
     << "    \"linear\": " << json_string(to_string(p.solver.linear)) << ",\n"
     << "    \"newton\": " << json_string(to_string(p.solver.newton)) << ",\n"
+    << "    \"line_search\": " << (p.solver.line_search ? "true" : "false") << ",\n"
     << "    \"output_interval\": "
     << (p.output_interval ? json_number(*p.output_interval) : std::string("null")) << ",\n"
     << "    \"real_time_newton_cap\": "

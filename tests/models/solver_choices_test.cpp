@@ -1,15 +1,19 @@
-// The solver's choices (solver.linear, solver.newton) change how the step's
-// equations are solved, not which: on both case studies, every linear solver
-// gives KLU's trajectory to round-off, and modified Newton gives full
-// Newton's within the Newton tolerances.
+// The solver's choices (solver.linear, solver.newton, solver.line_search)
+// change how the step's equations are solved, not which: on both case
+// studies, every linear solver gives KLU's trajectory to round-off, modified
+// Newton gives full Newton's within the Newton tolerances, and the line
+// search leaves it as it is; on a stiff relief circuit where full Newton
+// cycles, the line search converges to the valve's closed-form pressure.
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <string>
 #include <vector>
 
+#include "monohydra/core/input_error.hpp"
 #include "monohydra/core/simulation.hpp"
 #include "test_support.hpp"
 
@@ -107,6 +111,80 @@ TEST(SolverChoices, ModifiedNewtonGivesFullNewtonsCaseStudyTrajectoriesWithinThe
     EXPECT_GT(full.tangents, 1.5) << what;
     EXPECT_LT(modified.iterations, full.iterations + 0.5) << what;
   }
+}
+
+TEST(SolverChoices, LineSearchLeavesTheCaseStudiesAsFullNewtonSolvesThem) {
+  for (const Case& c : kCases) {
+    const Trajectory full = run(
+        c.model, c.formulation, [](SolverSettings&) {}, 2.0);
+    const Trajectory damped = run(
+        c.model, c.formulation, [](SolverSettings& s) { s.line_search = true; }, 2.0);
+    const Gap g = gap(full, damped);
+    const std::string what = std::string(c.model) + " " + c.formulation;
+    // Every full increment passes the monotonicity test here: the same
+    // iterates, bit for bit.
+    EXPECT_EQ(g.z, 0.0) << what;
+    EXPECT_EQ(g.y_rel, 0.0) << what;
+    EXPECT_EQ(damped.iterations, full.iterations) << what;
+  }
+}
+
+// A pump into a small hose (1 cm^3, stiffness B/V = 1.5e15 Pa/m^3) relieved
+// at 15 MPa: the first step crosses the cracking pressure, where the valve's
+// flow turns from zero to 1e-4 m^3/s within 0.5 MPa. Full Newton from the
+// closed valve's tangent overshoots to an open valve and back, and cycles.
+constexpr const char* kStiffRelief = R"(units: {length: m, mass: kg, time: s, angle: rad}
+gravity: [0, 0, 0]
+bodies:
+  - {name: slider, parent: ground, joint: {type: prismatic, at: [0, 0, 0], axis: [1, 0, 0]},
+     mass: 1.0, com: [0, 0, 0], inertia: [1, 1, 1]}
+subsystems:
+  - {name: pump, type: flow-source, ports: {p: n}, flow: 1e-4}
+  - {name: hose, type: volume, ports: {p: n}, volume: 1e-6, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, initial_pressure: 1e6}
+  - {name: relief, type: relief-valve, ports: {P: n, T: tank}, cracking_pressure: 1.5e7, override_pressure: 5e5, nominal_flow: 1e-4}
+  - {name: tank, type: pressure-source, ports: {p: tank}, pressure: 1e5}
+formulation: open-loop
+solver: {dt: 0.001, t_end: 0.5}
+)";
+
+TEST(SolverChoices, LineSearchSolvesAStiffReliefCircuitWherePlainNewtonCycles) {
+  const auto simulate = [](bool line_search, int halvings, int& max_iterations, long& damped,
+                           long& retries) {
+    ModelFile file = parse_model_text(kStiffRelief, "stiff-relief.yaml");
+    file.solver.line_search = line_search;
+    file.solver.max_step_halvings = halvings;
+    Simulation sim(file, build_plugins());
+    sim.start();
+    for (int k = 0; k < 500; ++k) {
+      sim.step();
+      max_iterations = std::max(max_iterations, sim.last_step().iterations);
+      damped += sim.last_step().damped;
+      retries += sim.last_step().retries;
+    }
+    const auto& names = sim.state_names();
+    const auto n = std::find(names.begin(), names.end(), "n") - names.begin();
+    return sim.states()[n];
+  };
+  int its = 0;
+  long damped = 0, retries = 0;
+  // Plain Newton fails the first step: 25 iterations without converging.
+  EXPECT_THROW(simulate(false, 0, its, damped, retries), SimulationError);
+  its = 0;
+  const double p = simulate(true, 0, its, damped, retries);
+  // At rest the valve passes the pump's flow, its nominal flow, which it
+  // passes at the nominal drop cracking + override: p = 1e5 + 1.5e7 + 5e5 Pa.
+  EXPECT_NEAR(p, 1.56e7, 1.0);
+  EXPECT_GT(damped, 0);
+  EXPECT_EQ(retries, 0);
+  EXPECT_LE(its, 12);
+  // Step halving rescues plain Newton too, at 20 halvings and up to 93
+  // iterations in one step; to the same pressure.
+  int its_halved = 0;
+  long damped_halved = 0, retries_halved = 0;
+  const double p_halved = simulate(false, 10, its_halved, damped_halved, retries_halved);
+  EXPECT_NEAR(p_halved, p, 1.0);
+  EXPECT_GT(retries_halved, 0);
+  EXPECT_GT(its_halved, 2 * its);
 }
 
 // A falling chain of 16 beams, where the tangent changes fast (the bench's

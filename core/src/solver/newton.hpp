@@ -36,8 +36,11 @@ class NewtonProblem {
   // After measure: false when the increment must be undone and the iteration
   // repeated from the iterate before it (a kept factorization that diverges).
   virtual bool keep(double /*size*/) { return true; }
-  // After a kept increment, before the residual at the new iterate.
-  virtual void accepted() {}
+  // After a kept increment, before the residual at the new iterate. True
+  // when it changed what the residual depends on (a formulation's
+  // iteration_done): a damped iteration, which evaluated the residual to test
+  // the increment, evaluates it again.
+  virtual bool accepted() { return false; }
   // After the residual of an iteration: converged with an increment of
   // `size`? (Within tolerance, by default.)
   virtual bool converged(double size) { return size <= 1.0; }
@@ -50,21 +53,39 @@ class NewtonProblem {
 
 struct NewtonOutcome {
   enum class End {
-    converged,     // measured within tolerance (or solved by its residual)
-    stopped,       // stop_early accepted the iterate unconverged
-    not_finite,    // the residual has a non-finite entry: `row`
-    not_converged  // max_iterations without convergence
+    converged,      // measured within tolerance (or solved by its residual)
+    stopped,        // stop_early accepted the iterate unconverged
+    not_finite,     // the residual has a non-finite entry: `row`
+    not_converged,  // max_iterations without convergence
+    no_descent      // damped: no step along the increment passed the monotonicity test
   };
   End end = End::not_converged;
-  int iterations = 0;  // increments made (undone ones included)
-  double size = 0.0;   // the last increment's measure
-  int worst = 0;       // its largest entry
-  int row = 0;         // the first non-finite row (End::not_finite)
+  int iterations = 0;            // increments made (undone ones included)
+  double size = 0.0;             // the last increment's measure
+  int worst = 0;                 // its largest entry
+  int row = 0;                   // the first non-finite row (End::not_finite)
+  int damped = 0;                // increments shortened by the line search
+  double smallest_factor = 1.0;  // the shortest fraction of an increment taken
+};
+
+// Damped Newton, the globalization of solver.line_search: each increment du
+// is taken as lambda du with lambda = 1, 1/2, 1/4, ... until the natural
+// monotonicity test holds (Deuflhard's, as NLEQ applies it): the simplified
+// increment at the trial point, dbar = -J^-1 F(u + lambda du) with the same
+// factorization, no larger than (1 - lambda / 4) du, both measured in the
+// unknowns' tolerances. Measured in the unknowns, the test needs no scaling
+// of rows that mix newtons, pascals and cubic metres per second, as a
+// residual norm would. It costs one more linear solve per iteration and a
+// residual per halving. `trial` and `correction` are sized to the unknowns.
+struct NewtonDamping {
+  Eigen::VectorXd& trial;
+  Eigen::VectorXd& correction;
+  int max_halvings = 10;  // lambda down to 2^-10, then End::no_descent
 };
 
 // Newton from the problem's current iterate, with `f` and `du` as its
 // workspaces (sized to the rows and to the unknowns: nothing is allocated).
 NewtonOutcome newton_iterate(NewtonProblem& problem, int max_iterations, Eigen::VectorXd& f,
-                             Eigen::VectorXd& du);
+                             Eigen::VectorXd& du, NewtonDamping* damping = nullptr);
 
 }  // namespace mh

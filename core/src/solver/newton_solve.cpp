@@ -58,12 +58,13 @@ class StepProblem final : public NewtonProblem {
     e_.reuse.increment(size);
     return !e_.reuse.diverging();
   }
-  void accepted() override {
-    if (e_.formulation.ops.iteration_done == nullptr) return;
+  bool accepted() override {
+    if (e_.formulation.ops.iteration_done == nullptr) return false;
     e_.rates_of(e_.x, e_.xd, e_.xdd);
     e_.check(normalized(e_.formulation.ops.iteration_done(e_.formulation.self, t_next_, e_.x.data(),
                                                           e_.xd.data(), e_.xdd.data())),
              "formulation iteration");
+    return true;
   }
   bool converged(double size) override { return e_.reuse.converged(size); }
   // Real-time mode: a late or over-long step is accepted as it stands.
@@ -85,7 +86,10 @@ void Simulation::Engine::newton_solve(double t_eval, double t_next) {
   // Real-time mode replaces the iteration limit by its cap, at which the step
   // is accepted rather than failed.
   const int limit = real_time_cap > 0 ? real_time_cap : settings.max_iterations;
-  const NewtonOutcome out = newton_iterate(problem, limit, r, dx);
+  NewtonDamping damping{dx_trial, dx_correction};
+  const NewtonOutcome out =
+      newton_iterate(problem, limit, r, dx, settings.line_search ? &damping : nullptr);
+  stats.damped += out.damped;
   switch (out.end) {
     case NewtonOutcome::End::converged:
       return;
@@ -98,6 +102,12 @@ void Simulation::Engine::newton_solve(double t_eval, double t_next) {
                 ", written by " +
                 (out.row < n_m ? "formulation '" + formulation_name + "'"
                                : nonfinite_source(out.row - n_m)));
+    case NewtonOutcome::End::no_descent:
+      fail_step(
+          "Newton with line search found no step along its increment that passed the "
+          "monotonicity test (down to 1/1024 of it), in iteration " +
+          std::to_string(out.iterations + 1) + "; the increment was " + short_number(out.size) +
+          " times the tolerance, largest in " + unknown_name(out.worst));
     case NewtonOutcome::End::not_converged:
       break;
   }

@@ -165,6 +165,7 @@ void Simulation::Engine::solve_rates(double t_eval, double h, Eigen::VectorXd& x
     case NewtonOutcome::End::not_finite:
       fail_step("the residual is not finite in the row of " + unknown_name(out.row) +
                 " at an explicit stage (t = " + short_number(t_eval) + " s)");
+    case NewtonOutcome::End::no_descent:  // undamped: never
     case NewtonOutcome::End::not_converged:
       break;
   }

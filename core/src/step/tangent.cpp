@@ -97,7 +97,8 @@ void Simulation::Engine::build_pattern() {
         s.slots[a * k + b] = pattern->slot(n_m + s.touched[a], n_m + s.touched[b]);
   }
   linear_solver = make_linear_solver(*pattern, settings.linear);
-  for (Eigen::VectorXd* v : {&x, &xd, &xdd, &r, &r_pert, &dx, &eps, &x_pred, &xd_off, &xdd_off})
+  for (Eigen::VectorXd* v : {&x, &xd, &xdd, &r, &r_pert, &dx, &dx_trial, &dx_correction, &eps, &x_pred, &xd_off,
+                             &xdd_off})
     v->setZero(n);
 }
 

@@ -109,6 +109,7 @@ void Simulation::Engine::step_once() {
   stats.iterations = 0;
   stats.retries = 0;
   stats.tangents = 0;
+  stats.damped = 0;
   stats.converged = true;
   stats.unconverged = 0.0;
   stats.increment_norms.clear();

@@ -842,6 +842,18 @@ TEST(ModelFileErrors, LinearSolverAndNewtonChoicesAreNamedOrRefusedWithTheChoice
             NewtonKind::modified);
 }
 
+TEST(ModelFileErrors, LineSearchIsOffByDefaultOnWhenAskedAndRefusedWithModifiedNewton) {
+  EXPECT_FALSE(parse_model_text(valid_body(""), kLabel).solver.line_search);
+  EXPECT_TRUE(
+      parse_model_text(valid_body("solver: {line_search: on}\n"), kLabel).solver.line_search);
+  EXPECT_FALSE(
+      parse_model_text(valid_body("solver: {line_search: off}\n"), kLabel).solver.line_search);
+  expect_error(valid_body("solver: {line_search: yes}\n"), 8, "solver.line_search",
+               "expected on or off");
+  expect_error(valid_body("solver: {newton: modified, line_search: on}\n"), 8, "solver.line_search",
+               "expected off with newton: modified");
+}
+
 TEST(ModelFileErrors, OutputSettingsAreReadOrRefusedAtTheirLine) {
   const ModelFile f =
       parse_model_text(valid_body("output: {interval: 0.01, columns: [t, z1, KE]}\n"), kLabel);

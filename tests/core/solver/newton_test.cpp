@@ -140,4 +140,58 @@ TEST(NewtonIteration, StopEarlyAcceptsTheIterateUnconverged) {
   EXPECT_GT(out.size, 1.0);
 }
 
+// Damping (NewtonDamping): atan(x) from 3, where Newton's first increment
+// lands at -9.5 and the iteration diverges, converges once the increments
+// are shortened until the simplified increment shrinks.
+TEST(NewtonDamping, ShortensTheIncrementsOfADivergingIterationUntilItConverges) {
+  const auto atan_problem = [] {
+    return Componentwise(
+        one(3.0), [](double x) { return std::atan(x); },
+        [](double x) { return 1.0 / (1.0 + x * x); }, 1e-12);
+  };
+  Eigen::VectorXd f(1), du(1), trial(1), correction(1);
+  Componentwise plain = atan_problem();
+  EXPECT_NE(mh::newton_iterate(plain, 30, f, du).end, mh::NewtonOutcome::End::converged);
+  Componentwise damped = atan_problem();
+  mh::NewtonDamping damping{trial, correction};
+  const mh::NewtonOutcome out = mh::newton_iterate(damped, 30, f, du, &damping);
+  ASSERT_EQ(out.end, mh::NewtonOutcome::End::converged);
+  EXPECT_NEAR(damped.u[0], 0.0, 1e-12);
+  // lambda = 1 and 1/2 fail the test (simplified increments 14.6 and 12.7
+  // against 0.75 and 0.875 of 12.5); 1/4 passes.
+  EXPECT_EQ(out.smallest_factor, 0.25);
+  EXPECT_EQ(out.damped, 1);
+}
+
+// x^3 - 2x + 2 from 0, where plain Newton cycles 0, 1, 0, ... to its limit
+// (above): damped, the iteration leaves the cycle and stops, saying so, at
+// the local minimum of |F| near sqrt(2/3), where F = 0.91 and F' = 0: no
+// shorter step decreases it, and the real root (-1.77) lies beyond.
+TEST(NewtonDamping, StopsAtALocalMinimumOfTheResidualInsteadOfCycling) {
+  Componentwise p(
+      one(0.0), [](double x) { return x * x * x - 2.0 * x + 2.0; },
+      [](double x) { return 3.0 * x * x - 2.0; }, 1e-12);
+  Eigen::VectorXd f(1), du(1), trial(1), correction(1);
+  mh::NewtonDamping damping{trial, correction};
+  const mh::NewtonOutcome out = mh::newton_iterate(p, 50, f, du, &damping);
+  EXPECT_EQ(out.end, mh::NewtonOutcome::End::no_descent);
+  EXPECT_NEAR(p.u[0], std::sqrt(2.0 / 3.0), 0.01);
+  EXPECT_LT(out.iterations, 10);
+  EXPECT_GT(out.damped, 0);
+}
+
+TEST(NewtonDamping, AJacobianOfTheWrongSignEndsWithNoDescentAtTheIterateItStarted) {
+  // F(x) = x with dF/dx given as -1: every increment points away from 0.
+  Componentwise p(
+      one(1.0), [](double x) { return x; }, [](double) { return -1.0; }, 1e-8);
+  Eigen::VectorXd f(1), du(1), trial(1), correction(1);
+  mh::NewtonDamping damping{trial, correction};
+  const mh::NewtonOutcome out = mh::newton_iterate(p, 20, f, du, &damping);
+  EXPECT_EQ(out.end, mh::NewtonOutcome::End::no_descent);
+  EXPECT_EQ(p.u[0], 1.0);
+  EXPECT_EQ(out.iterations, 0);
+  // 1, 1/2, ... 1/1024: eleven trials, each with its residual.
+  EXPECT_EQ(p.residuals, 1 + 11);
+}
+
 }  // namespace

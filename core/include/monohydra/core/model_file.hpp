@@ -73,6 +73,9 @@ struct SolverSettings {
   double tol_position = 1e-7;  // rad or m: Newton increment tolerance on coordinates
   LinearSolverKind linear = LinearSolverKind::klu;  // the tangent's linear solver
   NewtonKind newton = NewtonKind::full;
+  // solver.line_search: the time step's Newton damped (newton.hpp's
+  // NewtonDamping): off by default, so that results stay as they are.
+  bool line_search = false;
   // An explicit integrator's step beyond its stability bound (explicit_stability.hpp).
   ExplicitStabilityPolicy explicit_stability = ExplicitStabilityPolicy::warn;
   SourceMark mark;

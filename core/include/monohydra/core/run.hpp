@@ -33,6 +33,7 @@ struct RunSummary {
   long iterations = 0;     // Newton iterations, all steps
   int max_iterations = 0;  // in one step
   long retries = 0;        // halvings of failed steps (solver.max_step_halvings)
+  long damped = 0;         // Newton increments the line search shortened
   long tangents = 0;       // tangents assembled and factored, all steps
   long rows = 0;           // CSV rows written (the header not counted)
   // Real-time mode only: steps whose result came after their wall-clock

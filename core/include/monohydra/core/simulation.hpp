@@ -40,6 +40,7 @@ struct StepStats {
   int iterations = 0;  // linear solves this step (all its attempts)
   int retries = 0;     // halvings of the step (solver.max_step_halvings)
   int tangents = 0;    // tangents assembled and factored (all its attempts)
+  int damped = 0;      // increments the line search shortened (solver.line_search)
   // Real-time mode only: false when the step was accepted before Newton
   // converged (its cap or its deadline came first), and its last increment.
   bool converged = true;

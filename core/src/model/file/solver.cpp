@@ -1,6 +1,6 @@
 // solver: the time step, end time, Newton iteration limit, position
 // tolerance, how often a failed step may be halved, the linear solver and
-// full or modified Newton.
+// full or modified Newton, and whether its increments are damped.
 #include "parser.hpp"
 
 namespace mh {
@@ -14,7 +14,7 @@ namespace mh::model_file_detail {
 SolverSettings Parser::solver(const YAML::Node& node) const {
   const MapView map(*this, node, "solver",
                     {"dt", "t_end", "max_iterations", "tol_position", "max_step_halvings", "linear",
-                     "newton", "explicit_stability"});
+                     "newton", "line_search", "explicit_stability"});
   SolverSettings settings;
   settings.mark = mark(node);
   if (auto dt = map.get("dt")) {
@@ -64,6 +64,21 @@ SolverSettings Parser::solver(const YAML::Node& node) const {
       fail(*newton, "solver.newton",
            "expected full or modified (Newton that keeps its factorization), got '" + name + "'");
     }
+  }
+  if (auto search = map.get("line_search")) {
+    const std::string name = string(*search, "solver.line_search");
+    if (name != "on" && name != "off")
+      fail(*search, "solver.line_search",
+           "expected on or off (Newton's increments shortened until the iteration contracts), got "
+           "'" +
+               name + "'");
+    settings.line_search = name == "on";
+    // The damped step tests an increment with the factorization it came
+    // from; modified Newton's undo of a diverging increment needs the residual
+    // of the iterate it returns to, which the test has overwritten.
+    if (settings.line_search && settings.newton == NewtonKind::modified)
+      fail(*search, "solver.line_search",
+           "expected off with newton: modified (the line search damps full Newton only)");
   }
   if (auto stability = map.get("explicit_stability")) {
     const std::string name = string(*stability, "solver.explicit_stability");
