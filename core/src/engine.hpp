@@ -25,6 +25,7 @@
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/simulation.hpp"
 #include "monohydra/core/sparse_pattern.hpp"
+#include "monohydra/cpp/number_text.hpp"
 #include "monohydra/monohydra.h"
 #include "plugins/plugin_instance.hpp"
 #include "solver/tangent_reuse.hpp"
@@ -37,13 +38,8 @@ class StepFailure : public SimulationError {
   using SimulationError::SimulationError;
 };
 
-// A number for a message: 6 significant digits.
-inline std::string short_number(double v) {
-  std::ostringstream os;
-  os.precision(6);
-  os << v;
-  return os.str();
-}
+// A number for a message: 6 significant digits (the SDK's, as plugins write them).
+using monohydra::short_number;
 
 // What the host knows about one component instance; its mh_host table points here.
 // One plugin instance's side of the host table. Its table's address is the
@@ -209,7 +205,7 @@ struct Simulation::Engine {
   int n = 0;
   Eigen::VectorXd x, xd, xdd, r, r_pert, dx, tol, eps;
   Eigen::VectorXd dx_trial, dx_correction;  // the line search's (solver.line_search)
-  Eigen::VectorXd xd_pert, xdd_pert;  // rates of a perturbed x (forward differences)
+  Eigen::VectorXd xd_pert, xdd_pert;        // rates of a perturbed x (forward differences)
   std::unique_ptr<SparsePattern> pattern;
   std::unique_ptr<LinearSolver> linear_solver;
   TangentReuse reuse;     // full or modified Newton (solver.newton)

@@ -13,22 +13,13 @@
 #include <thread>
 
 #include "monohydra/core/run_limits.hpp"
+#include "monohydra/cpp/number_text.hpp"
 
 namespace mh {
-namespace {
-// Shortest text that reads back as the same double: exact and fast.
-void put(std::ostream& out, double v) {
-  char buf[32];
-  const auto res = std::to_chars(buf, buf + sizeof(buf), v);
-  out.write(buf, res.ptr - buf);
-}
-
-std::string short_time(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
-}  // namespace
+// Results are exact (the shortest text that reads back as the same double);
+// messages short.
+using monohydra::put_exact_number;
+using monohydra::short_number;
 
 void write_csv_header(std::ostream& out, const Simulation& sim) {
   out << "t";
@@ -41,27 +32,27 @@ void write_csv_header(std::ostream& out, const Simulation& sim) {
 }
 
 void write_csv_row(std::ostream& out, const Simulation& sim) {
-  put(out, sim.time());
+  put_exact_number(out, sim.time());
   for (int i = 0; i < sim.z().size(); ++i) {
     out << ',';
-    put(out, sim.z()[i]);
+    put_exact_number(out, sim.z()[i]);
   }
   const auto& state_names = sim.state_names();
   for (int i = 0; i < sim.states().size(); ++i) {
     if (state_names[static_cast<size_t>(i)].empty()) continue;
     out << ',';
-    put(out, sim.states()[i]);
+    put_exact_number(out, sim.states()[i]);
   }
   const auto& output_names = sim.output_names();
   for (int i = 0; i < sim.outputs().size(); ++i) {
     if (output_names[static_cast<size_t>(i)].empty()) continue;
     out << ',';
-    put(out, sim.outputs()[i]);
+    put_exact_number(out, sim.outputs()[i]);
   }
   for (double v :
        {sim.kinetic_energy(), sim.potential_energy(), sim.work(), sim.drift(), sim.phi_norm()}) {
     out << ',';
-    put(out, v);
+    put_exact_number(out, v);
   }
   out << ',' << sim.last_step().iterations << '\n';
 }
@@ -87,7 +78,7 @@ void write_checked(std::ostream& out, const std::string& text, const std::string
 }
 
 std::string where(const RunSummary& s) {
-  return "t = " + short_time(s.end_time) + " s, step " + std::to_string(s.steps) + " of " +
+  return "t = " + short_number(s.end_time) + " s, step " + std::to_string(s.steps) + " of " +
          std::to_string(s.steps_asked);
 }
 }  // namespace
@@ -121,8 +112,8 @@ RunSummary run(Simulation& sim, std::ostream* csv, const RunOptions& options) {
     summary.steps_asked = planned_steps(sim.settings());
     if (summary.steps_asked < 0)
       throw InputError(sim.settings().mark, "solver",
-                       "t_end / dt = " + short_time(sim.settings().t_end) + " / " +
-                           short_time(sim.settings().dt) +
+                       "t_end / dt = " + short_number(sim.settings().t_end) + " / " +
+                           short_number(sim.settings().dt) +
                            " is not a number of steps from 1 to 2^53");
     if (layout == nullptr) layout = &all_columns.emplace(sim, real_time);
     const long every = layout->every_steps();

@@ -8,15 +8,12 @@
 #include <string>
 
 #include "monohydra/core/simulation.hpp"
+#include "monohydra/cpp/number_text.hpp"
 
 namespace mh {
 namespace {
 
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
+using monohydra::short_number;
 
 // Where a setting came from: its line in the model file, or its flag.
 struct Origin {
@@ -60,26 +57,26 @@ long check_run_settings(const ModelFile& file, const SolverSettings& settings,
     throw InputError(t_end.mark, t_end.field,
                      "expected a positive finite end time in s (a run of zero steps is an "
                      "error), got " +
-                         num(T));
+                         short_number(T));
   if (!std::isfinite(h) || !(h >= kMinTimeStep) || !(h <= T))
     throw InputError(dt.mark, dt.field,
-                     "expected a time step from " + num(kMinTimeStep) + " s to t_end = " + num(T) +
-                         " s, got " + num(h));
+                     "expected a time step from " + short_number(kMinTimeStep) +
+                         " s to t_end = " + short_number(T) + " s, got " + short_number(h));
   const double steps = std::round(T / h);
   if (!(steps <= limits.max_steps) || planned_steps(settings) < 0)
     throw InputError(t_end.mark, t_end.field,
-                     "t_end / dt = " + num(T) + " / " + num(h) + " = " + num(steps) +
-                         " steps, above the limit of " + num(limits.max_steps) +
-                         " steps (raise it with --max-steps N)");
+                     "t_end / dt = " + short_number(T) + " / " + short_number(h) + " = " +
+                         short_number(steps) + " steps, above the limit of " +
+                         short_number(limits.max_steps) + " steps (raise it with --max-steps N)");
   if (csv_columns > 0) {
     const double rows = std::floor(steps / static_cast<double>(std::max(1L, rows_every))) + 1.0;
     const double bytes = rows * static_cast<double>(csv_columns) * kCsvBytesPerCell;
     if (!(bytes <= limits.max_output_bytes))
       throw InputError(t_end.mark, t_end.field,
-                       "the CSV would take about " + num(bytes) + " bytes (" + num(rows) +
-                           " rows x " + std::to_string(csv_columns) + " columns x ~" +
-                           num(kCsvBytesPerCell) + " bytes), above the limit of " +
-                           num(limits.max_output_bytes) +
+                       "the CSV would take about " + short_number(bytes) + " bytes (" +
+                           short_number(rows) + " rows x " + std::to_string(csv_columns) +
+                           " columns x ~" + short_number(kCsvBytesPerCell) +
+                           " bytes), above the limit of " + short_number(limits.max_output_bytes) +
                            " bytes (raise it with --max-output-bytes N)");
   }
   return planned_steps(settings);

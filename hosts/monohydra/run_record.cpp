@@ -12,6 +12,7 @@
 #include "monohydra/core/csv_layout.hpp"
 #include "monohydra/core/run.hpp"
 #include "monohydra/core/run_limits.hpp"
+#include "monohydra/cpp/number_text.hpp"
 
 namespace mh::cli {
 namespace {
@@ -73,8 +74,7 @@ void write_row(std::ostream& csv, std::ostringstream& line, const CsvLayout& lay
   std::string text = line.str();
   text.back() = ',';  // the row's '\n'
   char buf[32];
-  const auto res = std::to_chars(buf, buf + sizeof(buf), wall_seconds);
-  text.append(buf, res.ptr);
+  text.append(buf, monohydra::write_exact_number(buf, wall_seconds));
   text += '\n';
   csv << text;
 }

@@ -316,15 +316,16 @@ mh_status setup(const mh_formulation* fo) noexcept {
 
 // Why the dependent Newton failed, for the log.
 std::string dependent_failure(const DoubleStep& s, const DependentSolveResult& res, double t) {
-  const std::string where = " at t = " + fmt(t) + " s with independent coordinates " +
+  const std::string where = " at t = " + short_number(t) + " s with independent coordinates " +
                             coordinate_list(s.partition.independent, s.names);
   if (res.outcome == DependentSolveResult::Outcome::singular)
-    return "Phi_z^d is singular" + where + " (pivot ratio " + fmt(res.pivot_ratio) + " after " +
-           std::to_string(res.iterations) + " iterations, max |Phi| = " + fmt(res.residual) + ")";
+    return "Phi_z^d is singular" + where + " (pivot ratio " + short_number(res.pivot_ratio) +
+           " after " + std::to_string(res.iterations) +
+           " iterations, max |Phi| = " + short_number(res.residual) + ")";
   return "the dependent coordinates did not converge" + where + ": " +
-         std::to_string(res.iterations) + " Newton iterations, max |Phi| = " + fmt(res.residual) +
-         ", last increment " + fmt(res.increment) + " (tolerance " + fmt(s.position_tolerance) +
-         ")";
+         std::to_string(res.iterations) +
+         " Newton iterations, max |Phi| = " + short_number(res.residual) + ", last increment " +
+         short_number(res.increment) + " (tolerance " + short_number(s.position_tolerance) + ")";
 }
 
 // With z_it and zd_it set on z^i and z_it on z^d set to the estimate: z^d by
@@ -341,13 +342,14 @@ mh_status two_steps(DoubleStep& s, double t, uint32_t flags) {
   }
   const double det = s.dependent.lu().determinant();
   if (s.det_sign != 0.0 && !(det * s.det_sign > 0.0)) {
-    log_error(s, "the step to t = " + fmt(t) +
+    log_error(s, "the step to t = " + short_number(t) +
                      " s crosses a configuration where the partition with independent "
                      "coordinates " +
                      coordinate_list(s.partition.independent, s.names) +
                      " is singular (det Phi_z^d changed sign): the re-partition check "
                      "(repartition_rcond = " +
-                     fmt(s.repartition_rcond) + ") came too late; raise it or shorten the step");
+                     short_number(s.repartition_rcond) +
+                     ") came too late; raise it or shorten the step");
     return MH_DISCARD;
   }
   s.transform.rates(s.dependent.lu(), s.dependent.phi_z_i(), s.partition, s.zd_it);
@@ -445,7 +447,8 @@ mh_status start(const mh_formulation* fo, double* x0, double* xd0, double* xdd0)
     const double moved = (s.z_it - s.z0).lpNorm<Eigen::Infinity>();
     if (moved > s.tolerance)
       log(s.host, MH_LOG_INFO,
-          "start: dependent coordinates moved by up to " + fmt(moved) + " to close the loops");
+          "start: dependent coordinates moved by up to " + short_number(moved) +
+              " to close the loops");
     s.z = s.z_it;
     s.zd = s.zd_it;
     s.zdd = s.zdd_it;
@@ -657,7 +660,7 @@ mh_status check_partition(DoubleStep& s, double t, bool* changed) {
   const int rank =
       factor_full_pivoting(Eigen::Map<const Eigen::MatrixXd>(rs.phi_z, s.m, s.N), s.full_lu);
   if (rank < s.r) {
-    log_error(s, "singular configuration at t = " + fmt(t) +
+    log_error(s, "singular configuration at t = " + short_number(t) +
                      " s: the constraint Jacobian "
                      "Phi_z has rank " +
                      std::to_string(rank) + " < " + std::to_string(s.r) +
@@ -676,13 +679,15 @@ mh_status check_partition(DoubleStep& s, double t, bool* changed) {
   if (s.candidate == s.partition || !(candidate_ratio > kRepartitionGain * ratio)) {
     if (!s.ill_conditioned_reported)
       log(s.host, MH_LOG_WARNING,
-          "Phi_z^d is ill-conditioned at t = " + fmt(t) + " s (pivot ratio " + fmt(ratio) +
+          "Phi_z^d is ill-conditioned at t = " + short_number(t) + " s (pivot ratio " +
+              short_number(ratio) +
               ") but full pivoting finds no better independent coordinates than " +
               coordinate_list(s.partition.independent, s.names) + "; going on with them");
     s.ill_conditioned_reported = true;
     return MH_OK;
   }
-  std::string message = "re-partitioned at t = " + fmt(t) + " s: independent coordinates " +
+  std::string message = "re-partitioned at t = " + short_number(t) +
+                        " s: independent coordinates " +
                         coordinate_list(s.candidate.independent, s.names) + " (were " +
                         coordinate_list(s.partition.independent, s.names) + ")";
   if (s.r < s.m && s.candidate.rows != s.partition.rows)

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <string>
 
+#include "monohydra/cpp/number_text.hpp"
 #include "monohydra/monohydra.h"
 
 namespace mh::double_step {
@@ -22,11 +23,7 @@ inline void log(const mh_host* host, mh_log_level level, const std::string& mess
   host->log(host, level, message.c_str());
 }
 
-// A number for a log line: 6 significant digits, as the host writes times.
-inline std::string fmt(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.6g", v);
-  return buffer;
-}
+// A number for a log line: 6 significant digits, as the host writes them.
+using monohydra::short_number;
 
 }  // namespace mh::double_step

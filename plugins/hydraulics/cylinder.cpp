@@ -53,7 +53,7 @@ class Cylinder {
     if (!(d3 < d2))
       return h->option_error(
           h, "rod_diameter",
-          ("a rod diameter below the piston diameter " + fmt(d2) + " m").c_str());
+          ("a rod diameter below the piston diameter " + short_number(d2) + " m").c_str());
     if (!(efficiency_ > 0.0 && efficiency_ <= 1.0))
       return h->option_error(h, "efficiency", "an efficiency in (0, 1]");
     a2_ = 0.25 * kPi * d2 * d2;
@@ -71,9 +71,10 @@ class Cylinder {
     if (l2_0_ < 0.0 || l3_0_ < 0.0)
       return h->option_error(
           h, "length",
-          ("a cylinder length l with s0/2 <= l <= s0, where s0 = " + fmt(s0_) +
+          ("a cylinder length l with s0/2 <= l <= s0, where s0 = " + short_number(s0_) +
            " m is the initial distance between points a and b (the chambers l2_0 = s0 - l = " +
-           fmt(l2_0_) + " m and l3_0 = l - l2_0 = " + fmt(l3_0_) + " m must not be negative)")
+           short_number(l2_0_) + " m and l3_0 = l - l2_0 = " + short_number(l3_0_) +
+           " m must not be negative)")
               .c_str());
 
     if (add_hydraulic_port(h, "A", MH_PORT_FLOW, kNaN, kNaN, &p_a_) != MH_OK) return MH_ERROR;
@@ -245,9 +246,9 @@ class Cylinder {
       st.l3 = std::max(st.l3, 0.0);
     }
     if (st.l2 < 0.0 || st.l3 < 0.0) {
-      log_error(host_, "the stroke left the cylinder: actuator length s = " + fmt(st.s) +
-                           " m is outside its range [s0 - l2_0, s0 + l3_0] = [" + fmt(s0_ - l2_0_) +
-                           ", " + fmt(s0_ + l3_0_) + "] m");
+      log_error(host_, "the stroke left the cylinder: actuator length s = " + short_number(st.s) +
+                           " m is outside its range [s0 - l2_0, s0 + l3_0] = [" +
+                           short_number(s0_ - l2_0_) + ", " + short_number(s0_ + l3_0_) + "] m");
       return false;
     }
     return true;

@@ -79,7 +79,7 @@ class GasRelease {
     if (!(p_ref > p_min))
       return h->option_error(
           h, "gas_reference_pressure",
-          ("a reference pressure above minimum_pressure = " + fmt(p_min) + " Pa").c_str());
+          ("a reference pressure above minimum_pressure = " + short_number(p_min) + " Pa").c_str());
     on_ = true;
     p_min_ = p_min;
     alpha_ = alpha;

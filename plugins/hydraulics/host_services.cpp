@@ -31,10 +31,4 @@ void log_error(const mh_host* host, const std::string& message) {
   host->log(host, MH_LOG_ERROR, message.c_str());
 }
 
-std::string fmt(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.6g", value);
-  return buffer;
-}
-
 }  // namespace hyd

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 
+#include "monohydra/cpp/number_text.hpp"
 #include "monohydra/host.h"
 
 namespace hyd {
@@ -22,6 +23,6 @@ mh_status add_hydraulic_port(const mh_host* host, const char* key, uint32_t role
 void log_error(const mh_host* host, const std::string& message);
 
 // A number for messages: 6 significant digits.
-std::string fmt(double value);
+using monohydra::short_number;
 
 }  // namespace hyd

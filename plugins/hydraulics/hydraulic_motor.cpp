@@ -198,7 +198,8 @@ class HydraulicMotor {
         log_error(host_, std::string("hydraulic-motor: point '") + names[k] +
                              "' must lie off the axis, in the plane normal to it through '" +
                              (k == 0 ? "housing" : "rotor") + "' (its offset along the axis is " +
-                             fmt(along) + " m, its distance " + fmt(radius) + " m)");
+                             short_number(along) + " m, its distance " + short_number(radius) +
+                             " m)");
         return MH_ERROR;
       }
     }

@@ -112,8 +112,8 @@ class PressureValve {
     if (!(p_nom >= full))
       return h->option_error(
           h, "nominal_pressure",
-          ("a pressure drop at or above cracking_pressure + override_pressure = " + fmt(full) +
-           " Pa (where the valve is open and passes nominal_flow)")
+          ("a pressure drop at or above cracking_pressure + override_pressure = " +
+           short_number(full) + " Pa (where the valve is open and passes nominal_flow)")
               .c_str());
     law_ = PoppetLaw(cracking, override_pressure, smoothing, p_tr);
     law_.calibrate(p_nom, q_nom);

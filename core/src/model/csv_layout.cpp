@@ -1,24 +1,14 @@
 #include "monohydra/core/csv_layout.hpp"
 
-#include <charconv>
 #include <cmath>
-#include <cstdio>
+
+#include "monohydra/cpp/number_text.hpp"
 
 namespace mh {
-namespace {
-// Shortest text that reads back as the same double: exact and fast.
-void put(std::ostream& out, double v) {
-  char buf[32];
-  const auto res = std::to_chars(buf, buf + sizeof(buf), v);
-  out.write(buf, res.ptr - buf);
-}
-
-std::string text(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
-}  // namespace
+// Results are exact (the shortest text that reads back as the same double);
+// messages short.
+using monohydra::put_exact_number;
+using monohydra::short_number;
 
 void CsvLayout::all_columns(const Simulation& sim, bool real_time, std::vector<Column>& columns,
                             std::vector<std::string>& names) {
@@ -84,8 +74,9 @@ CsvLayout::CsvLayout(const Simulation& sim, const OutputSettings& output,
     // number of steps (t = k dt exactly).
     if (!(whole >= 1.0) || std::abs(steps - whole) > 1e-9 * whole || whole > 1e15)
       throw InputError(mark, field,
-                       "expected a whole multiple of the time step dt = " + text(dt) + " s, got " +
-                           text(every) + " s (" + text(steps) + " steps)");
+                       "expected a whole multiple of the time step dt = " + short_number(dt) +
+                           " s, got " + short_number(every) + " s (" + short_number(steps) +
+                           " steps)");
     every_ = static_cast<long>(whole);
   }
 }
@@ -105,40 +96,40 @@ void CsvLayout::row(std::ostream& out, const Simulation& sim, const RealTimeRow&
     first = false;
     switch (c.source) {
       case Source::time:
-        put(out, sim.time());
+        put_exact_number(out, sim.time());
         break;
       case Source::coordinate:
-        put(out, sim.z()[c.index]);
+        put_exact_number(out, sim.z()[c.index]);
         break;
       case Source::state:
-        put(out, sim.states()[c.index]);
+        put_exact_number(out, sim.states()[c.index]);
         break;
       case Source::output:
-        put(out, sim.outputs()[c.index]);
+        put_exact_number(out, sim.outputs()[c.index]);
         break;
       case Source::ke:
-        put(out, sim.kinetic_energy());
+        put_exact_number(out, sim.kinetic_energy());
         break;
       case Source::pe:
-        put(out, sim.potential_energy());
+        put_exact_number(out, sim.potential_energy());
         break;
       case Source::work:
-        put(out, sim.work());
+        put_exact_number(out, sim.work());
         break;
       case Source::drift:
-        put(out, sim.drift());
+        put_exact_number(out, sim.drift());
         break;
       case Source::phi:
-        put(out, sim.phi_norm());
+        put_exact_number(out, sim.phi_norm());
         break;
       case Source::iters:
         out << sim.last_step().iterations;
         break;
       case Source::late:
-        put(out, rt.late);
+        put_exact_number(out, rt.late);
         break;
       case Source::unc:
-        put(out, rt.unconverged);
+        put_exact_number(out, rt.unconverged);
         break;
     }
   }

@@ -6,6 +6,8 @@
 #include <limits>
 #include <sstream>
 
+#include "monohydra/cpp/number_text.hpp"
+
 namespace mh::cli {
 namespace {
 
@@ -23,11 +25,9 @@ std::string num(double v) {
 }
 
 std::string tick_label(double v) {
+  if (v == 0.0 || (std::abs(v) < 1e5 && std::abs(v) >= 1e-3)) return monohydra::short_number(v);
   char buf[32];
-  if (v != 0.0 && (std::abs(v) >= 1e5 || std::abs(v) < 1e-3))
-    std::snprintf(buf, sizeof(buf), "%.0e", v);
-  else
-    std::snprintf(buf, sizeof(buf), "%.6g", v);
+  std::snprintf(buf, sizeof(buf), "%.0e", v);
   return buf;
 }
 

@@ -9,6 +9,8 @@
 #include <cmath>
 #include <functional>
 
+#include "monohydra/cpp/number_text.hpp"
+
 namespace mh::cli::sweep {
 namespace {
 
@@ -121,9 +123,7 @@ std::vector<YAML::Node> draws(const ParameterSpec& p, const YAML::Node& map, std
 }  // namespace
 
 std::string number_text(double value) {
-  char buf[64];
-  const auto res = std::to_chars(buf, buf + sizeof buf, value);
-  return std::string(buf, res.ptr);
+  return monohydra::exact_number(value);
 }
 
 std::vector<YAML::Node> parameter_values(const Study& study, std::size_t parameter) {

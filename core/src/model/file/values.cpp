@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <string>
 
+#include "monohydra/cpp/number_text.hpp"
 #include "parser.hpp"
 
 namespace mh::model_file_detail {
@@ -23,9 +24,7 @@ std::string join(const std::vector<std::string>& items) {
 }
 
 std::string format_number(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.6g", value);
-  return buffer;
+  return monohydra::short_number(value);
 }
 
 std::string format_vector(const Eigen::Vector3d& v) {
