@@ -106,6 +106,163 @@ struct RatesWorkspace {
   Eigen::FullPivLU<Eigen::MatrixXd> lu;
 };
 
+// The parts of the engine's state, each owned by the part of the data flow
+// that writes it (the files named); the Engine holds one of each.
+
+// Names, kinds and tolerances of the coordinates, unknowns and outputs
+// (simulation.cpp, host_services.cpp).
+struct UnknownRegistry {
+  std::vector<std::string> coordinate_names;
+  std::vector<const char*> coordinate_name_ptrs;
+  std::vector<uint8_t> coordinate_is_angle;
+  std::vector<std::string> unknown_names;  // n_m, from add_unknown
+  std::vector<uint8_t> unknown_kinds;      // n_m
+  Eigen::VectorXd unknown_tol;             // n_m
+  std::vector<uint8_t> kinds;              // n: mh_unknown_kind of every unknown
+  Eigen::VectorXd tol;                     // n: Newton's increment tolerances
+  std::vector<VariableInfo> output_info;
+  Eigen::VectorXd outputs, outputs_k;  // of the last evaluation; accepted
+};
+
+// The subsystems' states, their nodes, the structure of their rates and the
+// time events (host_services.cpp, network_nodes.cpp, initial_state.cpp).
+struct StateSet {
+  std::vector<VariableInfo> state_info;  // n_s: CSV name, qualified name, unit, role
+  std::set<std::string> declared_names;  // qualified states and outputs: each once
+  Eigen::VectorXd y, ydot;               // current (iterate or accepted)
+  Eigen::VectorXd y_k, ydot_k;           // accepted at t_k
+  Eigen::VectorXd state_tol;
+  std::vector<Node> nodes;
+  std::vector<char> algebraic;              // states whose rate no row involves (constructor)
+  std::vector<int> rate_states, rate_rows;  // the others, and the rows that involve rates
+  RatesWorkspace rates_ws;
+  std::vector<double> time_events;  // sorted, unique (constructor)
+  size_t next_event = 0;            // the first event after the accepted time
+};
+
+// The integrator's map of the step (integrator_map.cpp).
+struct StepMapState {
+  mh_step_map map{};  // the step's map; arrays below
+  Eigen::VectorXd x_pred, xd_off, xdd_off;
+};
+
+// An explicit integrator's stages (explicit_step.cpp): Newton on the rates,
+// x held, with a dense difference Jacobian; and the step's stability
+// (explicit_stability.cpp), checked before the first step, after every
+// restart and every kStabilityInterval steps.
+struct ExplicitStages {
+  bool rates_jacobian_valid = false;  // rates_lu factors a Jacobian Newton may reuse
+  Eigen::VectorXd xs, xds, xdds, r_rates, r_rates_pert, rates_step, rate_scale;
+  Eigen::MatrixXd rates_jacobian;
+  Eigen::PartialPivLU<Eigen::MatrixXd> rates_lu;
+  static constexpr long kStabilityInterval = 1000;
+  std::unique_ptr<StageAmplification> amplification;  // its own integrator instance
+  bool stability_due = false;
+  long stability_next_step = 0;
+  double stability_worst_excess = 0.0;
+  ExplicitStability stability;
+};
+
+// One evaluation of the mechanics and subsystems (host_services.cpp): where
+// its rows go, what it was evaluated at, and the work counted.
+struct EvaluationState {
+  Eigen::VectorXd scratch_rows;   // rows of evaluations that are not the iterate's
+  double* rows_target = nullptr;  // where MH_EVAL_SUBSYSTEMS writes the state rows
+  bool iterate_evaluated = false;
+  double power = 0.0;                     // of the iterate's evaluation
+  Eigen::VectorXd z_iterate, zd_iterate;  // of the last MH_EVAL_SUBSYSTEMS evaluation
+  bool kinematics_valid = false;          // data's kinematics are those of data.z, data.zd
+  Eigen::VectorXd kin_z, kin_zd;          // kinematics_at's copies (no aliasing with data.z)
+  Simulation::WorkCounters counters;      // since start()
+};
+
+// Cut-joint constraints (m rows) and the assembled initial state
+// (loop_assembly.cpp, host_services.cpp). phi, phi_z hold the constraints at
+// con_z when constraints_valid, phi_dot_zd at (con_z, con_zd) when also
+// constraint_rates_valid: a formulation asks for them at the same kinematics
+// more than once per iteration (its multiplier update, then the residual),
+// and the accepted state's measure after its projections.
+struct ConstraintState {
+  Constraints constraints;
+  Eigen::VectorXd phi, phi_dot_zd;
+  Eigen::MatrixXd phi_z;
+  bool constraints_valid = false;
+  bool constraint_rates_valid = false;
+  Eigen::VectorXd con_z, con_zd;
+  Eigen::VectorXd z0, zd0;
+};
+
+// Derivatives of the mechanics (host service mech_derivatives, ABI 2.1,
+// mechanics_derivatives.cpp).
+struct DerivativesWorkspace {
+  std::unique_ptr<DynamicsDerivativesWorkspace> dyn_ws;
+  std::unique_ptr<ConstraintDerivativesWorkspace> con_ws;
+  std::vector<PointForceTerm> force_terms;  // one per (point, other point) of each instance
+  Eigen::MatrixXd K, C, dPhizT_v_dz, dA_dz, dA_dzd;
+  Eigen::VectorXd saved_outputs, rows_discard, zdd_eval, v_eval;
+};
+
+// The step's Newton (newton_solve.cpp): increments, the linear solver,
+// full or modified Newton, real time's limits and the step's statistics.
+struct NewtonState {
+  Eigen::VectorXd dx;
+  Eigen::VectorXd dx_trial, dx_correction;  // the line search's (solver.line_search)
+  std::unique_ptr<LinearSolver> linear_solver;
+  TangentReuse reuse;     // full or modified Newton (solver.newton)
+  int real_time_cap = 0;  // real-time mode: Newton iterations per step at most (0: off)
+  std::chrono::steady_clock::time_point step_deadline{};  // real-time mode: wall clock
+  StepStats stats;
+};
+
+// The step's tangent (tangent.cpp): its pattern and values, the column
+// groups it differences, and the formulation's blocks.
+struct TangentWorkspace {
+  Eigen::VectorXd r_pert, eps;
+  Eigen::VectorXd xd_pert, xdd_pert;  // rates of a perturbed x (forward differences)
+  std::unique_ptr<SparsePattern> pattern;
+  std::vector<double> values;
+  std::vector<std::vector<int>> groups;
+  std::vector<char> group_needs_fd;
+  std::vector<char> column_analytic;       // state columns whose ss entries are all analytic
+  Eigen::MatrixXd dr_dx, dr_dxd, dr_dxdd;  // n_m x n_m from the formulation's tangent
+  std::vector<uint8_t> mech_column_given;  // n_m
+  // The formulation's unknowns are the coordinates (MH_EXT_COORDINATE_UNKNOWNS):
+  // the mechanical block is the topology's pattern (build_pattern).
+  bool coordinate_unknowns = false;
+  bool any_points = false;          // some subsystem is attached to body points
+  Eigen::VectorXd z_base, zd_base;  // the iterate's, kept while the tangent differences
+};
+
+// The analytic coupling of subsystems with points to the mechanical
+// unknowns (ABI 2.2 mechanics_map, subsystem_coupling.cpp).
+struct CouplingWorkspace {
+  bool coupling_possible = false;
+  Eigen::MatrixXd map_dz_dx, map_dzd_dx, map_dzd_dxd, map_dzd_total;  // N x n_m
+  Eigen::MatrixXd map_dr_dQ;                                          // n_m x N
+  Eigen::Matrix<double, 3, Eigen::Dynamic> point_jp, point_jv;        // 3 x N
+  Eigen::Matrix<double, 3, Eigen::Dynamic> point_dp_dx, point_dv_dx;  // 3 x n_m
+  Eigen::VectorXd dQ_dy;                                              // N
+};
+
+// The energy balance (energy_balance.cpp): relative to t = 0.
+struct EnergyBalance {
+  double ke0 = 0.0, pe0 = 0.0, ke = 0.0, pe = 0.0;
+  double work = 0.0, power_k = 0.0;
+  double stored0 = 0.0, stored = 0.0, dissipated = 0.0, dissipation_k = 0.0;
+  double phi_norm = 0.0;
+};
+
+// Where the run stands (time_step.cpp): the accepted time, step and
+// coordinates, and the step being attempted (named by failures).
+struct AcceptedPoint {
+  double t = 0.0;
+  long step = 0;
+  double attempt_t = 0.0;
+  long attempt_step = 0;
+  Eigen::VectorXd z, zd, zdd;
+  bool started = false;
+};
+
 struct Simulation::Engine {
   explicit Engine(const Model& source) : model(source), data(model) {}
   const ModelFile* file = nullptr;
@@ -120,133 +277,38 @@ struct Simulation::Engine {
   std::string formulation_name;
   std::unique_ptr<InstanceHost> formulation_host;  // outlives the instance
   FormulationProxy formulation;
-  int N = 0;    // joint coordinates
-  int m = 0;    // constraint rows
-  int n_m = 0;  // mechanical unknowns
-  std::vector<std::string> coordinate_names;
-  std::vector<const char*> coordinate_name_ptrs;
-  std::vector<uint8_t> coordinate_is_angle;
-  std::vector<std::string> unknown_names;  // n_m, from add_unknown
-  std::vector<uint8_t> unknown_kinds;      // n_m
-  Eigen::VectorXd unknown_tol;             // n_m
-
-  // Integrator: applied by the host to all n unknowns.
+  // Integrator: applied by the host to all n unknowns; an explicit one
+  // (ABI 2.3, explicit_step.cpp) has no map, and the host solves the rates
+  // at its stages.
   std::string integrator_name;
   std::unique_ptr<InstanceHost> integrator_host;  // outlives the instance
   IntegratorProxy integrator;
-  std::vector<uint8_t> kinds;  // n: mh_unknown_kind of every unknown
-  mh_step_map map{};           // the step's map; arrays below
-  Eigen::VectorXd x_pred, xd_off, xdd_off;
-  // An explicit integrator (ABI 2.3, explicit_step.cpp): no map; the host
-  // solves the rates at its stages by Newton on the rates, x held, with a
-  // dense difference Jacobian (sized in the constructor).
   bool explicit_method = false;
-  bool rates_jacobian_valid = false;  // rates_lu factors a Jacobian Newton may reuse
-  Eigen::VectorXd xs, xds, xdds, r_rates, r_rates_pert, rates_step, rate_scale;
-  Eigen::MatrixXd rates_jacobian;
-  Eigen::PartialPivLU<Eigen::MatrixXd> rates_lu;
-  // explicit_stability.cpp: the step's stability, checked before the first
-  // step, after every restart and every kStabilityInterval steps.
-  static constexpr long kStabilityInterval = 1000;
-  std::unique_ptr<StageAmplification> amplification;  // its own integrator instance
-  bool stability_due = false;
-  long stability_next_step = 0;
-  double stability_worst_excess = 0.0;
-  ExplicitStability stability;
-  void check_explicit_stability(double h);
-  std::vector<std::complex<double>> rates_eigenvalues(double t_eval, double h);
-
   // Subsystems and their states (the last n_s unknowns).
   std::vector<SubsystemInstance> subsystems;
-  int n_s = 0;
-  std::vector<VariableInfo> state_info;  // n_s: CSV name, qualified name, unit, role
-  std::set<std::string> declared_names;  // qualified states and outputs: each once
-  Eigen::VectorXd y, ydot;               // current (iterate or accepted)
-  Eigen::VectorXd y_k, ydot_k;           // accepted at t_k
-  Eigen::VectorXd state_tol;
-  std::vector<char> algebraic;              // states whose rate no row involves (constructor)
-  std::vector<int> rate_states, rate_rows;  // the others, and the rows that involve rates
-  RatesWorkspace rates_ws;
-  std::vector<Node> nodes;
-  std::vector<double> time_events;  // sorted, unique (constructor)
-  size_t next_event = 0;            // the first event after the accepted time
-  // Outputs of subsystems and of the formulation.
-  int n_o = 0;
-  std::vector<VariableInfo> output_info;
-  Eigen::VectorXd outputs, outputs_k;  // of the last evaluation; accepted
-  Eigen::VectorXd scratch_rows;        // rows of evaluations that are not the iterate's
-  double* rows_target = nullptr;       // where MH_EVAL_SUBSYSTEMS writes the state rows
-  bool iterate_evaluated = false;
-  double power = 0.0;  // of the iterate's evaluation
 
-  // Cut-joint constraints (m rows) and the assembled initial state.
-  Constraints constraints;
-  Eigen::VectorXd phi, phi_dot_zd;
-  Eigen::MatrixXd phi_z;
-  // phi, phi_z, phi_dot_zd hold the constraints at (con_z, con_zd) when
-  // constraints_valid: a formulation asks for them at the same kinematics more
-  // than once per iteration (its multiplier update, then the residual), and the
-  // accepted state's measure after its projections.
-  // Phi and Phi_z at con_z when constraints_valid; phi_dot_zd at (con_z,
-  // con_zd) when also constraint_rates_valid.
-  bool constraints_valid = false;
-  bool constraint_rates_valid = false;
-  Eigen::VectorXd con_z, con_zd;
-  Eigen::VectorXd z0, zd0;
+  int N = 0;    // joint coordinates
+  int m = 0;    // constraint rows
+  int n_m = 0;  // mechanical unknowns
+  int n_s = 0;  // subsystem states
+  int n = 0;    // unknowns: n_m + n_s
+  int n_o = 0;  // outputs
+  // Newton's unknowns x = [formulation unknowns; subsystem states], the
+  // rates the map gives them, and the residual.
+  Eigen::VectorXd x, xd, xdd, r;
 
-  // Derivatives of the mechanics (host service mech_derivatives, ABI 2.1).
-  std::unique_ptr<DynamicsDerivativesWorkspace> dyn_ws;
-  std::unique_ptr<ConstraintDerivativesWorkspace> con_ws;
-  std::vector<PointForceTerm> force_terms;  // one per (point, other point) of each instance
-  Eigen::MatrixXd K, C, dPhizT_v_dz, dA_dz, dA_dzd;
-  Eigen::VectorXd saved_outputs, rows_discard, zdd_eval, v_eval;
-
-  // Newton over x = [formulation unknowns; subsystem states].
-  int n = 0;
-  Eigen::VectorXd x, xd, xdd, r, r_pert, dx, tol, eps;
-  Eigen::VectorXd dx_trial, dx_correction;  // the line search's (solver.line_search)
-  Eigen::VectorXd xd_pert, xdd_pert;        // rates of a perturbed x (forward differences)
-  std::unique_ptr<SparsePattern> pattern;
-  std::unique_ptr<LinearSolver> linear_solver;
-  TangentReuse reuse;     // full or modified Newton (solver.newton)
-  int real_time_cap = 0;  // real-time mode: Newton iterations per step at most (0: off)
-  std::chrono::steady_clock::time_point step_deadline{};  // real-time mode: wall clock
-  std::vector<double> values;
-  std::vector<std::vector<int>> groups;
-  std::vector<char> group_needs_fd;
-  std::vector<char> column_analytic;       // state columns whose ss entries are all analytic
-  Eigen::MatrixXd dr_dx, dr_dxd, dr_dxdd;  // n_m x n_m from the formulation's tangent
-  std::vector<uint8_t> mech_column_given;  // n_m
-  // The formulation's unknowns are the coordinates (MH_EXT_COORDINATE_UNKNOWNS):
-  // the mechanical block is the topology's pattern (build_pattern).
-  bool coordinate_unknowns = false;
-  // The analytic coupling of subsystems with points to the mechanical
-  // unknowns (ABI 2.2 mechanics_map, subsystem_coupling.cpp).
-  bool coupling_possible = false;
-  bool any_points = false;  // some subsystem is attached to body points (build_pattern)
-  Eigen::VectorXd z_iterate, zd_iterate;  // of the last MH_EVAL_SUBSYSTEMS evaluation
-  Eigen::VectorXd z_base, zd_base;        // the iterate's, kept while the tangent differences
-  Eigen::MatrixXd map_dz_dx, map_dzd_dx, map_dzd_dxd, map_dzd_total;  // N x n_m
-  Eigen::MatrixXd map_dr_dQ;                                          // n_m x N
-  Eigen::Matrix<double, 3, Eigen::Dynamic> point_jp, point_jv;        // 3 x N
-  Eigen::Matrix<double, 3, Eigen::Dynamic> point_dp_dx, point_dv_dx;  // 3 x n_m
-  Eigen::VectorXd dQ_dy;                                              // N
-  StepStats stats;
-  Simulation::WorkCounters counters;  // since start()
-  bool kinematics_valid = false;      // data's kinematics are those of data.z, data.zd
-  Eigen::VectorXd kin_z, kin_zd;      // kinematics_at's copies (no aliasing with data.z)
-
-  // Accepted results.
-  double t = 0.0;
-  long step = 0;
-  double attempt_t = 0.0;  // the step being attempted, named by failures
-  long attempt_step = 0;
-  Eigen::VectorXd z, zd, zdd;
-  double ke0 = 0.0, pe0 = 0.0, ke = 0.0, pe = 0.0;
-  double work = 0.0, power_k = 0.0;
-  double stored0 = 0.0, stored = 0.0, dissipated = 0.0, dissipation_k = 0.0;
-  double phi_norm = 0.0;
-  bool started = false;
+  UnknownRegistry registry;
+  StateSet states;
+  StepMapState map_ws;
+  ExplicitStages stages;
+  EvaluationState eval;
+  ConstraintState cons;
+  DerivativesWorkspace derivs;
+  NewtonState solver;
+  TangentWorkspace tangent_ws;
+  CouplingWorkspace coupling;
+  EnergyBalance energy;
+  AcceptedPoint accepted;
 
   // host_services.cpp
   void make_host(InstanceHost& h, const std::string& source, const OptionMap* options,
@@ -283,6 +345,10 @@ struct Simulation::Engine {
   void begin_step(double t_next, double h);
   void rates_of(const Eigen::VectorXd& xq, Eigen::VectorXd& xdq, Eigen::VectorXd& xddq) const;
   void restart_integrator();  // from x, xd, xdd at t
+
+  // explicit_stability.cpp
+  void check_explicit_stability(double h);
+  std::vector<std::complex<double>> rates_eigenvalues(double t_eval, double h);
 
   // explicit_step.cpp: one step of an explicit integrator, and the rates
   // f(t, x) it combines.

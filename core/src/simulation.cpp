@@ -52,13 +52,14 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
   e.log = std::move(log);
   e.N = e.model.num_coordinates();
   for (const auto& b : e.model.bodies) {
-    e.coordinate_names.push_back(b.coordinate.empty() ? b.name : b.coordinate);
-    e.coordinate_is_angle.push_back(b.joint == JointType::revolute ? 1 : 0);
+    e.registry.coordinate_names.push_back(b.coordinate.empty() ? b.name : b.coordinate);
+    e.registry.coordinate_is_angle.push_back(b.joint == JointType::revolute ? 1 : 0);
   }
-  for (const auto& name : e.coordinate_names) e.coordinate_name_ptrs.push_back(name.c_str());
+  for (const auto& name : e.registry.coordinate_names)
+    e.registry.coordinate_name_ptrs.push_back(name.c_str());
   e.assemble_loops();
   // Instances read their points' initial positions during setup.
-  forward_kinematics(e.model, e.data, e.z0, e.zd0);
+  forward_kinematics(e.model, e.data, e.cons.z0, e.cons.zd0);
 
   // Subsystems, in model order (find_state sees the instances before it).
   e.subsystems.resize(file.subsystems.size());
@@ -100,12 +101,14 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
   }
 
   e.check_network();
-  std::sort(e.time_events.begin(), e.time_events.end());
-  e.time_events.erase(std::unique(e.time_events.begin(), e.time_events.end()), e.time_events.end());
-  e.y.conservativeResize(e.n_s);
-  e.state_tol.conservativeResize(e.n_s);
-  e.scratch_rows.setZero(e.n_s);
-  e.outputs.setZero(e.n_o);  // the subsystems' so far; the formulation's are appended below
+  std::sort(e.states.time_events.begin(), e.states.time_events.end());
+  e.states.time_events.erase(std::unique(e.states.time_events.begin(), e.states.time_events.end()),
+                             e.states.time_events.end());
+  e.states.y.conservativeResize(e.n_s);
+  e.states.state_tol.conservativeResize(e.n_s);
+  e.eval.scratch_rows.setZero(e.n_s);
+  e.registry.outputs.setZero(
+      e.n_o);  // the subsystems' so far; the formulation's are appended below
   e.classify_states();
 
   // The formulation. Options in the model file belong to the model's
@@ -138,15 +141,16 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
   e.formulation_host->in_setup = false;
   if (!status_ok(fst)) throw_setup_failure(e, file.formulation.mark, fwho);
   e.check_unread_options(*e.formulation_host);
-  e.outputs.conservativeResize(e.n_o);
-  e.outputs_k.setZero(e.n_o);
+  e.registry.outputs.conservativeResize(e.n_o);
+  e.registry.outputs_k.setZero(e.n_o);
 
   // The integrator, over every unknown: the formulation's, then the states.
   e.n = e.n_m + e.n_s;
-  e.kinds = e.unknown_kinds;
+  e.registry.kinds = e.registry.unknown_kinds;
   for (int i = 0; i < e.n_s; ++i)
-    e.kinds.push_back(e.algebraic[static_cast<size_t>(i)] != 0 ? MH_UNKNOWN_ALGEBRAIC
-                                                               : MH_UNKNOWN_FIRST_ORDER);
+    e.registry.kinds.push_back(e.states.algebraic[static_cast<size_t>(i)] != 0
+                                   ? MH_UNKNOWN_ALGEBRAIC
+                                   : MH_UNKNOWN_FIRST_ORDER);
   e.integrator_name = choices.integrator.empty() ? file.integrator.name : choices.integrator;
   const ComponentInfo* iinfo = nullptr;
   try {
@@ -188,7 +192,7 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
   mh_integrator_problem problem{};
   problem.struct_size = sizeof(problem);
   problem.num_unknowns = static_cast<uint32_t>(e.n);
-  problem.kinds = e.kinds.data();
+  problem.kinds = e.registry.kinds.data();
   problem.t0 = 0.0;
   problem.dt = e.settings.dt;
   const mh_status ist = normalized(in.setup(e.integrator.self, &problem));
@@ -199,19 +203,19 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
         iinfo->integrator_factory.create(static_cast<const mh_integrator_factory*>(iinfo->factory),
                                          &e.integrator_host->table, e.integrator_name.c_str());
     if (probe == nullptr) throw_setup_failure(e, file.integrator.mark, iwho);
-    e.amplification = std::make_unique<StageAmplification>(probe);
+    e.stages.amplification = std::make_unique<StageAmplification>(probe);
   }
 
-  for (const auto& v : e.state_info) {
+  for (const auto& v : e.states.state_info) {
     state_names_.push_back(v.name);
     state_units_.push_back(v.unit);
   }
-  for (const auto& v : e.output_info) {
+  for (const auto& v : e.registry.output_info) {
     output_names_.push_back(v.name);
     output_units_.push_back(v.unit);
   }
   e.build_pattern();  // and the linear solver the model chose analyses it
-  e.reuse.enable(e.settings.newton == NewtonKind::modified);
+  e.solver.reuse.enable(e.settings.newton == NewtonKind::modified);
   e.size_derivatives();
   e.size_explicit();
   e.size_coupling();
@@ -220,7 +224,7 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
 Simulation::~Simulation() = default;
 
 const ExplicitStability& Simulation::explicit_stability() const {
-  return engine_->stability;
+  return engine_->stages.stability;
 }
 const SolverSettings& Simulation::settings() const {
   return engine_->settings;
@@ -228,7 +232,7 @@ const SolverSettings& Simulation::settings() const {
 void Simulation::start() {
   // The plugins' histories begin at the first start: a second one would go on
   // from the last accepted state, not from t = 0, so it is refused.
-  if (engine_->started)
+  if (engine_->accepted.started)
     engine_->fail(
         "start() on a simulation that has already started: a new run needs a new "
         "Simulation");
@@ -238,17 +242,17 @@ void Simulation::step() {
   engine_->step_once();
 }
 void Simulation::set_real_time(int iteration_cap) {
-  engine_->real_time_cap = iteration_cap > 0 ? iteration_cap : 0;
-  engine_->step_deadline = std::chrono::steady_clock::time_point::max();  // until one is set
+  engine_->solver.real_time_cap = iteration_cap > 0 ? iteration_cap : 0;
+  engine_->solver.step_deadline = std::chrono::steady_clock::time_point::max();  // until one is set
 }
 void Simulation::set_step_deadline(std::chrono::steady_clock::time_point deadline) {
-  engine_->step_deadline = deadline;
+  engine_->solver.step_deadline = deadline;
 }
 double Simulation::time() const {
-  return engine_->t;
+  return engine_->accepted.t;
 }
 long Simulation::step_index() const {
-  return engine_->step;
+  return engine_->accepted.step;
 }
 const std::string& Simulation::formulation_name() const {
   return engine_->formulation_name;
@@ -257,34 +261,34 @@ const std::string& Simulation::integrator_name() const {
   return engine_->integrator_name;
 }
 const std::vector<VariableInfo>& Simulation::state_info() const {
-  return engine_->state_info;
+  return engine_->states.state_info;
 }
 const std::vector<VariableInfo>& Simulation::output_info() const {
-  return engine_->output_info;
+  return engine_->registry.output_info;
 }
 const Eigen::VectorXd& Simulation::z() const {
-  return engine_->z;
+  return engine_->accepted.z;
 }
 const Eigen::VectorXd& Simulation::zd() const {
-  return engine_->zd;
+  return engine_->accepted.zd;
 }
 const Eigen::VectorXd& Simulation::zdd() const {
-  return engine_->zdd;
+  return engine_->accepted.zdd;
 }
 const Eigen::VectorXd& Simulation::states() const {
-  return engine_->y_k;
+  return engine_->states.y_k;
 }
 const Eigen::VectorXd& Simulation::state_rates() const {
-  return engine_->ydot_k;
+  return engine_->states.ydot_k;
 }
 const std::vector<std::string>& Simulation::coordinate_names() const {
-  return engine_->coordinate_names;
+  return engine_->registry.coordinate_names;
 }
 const std::vector<std::string>& Simulation::state_names() const {
   return state_names_;
 }
 const Eigen::VectorXd& Simulation::outputs() const {
-  return engine_->outputs_k;
+  return engine_->registry.outputs_k;
 }
 const std::vector<std::string>& Simulation::output_names() const {
   return output_names_;
@@ -301,34 +305,34 @@ static int index_of(const std::vector<VariableInfo>& vars, const std::string& na
   return -1;
 }
 int Simulation::output_index(const std::string& name) const {
-  return index_of(engine_->output_info, name);
+  return index_of(engine_->registry.output_info, name);
 }
 int Simulation::state_index(const std::string& name) const {
-  return index_of(engine_->state_info, name);
+  return index_of(engine_->states.state_info, name);
 }
 double Simulation::kinetic_energy() const {
-  return engine_->ke - engine_->ke0;
+  return engine_->energy.ke - engine_->energy.ke0;
 }
 double Simulation::potential_energy() const {
-  return engine_->pe - engine_->pe0;
+  return engine_->energy.pe - engine_->energy.pe0;
 }
 double Simulation::work() const {
-  return engine_->work;
+  return engine_->energy.work;
 }
 double Simulation::drift() const {
   return kinetic_energy() + potential_energy() - work();
 }
 double Simulation::stored_energy() const {
-  return engine_->stored - engine_->stored0;
+  return engine_->energy.stored - engine_->energy.stored0;
 }
 double Simulation::dissipated_energy() const {
-  return engine_->dissipated;
+  return engine_->energy.dissipated;
 }
 double Simulation::phi_norm() const {
-  return engine_->phi_norm;
+  return engine_->energy.phi_norm;
 }
 const StepStats& Simulation::last_step() const {
-  return engine_->stats;
+  return engine_->solver.stats;
 }
 int Simulation::num_unknowns() const {
   return engine_->n;
@@ -340,10 +344,10 @@ bool Simulation::explicit_integration() const {
   return engine_->explicit_method;
 }
 int Simulation::tangent_nonzeros() const {
-  return engine_->pattern->nonzeros();
+  return engine_->tangent_ws.pattern->nonzeros();
 }
 const SparsePattern& Simulation::tangent_pattern() const {
-  return *engine_->pattern;
+  return *engine_->tangent_ws.pattern;
 }
 
 namespace {
@@ -352,7 +356,7 @@ namespace {
 // NULL). Refused with a reason instead of calling through a null pointer.
 void refuse_explicit(const Simulation::Engine& e, const char* what) {
   if (e.explicit_method)
-    throw SimulationError(e.t, e.step,
+    throw SimulationError(e.accepted.t, e.accepted.step,
                           std::string(what) +
                               " needs an implicit integrator's step; this run's integrator is "
                               "explicit and takes no Newton step");
@@ -361,11 +365,11 @@ void refuse_explicit(const Simulation::Engine& e, const char* what) {
 // The assembled tangent's values as a dense matrix, through its pattern.
 Eigen::MatrixXd dense_tangent(const Simulation::Engine& e) {
   Eigen::MatrixXd J = Eigen::MatrixXd::Zero(e.n, e.n);
-  const auto& colptr = e.pattern->column_start();
-  const auto& rows = e.pattern->row_index();
+  const auto& colptr = e.tangent_ws.pattern->column_start();
+  const auto& rows = e.tangent_ws.pattern->row_index();
   for (int c = 0; c < e.n; ++c)
     for (int k = colptr[c]; k < colptr[c + 1]; ++k)
-      J(rows[k], c) = e.values[static_cast<size_t>(k)];
+      J(rows[k], c) = e.tangent_ws.values[static_cast<size_t>(k)];
   return J;
 }
 
@@ -399,26 +403,27 @@ void difference_columns(Eigen::VectorXd& v, Eigen::Index n, const Eigen::VectorX
 Eigen::MatrixXd Simulation::assembled_tangent() {
   Engine& e = *engine_;
   refuse_explicit(e, "the assembled tangent");
-  const double t_next = e.t + e.settings.dt;
+  const double t_next = e.accepted.t + e.settings.dt;
   e.prepare_step(t_next, e.settings.dt);
   if (!status_ok(e.residual(t_next, e.x, e.r)) || !status_ok(e.assemble_tangent(t_next)))
-    throw SimulationError(e.t, e.step, "tangent assembly failed: " + e.last_plugin_error);
+    throw SimulationError(e.accepted.t, e.accepted.step,
+                          "tangent assembly failed: " + e.last_plugin_error);
   return dense_tangent(e);
 }
 
 Eigen::MatrixXd Simulation::finite_difference_tangent() {
   Engine& e = *engine_;
   refuse_explicit(e, "the differenced tangent");
-  const double t_next = e.t + e.settings.dt;
+  const double t_next = e.accepted.t + e.settings.dt;
   e.prepare_step(t_next, e.settings.dt);
   Eigen::MatrixXd J(e.n, e.n);
   e.residual(t_next, e.x, e.r);
   for (int c = 0; c < e.n; ++c) {
     const double h = 1e-8 * std::max(1e-2, std::abs(e.x[c]));
     e.x[c] += h;
-    e.residual(t_next, e.x, e.r_pert);
+    e.residual(t_next, e.x, e.tangent_ws.r_pert);
     e.x[c] -= h;
-    J.col(c) = (e.r_pert - e.r) / h;
+    J.col(c) = (e.tangent_ws.r_pert - e.r) / h;
   }
   e.residual(t_next, e.x, e.r);
   return J;
@@ -427,19 +432,19 @@ Eigen::MatrixXd Simulation::finite_difference_tangent() {
 Eigen::MatrixXd Simulation::central_difference_tangent() {
   Engine& e = *engine_;
   refuse_explicit(e, "the differenced tangent");
-  const double t_next = e.t + e.settings.dt;
+  const double t_next = e.accepted.t + e.settings.dt;
   e.prepare_step(t_next, e.settings.dt);
   Eigen::MatrixXd J(e.n, e.n);
   for (int c = 0; c < e.n; ++c) {
     const double h = 1e-6 * std::max(1e-2, std::abs(e.x[c]));
     const double x0 = e.x[c];
     e.x[c] = x0 + h;
-    e.residual(t_next, e.x, e.r_pert);
-    J.col(c) = e.r_pert;
+    e.residual(t_next, e.x, e.tangent_ws.r_pert);
+    J.col(c) = e.tangent_ws.r_pert;
     e.x[c] = x0 - h;
-    e.residual(t_next, e.x, e.r_pert);
+    e.residual(t_next, e.x, e.tangent_ws.r_pert);
     e.x[c] = x0;
-    J.col(c) = (J.col(c) - e.r_pert) / (2.0 * h);
+    J.col(c) = (J.col(c) - e.tangent_ws.r_pert) / (2.0 * h);
   }
   e.residual(t_next, e.x, e.r);
   return J;
@@ -450,9 +455,9 @@ Simulation::TangentSample Simulation::tangent_sample(double h) {
   refuse_explicit(e, "the tangent sample");
   TangentSample out;
   out.h = h;
-  e.prepare_step(e.t + e.settings.dt, e.settings.dt);
+  e.prepare_step(e.accepted.t + e.settings.dt, e.settings.dt);
   const Eigen::VectorXd x0 = e.x;  // the model's own prediction: every value in range
-  const double t_next = e.t + h;
+  const double t_next = e.accepted.t + h;
   if (h != e.settings.dt) {
     e.begin_step(t_next, h);
     e.x = x0;
@@ -463,16 +468,17 @@ Simulation::TangentSample Simulation::tangent_sample(double h) {
               "formulation begin_step");
   }
   if (!status_ok(e.residual(t_next, e.x, e.r)) || !status_ok(e.assemble_tangent(t_next)))
-    throw SimulationError(e.t, e.step, "tangent assembly failed: " + e.last_plugin_error);
+    throw SimulationError(e.accepted.t, e.accepted.step,
+                          "tangent assembly failed: " + e.last_plugin_error);
   out.analytic = dense_tangent(e);
   const Eigen::VectorXd r0 = e.r;
   difference_columns(
       e.x, e.n, r0,
       [&]() -> const Eigen::VectorXd& {
-        if (!status_ok(e.residual(t_next, e.x, e.r_pert)))
-          throw SimulationError(e.t, e.step,
+        if (!status_ok(e.residual(t_next, e.x, e.tangent_ws.r_pert)))
+          throw SimulationError(e.accepted.t, e.accepted.step,
                                 "residual failed at a perturbed x: " + e.last_plugin_error);
-        return e.r_pert;
+        return e.tangent_ws.r_pert;
       },
       out);
   e.x = x0;
@@ -484,7 +490,7 @@ Simulation::FormulationBlocks Simulation::formulation_blocks() {
   Engine& e = *engine_;
   refuse_explicit(e, "the formulation's blocks");
   FormulationBlocks out;
-  const double t_next = e.t + e.settings.dt;
+  const double t_next = e.accepted.t + e.settings.dt;
   e.prepare_step(t_next, e.settings.dt);
   const Eigen::VectorXd x0 = e.x, xd0 = e.xd, xdd0 = e.xdd;
   const int n_m = e.n_m;
@@ -495,17 +501,17 @@ Simulation::FormulationBlocks Simulation::formulation_blocks() {
   const auto rows_at = [&]() -> Eigen::VectorXd {
     e.xd = args[1];
     e.xdd = args[2];
-    e.y = args[0].tail(e.n_s);
-    e.ydot = args[1].tail(e.n_s);
+    e.states.y = args[0].tail(e.n_s);
+    e.states.ydot = args[1].tail(e.n_s);
     full.setZero();
-    e.rows_target = full.data() + n_m;
-    e.iterate_evaluated = false;
+    e.eval.rows_target = full.data() + n_m;
+    e.eval.iterate_evaluated = false;
     const mh_status st = normalized(e.formulation.ops.residual(
         e.formulation.self, t_next, args[0].data(), e.xd.data(), e.xdd.data(), full.data()));
-    e.rows_target = nullptr;
+    e.eval.rows_target = nullptr;
     if (!status_ok(st))
       throw SimulationError(
-          e.t, e.step,
+          e.accepted.t, e.accepted.step,
           "formulation '" + e.formulation_name + "' residual failed: " + e.last_plugin_error);
     return full.head(n_m);
   };
@@ -519,7 +525,7 @@ Simulation::FormulationBlocks Simulation::formulation_blocks() {
         analytic[1].data(), analytic[2].data(), out.given.data()));
     if (!status_ok(st))
       throw SimulationError(
-          e.t, e.step,
+          e.accepted.t, e.accepted.step,
           "formulation '" + e.formulation_name + "' tangent failed: " + e.last_plugin_error);
   }
   for (int b = 0; b < 3; ++b) {
@@ -537,8 +543,8 @@ Simulation::CoordinateMaps Simulation::coordinate_maps() {
   Engine& e = *engine_;
   refuse_explicit(e, "the coordinate maps");
   if (e.formulation.ops.mechanics_map == nullptr)
-    throw SimulationError(e.t, e.step, "the formulation gives no mechanics_map");
-  const double t_next = e.t + e.settings.dt;
+    throw SimulationError(e.accepted.t, e.accepted.step, "the formulation gives no mechanics_map");
+  const double t_next = e.accepted.t + e.settings.dt;
   e.prepare_step(t_next, e.settings.dt);
   CoordinateMaps out;
   out.dz_dx_cd.setZero(e.N, e.n_m);
@@ -548,27 +554,28 @@ Simulation::CoordinateMaps Simulation::coordinate_maps() {
     const double x0 = e.x[c];
     for (int side = 0; side < 2; ++side) {
       e.x[c] = x0 + (side == 0 ? h : -h);
-      e.residual(t_next, e.x, e.r_pert);
+      e.residual(t_next, e.x, e.tangent_ws.r_pert);
       const double w = (side == 0 ? 1.0 : -1.0) / (2.0 * h);
-      out.dz_dx_cd.col(c) += w * e.z_iterate;
-      out.dzd_dx_cd.col(c) += w * e.zd_iterate;
+      out.dz_dx_cd.col(c) += w * e.eval.z_iterate;
+      out.dzd_dx_cd.col(c) += w * e.eval.zd_iterate;
     }
     e.x[c] = x0;
   }
   if (!status_ok(e.residual(t_next, e.x, e.r)))
-    throw SimulationError(e.t, e.step, "residual failed: " + e.last_plugin_error);
+    throw SimulationError(e.accepted.t, e.accepted.step, "residual failed: " + e.last_plugin_error);
   Eigen::MatrixXd dzd_dx = Eigen::MatrixXd::Zero(e.N, e.n_m);
   Eigen::MatrixXd dzd_dxd = Eigen::MatrixXd::Zero(e.N, e.n_m);
   Eigen::MatrixXd dr_dQ = Eigen::MatrixXd::Zero(e.n_m, e.N);
   out.dz_dx.setZero(e.N, e.n_m);
   if (!status_ok(normalized(e.formulation.ops.mechanics_map(
           e.formulation.self, out.dz_dx.data(), dzd_dx.data(), dzd_dxd.data(), dr_dQ.data()))))
-    throw SimulationError(e.t, e.step, "mechanics_map failed: " + e.last_plugin_error);
+    throw SimulationError(e.accepted.t, e.accepted.step,
+                          "mechanics_map failed: " + e.last_plugin_error);
   out.dzd_dx = dzd_dx;
   for (int c = 0; c < e.n_m; ++c) {
-    const uint8_t kind = e.kinds[static_cast<size_t>(c)];
-    const double cv = kind == MH_UNKNOWN_SECOND_ORDER  ? e.map.coefficients.dxd_dx_second
-                      : kind == MH_UNKNOWN_FIRST_ORDER ? e.map.coefficients.dxd_dx_first
+    const uint8_t kind = e.registry.kinds[static_cast<size_t>(c)];
+    const double cv = kind == MH_UNKNOWN_SECOND_ORDER  ? e.map_ws.map.coefficients.dxd_dx_second
+                      : kind == MH_UNKNOWN_FIRST_ORDER ? e.map_ws.map.coefficients.dxd_dx_first
                                                        : 0.0;
     out.dzd_dx.col(c) += cv * dzd_dxd.col(c);
   }
@@ -576,7 +583,7 @@ Simulation::CoordinateMaps Simulation::coordinate_maps() {
 }
 
 const Simulation::WorkCounters& Simulation::counters() const {
-  return engine_->counters;
+  return engine_->eval.counters;
 }
 
 Simulation::MechanicsDerivatives Simulation::mechanics_derivatives(const Eigen::VectorXd& z,
@@ -586,20 +593,22 @@ Simulation::MechanicsDerivatives Simulation::mechanics_derivatives(const Eigen::
   mh_mech_derivatives_request rq{};
   rq.struct_size = sizeof(rq);
   rq.flags = MH_DERIV_DYNAMICS;
-  rq.t = e.t;
+  rq.t = e.accepted.t;
   rq.z = z.data();
   rq.zd = zd.data();
   rq.zdd = zdd.data();
   if (!status_ok(e.mechanics_derivatives(rq)))
-    throw SimulationError(e.t, e.step, "mech_derivatives failed: " + e.last_plugin_error);
-  return {e.K, e.C};
+    throw SimulationError(e.accepted.t, e.accepted.step,
+                          "mech_derivatives failed: " + e.last_plugin_error);
+  return {e.derivs.K, e.derivs.C};
 }
 
 Eigen::VectorXd Simulation::dynamics_residual(const Eigen::VectorXd& z, const Eigen::VectorXd& zd,
                                               const Eigen::VectorXd& zdd) {
   Engine& e = *engine_;
-  if (!status_ok(e.evaluate_mechanics(MH_EVAL_DYNAMICS, e.t, z.data(), zd.data())))
-    throw SimulationError(e.t, e.step, "evaluation failed: " + e.last_plugin_error);
+  if (!status_ok(e.evaluate_mechanics(MH_EVAL_DYNAMICS, e.accepted.t, z.data(), zd.data())))
+    throw SimulationError(e.accepted.t, e.accepted.step,
+                          "evaluation failed: " + e.last_plugin_error);
   return e.data.M * zdd - e.data.Q;
 }
 

@@ -180,12 +180,12 @@ mh_status host_mech_info(const mh_host* host, mh_mech_info* out) {
   info.struct_size = sizeof(info);
   info.num_coordinates = static_cast<uint32_t>(e.N);
   info.num_constraints = static_cast<uint32_t>(e.m);
-  info.coordinate_names = e.coordinate_name_ptrs.data();
-  info.coordinate_is_angle = e.coordinate_is_angle.data();
+  info.coordinate_names = e.registry.coordinate_name_ptrs.data();
+  info.coordinate_is_angle = e.registry.coordinate_is_angle.data();
   info.position_tolerance = e.settings.tol_position;
   info.t0 = 0.0;
-  info.z0 = e.z0.data();
-  info.zd0 = e.zd0.data();
+  info.z0 = e.cons.z0.data();
+  info.zd0 = e.cons.zd0.data();
   return write_struct(out, info) ? MH_OK : MH_ERROR;
 }
 
@@ -242,7 +242,7 @@ bool declare_once(const mh_host* host, Simulation::Engine& e, const std::string&
                  .c_str());
     return false;
   }
-  if (!e.declared_names.insert(kind + " " + qualified).second) {
+  if (!e.states.declared_names.insert(kind + " " + qualified).second) {
     host_log(host, MH_LOG_ERROR, (kind + " '" + qualified + "' declared twice").c_str());
     return false;
   }
@@ -273,7 +273,8 @@ mh_status host_add_state(const mh_host* host, const mh_state_spec* spec_in, int3
                  .c_str());
     return MH_ERROR;
   }
-  if (!declare_once(host, e, "state", e.state_info.size(), local, qualified)) return MH_ERROR;
+  if (!declare_once(host, e, "state", e.states.state_info.size(), local, qualified))
+    return MH_ERROR;
   auto named = s.spec->state_names.find(local);
   VariableInfo info;
   info.name = named != s.spec->state_names.end() ? named->second : qualified;
@@ -297,7 +298,7 @@ mh_status host_find_state(const mh_host* host, const char* qualified_name, int32
   Simulation::Engine& e = *h.engine;
   const std::string q = text(qualified_name);
   for (int i = 0; i < e.n_s; ++i) {
-    if (e.state_info[static_cast<size_t>(i)].qualified == q) {
+    if (e.states.state_info[static_cast<size_t>(i)].qualified == q) {
       touch(e.subsystems[static_cast<size_t>(h.subsystem)], i);
       *index = i;
       return MH_OK;
@@ -354,7 +355,8 @@ mh_status host_add_output(const mh_host* host, const mh_output_spec* spec_in, in
              ("add_output '" + local + "': expected a name and an ordered range").c_str());
     return MH_ERROR;
   }
-  if (!declare_once(host, e, "output", e.output_info.size(), local, qualified)) return MH_ERROR;
+  if (!declare_once(host, e, "output", e.registry.output_info.size(), local, qualified))
+    return MH_ERROR;
   VariableInfo info;
   info.qualified = qualified;
   info.name = qualified;
@@ -367,7 +369,7 @@ mh_status host_add_output(const mh_host* host, const mh_output_spec* spec_in, in
   info.role = text(spec.role);
   info.range_min = spec.range_min;
   info.range_max = spec.range_max;
-  e.output_info.push_back(info);
+  e.registry.output_info.push_back(info);
   *index = e.n_o++;
   return MH_OK;
 }
@@ -391,10 +393,10 @@ mh_status host_add_unknown(const mh_host* host, const mh_unknown_spec* spec_in, 
                  .c_str());
     return MH_ERROR;
   }
-  e.unknown_names.push_back(name);
-  e.unknown_kinds.push_back(static_cast<uint8_t>(spec.kind));
-  e.unknown_tol.conservativeResize(e.n_m + 1);
-  e.unknown_tol[e.n_m] = spec.abs_tolerance;
+  e.registry.unknown_names.push_back(name);
+  e.registry.unknown_kinds.push_back(static_cast<uint8_t>(spec.kind));
+  e.registry.unknown_tol.conservativeResize(e.n_m + 1);
+  e.registry.unknown_tol[e.n_m] = spec.abs_tolerance;
   *index = e.n_m++;
   return MH_OK;
 }
@@ -418,9 +420,10 @@ mh_status host_evaluate_mechanics(const mh_host* host, const mh_mech_request* re
   out.struct_size = sizeof(out);
   out.M = dyn ? e.data.M.data() : nullptr;
   out.Q = dyn ? e.data.Q.data() : nullptr;
-  out.phi = con ? e.phi.data() : nullptr;
-  out.phi_z = con ? e.phi_z.data() : nullptr;
-  out.phi_dot_zd = con && (rq.flags & MH_EVAL_POSITIONS_ONLY) == 0 ? e.phi_dot_zd.data() : nullptr;
+  out.phi = con ? e.cons.phi.data() : nullptr;
+  out.phi_z = con ? e.cons.phi_z.data() : nullptr;
+  out.phi_dot_zd =
+      con && (rq.flags & MH_EVAL_POSITIONS_ONLY) == 0 ? e.cons.phi_dot_zd.data() : nullptr;
   if (!write_struct(result, out)) return MH_ERROR;
   return s;
 }
@@ -446,12 +449,12 @@ mh_status host_mech_derivatives(const mh_host* host, const mh_mech_derivatives_r
   mh_mech_derivatives out{};
   out.struct_size = sizeof(out);
   const bool con = e.m > 0;
-  out.K = (rq.flags & MH_DERIV_DYNAMICS) != 0 ? e.K.data() : nullptr;
-  out.C = (rq.flags & MH_DERIV_DYNAMICS) != 0 ? e.C.data() : nullptr;
-  out.dPhizT_v_dz = needs_v && con ? e.dPhizT_v_dz.data() : nullptr;
+  out.K = (rq.flags & MH_DERIV_DYNAMICS) != 0 ? e.derivs.K.data() : nullptr;
+  out.C = (rq.flags & MH_DERIV_DYNAMICS) != 0 ? e.derivs.C.data() : nullptr;
+  out.dPhizT_v_dz = needs_v && con ? e.derivs.dPhizT_v_dz.data() : nullptr;
   const bool acc = (rq.flags & MH_DERIV_CONSTRAINT_ACCELERATIONS) != 0 && con;
-  out.dA_dz = acc ? e.dA_dz.data() : nullptr;
-  out.dA_dzd = acc ? e.dA_dzd.data() : nullptr;
+  out.dA_dz = acc ? e.derivs.dA_dz.data() : nullptr;
+  out.dA_dzd = acc ? e.derivs.dA_dzd.data() : nullptr;
   if (!write_struct(result, out)) return MH_ERROR;
   return s;
 }
@@ -495,7 +498,7 @@ mh_status host_add_time_event(const mh_host* host, double t) {
     host_log(host, MH_LOG_ERROR, "add_time_event: expected a finite time");
     return MH_ERROR;
   }
-  h.engine->time_events.push_back(t);
+  h.engine->states.time_events.push_back(t);
   return MH_OK;
 }
 
@@ -547,11 +550,11 @@ void Simulation::Engine::make_host(InstanceHost& h, const std::string& source,
 int Simulation::Engine::add_state_record(const VariableInfo& info, double initial,
                                          double abs_tolerance) {
   const int i = n_s++;
-  state_info.push_back(info);
-  y.conservativeResize(n_s);
-  y[i] = initial;
-  state_tol.conservativeResize(n_s);
-  state_tol[i] = abs_tolerance;
+  states.state_info.push_back(info);
+  states.y.conservativeResize(n_s);
+  states.y[i] = initial;
+  states.state_tol.conservativeResize(n_s);
+  states.state_tol[i] = abs_tolerance;
   return i;
 }
 
@@ -571,11 +574,11 @@ mh_subsystem_eval Simulation::Engine::subsystem_eval(double t_eval, double* rows
   ev.struct_size = sizeof(mh_subsystem_eval);
   ev.t = t_eval;
   ev.num_states = static_cast<uint32_t>(n_s);
-  ev.y = y.data();
-  ev.ydot = ydot.data();
+  ev.y = states.y.data();
+  ev.ydot = states.ydot.data();
   ev.residual = rows;
   ev.num_outputs = static_cast<uint32_t>(n_o);
-  ev.outputs = outputs.data();
+  ev.outputs = registry.outputs.data();
   return ev;
 }
 
@@ -614,7 +617,7 @@ mh_status Simulation::Engine::evaluate_subsystems(double t_eval, double* rows) {
     }
     total_power += s.power;
   }
-  power = total_power;
+  eval.power = total_power;
   return MH_OK;
 }
 
@@ -623,19 +626,19 @@ mh_status Simulation::Engine::evaluate_subsystems(double t_eval, double* rows) {
 // tangent (the dependent coordinates' last check, M' and Q', derivatives).
 void Simulation::Engine::kinematics_at(const double* zq, const double* zdq) {
   const Eigen::Map<const Eigen::VectorXd> zm(zq, N), zdm(zdq, N);
-  const bool same_z = kinematics_valid && data.z == zm;
+  const bool same_z = eval.kinematics_valid && data.z == zm;
   if (same_z && data.zd == zdm) return;
-  kin_zd = zdm;
+  eval.kin_zd = zdm;
   if (same_z) {
     // New rates at the same z (a projection of zd, a rate column): the
     // positions and rotations stand.
-    forward_velocities(model, data, kin_zd);
+    forward_velocities(model, data, eval.kin_zd);
   } else {
-    kin_z = zm;
-    forward_kinematics(model, data, kin_z, kin_zd);
+    eval.kin_z = zm;
+    forward_kinematics(model, data, eval.kin_z, eval.kin_zd);
   }
-  kinematics_valid = true;
-  ++counters.kinematics_passes;
+  eval.kinematics_valid = true;
+  ++eval.counters.kinematics_passes;
 }
 
 mh_status Simulation::Engine::evaluate_mechanics(uint32_t flags, double t_eval, const double* zq,
@@ -643,15 +646,17 @@ mh_status Simulation::Engine::evaluate_mechanics(uint32_t flags, double t_eval, 
   kinematics_at(zq, zdq);
   // The iterate's rows only inside a residual call (rows_target set); any
   // other evaluation leaves them alone.
-  const bool iterate = (flags & MH_EVAL_SUBSYSTEMS) != 0 && rows_target != nullptr;
+  const bool iterate = (flags & MH_EVAL_SUBSYSTEMS) != 0 && eval.rows_target != nullptr;
   if ((flags & (MH_EVAL_DYNAMICS | MH_EVAL_SUBSYSTEMS)) != 0) {
     reset_applied_forces(model, data);
-    const mh_status st = evaluate_subsystems(t_eval, iterate ? rows_target : scratch_rows.data());
+    const mh_status st =
+        evaluate_subsystems(t_eval, iterate ? eval.rows_target : eval.scratch_rows.data());
     if (!status_ok(st)) return st;
     if (iterate) {
-      iterate_evaluated = true;
-      z_iterate = data.z;  // where the analytic coupling differentiates (subsystem_coupling.cpp)
-      zd_iterate = data.zd;
+      eval.iterate_evaluated = true;
+      eval.z_iterate =
+          data.z;  // where the analytic coupling differentiates (subsystem_coupling.cpp)
+      eval.zd_iterate = data.zd;
     }
   }
   if ((flags & MH_EVAL_DYNAMICS) != 0) mass_matrix_and_forces(model, data);
@@ -665,18 +670,18 @@ void Simulation::Engine::constraints_at_kinematics(bool rates) {
   // zd after its dependent coordinates converge) need only the velocity
   // terms, and a caller that reads positions only (MH_EVAL_POSITIONS_ONLY:
   // double-step's dependent solve, the accepted state's |Phi|) none.
-  if (!(constraints_valid && con_z == data.z)) {
-    evaluate_constraint_positions(model, data, constraints, phi, phi_z);
-    con_z = data.z;  // sized N after the first call: no allocation after it
-    constraints_valid = true;
-    constraint_rates_valid = false;
-    ++counters.constraint_position_passes;
+  if (!(cons.constraints_valid && cons.con_z == data.z)) {
+    evaluate_constraint_positions(model, data, cons.constraints, cons.phi, cons.phi_z);
+    cons.con_z = data.z;  // sized N after the first call: no allocation after it
+    cons.constraints_valid = true;
+    cons.constraint_rates_valid = false;
+    ++eval.counters.constraint_position_passes;
   }
-  if (!rates || (constraint_rates_valid && con_zd == data.zd)) return;
-  evaluate_constraint_velocity_terms(data, constraints, phi_dot_zd);
-  con_zd = data.zd;
-  constraint_rates_valid = true;
-  ++counters.constraint_rate_passes;
+  if (!rates || (cons.constraint_rates_valid && cons.con_zd == data.zd)) return;
+  evaluate_constraint_velocity_terms(data, cons.constraints, cons.phi_dot_zd);
+  cons.con_zd = data.zd;
+  cons.constraint_rates_valid = true;
+  ++eval.counters.constraint_rate_passes;
 }
 
 }  // namespace mh

@@ -17,8 +17,8 @@
 namespace mh {
 
 void Simulation::Engine::size_derivatives() {
-  dyn_ws = std::make_unique<DynamicsDerivativesWorkspace>(model);
-  con_ws = std::make_unique<ConstraintDerivativesWorkspace>(model);
+  derivs.dyn_ws = std::make_unique<DynamicsDerivativesWorkspace>(model);
+  derivs.con_ws = std::make_unique<ConstraintDerivativesWorkspace>(model);
   size_t terms = 0;
   for (auto& s : subsystems) {
     const size_t P = s.points.size();
@@ -29,17 +29,17 @@ void Simulation::Engine::size_derivatives() {
     s.v_pert.assign(3 * P, 0.0);
     s.f_base.assign(3 * P, 0.0);
   }
-  force_terms.assign(terms, PointForceTerm{});
-  for (Eigen::MatrixXd* M : {&K, &C, &dPhizT_v_dz}) M->setZero(N, N);
+  derivs.force_terms.assign(terms, PointForceTerm{});
+  for (Eigen::MatrixXd* M : {&derivs.K, &derivs.C, &derivs.dPhizT_v_dz}) M->setZero(N, N);
   // K and C are zeroed here and written by dynamics_derivatives alone, with
   // the same force terms every call: it need not zero them again (O(N^2)).
-  dyn_ws->zero_unrelated = false;
-  dA_dz.setZero(m, N);
-  dA_dzd.setZero(m, N);
-  saved_outputs.setZero(n_o);
-  rows_discard.setZero(n_s);
-  zdd_eval.setZero(N);
-  v_eval.setZero(m);
+  derivs.dyn_ws->zero_unrelated = false;
+  derivs.dA_dz.setZero(m, N);
+  derivs.dA_dzd.setZero(m, N);
+  derivs.saved_outputs.setZero(n_o);
+  derivs.rows_discard.setZero(n_s);
+  derivs.zdd_eval.setZero(N);
+  derivs.v_eval.setZero(m);
 }
 
 namespace {
@@ -86,16 +86,16 @@ mh_status differenced_point_forces(SubsystemInstance& s, mh_subsystem_eval ev) {
 mh_status Simulation::Engine::mechanics_derivatives(const mh_mech_derivatives_request& rq) {
   kinematics_at(rq.z, rq.zd);
   if ((rq.flags & MH_DERIV_DYNAMICS) != 0) {
-    ++counters.derivative_passes;
+    ++eval.counters.derivative_passes;
     // The subsystems at this motion, their states held: forces and their
     // derivatives. Outputs are restored after: they stay the iterate's.
-    saved_outputs = outputs;
-    const double saved_power = power;
+    derivs.saved_outputs = registry.outputs;
+    const double saved_power = eval.power;
     reset_applied_forces(model, data);
-    mh_status st = evaluate_subsystems(rq.t, rows_discard.data());
+    mh_status st = evaluate_subsystems(rq.t, derivs.rows_discard.data());
     if (!status_ok(st)) return st;
     size_t term = 0;
-    mh_subsystem_eval ev = subsystem_eval(rq.t, rows_discard.data());
+    mh_subsystem_eval ev = subsystem_eval(rq.t, derivs.rows_discard.data());
     for (auto& s : subsystems) {
       const size_t P = s.points.size();
       if (P == 0) continue;
@@ -114,7 +114,7 @@ mh_status Simulation::Engine::mechanics_derivatives(const mh_mech_derivatives_re
       // dependence of F_a on point b's motion.
       for (size_t a = 0; a < P; ++a) {
         for (size_t b = 0; b < P; ++b) {
-          PointForceTerm& ft = force_terms[term++];
+          PointForceTerm& ft = derivs.force_terms[term++];
           ft.point = s.points[a];
           ft.other = s.points[b];
           ft.F_W = a == b ? Eigen::Vector3d(s.f[3 * a], s.f[3 * a + 1], s.f[3 * a + 2])
@@ -138,18 +138,21 @@ mh_status Simulation::Engine::mechanics_derivatives(const mh_mech_derivatives_re
         }
       }
     }
-    outputs = saved_outputs;
-    power = saved_power;
-    zdd_eval = Eigen::Map<const Eigen::VectorXd>(rq.zdd, N);
-    dynamics_derivatives(model, data, zdd_eval, force_terms, *dyn_ws, K, C);
+    registry.outputs = derivs.saved_outputs;
+    eval.power = saved_power;
+    derivs.zdd_eval = Eigen::Map<const Eigen::VectorXd>(rq.zdd, N);
+    dynamics_derivatives(model, data, derivs.zdd_eval, derivs.force_terms, *derivs.dyn_ws, derivs.K,
+                         derivs.C);
   }
   if ((rq.flags & MH_DERIV_CONSTRAINT_FORCES) != 0 && m > 0) {
-    v_eval = Eigen::Map<const Eigen::VectorXd>(rq.v, m);
-    constraint_force_derivative(model, data, constraints, v_eval, *con_ws, dPhizT_v_dz);
+    derivs.v_eval = Eigen::Map<const Eigen::VectorXd>(rq.v, m);
+    constraint_force_derivative(model, data, cons.constraints, derivs.v_eval, *derivs.con_ws,
+                                derivs.dPhizT_v_dz);
   }
   if ((rq.flags & MH_DERIV_CONSTRAINT_ACCELERATIONS) != 0 && m > 0) {
-    zdd_eval = Eigen::Map<const Eigen::VectorXd>(rq.zdd, N);
-    constraint_acceleration_derivatives(model, data, constraints, zdd_eval, *con_ws, dA_dz, dA_dzd);
+    derivs.zdd_eval = Eigen::Map<const Eigen::VectorXd>(rq.zdd, N);
+    constraint_acceleration_derivatives(model, data, cons.constraints, derivs.zdd_eval,
+                                        *derivs.con_ws, derivs.dA_dz, derivs.dA_dzd);
   }
   return MH_OK;
 }

@@ -24,25 +24,26 @@ class StepProblem final : public NewtonProblem {
 
   void residual(Eigen::VectorXd& f) override {
     e_.check(e_.residual(t_eval_, e_.x, f), "residual evaluation");
-    e_.stats.residual_norms.push_back(f.lpNorm<Eigen::Infinity>());
+    e_.solver.stats.residual_norms.push_back(f.lpNorm<Eigen::Infinity>());
   }
-  bool needs_setup() override { return e_.reuse.needs_tangent(e_.map.coefficients); }
+  bool needs_setup() override { return e_.solver.reuse.needs_tangent(e_.map_ws.map.coefficients); }
   void setup() override {
     e_.check(e_.assemble_tangent(t_eval_), "tangent assembly");
-    if (!e_.linear_solver->factor(e_.values.data())) e_.fail_step(e_.linear_solver->error());
-    e_.reuse.factored(e_.map.coefficients);
-    ++e_.stats.tangents;
+    if (!e_.solver.linear_solver->factor(e_.tangent_ws.values.data()))
+      e_.fail_step(e_.solver.linear_solver->error());
+    e_.solver.reuse.factored(e_.map_ws.map.coefficients);
+    ++e_.solver.stats.tangents;
   }
   void solve(const Eigen::VectorXd& f, Eigen::VectorXd& du) override {
     du = -f;
-    e_.linear_solver->solve(du.data());
+    e_.solver.linear_solver->solve(du.data());
   }
   void add(const Eigen::VectorXd& du) override { e_.x += du; }
   void subtract(const Eigen::VectorXd& du) override { e_.x -= du; }
   double measure(const Eigen::VectorXd& du, int& worst_i) override {
     double worst = 0.0;
     for (int i = 0; i < e_.n; ++i) {
-      const double ratio = std::abs(du[i]) / e_.tol[i];
+      const double ratio = std::abs(du[i]) / e_.registry.tol[i];
       if (!(ratio <= worst)) {
         worst = ratio;
         worst_i = i;
@@ -53,10 +54,10 @@ class StepProblem final : public NewtonProblem {
   // Modified Newton: an increment of a kept factorization that grew is undone
   // and the next iteration factors anew.
   bool keep(double size) override {
-    ++e_.stats.iterations;
-    e_.stats.increment_norms.push_back(size);
-    e_.reuse.increment(size);
-    return !e_.reuse.diverging();
+    ++e_.solver.stats.iterations;
+    e_.solver.stats.increment_norms.push_back(size);
+    e_.solver.reuse.increment(size);
+    return !e_.solver.reuse.diverging();
   }
   bool accepted() override {
     if (e_.formulation.ops.iteration_done == nullptr) return false;
@@ -66,11 +67,12 @@ class StepProblem final : public NewtonProblem {
              "formulation iteration");
     return true;
   }
-  bool converged(double size) override { return e_.reuse.converged(size); }
+  bool converged(double size) override { return e_.solver.reuse.converged(size); }
   // Real-time mode: a late or over-long step is accepted as it stands.
   bool stop_early(int iteration) override {
-    return e_.real_time_cap > 0 && (iteration + 1 >= e_.real_time_cap ||
-                                    std::chrono::steady_clock::now() >= e_.step_deadline);
+    return e_.solver.real_time_cap > 0 &&
+           (iteration + 1 >= e_.solver.real_time_cap ||
+            std::chrono::steady_clock::now() >= e_.solver.step_deadline);
   }
 
  private:
@@ -81,21 +83,21 @@ class StepProblem final : public NewtonProblem {
 }  // namespace
 
 void Simulation::Engine::newton_solve(double t_eval, double t_next) {
-  reuse.begin_step();
+  solver.reuse.begin_step();
   StepProblem problem(*this, t_eval, t_next);
   // Real-time mode replaces the iteration limit by its cap, at which the step
   // is accepted rather than failed.
-  const int limit = real_time_cap > 0 ? real_time_cap : settings.max_iterations;
-  NewtonDamping damping{dx_trial, dx_correction};
+  const int limit = solver.real_time_cap > 0 ? solver.real_time_cap : settings.max_iterations;
+  NewtonDamping damping{solver.dx_trial, solver.dx_correction};
   const NewtonOutcome out =
-      newton_iterate(problem, limit, r, dx, settings.line_search ? &damping : nullptr);
-  stats.damped += out.damped;
+      newton_iterate(problem, limit, r, solver.dx, settings.line_search ? &damping : nullptr);
+  solver.stats.damped += out.damped;
   switch (out.end) {
     case NewtonOutcome::End::converged:
       return;
     case NewtonOutcome::End::stopped:
-      stats.converged = false;
-      stats.unconverged = std::max(stats.unconverged, out.size);
+      solver.stats.converged = false;
+      solver.stats.unconverged = std::max(solver.stats.unconverged, out.size);
       return;
     case NewtonOutcome::End::not_finite:
       fail_step("the residual is not finite in the row of " + unknown_name(out.row) +
@@ -120,12 +122,12 @@ void Simulation::Engine::newton_solve(double t_eval, double t_next) {
 // rates into a scratch row set, and names the first that writes a non-finite
 // value into `row` (only when a step has already failed: no cost otherwise).
 std::string Simulation::Engine::nonfinite_source(int row) {
-  mh_subsystem_eval ev = subsystem_eval(attempt_t, scratch_rows.data());
+  mh_subsystem_eval ev = subsystem_eval(accepted.attempt_t, eval.scratch_rows.data());
   for (auto& s : subsystems) {
-    scratch_rows.setZero();
+    eval.scratch_rows.setZero();
     point_at(ev, s);
     const mh_status st = normalized(s.api.ops.evaluate(s.api.self, &ev));
-    if (status_ok(st) && !std::isfinite(scratch_rows[row]))
+    if (status_ok(st) && !std::isfinite(eval.scratch_rows[row]))
       return "subsystem '" + s.spec->name + "' (" + s.spec->type + ")";
   }
   return "the subsystems' sum (no single instance wrote a non-finite value)";

@@ -10,7 +10,7 @@ namespace mh {
 void Simulation::Engine::energy_terms(double& stored_out, double& dissipation_out) {
   stored_out = 0.0;
   dissipation_out = 0.0;
-  mh_subsystem_eval ev = subsystem_eval(t, scratch_rows.data());
+  mh_subsystem_eval ev = subsystem_eval(accepted.t, eval.scratch_rows.data());
   for (auto& s : subsystems) {
     if (s.api.ops.energy == nullptr) continue;
     point_at(ev, s);
@@ -25,40 +25,40 @@ void Simulation::Engine::energy_terms(double& stored_out, double& dissipation_ou
 // At t = 0, with the kinematics at (z0, zd0) in data and the states solved.
 void Simulation::Engine::start_energy_balance() {
   reset_applied_forces(model, data);
-  check(evaluate_subsystems(t, scratch_rows.data()), "subsystem evaluation");
-  power_k = power;
+  check(evaluate_subsystems(accepted.t, eval.scratch_rows.data()), "subsystem evaluation");
+  energy.power_k = eval.power;
   if (formulation.ops.write_outputs != nullptr)
-    check(
-        formulation.ops.write_outputs(formulation.self, outputs.data(), static_cast<uint32_t>(n_o)),
-        "formulation write_outputs");
-  outputs_k = outputs;
-  energy_terms(stored0, dissipation_k);
-  stored = stored0;
-  dissipated = 0.0;
-  ke0 = mh::kinetic_energy(model, data);
-  pe0 = mh::potential_energy(model, data);
-  work = 0.0;
+    check(formulation.ops.write_outputs(formulation.self, registry.outputs.data(),
+                                        static_cast<uint32_t>(n_o)),
+          "formulation write_outputs");
+  registry.outputs_k = registry.outputs;
+  energy_terms(energy.stored0, energy.dissipation_k);
+  energy.stored = energy.stored0;
+  energy.dissipated = 0.0;
+  energy.ke0 = mh::kinetic_energy(model, data);
+  energy.pe0 = mh::potential_energy(model, data);
+  energy.work = 0.0;
   measure_mechanism();
 }
 
 // After a converged step of length h: `power` is the converged iterate's.
 void Simulation::Engine::update_energy_balance(double h) {
-  work += 0.5 * h * (power_k + power);  // W = integral of F . v, trapezoidal
-  power_k = power;
+  energy.work += 0.5 * h * (energy.power_k + eval.power);  // W = integral of F . v, trapezoidal
+  energy.power_k = eval.power;
   double dissipation = 0.0;
-  energy_terms(stored, dissipation);
-  dissipated += 0.5 * h * (dissipation_k + dissipation);
-  dissipation_k = dissipation;
+  energy_terms(energy.stored, dissipation);
+  energy.dissipated += 0.5 * h * (energy.dissipation_k + dissipation);
+  energy.dissipation_k = dissipation;
 }
 
 // KE, PE and |Phi| at the accepted state (kinematics in data).
 void Simulation::Engine::measure_mechanism() {
-  ke = mh::kinetic_energy(model, data);
-  pe = mh::potential_energy(model, data);
-  phi_norm = 0.0;
+  energy.ke = mh::kinetic_energy(model, data);
+  energy.pe = mh::potential_energy(model, data);
+  energy.phi_norm = 0.0;
   if (m > 0) {
     constraints_at_kinematics(false);  // usually the formulation's last evaluation, kept
-    phi_norm = phi.norm();
+    energy.phi_norm = cons.phi.norm();
   }
 }
 

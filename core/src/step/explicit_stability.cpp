@@ -123,7 +123,7 @@ std::vector<std::complex<double>> Simulation::Engine::rates_eigenvalues(double t
   };
   std::vector<Entry> entries;
   for (int i = 0; i < n; ++i) {
-    const uint8_t k = kinds[static_cast<size_t>(i)];
+    const uint8_t k = registry.kinds[static_cast<size_t>(i)];
     if (k == MH_UNKNOWN_ALGEBRAIC) continue;
     entries.push_back({i, false});
     if (k == MH_UNKNOWN_SECOND_ORDER) entries.push_back({i, true});
@@ -132,18 +132,18 @@ std::vector<std::complex<double>> Simulation::Engine::rates_eigenvalues(double t
   Eigen::MatrixXd jacobian(size, size);
   Eigen::VectorXd plus(size);
   const auto rates_at = [&](Eigen::Index j, double delta, Eigen::VectorXd& out) {
-    xs = x;
-    xds = xd;
-    xdds = xdd;
-    if (j >= 0) (entries[j].velocity ? xds : xs)[entries[j].i] += delta;
+    stages.xs = x;
+    stages.xds = xd;
+    stages.xdds = xdd;
+    if (j >= 0) (entries[j].velocity ? stages.xds : stages.xs)[entries[j].i] += delta;
     if (formulation.ops.begin_step != nullptr)
-      check(
-          formulation.ops.begin_step(formulation.self, t_eval, xs.data(), xds.data(), xdds.data()),
-          "formulation begin_step");
-    solve_rates(t_eval, h, xs, xds, xdds);
+      check(formulation.ops.begin_step(formulation.self, t_eval, stages.xs.data(),
+                                       stages.xds.data(), stages.xdds.data()),
+            "formulation begin_step");
+    solve_rates(t_eval, h, stages.xs, stages.xds, stages.xdds);
     for (Eigen::Index row = 0; row < size; ++row) {
       const Entry& e = entries[row];
-      out[row] = e.velocity ? xdds[e.i] : xds[e.i];
+      out[row] = e.velocity ? stages.xdds[e.i] : stages.xds[e.i];
     }
   };
   Eigen::VectorXd minus(size);
@@ -155,7 +155,7 @@ std::vector<std::complex<double>> Simulation::Engine::rates_eigenvalues(double t
     // their round-off (a velocity at rest with a tolerance of 1e-10 m would
     // otherwise be stepped by 1e-12 m/s); central differences keep the
     // linearisation's error second order in them.
-    const double step_x = 1e-6 * std::max(std::abs(x[e.i]), 1e4 * tol[e.i]);
+    const double step_x = 1e-6 * std::max(std::abs(x[e.i]), 1e4 * registry.tol[e.i]);
     const double delta = e.velocity ? std::max(1e-6 * std::abs(xd[e.i]), step_x / h) : step_x;
     rates_at(j, delta, plus);
     rates_at(j, -delta, minus);
@@ -163,80 +163,80 @@ std::vector<std::complex<double>> Simulation::Engine::rates_eigenvalues(double t
   }
   std::vector<std::complex<double>> out;
   if (size == 0) return out;
-  const Eigen::EigenSolver<Eigen::MatrixXd> solver(jacobian, false);
-  if (solver.info() != Eigen::Success)
+  const Eigen::EigenSolver<Eigen::MatrixXd> eigen(jacobian, false);
+  if (eigen.info() != Eigen::Success)
     fail("the stability check of the explicit integrator '" + integrator_name +
          "' could not find the eigenvalues of its rates' Jacobian");
-  for (Eigen::Index k = 0; k < size; ++k) out.push_back(solver.eigenvalues()[k]);
+  for (Eigen::Index k = 0; k < size; ++k) out.push_back(eigen.eigenvalues()[k]);
   return out;
 }
 
 void Simulation::Engine::check_explicit_stability(double h) {
-  stability_due = false;
-  stability_next_step = step + kStabilityInterval;
-  if (settings.explicit_stability == ExplicitStabilityPolicy::off || !amplification) return;
+  stages.stability_due = false;
+  stages.stability_next_step = accepted.step + stages.kStabilityInterval;
+  if (settings.explicit_stability == ExplicitStabilityPolicy::off || !stages.amplification) return;
   const double cpu0 = cpu_now();
   // The check only looks: its rate solves leave the step's statistics and
   // the rates' kept Jacobian as they were (a fresh Jacobian every check
   // would change how the step's Newton converges, and so its results).
-  const StepStats kept = stats;
-  const Eigen::MatrixXd kept_jacobian = rates_jacobian;
-  const Eigen::PartialPivLU<Eigen::MatrixXd> kept_lu = rates_lu;
-  const bool kept_valid = rates_jacobian_valid;
+  const StepStats kept = solver.stats;
+  const Eigen::MatrixXd kept_jacobian = stages.rates_jacobian;
+  const Eigen::PartialPivLU<Eigen::MatrixXd> kept_lu = stages.rates_lu;
+  const bool kept_valid = stages.rates_jacobian_valid;
   std::vector<std::complex<double>> eigenvalues;
   bool linearised = true;
   try {
-    eigenvalues = rates_eigenvalues(t, h);
+    eigenvalues = rates_eigenvalues(accepted.t, h);
   } catch (const SimulationError&) {
     // A rate solve at a perturbed state failed (Newton on the rates near a
     // throttle's zero pressure drop): this check is skipped, the step goes
     // on as it would without it, and the next check is due as usual.
     linearised = false;
   }
-  stats = kept;
-  rates_jacobian = kept_jacobian;
-  rates_lu = kept_lu;
-  rates_jacobian_valid = kept_valid;
+  solver.stats = kept;
+  stages.rates_jacobian = kept_jacobian;
+  stages.rates_lu = kept_lu;
+  stages.rates_jacobian_valid = kept_valid;
   last_plugin_error.clear();
   if (!linearised) {
-    ++stability.skipped;
-    stability.cpu_seconds += cpu_now() - cpu0;
+    ++stages.stability.skipped;
+    stages.stability.cpu_seconds += cpu_now() - cpu0;
     return;
   }
   double worst = 0.0;
   std::complex<double> worst_lambda;
   try {
     for (const auto& l : eigenvalues) {
-      const double e = amplification->excess(l, h);
+      const double e = stages.amplification->excess(l, h);
       if (!(e <= worst)) {
         worst = e;
         worst_lambda = l;
       }
     }
-    const double stable_dt = amplification->largest_stable_step(eigenvalues, h);
-    stability.stable_dt = std::min(stability.stable_dt, stable_dt);
+    const double stable_dt = stages.amplification->largest_stable_step(eigenvalues, h);
+    stages.stability.stable_dt = std::min(stages.stability.stable_dt, stable_dt);
   } catch (const std::runtime_error& err) {
     fail(std::string(err.what()) + " (integrator '" + integrator_name + "')");
   }
-  ++stability.checks;
+  ++stages.stability.checks;
   const bool unstable = worst > 1.0 + kAmplificationTolerance;
-  if (stability.checks == 1 || worst > stability_worst_excess) {
-    stability_worst_excess = worst;
-    stability.t = t;
-    stability.step = step + 1;
-    stability.h = h;
-    stability.eigenvalue = worst_lambda;
-    stability.amplification = std::abs(amplification->factor(worst_lambda, h));
+  if (stages.stability.checks == 1 || worst > stages.stability_worst_excess) {
+    stages.stability_worst_excess = worst;
+    stages.stability.t = accepted.t;
+    stages.stability.step = accepted.step + 1;
+    stages.stability.h = h;
+    stages.stability.eigenvalue = worst_lambda;
+    stages.stability.amplification = std::abs(stages.amplification->factor(worst_lambda, h));
   }
-  stability.unstable = stability.unstable || unstable;
-  stability.cpu_seconds += cpu_now() - cpu0;
+  stages.stability.unstable = stages.stability.unstable || unstable;
+  stages.stability.cpu_seconds += cpu_now() - cpu0;
   if (unstable && settings.explicit_stability == ExplicitStabilityPolicy::error)
     fail(  // the worst check is this one: the first unstable one stops the run
         "the explicit integrator '" + integrator_name + "' is unstable at h = " + short_number(h) +
         " s: the mode lambda = " + short_number(worst_lambda.real()) +
         (worst_lambda.imag() < 0 ? " - " : " + ") + short_number(std::abs(worst_lambda.imag())) +
-        "i 1/s has |R(h lambda)| = " + short_number(stability.amplification) +
-        " > 1; stable below h ~ " + short_number(stability.stable_dt) +
+        "i 1/s has |R(h lambda)| = " + short_number(stages.stability.amplification) +
+        " > 1; stable below h ~ " + short_number(stages.stability.stable_dt) +
         " s (solver.explicit_stability: error)");
 }
 

@@ -31,24 +31,25 @@ constexpr double kRateRelative = 1e-10;
 
 void Simulation::Engine::size_explicit() {
   if (!explicit_method) return;
-  for (Eigen::VectorXd* v : {&xs, &xds, &xdds, &r_rates, &r_rates_pert, &rates_step, &rate_scale})
+  for (Eigen::VectorXd* v : {&stages.xs, &stages.xds, &stages.xdds, &stages.r_rates,
+                             &stages.r_rates_pert, &stages.rates_step, &stages.rate_scale})
     v->setZero(n);
-  rates_jacobian.setZero(n, n);
-  rates_lu = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
+  stages.rates_jacobian.setZero(n, n);
+  stages.rates_lu = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
 }
 
 mh_status Simulation::Engine::rates_residual(double t_eval, const Eigen::VectorXd& xq,
                                              const Eigen::VectorXd& xdq,
                                              const Eigen::VectorXd& xddq, Eigen::VectorXd& rq) {
-  y = xq.tail(n_s);
-  ydot = xdq.tail(n_s);
-  ++counters.residual_evaluations;
-  rows_target = rq.data() + n_m;
-  iterate_evaluated = false;
+  states.y = xq.tail(n_s);
+  states.ydot = xdq.tail(n_s);
+  ++eval.counters.residual_evaluations;
+  eval.rows_target = rq.data() + n_m;
+  eval.iterate_evaluated = false;
   const mh_status st = normalized(formulation.ops.residual(formulation.self, t_eval, xq.data(),
                                                            xdq.data(), xddq.data(), rq.data()));
-  rows_target = nullptr;
-  if (status_ok(st) && !iterate_evaluated) {
+  eval.rows_target = nullptr;
+  if (status_ok(st) && !eval.iterate_evaluated) {
     last_plugin_error = "formulation '" + formulation_name +
                         "' broke the ABI contract: its residual did not call "
                         "evaluate_mechanics with MH_EVAL_SUBSYSTEMS";
@@ -70,27 +71,27 @@ class StageRatesProblem final : public NewtonProblem {
 
   void residual(Eigen::VectorXd& f) override {
     e_.check(e_.rates_residual(t_eval_, xq_, xdq_, xddq_, f), "residual evaluation");
-    if (evaluated_) e_.stats.residual_norms.push_back(f.lpNorm<Eigen::Infinity>());
+    if (evaluated_) e_.solver.stats.residual_norms.push_back(f.lpNorm<Eigen::Infinity>());
     evaluated_ = true;
   }
-  bool needs_setup() override { return !e_.rates_jacobian_valid; }
+  bool needs_setup() override { return !e_.stages.rates_jacobian_valid; }
   void setup() override {
     for (int j = 0; j < e_.n; ++j) {
       double& u = unknown(j);
       const double saved = u;
-      const double d = 1.5e-8 * std::max(std::abs(u), e_.rate_scale[j] * 1e3);
+      const double d = 1.5e-8 * std::max(std::abs(u), e_.stages.rate_scale[j] * 1e3);
       u = saved + d;
-      e_.check(e_.rates_residual(t_eval_, xq_, xdq_, xddq_, e_.r_rates_pert),
+      e_.check(e_.rates_residual(t_eval_, xq_, xdq_, xddq_, e_.stages.r_rates_pert),
                "residual evaluation");
       u = saved;
-      e_.rates_jacobian.col(j) = (e_.r_rates_pert - e_.r_rates) / d;
+      e_.stages.rates_jacobian.col(j) = (e_.stages.r_rates_pert - e_.stages.r_rates) / d;
     }
-    e_.rates_lu.compute(e_.rates_jacobian);
-    e_.rates_jacobian_valid = true;
-    ++e_.stats.tangents;
+    e_.stages.rates_lu.compute(e_.stages.rates_jacobian);
+    e_.stages.rates_jacobian_valid = true;
+    ++e_.solver.stats.tangents;
   }
   void solve(const Eigen::VectorXd& f, Eigen::VectorXd& du) override {
-    du.noalias() = e_.rates_lu.solve(f);
+    du.noalias() = e_.stages.rates_lu.solve(f);
     du = -du;
   }
   void add(const Eigen::VectorXd& du) override {
@@ -102,7 +103,7 @@ class StageRatesProblem final : public NewtonProblem {
   double measure(const Eigen::VectorXd& du, int& worst_i) override {
     double worst = 0.0;
     for (int i = 0; i < e_.n; ++i) {
-      const double ratio = std::abs(du[i]) / (kRateTolerance * e_.rate_scale[i] +
+      const double ratio = std::abs(du[i]) / (kRateTolerance * e_.stages.rate_scale[i] +
                                               kRateRelative * std::abs(unknown(i)));
       if (!(ratio <= worst)) {
         worst = ratio;
@@ -112,14 +113,14 @@ class StageRatesProblem final : public NewtonProblem {
     return worst;
   }
   bool keep(double size) override {
-    ++e_.stats.iterations;
-    e_.stats.increment_norms.push_back(size);
+    ++e_.solver.stats.iterations;
+    e_.solver.stats.increment_norms.push_back(size);
     return true;
   }
   // A kept Jacobian that no longer halves the increment is renewed.
   bool converged(double size) override {
     if (size <= 1.0) return true;
-    if (!(size <= 0.5 * last_)) e_.rates_jacobian_valid = false;
+    if (!(size <= 0.5 * last_)) e_.stages.rates_jacobian_valid = false;
     last_ = size;
     return false;
   }
@@ -127,7 +128,7 @@ class StageRatesProblem final : public NewtonProblem {
  private:
   // The unknown of row i: xdd, xd or x by the kind of unknown i.
   double& unknown(int i) {
-    switch (e_.kinds[static_cast<size_t>(i)]) {
+    switch (e_.registry.kinds[static_cast<size_t>(i)]) {
       case MH_UNKNOWN_SECOND_ORDER:
         return xddq_[i];
       case MH_UNKNOWN_FIRST_ORDER:
@@ -149,15 +150,16 @@ class StageRatesProblem final : public NewtonProblem {
 void Simulation::Engine::solve_rates(double t_eval, double h, Eigen::VectorXd& xq,
                                      Eigen::VectorXd& xdq, Eigen::VectorXd& xddq) {
   for (int i = 0; i < n; ++i) {
-    const uint8_t k = kinds[static_cast<size_t>(i)];
-    rate_scale[i] = k == MH_UNKNOWN_SECOND_ORDER  ? tol[i] / (h * h)
-                    : k == MH_UNKNOWN_FIRST_ORDER ? tol[i] / h
-                                                  : tol[i];
+    const uint8_t k = registry.kinds[static_cast<size_t>(i)];
+    stages.rate_scale[i] = k == MH_UNKNOWN_SECOND_ORDER  ? registry.tol[i] / (h * h)
+                           : k == MH_UNKNOWN_FIRST_ORDER ? registry.tol[i] / h
+                                                         : registry.tol[i];
     if (k != MH_UNKNOWN_SECOND_ORDER) xddq[i] = 0.0;
     if (k == MH_UNKNOWN_ALGEBRAIC) xdq[i] = 0.0;
   }
   StageRatesProblem problem(*this, t_eval, xq, xdq, xddq);
-  const NewtonOutcome out = newton_iterate(problem, settings.max_iterations, r_rates, rates_step);
+  const NewtonOutcome out =
+      newton_iterate(problem, settings.max_iterations, stages.r_rates, stages.rates_step);
   switch (out.end) {
     case NewtonOutcome::End::converged:
     case NewtonOutcome::End::stopped:
@@ -182,38 +184,41 @@ void Simulation::Engine::explicit_attempt(double t_eval, double h) {
   // The formulations' projections (Eqs. 20-21) weigh velocity against
   // position corrections by the map's coefficients; an explicit step hands
   // them the trapezoidal rule's for its h.
-  mh_step_coefficients& c = map.coefficients;
+  mh_step_coefficients& c = map_ws.map.coefficients;
   c.struct_size = sizeof(c);
   c.h = h;
   c.dxd_dx_second = 2.0 / h;
   c.dxdd_dx_second = 4.0 / (h * h);
   c.dxd_dx_first = 2.0 / h;
-  if (stability_due || step >= stability_next_step) check_explicit_stability(h);
-  const uint32_t stages = integrator.ops.num_stages;
-  for (uint32_t s = 0; s < stages; ++s) {
-    xs = x;  // guesses: the accepted values
-    xds = xd;
-    xdds = xdd;
-    double t_stage = t;
+  if (stages.stability_due || accepted.step >= stages.stability_next_step)
+    check_explicit_stability(h);
+  const uint32_t num_stages = integrator.ops.num_stages;
+  for (uint32_t s = 0; s < num_stages; ++s) {
+    stages.xs = x;  // guesses: the accepted values
+    stages.xds = xd;
+    stages.xdds = xdd;
+    double t_stage = accepted.t;
     // The integrator's status, named only when it failed (Engine::check):
     // no string is built on the step's path.
-    check(integrator.ops.stage_state(integrator.self, s, h, &t_stage, xs.data(), xds.data()),
+    check(integrator.ops.stage_state(integrator.self, s, h, &t_stage, stages.xs.data(),
+                                     stages.xds.data()),
           "integrator", integrator_name, "stage_state");
-    if (!(t_stage >= t && t_stage <= t + h))
+    if (!(t_stage >= accepted.t && t_stage <= accepted.t + h))
       fail("integrator '" + integrator_name + "' put stage " + std::to_string(s) +
-           " at t = " + short_number(t_stage) + " s, outside the step [" + short_number(t) + ", " +
-           short_number(t + h) + "] s");
+           " at t = " + short_number(t_stage) + " s, outside the step [" +
+           short_number(accepted.t) + ", " + short_number(accepted.t + h) + "] s");
     for (int i = 0; i < n; ++i)
-      if (!std::isfinite(xs[i]) || !std::isfinite(xds[i]))
+      if (!std::isfinite(stages.xs[i]) || !std::isfinite(stages.xds[i]))
         fail("the explicit integrator '" + integrator_name + "' diverged at stage " +
              std::to_string(s) + ": " + unknown_name(i) + " is not finite (h = " + short_number(h) +
              " s; a smaller step may be within its stability bound)");
     if (formulation.ops.begin_step != nullptr)
-      check(
-          formulation.ops.begin_step(formulation.self, t_stage, xs.data(), xds.data(), xdds.data()),
-          "formulation begin_step");
-    solve_rates(std::min(t_stage, t_eval), h, xs, xds, xdds);
-    check(integrator.ops.stage_rates(integrator.self, s, xs.data(), xds.data(), xdds.data()),
+      check(formulation.ops.begin_step(formulation.self, t_stage, stages.xs.data(),
+                                       stages.xds.data(), stages.xdds.data()),
+            "formulation begin_step");
+    solve_rates(std::min(t_stage, t_eval), h, stages.xs, stages.xds, stages.xdds);
+    check(integrator.ops.stage_rates(integrator.self, s, stages.xs.data(), stages.xds.data(),
+                                     stages.xdds.data()),
           "integrator", integrator_name, "stage_rates");
   }
   check(integrator.ops.finish_step(integrator.self, h, x.data(), xd.data()), "integrator",

@@ -32,10 +32,10 @@ static void rate_jacobian(Simulation::Engine& e, double t_eval, Eigen::VectorXd&
   for (int c = 0; c < e.n_s; ++c) {
     // Large enough to show against a row's other terms (a volume's C pdot
     // beside a flow 1e9 times larger): scaled by the state itself.
-    const double h = 1e-6 * std::max({1.0, std::abs(e.ydot[c]), std::abs(e.y[c])});
-    e.ydot[c] += h;
+    const double h = 1e-6 * std::max({1.0, std::abs(e.states.ydot[c]), std::abs(e.states.y[c])});
+    e.states.ydot[c] += h;
     rows_at(e, t_eval, f1);
-    e.ydot[c] -= h;
+    e.states.ydot[c] -= h;
     J.col(c) = (f1 - f0) / h;
   }
   for (int r = 0; r < e.n_s; ++r) {
@@ -49,38 +49,38 @@ static void rate_jacobian(Simulation::Engine& e, double t_eval, Eigen::VectorXd&
 // source's flow): the integrator gives them no rate. Structural, so decided
 // once, at the initial configuration.
 void Simulation::Engine::classify_states() {
-  algebraic.assign(static_cast<size_t>(n_s), 0);
-  rate_states.clear();
-  rate_rows.clear();
+  states.algebraic.assign(static_cast<size_t>(n_s), 0);
+  states.rate_states.clear();
+  states.rate_rows.clear();
   if (n_s == 0) return;
-  forward_kinematics(model, data, z0, zd0);
-  ydot.setZero(n_s);
-  rates_ws.f0.setZero(n_s);
-  rates_ws.f1.setZero(n_s);
-  rates_ws.J.setZero(n_s, n_s);
-  rate_jacobian(*this, 0.0, rates_ws.f0, rates_ws.f1, rates_ws.J);
-  const Eigen::MatrixXd& J = rates_ws.J;
+  forward_kinematics(model, data, cons.z0, cons.zd0);
+  states.ydot.setZero(n_s);
+  states.rates_ws.f0.setZero(n_s);
+  states.rates_ws.f1.setZero(n_s);
+  states.rates_ws.J.setZero(n_s, n_s);
+  rate_jacobian(*this, 0.0, states.rates_ws.f0, states.rates_ws.f1, states.rates_ws.J);
+  const Eigen::MatrixXd& J = states.rates_ws.J;
   for (int c = 0; c < n_s; ++c) {
     if (J.col(c).lpNorm<Eigen::Infinity>() == 0.0)
-      algebraic[static_cast<size_t>(c)] = 1;
+      states.algebraic[static_cast<size_t>(c)] = 1;
     else
-      rate_states.push_back(c);
+      states.rate_states.push_back(c);
   }
   for (int r0 = 0; r0 < n_s; ++r0)
-    if (J.row(r0).lpNorm<Eigen::Infinity>() > 0.0) rate_rows.push_back(r0);
-  if (rate_states.size() != rate_rows.size())
-    fail("the state rates cannot be found: " + std::to_string(rate_rows.size()) +
-         " subsystem rows involve rates, but " + std::to_string(rate_states.size()) +
+    if (J.row(r0).lpNorm<Eigen::Infinity>() > 0.0) states.rate_rows.push_back(r0);
+  if (states.rate_states.size() != states.rate_rows.size())
+    fail("the state rates cannot be found: " + std::to_string(states.rate_rows.size()) +
+         " subsystem rows involve rates, but " + std::to_string(states.rate_states.size()) +
          " states have rates that rows involve");
   // solve_initial_rates' work, sized once: it runs at time events too,
   // inside the time step.
-  const Eigen::Index k = static_cast<Eigen::Index>(rate_states.size());
-  rates_ws.Jr.setZero(k, k);
-  rates_ws.fr.setZero(k);
-  rates_ws.dr.setZero(k);
-  rates_ws.du.setZero(k);
-  rates_ws.step.setZero(n_s);
-  rates_ws.lu = Eigen::FullPivLU<Eigen::MatrixXd>(k, k);
+  const Eigen::Index k = static_cast<Eigen::Index>(states.rate_states.size());
+  states.rates_ws.Jr.setZero(k, k);
+  states.rates_ws.fr.setZero(k);
+  states.rates_ws.dr.setZero(k);
+  states.rates_ws.du.setZero(k);
+  states.rates_ws.step.setZero(n_s);
+  states.rates_ws.lu = Eigen::FullPivLU<Eigen::MatrixXd>(k, k);
 }
 
 namespace {
@@ -93,20 +93,21 @@ namespace {
 // classify_states() sized: no allocation at a time event.
 class InitialRatesProblem final : public NewtonProblem {
  public:
-  InitialRatesProblem(Simulation::Engine& e, double t_eval) : e_(e), w_(e.rates_ws), t_(t_eval) {}
+  InitialRatesProblem(Simulation::Engine& e, double t_eval)
+      : e_(e), w_(e.states.rates_ws), t_(t_eval) {}
 
   void residual(Eigen::VectorXd& f) override {
     rows_at(e_, t_, w_.f0);
-    for (size_t a = 0; a < e_.rate_rows.size(); ++a)
-      f[static_cast<Eigen::Index>(a)] = w_.f0[e_.rate_rows[a]];
+    for (size_t a = 0; a < e_.states.rate_rows.size(); ++a)
+      f[static_cast<Eigen::Index>(a)] = w_.f0[e_.states.rate_rows[a]];
   }
   void setup() override {
     rate_jacobian(e_, t_, w_.f0, w_.f1, w_.J);
-    const size_t k = e_.rate_states.size();
+    const size_t k = e_.states.rate_states.size();
     for (size_t a = 0; a < k; ++a)
       for (size_t b = 0; b < k; ++b)
         w_.Jr(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) =
-            w_.J(e_.rate_rows[a], e_.rate_states[b]);
+            w_.J(e_.states.rate_rows[a], e_.states.rate_states[b]);
     w_.lu.compute(w_.Jr);
     if (!w_.lu.isInvertible())
       e_.fail(
@@ -126,10 +127,10 @@ class InitialRatesProblem final : public NewtonProblem {
   void subtract(const Eigen::VectorXd& du) override { move(du, -1.0); }
   // Converged when the step is round-off beside the rates.
   double measure(const Eigen::VectorXd& du, int& worst) override {
-    const double norm = w_.step.norm(), bound = 1e-12 * (1.0 + e_.ydot.norm());
+    const double norm = w_.step.norm(), bound = 1e-12 * (1.0 + e_.states.ydot.norm());
     done_ = norm <= bound;
     du.cwiseAbs().maxCoeff(&worst);
-    worst = e_.rate_states[static_cast<size_t>(worst)];
+    worst = e_.states.rate_states[static_cast<size_t>(worst)];
     return norm / bound;
   }
   bool converged(double /*size*/) override { return done_; }
@@ -137,9 +138,9 @@ class InitialRatesProblem final : public NewtonProblem {
  private:
   void move(const Eigen::VectorXd& du, double sign) {
     w_.step.setZero();
-    for (size_t b = 0; b < e_.rate_states.size(); ++b)
-      w_.step[e_.rate_states[b]] = sign * du[static_cast<Eigen::Index>(b)];
-    e_.ydot += w_.step;
+    for (size_t b = 0; b < e_.states.rate_states.size(); ++b)
+      w_.step[e_.states.rate_states[b]] = sign * du[static_cast<Eigen::Index>(b)];
+    e_.states.ydot += w_.step;
   }
 
   Simulation::Engine& e_;
@@ -152,14 +153,16 @@ class InitialRatesProblem final : public NewtonProblem {
 
 void Simulation::Engine::solve_initial_rates(double t_eval) {
   if (n_s == 0) return;
-  if (rate_states.empty()) return;  // every state is algebraic: no rate to find (and no 0 x 0 LU)
+  if (states.rate_states.empty())
+    return;  // every state is algebraic: no rate to find (and no 0 x 0 LU)
   InitialRatesProblem problem(*this, t_eval);
-  const NewtonOutcome out = newton_iterate(problem, 20, rates_ws.fr, rates_ws.du);
+  const NewtonOutcome out = newton_iterate(problem, 20, states.rates_ws.fr, states.rates_ws.du);
   // Twenty iterations that leave more than round-off keep the best rates
   // found: the step's own Newton starts from them.
   if (out.end == NewtonOutcome::End::not_finite)
     fail("the state rates cannot be found: the row of state '" +
-         state_info[static_cast<size_t>(rate_rows[static_cast<size_t>(out.row)])].name +
+         states.state_info[static_cast<size_t>(states.rate_rows[static_cast<size_t>(out.row)])]
+             .name +
          "' is not finite");
 }
 
@@ -177,12 +180,12 @@ void Simulation::Engine::solve_algebraic_and_equilibrium() {
     const std::string& name = file->equilibrium_free[i];
     int found = -1;
     for (int k = 0; k < n_s; ++k)
-      if (state_info[static_cast<size_t>(k)].name == name ||
-          state_info[static_cast<size_t>(k)].qualified == name)
+      if (states.state_info[static_cast<size_t>(k)].name == name ||
+          states.state_info[static_cast<size_t>(k)].qualified == name)
         found = k;
     if (found < 0) {
       std::string known;
-      for (const VariableInfo& v : state_info) {
+      for (const VariableInfo& v : states.state_info) {
         const std::string& column = v.name;
         const std::string& q = v.qualified;
         known += (known.empty() ? "" : ", ") +
@@ -196,13 +199,13 @@ void Simulation::Engine::solve_algebraic_and_equilibrium() {
     if (is_unknown[static_cast<size_t>(found)] == 0) unknowns.push_back(found);
     is_unknown[static_cast<size_t>(found)] = 1;
   }
-  if (equilibrium && zd0.lpNorm<Eigen::Infinity>() > 0.0)
+  if (equilibrium && cons.zd0.lpNorm<Eigen::Infinity>() > 0.0)
     fail("equilibrium: the mechanism must start at rest (its initial rates are not zero)");
 
   // Algebraic states and rows, at the rates the state starts with (zero).
-  forward_kinematics(model, data, z0, zd0);
-  rate_jacobian(*this, t0, rates_ws.f0, rates_ws.f1, rates_ws.J);
-  const Eigen::MatrixXd Jd = rates_ws.J;
+  forward_kinematics(model, data, cons.z0, cons.zd0);
+  rate_jacobian(*this, t0, states.rates_ws.f0, states.rates_ws.f1, states.rates_ws.J);
+  const Eigen::MatrixXd Jd = states.rates_ws.J;
   std::vector<int> rows;
   for (int c = 0; c < n_s; ++c)
     if (Jd.col(c).lpNorm<Eigen::Infinity>() == 0.0 && is_unknown[static_cast<size_t>(c)] == 0) {
@@ -217,9 +220,9 @@ void Simulation::Engine::solve_algebraic_and_equilibrium() {
   Eigen::MatrixXd R;
   if (equilibrium) {
     if (m > 0) {
-      evaluate_constraints(model, data, constraints, phi, phi_z, phi_dot_zd);
-      constraints_valid = false;  // at kinematics of its own, not kept
-      R = Eigen::FullPivLU<Eigen::MatrixXd>(phi_z).kernel();
+      evaluate_constraints(model, data, cons.constraints, cons.phi, cons.phi_z, cons.phi_dot_zd);
+      cons.constraints_valid = false;  // at kinematics of its own, not kept
+      R = Eigen::FullPivLU<Eigen::MatrixXd>(cons.phi_z).kernel();
     } else {
       R = Eigen::MatrixXd::Identity(N, N);
     }
@@ -230,17 +233,18 @@ void Simulation::Engine::solve_algebraic_and_equilibrium() {
   Eigen::VectorXd f(n_s);
   const auto equations = [&](Eigen::VectorXd& out) {
     if (equilibrium) {
-      const mh_status st = evaluate_mechanics(MH_EVAL_DYNAMICS, t0, z0.data(), zero_rates.data());
+      const mh_status st =
+          evaluate_mechanics(MH_EVAL_DYNAMICS, t0, cons.z0.data(), zero_rates.data());
       check(st, "equilibrium: subsystem evaluation");
-      std::copy(scratch_rows.data(), scratch_rows.data() + n_s, f.data());
+      std::copy(eval.scratch_rows.data(), eval.scratch_rows.data() + n_s, f.data());
       out.tail(R.cols()) = R.transpose() * data.Q;
     } else {
       rows_at(*this, t0, f);
     }
     for (size_t i = 0; i < rows.size(); ++i) out[static_cast<Eigen::Index>(i)] = f[rows[i]];
   };
-  const Eigen::VectorXd saved_ydot = ydot;
-  if (equilibrium) ydot.setZero();
+  const Eigen::VectorXd saved_ydot = states.ydot;
+  if (equilibrium) states.ydot.setZero();
   // Gauss-Newton: the Jacobian differenced, rows in units of the unknowns'
   // tolerances, the least-squares (minimum-norm) increment.
   struct AlgebraicProblem final : NewtonProblem {
@@ -259,8 +263,8 @@ void Simulation::Engine::solve_algebraic_and_equilibrium() {
           F1(n_rows),
           scale(n_rows),
           J(n_rows, static_cast<Eigen::Index>(u.size())) {}
-    double& unknown(size_t j) { return e.y[unknowns[j]]; }
-    double tolerance(size_t j) const { return e.state_tol[unknowns[j]]; }
+    double& unknown(size_t j) { return e.states.y[unknowns[j]]; }
+    double tolerance(size_t j) const { return e.states.state_tol[unknowns[j]]; }
     void residual(Eigen::VectorXd& f) override {
       equations_of(f);
       F = &f;
@@ -319,7 +323,7 @@ void Simulation::Engine::solve_algebraic_and_equilibrium() {
     const std::string what =
         i < static_cast<int>(rows.size())
             ? "the row of state '" +
-                  state_info[static_cast<size_t>(rows[static_cast<size_t>(i)])].name +
+                  states.state_info[static_cast<size_t>(rows[static_cast<size_t>(i)])].name +
                   "' stays at " + short_number(F[i])
             : "the mechanism is not held: its static balance stays at " + short_number(F[i]) +
                   " N or N m";
@@ -328,9 +332,9 @@ void Simulation::Engine::solve_algebraic_and_equilibrium() {
          ": " + what);
   }
   if (equilibrium)
-    ydot.setZero();
+    states.ydot.setZero();
   else
-    ydot = saved_ydot;
+    states.ydot = saved_ydot;
 }
 
 }  // namespace mh

@@ -7,26 +7,26 @@
 namespace mh {
 
 void Simulation::Engine::begin_step(double t_next, double h) {
-  map.struct_size = sizeof(map);
-  map.coefficients.struct_size = sizeof(map.coefficients);
-  map.x_predicted = x_pred.data();
-  map.xd_offset = xd_off.data();
-  map.xdd_offset = xdd_off.data();
-  check(integrator.ops.begin_step(integrator.self, t_next, h, &map), "integrator", integrator_name,
-        "begin_step");
+  map_ws.map.struct_size = sizeof(map_ws.map);
+  map_ws.map.coefficients.struct_size = sizeof(map_ws.map.coefficients);
+  map_ws.map.x_predicted = map_ws.x_pred.data();
+  map_ws.map.xd_offset = map_ws.xd_off.data();
+  map_ws.map.xdd_offset = map_ws.xdd_off.data();
+  check(integrator.ops.begin_step(integrator.self, t_next, h, &map_ws.map), "integrator",
+        integrator_name, "begin_step");
 }
 
 void Simulation::Engine::rates_of(const Eigen::VectorXd& xq, Eigen::VectorXd& xdq,
                                   Eigen::VectorXd& xddq) const {
-  const mh_step_coefficients& c = map.coefficients;
+  const mh_step_coefficients& c = map_ws.map.coefficients;
   for (int i = 0; i < n; ++i) {
-    switch (kinds[static_cast<size_t>(i)]) {
+    switch (registry.kinds[static_cast<size_t>(i)]) {
       case MH_UNKNOWN_SECOND_ORDER:
-        xdq[i] = c.dxd_dx_second * xq[i] + xd_off[i];     // Eq. (33), zd
-        xddq[i] = c.dxdd_dx_second * xq[i] + xdd_off[i];  // Eq. (33), zdd
+        xdq[i] = c.dxd_dx_second * xq[i] + map_ws.xd_off[i];     // Eq. (33), zd
+        xddq[i] = c.dxdd_dx_second * xq[i] + map_ws.xdd_off[i];  // Eq. (33), zdd
         break;
       case MH_UNKNOWN_FIRST_ORDER:
-        xdq[i] = c.dxd_dx_first * xq[i] + xd_off[i];  // Eq. (33), ydot
+        xdq[i] = c.dxd_dx_first * xq[i] + map_ws.xd_off[i];  // Eq. (33), ydot
         xddq[i] = 0.0;
         break;
       default:  // algebraic: no rate
@@ -38,9 +38,9 @@ void Simulation::Engine::rates_of(const Eigen::VectorXd& xq, Eigen::VectorXd& xd
 }
 
 void Simulation::Engine::restart_integrator() {
-  check(integrator.ops.restart(integrator.self, t, x.data(), xd.data(), xdd.data()), "integrator",
-        integrator_name, "restart");
-  stability_due = explicit_method;  // a new start: its stability is checked again
+  check(integrator.ops.restart(integrator.self, accepted.t, x.data(), xd.data(), xdd.data()),
+        "integrator", integrator_name, "restart");
+  stages.stability_due = explicit_method;  // a new start: its stability is checked again
 }
 
 }  // namespace mh

@@ -14,14 +14,14 @@
 namespace mh {
 
 void Simulation::Engine::assemble_loops() {
-  z0 = model.initial_coordinates();
-  zd0 = model.initial_rates();
-  forward_kinematics(model, data, z0, zd0);
-  constraints = build_constraints(model, data);
-  m = constraints.size();
-  phi.setZero(m);
-  phi_dot_zd.setZero(m);
-  phi_z.setZero(m, N);
+  cons.z0 = model.initial_coordinates();
+  cons.zd0 = model.initial_rates();
+  forward_kinematics(model, data, cons.z0, cons.zd0);
+  cons.constraints = build_constraints(model, data);
+  m = cons.constraints.size();
+  cons.phi.setZero(m);
+  cons.phi_dot_zd.setZero(m);
+  cons.phi_z.setZero(m, N);
   if (m == 0) return;
 
   std::vector<int> free_cols;
@@ -48,26 +48,27 @@ void Simulation::Engine::assemble_loops() {
                    double b)
         : e(engine), free_cols(cols), A(a), bound(b) {}
     void residual(Eigen::VectorXd& f) override {
-      forward_kinematics(e.model, e.data, e.z0, e.zd0);
-      evaluate_constraints(e.model, e.data, e.constraints, e.phi, e.phi_z, e.phi_dot_zd);
-      e.constraints_valid = false;  // at kinematics of its own, not kept
-      f = e.phi;
+      forward_kinematics(e.model, e.data, e.cons.z0, e.cons.zd0);
+      evaluate_constraints(e.model, e.data, e.cons.constraints, e.cons.phi, e.cons.phi_z,
+                           e.cons.phi_dot_zd);
+      e.cons.constraints_valid = false;  // at kinematics of its own, not kept
+      f = e.cons.phi;
       residual_norm = f.lpNorm<Eigen::Infinity>();
     }
     void setup() override {
       for (size_t c = 0; c < free_cols.size(); ++c)
-        A.col(static_cast<Eigen::Index>(c)) = e.phi_z.col(free_cols[c]);
+        A.col(static_cast<Eigen::Index>(c)) = e.cons.phi_z.col(free_cols[c]);
     }
     void solve(const Eigen::VectorXd& f, Eigen::VectorXd& du) override {
       du = A.completeOrthogonalDecomposition().solve(-f);
     }
     void add(const Eigen::VectorXd& du) override {
       for (size_t c = 0; c < free_cols.size(); ++c)
-        e.z0[free_cols[c]] += du[static_cast<Eigen::Index>(c)];
+        e.cons.z0[free_cols[c]] += du[static_cast<Eigen::Index>(c)];
     }
     void subtract(const Eigen::VectorXd& du) override {
       for (size_t c = 0; c < free_cols.size(); ++c)
-        e.z0[free_cols[c]] -= du[static_cast<Eigen::Index>(c)];
+        e.cons.z0[free_cols[c]] -= du[static_cast<Eigen::Index>(c)];
     }
     double measure(const Eigen::VectorXd& du, int& worst) override {
       Eigen::Index i = 0;
@@ -99,10 +100,10 @@ void Simulation::Engine::assemble_loops() {
                          " after 50 Newton iterations (check the cut joints' points and the "
                          "initial coordinates)");
   // Consistent rates: remove the part of zd0 that violates Phi_z zd = 0.
-  const Eigen::VectorXd vel = phi_z * zd0;
+  const Eigen::VectorXd vel = cons.phi_z * cons.zd0;
   if (nf == 0) {
     const double rate_residual = vel.lpNorm<Eigen::Infinity>();
-    if (rate_residual > 1e-10 * std::max(1.0, zd0.lpNorm<Eigen::Infinity>()))
+    if (rate_residual > 1e-10 * std::max(1.0, cons.zd0.lpNorm<Eigen::Infinity>()))
       throw InputError(file->assembly_mark, "assembly.fixed",
                        "lists every body, so nothing can move to make the initial rates "
                        "consistent with the loops: Phi_z zd0 is " +
@@ -110,9 +111,9 @@ void Simulation::Engine::assemble_loops() {
                            " (leave at least one body of each loop out of assembly.fixed)");
     return;
   }
-  free_part(phi_z);
+  free_part(cons.phi_z);
   const Eigen::VectorXd correction = A.completeOrthogonalDecomposition().solve(-vel);
-  for (int c = 0; c < nf; ++c) zd0[free_cols[static_cast<size_t>(c)]] += correction[c];
+  for (int c = 0; c < nf; ++c) cons.zd0[free_cols[static_cast<size_t>(c)]] += correction[c];
 }
 
 }  // namespace mh

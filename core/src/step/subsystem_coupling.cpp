@@ -20,21 +20,24 @@
 namespace mh {
 
 void Simulation::Engine::size_coupling() {
-  coupling_possible = formulation.ops.mechanics_map != nullptr && n_m > 0;
+  coupling.coupling_possible = formulation.ops.mechanics_map != nullptr && n_m > 0;
   for (const auto& s : subsystems) {
     if (s.points.empty()) continue;
     for (int a : s.touched)
-      if (column_analytic[static_cast<size_t>(a)] == 0) coupling_possible = false;
+      if (tangent_ws.column_analytic[static_cast<size_t>(a)] == 0)
+        coupling.coupling_possible = false;
   }
-  for (Eigen::MatrixXd* M : {&map_dz_dx, &map_dzd_dx, &map_dzd_dxd, &map_dzd_total})
+  for (Eigen::MatrixXd* M :
+       {&coupling.map_dz_dx, &coupling.map_dzd_dx, &coupling.map_dzd_dxd, &coupling.map_dzd_total})
     M->setZero(N, n_m);
-  map_dr_dQ.setZero(n_m, N);
-  point_jp.setZero(3, N);
-  point_jv.setZero(3, N);
-  point_dp_dx.setZero(3, n_m);
-  point_dv_dx.setZero(3, n_m);
-  dQ_dy.setZero(N);
-  for (Eigen::VectorXd* v : {&z_iterate, &zd_iterate, &z_base, &zd_base, &kin_z, &kin_zd})
+  coupling.map_dr_dQ.setZero(n_m, N);
+  coupling.point_jp.setZero(3, N);
+  coupling.point_jv.setZero(3, N);
+  coupling.point_dp_dx.setZero(3, n_m);
+  coupling.point_dv_dx.setZero(3, n_m);
+  coupling.dQ_dy.setZero(N);
+  for (Eigen::VectorXd* v : {&eval.z_iterate, &eval.zd_iterate, &tangent_ws.z_base,
+                             &tangent_ws.zd_base, &eval.kin_z, &eval.kin_zd})
     v->setZero(N);
   for (auto& s : subsystems) {
     const size_t k = s.touched.size();
@@ -133,32 +136,34 @@ void point_velocity_jacobian(const Model& model, const Data& data, const BodyPoi
 // How the formulation's mechanics depended on x at the last residual call
 // (the iterate), and where that iterate's kinematics were.
 mh_status Simulation::Engine::read_mechanics_map() {
-  for (Eigen::MatrixXd* M : {&map_dz_dx, &map_dzd_dx, &map_dzd_dxd, &map_dr_dQ}) M->setZero();
-  z_base = z_iterate;
-  zd_base = zd_iterate;
+  for (Eigen::MatrixXd* M :
+       {&coupling.map_dz_dx, &coupling.map_dzd_dx, &coupling.map_dzd_dxd, &coupling.map_dr_dQ})
+    M->setZero();
+  tangent_ws.z_base = eval.z_iterate;
+  tangent_ws.zd_base = eval.zd_iterate;
   // The coordinates' derivatives serve only the mechanical columns the
   // formulation's tangent gave: without one, the formulation need not compute them.
   bool any_given = false;
-  for (uint8_t g : mech_column_given) any_given = any_given || g != 0;
-  return normalized(
-      formulation.ops.mechanics_map(formulation.self, any_given ? map_dz_dx.data() : nullptr,
-                                    any_given ? map_dzd_dx.data() : nullptr,
-                                    any_given ? map_dzd_dxd.data() : nullptr, map_dr_dQ.data()));
+  for (uint8_t g : tangent_ws.mech_column_given) any_given = any_given || g != 0;
+  return normalized(formulation.ops.mechanics_map(
+      formulation.self, any_given ? coupling.map_dz_dx.data() : nullptr,
+      any_given ? coupling.map_dzd_dx.data() : nullptr,
+      any_given ? coupling.map_dzd_dxd.data() : nullptr, coupling.map_dr_dQ.data()));
 }
 
 mh_status Simulation::Engine::couple_subsystems(double t_eval) {
   mh_status st = MH_OK;
-  const mh_step_coefficients& cf = map.coefficients;
+  const mh_step_coefficients& cf = map_ws.map.coefficients;
   for (int c = 0; c < n_m; ++c) {
-    const uint8_t kind = kinds[static_cast<size_t>(c)];
+    const uint8_t kind = registry.kinds[static_cast<size_t>(c)];
     const double cv = kind == MH_UNKNOWN_SECOND_ORDER  ? cf.dxd_dx_second
                       : kind == MH_UNKNOWN_FIRST_ORDER ? cf.dxd_dx_first
                                                        : 0.0;
-    map_dzd_total.col(c) = map_dzd_dx.col(c) + cv * map_dzd_dxd.col(c);
+    coupling.map_dzd_total.col(c) = coupling.map_dzd_dx.col(c) + cv * coupling.map_dzd_dxd.col(c);
   }
   // The kinematics of the iterate (the formulation's tangent may have left
   // them there already).
-  kinematics_at(z_base.data(), zd_base.data());
+  kinematics_at(tangent_ws.z_base.data(), tangent_ws.zd_base.data());
   // Zero the coupling entries; instances that share a state add to them. The
   // mechanical columns the host differenced hold their whole columns already.
   for (const auto& s : subsystems) {
@@ -167,16 +172,16 @@ mh_status Simulation::Engine::couple_subsystems(double t_eval) {
     // entries are structurally zero and have no slot.
     for (int a : s.touched)
       for (int c = 0; c < n_m; ++c) {
-        const int below = pattern->slot(n_m + a, c);
+        const int below = tangent_ws.pattern->slot(n_m + a, c);
         if (below < 0) continue;
-        if (mech_column_given[static_cast<size_t>(c)] != 0)
-          values[static_cast<size_t>(below)] = 0.0;
-        values[static_cast<size_t>(pattern->slot(c, n_m + a))] = 0.0;
+        if (tangent_ws.mech_column_given[static_cast<size_t>(c)] != 0)
+          tangent_ws.values[static_cast<size_t>(below)] = 0.0;
+        tangent_ws.values[static_cast<size_t>(tangent_ws.pattern->slot(c, n_m + a))] = 0.0;
       }
   }
-  saved_outputs = outputs;
+  derivs.saved_outputs = registry.outputs;
   const double dydot_dy = cf.dxd_dx_first;
-  mh_subsystem_eval ev = subsystem_eval(t_eval, rows_discard.data());
+  mh_subsystem_eval ev = subsystem_eval(t_eval, derivs.rows_discard.data());
   for (auto& s : subsystems) {
     const size_t P = s.points.size();
     if (P == 0) continue;
@@ -200,52 +205,55 @@ mh_status Simulation::Engine::couple_subsystems(double t_eval) {
                                                   s.dF_dy.data(), s.dF_dydot.data()));
       // Along the integrator's map (Eq. 33): d/dy + dydot_dy d/dydot.
       for (size_t b = 0; b < k; ++b) {
-        const double cv = algebraic[static_cast<size_t>(s.touched[b])] != 0 ? 0.0 : dydot_dy;
+        const double cv = states.algebraic[static_cast<size_t>(s.touched[b])] != 0 ? 0.0 : dydot_dy;
         for (size_t i = 0; i < n3; ++i) s.dF_dy[b * n3 + i] += cv * s.dF_dydot[b * n3 + i];
       }
     } else {
-      st = difference_instance(s, ev, y, ydot, algebraic, dydot_dy, rows_discard);
+      st = difference_instance(s, ev, states.y, states.ydot, states.algebraic, dydot_dy,
+                               derivs.rows_discard);
     }
     if (!status_ok(st)) {
-      outputs = saved_outputs;
+      registry.outputs = derivs.saved_outputs;
       return st;
     }
     for (size_t a = 0; a < P; ++a) {
       const BodyPoint& pt = s.points[a];
       if (pt.body == kGround) continue;  // a fixed point: no motion, its force goes to the ground
       const Eigen::Vector3d p(s.p[3 * a], s.p[3 * a + 1], s.p[3 * a + 2]);
-      point_jacobian(model, data, pt, point_jp);
-      point_velocity_jacobian(model, data, pt, p, point_jv);
-      point_dp_dx.noalias() = point_jp * map_dz_dx;
-      point_dv_dx.noalias() = point_jv * map_dz_dx;
-      point_dv_dx.noalias() += point_jp * map_dzd_total;
+      point_jacobian(model, data, pt, coupling.point_jp);
+      point_velocity_jacobian(model, data, pt, p, coupling.point_jv);
+      coupling.point_dp_dx.noalias() = coupling.point_jp * coupling.map_dz_dx;
+      coupling.point_dv_dx.noalias() = coupling.point_jv * coupling.map_dz_dx;
+      coupling.point_dv_dx.noalias() += coupling.point_jp * coupling.map_dzd_total;
       // The instance's rows in the mechanical columns.
       for (size_t row = 0; row < k; ++row) {
         const int state = s.touched[row];
         for (int c = 0; c < n_m; ++c) {
-          if (mech_column_given[static_cast<size_t>(c)] == 0) continue;  // differenced
-          const int slot = pattern->slot(n_m + state, c);
+          if (tangent_ws.mech_column_given[static_cast<size_t>(c)] == 0) continue;  // differenced
+          const int slot = tangent_ws.pattern->slot(n_m + state, c);
           if (slot < 0) continue;  // c moves none of its points
           double d = 0.0;
           for (int i = 0; i < 3; ++i)
-            d += s.dR_dp[row * n3 + 3 * a + static_cast<size_t>(i)] * point_dp_dx(i, c) +
-                 s.dR_dv[row * n3 + 3 * a + static_cast<size_t>(i)] * point_dv_dx(i, c);
-          values[static_cast<size_t>(slot)] += d;
+            d += s.dR_dp[row * n3 + 3 * a + static_cast<size_t>(i)] * coupling.point_dp_dx(i, c) +
+                 s.dR_dv[row * n3 + 3 * a + static_cast<size_t>(i)] * coupling.point_dv_dx(i, c);
+          tangent_ws.values[static_cast<size_t>(slot)] += d;
         }
       }
       // The mechanical rows in the instance's state columns.
       for (size_t b = 0; b < k; ++b) {
         const Eigen::Vector3d dF(s.dF_dy[b * n3 + 3 * a], s.dF_dy[b * n3 + 3 * a + 1],
                                  s.dF_dy[b * n3 + 3 * a + 2]);
-        dQ_dy.noalias() = point_jp.transpose() * dF;
+        coupling.dQ_dy.noalias() = coupling.point_jp.transpose() * dF;
         for (int rr = 0; rr < n_m; ++rr) {
-          const int slot = pattern->slot(rr, n_m + s.touched[b]);
-          if (slot >= 0) values[static_cast<size_t>(slot)] += map_dr_dQ.row(rr).dot(dQ_dy);
+          const int slot = tangent_ws.pattern->slot(rr, n_m + s.touched[b]);
+          if (slot >= 0)
+            tangent_ws.values[static_cast<size_t>(slot)] +=
+                coupling.map_dr_dQ.row(rr).dot(coupling.dQ_dy);
         }
       }
     }
   }
-  outputs = saved_outputs;
+  registry.outputs = derivs.saved_outputs;
   return MH_OK;
 }
 

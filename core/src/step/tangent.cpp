@@ -60,33 +60,35 @@ void Simulation::Engine::build_pattern() {
         entries.emplace_back(k, n_m + a);
       }
   }
-  pattern = std::make_unique<SparsePattern>(n, std::move(entries));
-  any_points = false;
-  for (const auto& s : subsystems) any_points = any_points || !s.points.empty();
-  values.assign(static_cast<size_t>(pattern->nonzeros()), 0.0);
-  groups = pattern->column_groups();
+  tangent_ws.pattern = std::make_unique<SparsePattern>(n, std::move(entries));
+  tangent_ws.any_points = false;
+  for (const auto& s : subsystems)
+    tangent_ws.any_points = tangent_ws.any_points || !s.points.empty();
+  tangent_ws.values.assign(static_cast<size_t>(tangent_ws.pattern->nonzeros()), 0.0);
+  tangent_ws.groups = tangent_ws.pattern->column_groups();
 
   // Which state columns are fully covered by analytic blocks.
-  column_analytic.assign(static_cast<size_t>(n_s), 1);
+  tangent_ws.column_analytic.assign(static_cast<size_t>(n_s), 1);
   std::vector<char> state_feeds_mech(static_cast<size_t>(n_s), 0);
   for (const auto& s : subsystems)
     for (int a : s.touched) {
-      if (s.api.ops.jacobian == nullptr) column_analytic[static_cast<size_t>(a)] = 0;
+      if (s.api.ops.jacobian == nullptr) tangent_ws.column_analytic[static_cast<size_t>(a)] = 0;
       if (!s.points.empty()) state_feeds_mech[static_cast<size_t>(a)] = 1;
     }
   // State columns that need differences; the mechanical ones are decided per
   // assembly (the formulation says which columns it gave).
-  group_needs_fd.assign(groups.size(), 0);
-  for (size_t g = 0; g < groups.size(); ++g) {
-    for (int c : groups[g]) {
+  tangent_ws.group_needs_fd.assign(tangent_ws.groups.size(), 0);
+  for (size_t g = 0; g < tangent_ws.groups.size(); ++g) {
+    for (int c : tangent_ws.groups[g]) {
       if (c < n_m) continue;
-      if (column_analytic[static_cast<size_t>(c - n_m)] == 0 ||
+      if (tangent_ws.column_analytic[static_cast<size_t>(c - n_m)] == 0 ||
           state_feeds_mech[static_cast<size_t>(c - n_m)] != 0)
-        group_needs_fd[g] = 1;
+        tangent_ws.group_needs_fd[g] = 1;
     }
   }
-  for (Eigen::MatrixXd* b : {&dr_dx, &dr_dxd, &dr_dxdd}) b->setZero(n_m, n_m);
-  mech_column_given.assign(static_cast<size_t>(n_m), 0);
+  for (Eigen::MatrixXd* b : {&tangent_ws.dr_dx, &tangent_ws.dr_dxd, &tangent_ws.dr_dxdd})
+    b->setZero(n_m, n_m);
+  tangent_ws.mech_column_given.assign(static_cast<size_t>(n_m), 0);
   for (auto& s : subsystems) {
     const size_t k = s.touched.size();
     s.slots.resize(k * k);
@@ -94,26 +96,27 @@ void Simulation::Engine::build_pattern() {
     s.d_dydot.resize(k * k);
     for (size_t a = 0; a < k; ++a)
       for (size_t b = 0; b < k; ++b)
-        s.slots[a * k + b] = pattern->slot(n_m + s.touched[a], n_m + s.touched[b]);
+        s.slots[a * k + b] = tangent_ws.pattern->slot(n_m + s.touched[a], n_m + s.touched[b]);
   }
-  linear_solver = make_linear_solver(*pattern, settings.linear);
-  for (Eigen::VectorXd* v : {&x, &xd, &xdd, &r, &r_pert, &dx, &dx_trial, &dx_correction, &eps, &x_pred, &xd_off,
-                             &xdd_off})
+  solver.linear_solver = make_linear_solver(*tangent_ws.pattern, settings.linear);
+  for (Eigen::VectorXd* v :
+       {&x, &xd, &xdd, &r, &tangent_ws.r_pert, &solver.dx, &solver.dx_trial, &solver.dx_correction,
+        &tangent_ws.eps, &map_ws.x_pred, &map_ws.xd_off, &map_ws.xdd_off})
     v->setZero(n);
 }
 
 mh_status Simulation::Engine::residual(double t_eval, const Eigen::VectorXd& xq,
                                        Eigen::VectorXd& rq) {
   rates_of(xq, xd, xdd);
-  y = xq.tail(n_s);
-  ydot = xd.tail(n_s);
-  ++counters.residual_evaluations;
-  rows_target = rq.data() + n_m;
-  iterate_evaluated = false;
+  states.y = xq.tail(n_s);
+  states.ydot = xd.tail(n_s);
+  ++eval.counters.residual_evaluations;
+  eval.rows_target = rq.data() + n_m;
+  eval.iterate_evaluated = false;
   const mh_status st = normalized(formulation.ops.residual(formulation.self, t_eval, xq.data(),
                                                            xd.data(), xdd.data(), rq.data()));
-  rows_target = nullptr;
-  if (status_ok(st) && !iterate_evaluated) {
+  eval.rows_target = nullptr;
+  if (status_ok(st) && !eval.iterate_evaluated) {
     last_plugin_error = "formulation '" + formulation_name +
                         "' broke the ABI contract: its residual did not call "
                         "evaluate_mechanics with MH_EVAL_SUBSYSTEMS";
@@ -123,29 +126,30 @@ mh_status Simulation::Engine::residual(double t_eval, const Eigen::VectorXd& xq,
 }
 
 mh_status Simulation::Engine::assemble_tangent(double t_eval) {
-  std::fill(values.begin(), values.end(), 0.0);
+  std::fill(tangent_ws.values.begin(), tangent_ws.values.end(), 0.0);
   // Analytic blocks first: they are defined at the x of the last residual
   // call, which the forward differences below move away from.
-  std::fill(mech_column_given.begin(), mech_column_given.end(), 0);
+  std::fill(tangent_ws.mech_column_given.begin(), tangent_ws.mech_column_given.end(), 0);
   if (formulation.ops.tangent != nullptr) {
-    if (coordinate_unknowns) {
+    if (tangent_ws.coordinate_unknowns) {
       // Zero on entry where the host reads them; outside the topological
       // pattern the blocks are structurally zero and ignored (O(nonzeros),
       // not O(n_m^2)).
-      const auto& colptr = pattern->column_start();
-      const auto& rows = pattern->row_index();
+      const auto& colptr = tangent_ws.pattern->column_start();
+      const auto& rows = tangent_ws.pattern->row_index();
       for (int c = 0; c < n_m; ++c)
         for (int k = colptr[c]; k < colptr[c + 1] && rows[k] < n_m; ++k) {
-          dr_dx(rows[k], c) = 0.0;
-          dr_dxd(rows[k], c) = 0.0;
-          dr_dxdd(rows[k], c) = 0.0;
+          tangent_ws.dr_dx(rows[k], c) = 0.0;
+          tangent_ws.dr_dxd(rows[k], c) = 0.0;
+          tangent_ws.dr_dxdd(rows[k], c) = 0.0;
         }
     } else {
-      for (Eigen::MatrixXd* b : {&dr_dx, &dr_dxd, &dr_dxdd}) b->setZero();
+      for (Eigen::MatrixXd* b : {&tangent_ws.dr_dx, &tangent_ws.dr_dxd, &tangent_ws.dr_dxdd})
+        b->setZero();
     }
     const mh_status st = normalized(formulation.ops.tangent(
-        formulation.self, t_eval, x.data(), xd.data(), xdd.data(), dr_dx.data(), dr_dxd.data(),
-        dr_dxdd.data(), mech_column_given.data()));
+        formulation.self, t_eval, x.data(), xd.data(), xdd.data(), tangent_ws.dr_dx.data(),
+        tangent_ws.dr_dxd.data(), tangent_ws.dr_dxdd.data(), tangent_ws.mech_column_given.data()));
     if (!status_ok(st)) return st;
   }
   // With the formulation's mechanics map (ABI 2.2) the subsystems with points
@@ -153,12 +157,12 @@ mh_status Simulation::Engine::assemble_tangent(double t_eval) {
   // in a state column that feeds the mechanics, nor in a mechanical column the
   // formulation's tangent gave. Read here, at the iterate, before the
   // differences below move x.
-  const bool coupled = any_points && coupling_possible;
+  const bool coupled = tangent_ws.any_points && coupling.coupling_possible;
   if (coupled) {
     const mh_status st = read_mechanics_map();
     if (!status_ok(st)) return st;
   }
-  mh_subsystem_eval ev = subsystem_eval(t_eval, scratch_rows.data());
+  mh_subsystem_eval ev = subsystem_eval(t_eval, eval.scratch_rows.data());
   for (auto& s : subsystems) {
     if (s.api.ops.jacobian == nullptr) continue;
     std::fill(s.d_dy.begin(), s.d_dy.end(), 0.0);
@@ -170,41 +174,43 @@ mh_status Simulation::Engine::assemble_tangent(double t_eval) {
   }
 
   // Forward differences by column groups, Eqs. (40)-(41).
-  const auto& colptr = pattern->column_start();
-  const auto& rows = pattern->row_index();
-  for (size_t g = 0; g < groups.size(); ++g) {
+  const auto& colptr = tangent_ws.pattern->column_start();
+  const auto& rows = tangent_ws.pattern->row_index();
+  for (size_t g = 0; g < tangent_ws.groups.size(); ++g) {
     bool needs = false;
-    for (int c : groups[g]) {
+    for (int c : tangent_ws.groups[g]) {
       if (c < n_m)
-        needs = needs || mech_column_given[static_cast<size_t>(c)] == 0 || (any_points && !coupled);
+        needs = needs || tangent_ws.mech_column_given[static_cast<size_t>(c)] == 0 ||
+                (tangent_ws.any_points && !coupled);
       else if (coupled)
-        needs = needs || column_analytic[static_cast<size_t>(c - n_m)] == 0;
+        needs = needs || tangent_ws.column_analytic[static_cast<size_t>(c - n_m)] == 0;
       else
-        needs = needs || group_needs_fd[g] != 0;
+        needs = needs || tangent_ws.group_needs_fd[g] != 0;
     }
     if (!needs) continue;
-    for (int c : groups[g]) {
-      eps[c] = 1e-8 * std::max(1e-2, std::abs(x[c]));  // Eq. (41)
-      x[c] += eps[c];
+    for (int c : tangent_ws.groups[g]) {
+      tangent_ws.eps[c] = 1e-8 * std::max(1e-2, std::abs(x[c]));  // Eq. (41)
+      x[c] += tangent_ws.eps[c];
     }
-    const mh_status st = residual(t_eval, x, r_pert);
-    for (int c : groups[g]) x[c] -= eps[c];
+    const mh_status st = residual(t_eval, x, tangent_ws.r_pert);
+    for (int c : tangent_ws.groups[g]) x[c] -= tangent_ws.eps[c];
     if (!status_ok(st)) return st;
-    for (int c : groups[g])
+    for (int c : tangent_ws.groups[g])
       for (int k = colptr[c]; k < colptr[c + 1]; ++k)
-        values[static_cast<size_t>(k)] = (r_pert[rows[k]] - r[rows[k]]) / eps[c];
+        tangent_ws.values[static_cast<size_t>(k)] =
+            (tangent_ws.r_pert[rows[k]] - r[rows[k]]) / tangent_ws.eps[c];
   }
   // Restore the state the step's base evaluation left (rates, y, ydot at x).
   rates_of(x, xd, xdd);
-  y = x.tail(n_s);
-  ydot = xd.tail(n_s);
+  states.y = x.tail(n_s);
+  states.ydot = xd.tail(n_s);
 
   // The formulation's columns: dr/dx + dxd_dx dr/dxd + dxdd_dx dr/dxdd.
-  const mh_step_coefficients& cf = map.coefficients;
-  if (!any_points || coupled) {
+  const mh_step_coefficients& cf = map_ws.map.coefficients;
+  if (!tangent_ws.any_points || coupled) {
     for (int c = 0; c < n_m; ++c) {
-      if (mech_column_given[static_cast<size_t>(c)] == 0) continue;
-      const uint8_t kind = kinds[static_cast<size_t>(c)];
+      if (tangent_ws.mech_column_given[static_cast<size_t>(c)] == 0) continue;
+      const uint8_t kind = registry.kinds[static_cast<size_t>(c)];
       const double cv = kind == MH_UNKNOWN_SECOND_ORDER  ? cf.dxd_dx_second
                         : kind == MH_UNKNOWN_FIRST_ORDER ? cf.dxd_dx_first
                                                          : 0.0;
@@ -213,7 +219,9 @@ mh_status Simulation::Engine::assemble_tangent(double t_eval) {
       // pattern are structurally zero (MH_EXT_COORDINATE_UNKNOWNS).
       for (int k = colptr[c]; k < colptr[c + 1] && rows[k] < n_m; ++k) {
         const int rr = rows[k];
-        values[static_cast<size_t>(k)] = dr_dx(rr, c) + cv * dr_dxd(rr, c) + ca * dr_dxdd(rr, c);
+        tangent_ws.values[static_cast<size_t>(k)] = tangent_ws.dr_dx(rr, c) +
+                                                    cv * tangent_ws.dr_dxd(rr, c) +
+                                                    ca * tangent_ws.dr_dxdd(rr, c);
       }
     }
   }
@@ -227,19 +235,20 @@ mh_status Simulation::Engine::assemble_tangent(double t_eval) {
   for (const auto& s : subsystems) {
     const size_t k = s.touched.size();
     for (size_t b = 0; b < k; ++b) {
-      if (column_analytic[static_cast<size_t>(s.touched[b])] == 0) continue;
-      for (size_t a = 0; a < k; ++a) values[static_cast<size_t>(s.slots[a * k + b])] = 0.0;
+      if (tangent_ws.column_analytic[static_cast<size_t>(s.touched[b])] == 0) continue;
+      for (size_t a = 0; a < k; ++a)
+        tangent_ws.values[static_cast<size_t>(s.slots[a * k + b])] = 0.0;
     }
   }
   for (const auto& s : subsystems) {
     const size_t k = s.touched.size();
     for (size_t b = 0; b < k; ++b) {
       const int state = s.touched[b];
-      if (column_analytic[static_cast<size_t>(state)] == 0) continue;
+      if (tangent_ws.column_analytic[static_cast<size_t>(state)] == 0) continue;
       // An algebraic state has no rate: its column is d r / d y alone.
-      const double cv = algebraic[static_cast<size_t>(state)] != 0 ? 0.0 : dydot_dy;
+      const double cv = states.algebraic[static_cast<size_t>(state)] != 0 ? 0.0 : dydot_dy;
       for (size_t a = 0; a < k; ++a)
-        values[static_cast<size_t>(s.slots[a * k + b])] +=
+        tangent_ws.values[static_cast<size_t>(s.slots[a * k + b])] +=
             s.d_dy[a * k + b] + cv * s.d_dydot[a * k + b];
     }
   }

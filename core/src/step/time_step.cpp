@@ -19,11 +19,11 @@ SimulationError::SimulationError(double t, long step, const std::string& reason)
       reason_(reason) {}
 
 void Simulation::Engine::fail(const std::string& reason) const {
-  throw SimulationError(attempt_t, attempt_step, reason);
+  throw SimulationError(accepted.attempt_t, accepted.attempt_step, reason);
 }
 
 void Simulation::Engine::fail_step(const std::string& reason) const {
-  throw StepFailure(attempt_t, attempt_step, reason);
+  throw StepFailure(accepted.attempt_t, accepted.attempt_step, reason);
 }
 
 std::string Simulation::Engine::status_reason(mh_status s, const std::string& what) const {
@@ -42,8 +42,8 @@ std::string Simulation::Engine::status_reason(mh_status s, const std::string& wh
 }
 
 std::string Simulation::Engine::unknown_name(int i) const {
-  if (i >= n_m) return "state '" + state_info[static_cast<size_t>(i - n_m)].qualified + "'";
-  return "unknown '" + unknown_names[static_cast<size_t>(i)] + "' of formulation '" +
+  if (i >= n_m) return "state '" + states.state_info[static_cast<size_t>(i - n_m)].qualified + "'";
+  return "unknown '" + registry.unknown_names[static_cast<size_t>(i)] + "' of formulation '" +
          formulation_name + "'";
 }
 
@@ -51,71 +51,74 @@ std::string Simulation::Engine::unknown_name(int i) const {
 // zdd0); the subsystem rates ydot0 that make every state row vanish at t = 0;
 // the integrator started from them.
 void Simulation::Engine::start() {
-  t = 0.0;
-  step = 0;
-  attempt_t = 0.0;
-  attempt_step = 0;
-  ydot.setZero(n_s);
-  scratch_rows.setZero(n_s);
-  outputs.setZero(n_o);
-  z = z0;  // assembled: Phi(z0) = 0, Phi_z zd0 = 0
-  zd = zd0;
-  zdd.setZero(N);
+  accepted.t = 0.0;
+  accepted.step = 0;
+  accepted.attempt_t = 0.0;
+  accepted.attempt_step = 0;
+  states.ydot.setZero(n_s);
+  eval.scratch_rows.setZero(n_s);
+  registry.outputs.setZero(n_o);
+  accepted.z = cons.z0;  // assembled: Phi(z0) = 0, Phi_z zd0 = 0
+  accepted.zd = cons.zd0;
+  accepted.zdd.setZero(N);
   last_plugin_error.clear();
-  counters = Simulation::WorkCounters{};
+  eval.counters = Simulation::WorkCounters{};
   // The step's statistics grow by one entry per iteration: sized here so
   // that a step allocates nothing (only a retried step may need more).
   const size_t per_attempt = static_cast<size_t>(std::max(settings.max_iterations, 1)) + 2;
-  stats.increment_norms.reserve(4 * per_attempt);
-  stats.residual_norms.reserve(4 * per_attempt);
+  solver.stats.increment_norms.reserve(4 * per_attempt);
+  solver.stats.residual_norms.reserve(4 * per_attempt);
   // Algebraic states, and the equilibrium the model asks for, before the
   // formulation computes its initial accelerations from them.
   solve_algebraic_and_equilibrium();
-  next_event = 0;
-  while (next_event < time_events.size() && time_events[next_event] <= 0.0) ++next_event;
+  states.next_event = 0;
+  while (states.next_event < states.time_events.size() &&
+         states.time_events[states.next_event] <= 0.0)
+    ++states.next_event;
   x.setZero();
   xd.setZero();
   xdd.setZero();
   check(formulation.ops.start(formulation.self, x.data(), xd.data(), xdd.data()),
         "formulation start");
-  check(formulation.ops.coordinates(formulation.self, z.data(), zd.data(), zdd.data()),
+  check(formulation.ops.coordinates(formulation.self, accepted.z.data(), accepted.zd.data(),
+                                    accepted.zdd.data()),
         "formulation coordinates");
-  tol.resize(n);
-  tol.head(n_m) = unknown_tol;
-  tol.tail(n_s) = state_tol;
+  registry.tol.resize(n);
+  registry.tol.head(n_m) = registry.unknown_tol;
+  registry.tol.tail(n_s) = states.state_tol;
   for (int i = 0; i < n; ++i)
-    if (!(tol[i] > 0.0)) fail("the tolerance of " + unknown_name(i) + " is not positive");
+    if (!(registry.tol[i] > 0.0)) fail("the tolerance of " + unknown_name(i) + " is not positive");
 
   // ydot0: the rates that make every state row vanish at t = 0.
-  forward_kinematics(model, data, z, zd);
-  solve_initial_rates(t);
-  x.tail(n_s) = y;
-  xd.tail(n_s) = ydot;
+  forward_kinematics(model, data, accepted.z, accepted.zd);
+  solve_initial_rates(accepted.t);
+  x.tail(n_s) = states.y;
+  xd.tail(n_s) = states.ydot;
   for (int i = 0; i < n_s; ++i)
-    if (algebraic[static_cast<size_t>(i)] != 0) xd[n_m + i] = 0.0;
-  y_k = y;
-  ydot_k = ydot;
-  reuse.invalidate();
+    if (states.algebraic[static_cast<size_t>(i)] != 0) xd[n_m + i] = 0.0;
+  states.y_k = states.y;
+  states.ydot_k = states.ydot;
+  solver.reuse.invalidate();
   restart_integrator();
   start_energy_balance();
-  started = true;
+  accepted.started = true;
 }
 
 void Simulation::Engine::step_once() {
-  if (!started) fail("step() before start()");
+  if (!accepted.started) fail("step() before start()");
   // t from the step count, not by summing dt: no round-off creep over 1e4 steps.
-  const double t_next = static_cast<double>(step + 1) * settings.dt;
-  attempt_step = step + 1;
-  stats.iterations = 0;
-  stats.retries = 0;
-  stats.tangents = 0;
-  stats.damped = 0;
-  stats.converged = true;
-  stats.unconverged = 0.0;
-  stats.increment_norms.clear();
-  stats.residual_norms.clear();
+  const double t_next = static_cast<double>(accepted.step + 1) * settings.dt;
+  accepted.attempt_step = accepted.step + 1;
+  solver.stats.iterations = 0;
+  solver.stats.retries = 0;
+  solver.stats.tangents = 0;
+  solver.stats.damped = 0;
+  solver.stats.converged = true;
+  solver.stats.unconverged = 0.0;
+  solver.stats.increment_norms.clear();
+  solver.stats.residual_norms.clear();
   advance(t_next, settings.max_step_halvings);
-  ++step;
+  ++accepted.step;
 }
 
 // From the accepted t to t_to in one step; when that step fails for a reason
@@ -123,22 +126,22 @@ void Simulation::Engine::step_once() {
 // left, in two halves instead. Every accepted (sub-)step is a complete step:
 // the formulation, the integrator and the subsystems accept it.
 void Simulation::Engine::advance(double t_to, int halvings_left) {
-  const size_t events_before = next_event;
+  const size_t events_before = states.next_event;
   try {
     attempt(t_to);
   } catch (const StepFailure& failure) {
-    reuse.invalidate();  // modified Newton: the retry factors anew
+    solver.reuse.invalidate();  // modified Newton: the retry factors anew
     if (halvings_left <= 0) {
-      if (stats.retries == 0) throw;
+      if (solver.stats.retries == 0) throw;
       throw SimulationError(
           failure.time(), failure.step(),
-          failure.reason() + " (after " + std::to_string(stats.retries) +
+          failure.reason() + " (after " + std::to_string(solver.stats.retries) +
               " halvings of the step, the most the model allows: " + "solver.max_step_halvings = " +
               std::to_string(settings.max_step_halvings) + ")");
     }
-    next_event = events_before;
-    ++stats.retries;
-    const double t_mid = 0.5 * (t + t_to);
+    states.next_event = events_before;
+    ++solver.stats.retries;
+    const double t_mid = 0.5 * (accepted.t + t_to);
     advance(t_mid, halvings_left - 1);
     advance(t_to, halvings_left - 1);
   }
@@ -146,19 +149,20 @@ void Simulation::Engine::advance(double t_to, int halvings_left) {
 
 // One step from the accepted t to t_next.
 void Simulation::Engine::attempt(double t_next) {
-  const double h = t_next - t;
-  attempt_t = t_next;  // failures name the step being attempted
+  const double h = t_next - accepted.t;
+  accepted.attempt_t = t_next;  // failures name the step being attempted
   last_plugin_error.clear();
 
   // A time event inside the step, or at its end: the end is evaluated at the
   // event's left limit, and the integrator restarts after it (right limit).
   bool event = false;
   double t_eval = t_next;
-  while (next_event < time_events.size() && time_events[next_event] <= t_next + 1e-9 * h) {
+  while (states.next_event < states.time_events.size() &&
+         states.time_events[states.next_event] <= t_next + 1e-9 * h) {
     event = true;
-    if (std::abs(time_events[next_event] - t_next) <= 1e-9 * h)
-      t_eval = std::nextafter(time_events[next_event], -HUGE_VAL);
-    ++next_event;
+    if (std::abs(states.time_events[states.next_event] - t_next) <= 1e-9 * h)
+      t_eval = std::nextafter(states.time_events[states.next_event], -HUGE_VAL);
+    ++states.next_event;
   }
 
   if (explicit_method) {
@@ -173,7 +177,7 @@ void Simulation::Engine::attempt(double t_next) {
     // Modified Newton may fail on a kept factorization where full Newton
     // converges: the step once more from its prediction, factoring at every
     // iteration, before the failure counts.
-    if (!reuse.retry_with_full_newton()) throw;
+    if (!solver.reuse.retry_with_full_newton()) throw;
     prepare_step(t_next, h);
     newton_solve(t_eval, t_next);
   }
@@ -184,7 +188,7 @@ void Simulation::Engine::attempt(double t_next) {
 // formulation.
 void Simulation::Engine::prepare_step(double t_next, double h) {
   begin_step(t_next, h);
-  x = x_pred;
+  x = map_ws.x_pred;
   rates_of(x, xd, xdd);
   if (formulation.ops.begin_step != nullptr)
     check(formulation.ops.begin_step(formulation.self, t_next, x.data(), xd.data(), xdd.data()),
@@ -195,40 +199,41 @@ void Simulation::Engine::prepare_step(double t_next, double h) {
 // subsystems' rows, powers and outputs are the step's.
 void Simulation::Engine::accept_step(double t_next, bool event, double h) {
   uint32_t flags = 0;
-  check(formulation.ops.accept(formulation.self, t_next, &map.coefficients, x.data(), xd.data(),
-                               xdd.data(), &flags),
+  check(formulation.ops.accept(formulation.self, t_next, &map_ws.map.coefficients, x.data(),
+                               xd.data(), xdd.data(), &flags),
         "formulation accept");
-  check(formulation.ops.coordinates(formulation.self, z.data(), zd.data(), zdd.data()),
+  check(formulation.ops.coordinates(formulation.self, accepted.z.data(), accepted.zd.data(),
+                                    accepted.zdd.data()),
         "formulation coordinates");
-  y = x.tail(n_s);
-  ydot = xd.tail(n_s);
+  states.y = x.tail(n_s);
+  states.ydot = xd.tail(n_s);
   if (formulation.ops.write_outputs != nullptr)
-    check(
-        formulation.ops.write_outputs(formulation.self, outputs.data(), static_cast<uint32_t>(n_o)),
-        "formulation write_outputs");
-  outputs_k = outputs;  // of the converged iterate's evaluation
+    check(formulation.ops.write_outputs(formulation.self, registry.outputs.data(),
+                                        static_cast<uint32_t>(n_o)),
+          "formulation write_outputs");
+  registry.outputs_k = registry.outputs;  // of the converged iterate's evaluation
   update_energy_balance(h);
   for (auto& s : subsystems) {
     if (s.api.ops.accept == nullptr) continue;
-    mh_subsystem_eval ev = subsystem_eval(t_next, scratch_rows.data());
+    mh_subsystem_eval ev = subsystem_eval(t_next, eval.scratch_rows.data());
     point_at(ev, s);
     check(s.api.ops.accept(s.api.self, &ev), "subsystem", s.spec->name, "accept");
   }
-  t = t_next;
-  kinematics_at(z.data(), zd.data());
+  accepted.t = t_next;
+  kinematics_at(accepted.z.data(), accepted.zd.data());
   if (event) {
-    solve_initial_rates(std::nextafter(t, HUGE_VAL));
-    kinematics_at(z.data(), zd.data());
-    xd.tail(n_s) = ydot;
+    solve_initial_rates(std::nextafter(accepted.t, HUGE_VAL));
+    kinematics_at(accepted.z.data(), accepted.zd.data());
+    xd.tail(n_s) = states.ydot;
   }
-  y_k = y;
-  ydot_k = ydot;
+  states.y_k = states.y;
+  states.ydot_k = states.ydot;
   if (event || (flags & MH_ACCEPT_REDEFINED) != 0) {
-    reuse.invalidate();  // x may mean something else now, or jump
+    solver.reuse.invalidate();  // x may mean something else now, or jump
     restart_integrator();
   } else {
-    check(integrator.ops.accept(integrator.self, t, x.data(), xd.data(), xdd.data()), "integrator",
-          integrator_name, "accept");
+    check(integrator.ops.accept(integrator.self, accepted.t, x.data(), xd.data(), xdd.data()),
+          "integrator", integrator_name, "accept");
   }
   measure_mechanism();
 }

@@ -52,12 +52,12 @@ mh_status Simulation::Engine::add_port(InstanceHost& h, const mh_port_spec& spec
   const std::string& node_name = it->second.node;
   const SourceMark& mark = it->second.mark;
   Node* node = nullptr;
-  for (auto& nd : nodes)
+  for (auto& nd : states.nodes)
     if (nd.name == node_name) node = &nd;
   const std::string domain = spec.domain != nullptr ? spec.domain : "";
   const std::string unit = spec.unit != nullptr ? spec.unit : "";
   if (node == nullptr) {
-    for (const auto& v : state_info)
+    for (const auto& v : states.state_info)
       if (v.qualified == node_name)
         return fail_input(mark, who(s) + " port '" + key + "'",
                           "a node name that is not also a state's name, got '" + node_name + "'");
@@ -72,8 +72,8 @@ mh_status Simulation::Engine::add_port(InstanceHost& h, const mh_port_spec& spec
     info.qualified = node_name;
     info.unit = unit;
     fresh.state = add_state_record(info, 0.0, std::numeric_limits<double>::infinity());
-    nodes.push_back(fresh);
-    node = &nodes.back();
+    states.nodes.push_back(fresh);
+    node = &states.nodes.back();
   } else if (node->domain != domain) {
     return fail_input(mark, who(s) + " port '" + key + "'",
                       "a " + node->domain + " port on node '" + node_name + "' (it joins " +
@@ -87,17 +87,17 @@ mh_status Simulation::Engine::add_port(InstanceHost& h, const mh_port_spec& spec
                               port_name(*this, p) + " imposes it too (two outputs on one node)");
   const double y0 = spec.initial;
   if (std::isfinite(y0)) {
-    const double have = y[node->state];
+    const double have = states.y[node->state];
     if (node->has_initial && std::abs(have - y0) > 1e-12 * std::max(std::abs(have), std::abs(y0)))
       return fail_input(mark, who(s) + " port '" + key + "'",
                         "the initial " + unit + " of node '" + node_name + "' given once, got " +
                             std::to_string(y0) + " here and " + std::to_string(have) +
                             " from another port");
-    y[node->state] = y0;
+    states.y[node->state] = y0;
     node->has_initial = true;
   }
   if (spec.abs_tolerance > 0.0)
-    state_tol[node->state] = std::min(state_tol[node->state], spec.abs_tolerance);
+    states.state_tol[node->state] = std::min(states.state_tol[node->state], spec.abs_tolerance);
   node->ports.push_back(NodePort{h.subsystem, key, spec.role});
   for (int touched : s.touched)
     if (touched == node->state) {
@@ -116,7 +116,7 @@ void Simulation::Engine::check_network() const {
   for (const auto& s : subsystems) {
     for (const auto& [key, port] : s.spec->ports) {
       bool declared = false;
-      for (const auto& nd : nodes)
+      for (const auto& nd : states.nodes)
         for (const auto& p : nd.ports)
           declared =
               declared || (p.subsystem >= 0 &&
@@ -126,28 +126,30 @@ void Simulation::Engine::check_network() const {
                          "unknown port (this component has no port '" + key + "')");
     }
   }
-  for (const auto& nd : nodes) {
+  for (const auto& nd : states.nodes) {
     if (nd.ports.size() < 2)
       throw InputError(nd.mark, port_name(*this, nd.ports.front()),
                        "a port left unconnected: node '" + nd.name +
                            "' joins no other port (name it on another component's port)");
     bool free = false;
     for (const auto& f : file->equilibrium_free)
-      free = free || f == nd.name || f == state_info[static_cast<size_t>(nd.state)].name;
+      free = free || f == nd.name || f == states.state_info[static_cast<size_t>(nd.state)].name;
     if (!nd.has_initial && !free)
       throw InputError(nd.mark, "node '" + nd.name + "'",
                        "an initial " + nd.unit +
                            ": none of its ports gives one (e.g. a volume's initial_pressure, "
                            "a pressure source), and it is not under equilibrium.free");
     for (int i = 0; i < n_s; ++i)
-      if (i != nd.state && !state_info[static_cast<size_t>(i)].name.empty() &&
-          state_info[static_cast<size_t>(i)].name == state_info[static_cast<size_t>(nd.state)].name)
-        throw InputError(
-            nd.mark, "node '" + nd.name + "'",
-            "a result column of its own, but '" + state_info[static_cast<size_t>(i)].name +
-                "' is also the column of state '" + state_info[static_cast<size_t>(i)].qualified +
-                "' (rename one, or give the node a column under nodes)");
-    if (!std::isfinite(state_tol[nd.state]))
+      if (i != nd.state && !states.state_info[static_cast<size_t>(i)].name.empty() &&
+          states.state_info[static_cast<size_t>(i)].name ==
+              states.state_info[static_cast<size_t>(nd.state)].name)
+        throw InputError(nd.mark, "node '" + nd.name + "'",
+                         "a result column of its own, but '" +
+                             states.state_info[static_cast<size_t>(i)].name +
+                             "' is also the column of state '" +
+                             states.state_info[static_cast<size_t>(i)].qualified +
+                             "' (rename one, or give the node a column under nodes)");
+    if (!std::isfinite(states.state_tol[nd.state]))
       throw InputError(nd.mark, "node '" + nd.name + "'",
                        "a Newton tolerance: none of its ports gives one (connect a volume or "
                        "a source to it)");
