@@ -45,26 +45,19 @@ constexpr double kDefaultRepartitionRcond = 0.1;
 // A re-partition must improve the pivot ratio of Phi_z^d at least this much.
 constexpr double kRepartitionGain = 2.0;
 
-struct DoubleStep {
-  const mh_host* host = nullptr;
-  int N = 0;               // coordinates
-  int m = 0;               // constraint rows
-  int r = 0;               // rank of Phi_z: rows kept, dependent coordinates
-  int f = 0;               // degrees of freedom: independent coordinates, Newton unknowns
-  double t0 = 0.0;         // the initial time (mech_info)
-  double t_k = 0.0;        // the last accepted time (start, accept)
+// The formulation's options (setup).
+struct DoubleStepSettings {
   double tolerance = 0.0;  // on x = z^i: the option, else the model's position tolerance
   double position_tolerance = kDefaultPositionTolerance;
   int max_position_iterations = kDefaultMaxPositionIterations;
   double repartition_rcond = kDefaultRepartitionRcond;
-  std::vector<std::string> names;
-  std::vector<bool> is_angle;
-  Eigen::VectorXd z0, zd0;         // N: the host's assembled initial state (mech_info)
   std::string independent_option;  // the user's initial z^i, when given
+};
 
+// The coordinate partition in use and the factorizations that choose and
+// check it (Sect. 2.2).
+struct Partitioning {
   Partition partition, candidate;
-  DependentCoordinates dependent;
-  VelocityTransformation transform;
   Eigen::FullPivLU<Eigen::MatrixXd> full_lu;   // m x N: Phi_z, for (re-)partitioning
   Eigen::FullPivLU<Eigen::MatrixXd> block_lu;  // r x r: Phi_z^d, its conditioning
   Eigen::MatrixXd block;                       // r x r: a candidate's Phi_z^d
@@ -73,8 +66,11 @@ struct DoubleStep {
   // continuous in z for a fixed partition, so a sign change within a step means
   // the step crossed a configuration where this partition is singular.
   double det_sign = 0.0;
+  int repartitions = 0;
+};
 
-  Eigen::VectorXd z, zd, zdd;           // accepted at t_k, all N coordinates
+// The last evaluated iterate of the step (residual).
+struct DoubleStepIterate {
   Eigen::VectorXd z_pred;               // N: z_k + zd_k h + zdd_k h^2 / 2
   Eigen::VectorXd z_it, zd_it, zdd_it;  // N: at the last evaluated iterate
   Eigen::VectorXd x_it, xd_it, xdd_it;  // f: that iterate's x, xd, xdd
@@ -85,10 +81,13 @@ struct DoubleStep {
   // M' and Q' of the last iterate (N x N, N), kept for the analytic tangent.
   Eigen::MatrixXd M_prime;
   Eigen::VectorXd Q_prime;
-  // The derivatives of the last iterate (derivatives()): how z, zd and zdd
-  // move with x at fixed xd, xdd (dz/dx = R_z, dzd_dx, dzdd_dx) and with xd
-  // (dzd/dxd = R_z, dzdd_dxd), N x f each, zero on the independent rows but
-  // R_z's identity; and the tangent blocks dr/dx, dr/dxd (f x f).
+};
+
+// The derivatives of the last iterate (derivatives()): how z, zd and zdd
+// move with x at fixed xd, xdd (dz/dx = R_z, dzd_dx, dzdd_dx) and with xd
+// (dzd/dxd = R_z, dzdd_dxd), N x f each, zero on the independent rows but
+// R_z's identity; and the tangent blocks dr/dx, dr/dxd (f x f).
+struct DoubleStepDerivatives {
   bool derivatives_valid = false;
   Eigen::MatrixXd dzd_dx, dzdd_dx, dzdd_dxd, dr_dx, dr_dxd;
   // Scratch: d(Phi_z zd)/dz, dA/dz, dA/dzd on the kept rows (r x N); products
@@ -96,12 +95,35 @@ struct DoubleStep {
   Eigen::MatrixXd rate_stiffness, dA_dz_kept, dA_dzd_kept, rhs_rf, work_Nf;
   Eigen::VectorXd residual_force, lambda_r, lambda_m;
   Eigen::VectorXd column_r, scratch_r;  // r
+};
 
-  // Outputs: names (the host may keep the pointers) and indices.
+// Outputs: names (the host may keep the pointers) and indices.
+struct DoubleStepOutputs {
   std::vector<std::string> output_names;  // independent1..independent_f
   std::vector<int32_t> independent_out;   // f
   int32_t repartitions_out = -1;
-  int repartitions = 0;
+};
+
+struct DoubleStep {
+  const mh_host* host = nullptr;
+  int N = 0;         // coordinates
+  int m = 0;         // constraint rows
+  int r = 0;         // rank of Phi_z: rows kept, dependent coordinates
+  int f = 0;         // degrees of freedom: independent coordinates, Newton unknowns
+  double t0 = 0.0;   // the initial time (mech_info)
+  double t_k = 0.0;  // the last accepted time (start, accept)
+  std::vector<std::string> names;
+  std::vector<bool> is_angle;
+  Eigen::VectorXd z0, zd0;     // N: the host's assembled initial state (mech_info)
+  Eigen::VectorXd z, zd, zdd;  // accepted at t_k, all N coordinates
+  DependentCoordinates dependent;
+  VelocityTransformation transform;
+
+  DoubleStepSettings settings;
+  Partitioning partitioning;
+  DoubleStepIterate iterate;
+  DoubleStepDerivatives derivs;
+  DoubleStepOutputs outputs;
 };
 
 DoubleStep& self(const mh_formulation* f) {
@@ -123,28 +145,28 @@ mh_status guarded(const DoubleStep& s, const char* what, Op&& op) noexcept {
 mh_status read_options(DoubleStep& s) {
   const mh_host* h = s.host;
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  if (h->option_number(h, "tolerance", 0, nan, &s.tolerance) != MH_OK) return MH_ERROR;
-  if (!std::isnan(s.tolerance) && !(s.tolerance > 0.0))
+  if (h->option_number(h, "tolerance", 0, nan, &s.settings.tolerance) != MH_OK) return MH_ERROR;
+  if (!std::isnan(s.settings.tolerance) && !(s.settings.tolerance > 0.0))
     return h->option_error(h, "tolerance", "a positive number (rad or m)");
   if (h->option_number(h, "position_tolerance", 0, kDefaultPositionTolerance,
-                       &s.position_tolerance) != MH_OK)
+                       &s.settings.position_tolerance) != MH_OK)
     return MH_ERROR;
-  if (!(s.position_tolerance > 0.0))
+  if (!(s.settings.position_tolerance > 0.0))
     return h->option_error(h, "position_tolerance", "a positive number (rad or m)");
   double iterations = kDefaultMaxPositionIterations;
   if (h->option_number(h, "max_position_iterations", 0, iterations, &iterations) != MH_OK)
     return MH_ERROR;
   if (!(iterations >= 1.0 && iterations <= 1000.0 && iterations == std::floor(iterations)))
     return h->option_error(h, "max_position_iterations", "an integer from 1 to 1000");
-  s.max_position_iterations = static_cast<int>(iterations);
-  if (h->option_number(h, "repartition_rcond", 0, kDefaultRepartitionRcond, &s.repartition_rcond) !=
-      MH_OK)
+  s.settings.max_position_iterations = static_cast<int>(iterations);
+  if (h->option_number(h, "repartition_rcond", 0, kDefaultRepartitionRcond,
+                       &s.settings.repartition_rcond) != MH_OK)
     return MH_ERROR;
-  if (!(s.repartition_rcond > kRankThreshold && s.repartition_rcond < 1.0))
+  if (!(s.settings.repartition_rcond > kRankThreshold && s.settings.repartition_rcond < 1.0))
     return h->option_error(h, "repartition_rcond", "a number between 1e-8 and 1");
   const char* independent = "";
   if (h->option_string(h, "independent_coordinates", 0, "", &independent) != MH_OK) return MH_ERROR;
-  s.independent_option = independent != nullptr ? independent : "";
+  s.settings.independent_option = independent != nullptr ? independent : "";
   return MH_OK;
 }
 
@@ -158,7 +180,7 @@ bool parse_independent(DoubleStep& s, std::vector<int>& out) {
                                ", separated by commas (the mechanism has " + std::to_string(s.f) +
                                (s.f == 1 ? " degree of freedom)" : " degrees of freedom)");
   std::string token;
-  const std::string& text = s.independent_option;
+  const std::string& text = s.settings.independent_option;
   for (size_t i = 0; i <= text.size(); ++i) {
     const char c = i < text.size() ? text[i] : ',';
     if (c != ',' && c != ' ' && c != '\t') {
@@ -183,51 +205,59 @@ bool parse_independent(DoubleStep& s, std::vector<int>& out) {
 }
 
 void size_buffers(DoubleStep& s) {
-  for (Eigen::VectorXd* v : {&s.z, &s.zd, &s.zdd, &s.z_pred, &s.z_it, &s.zd_it, &s.zdd_it})
+  for (Eigen::VectorXd* v : {&s.z, &s.zd, &s.zdd, &s.iterate.z_pred, &s.iterate.z_it,
+                             &s.iterate.zd_it, &s.iterate.zdd_it})
     v->setZero(s.N);
-  for (Eigen::VectorXd* v : {&s.x_it, &s.xd_it, &s.xdd_it, &s.zdd_i, &s.dx_i}) v->setZero(s.f);
-  s.z_est.setZero(s.N);
+  for (Eigen::VectorXd* v :
+       {&s.iterate.x_it, &s.iterate.xd_it, &s.iterate.xdd_it, &s.iterate.zdd_i, &s.iterate.dx_i})
+    v->setZero(s.f);
+  s.iterate.z_est.setZero(s.N);
   s.dependent.resize(s.m, s.N, s.r);
   s.transform.resize(s.N, s.r);
-  s.transform.set_partition(s.partition);
-  s.block_lu = Eigen::FullPivLU<Eigen::MatrixXd>(s.r, s.r);
-  s.block.setZero(s.r, s.r);
-  s.M_prime.setZero(s.N, s.N);
-  s.Q_prime.setZero(s.N);
-  for (Eigen::MatrixXd* a : {&s.dzd_dx, &s.dzdd_dx, &s.dzdd_dxd, &s.work_Nf}) a->setZero(s.N, s.f);
-  s.dr_dx.setZero(s.f, s.f);
-  s.dr_dxd.setZero(s.f, s.f);
-  for (Eigen::MatrixXd* a : {&s.rate_stiffness, &s.dA_dz_kept, &s.dA_dzd_kept})
+  s.transform.set_partition(s.partitioning.partition);
+  s.partitioning.block_lu = Eigen::FullPivLU<Eigen::MatrixXd>(s.r, s.r);
+  s.partitioning.block.setZero(s.r, s.r);
+  s.iterate.M_prime.setZero(s.N, s.N);
+  s.iterate.Q_prime.setZero(s.N);
+  for (Eigen::MatrixXd* a :
+       {&s.derivs.dzd_dx, &s.derivs.dzdd_dx, &s.derivs.dzdd_dxd, &s.derivs.work_Nf})
+    a->setZero(s.N, s.f);
+  s.derivs.dr_dx.setZero(s.f, s.f);
+  s.derivs.dr_dxd.setZero(s.f, s.f);
+  for (Eigen::MatrixXd* a : {&s.derivs.rate_stiffness, &s.derivs.dA_dz_kept, &s.derivs.dA_dzd_kept})
     a->setZero(s.r, s.N);
-  s.rhs_rf.setZero(s.r, s.f);
-  s.residual_force.setZero(s.N);
-  s.lambda_r.setZero(s.r);
-  s.lambda_m.setZero(s.m);
-  s.column_r.setZero(s.r);
-  s.scratch_r.setZero(s.r);
-  size_partition(s.candidate, s.N, s.r);
+  s.derivs.rhs_rf.setZero(s.r, s.f);
+  s.derivs.residual_force.setZero(s.N);
+  s.derivs.lambda_r.setZero(s.r);
+  s.derivs.lambda_m.setZero(s.m);
+  s.derivs.column_r.setZero(s.r);
+  s.derivs.scratch_r.setZero(s.r);
+  size_partition(s.partitioning.candidate, s.N, s.r);
 }
 
 // The unknowns x = z^i (second order, named after the coordinates chosen now)
 // and the outputs.
 mh_status declare(DoubleStep& s) {
   for (int k = 0; k < s.f; ++k) {
-    const auto i = static_cast<size_t>(s.partition.independent[static_cast<size_t>(k)]);
-    const mh_unknown_spec spec = monohydra::unknown_spec(
-        s.names[i].c_str(), s.is_angle[i] ? "rad" : "m", MH_UNKNOWN_SECOND_ORDER, s.tolerance);
+    const auto i =
+        static_cast<size_t>(s.partitioning.partition.independent[static_cast<size_t>(k)]);
+    const mh_unknown_spec spec =
+        monohydra::unknown_spec(s.names[i].c_str(), s.is_angle[i] ? "rad" : "m",
+                                MH_UNKNOWN_SECOND_ORDER, s.settings.tolerance);
     int32_t index = -1;
     if (s.host->add_unknown(s.host, &spec, &index) != MH_OK) return MH_ERROR;
   }
-  s.output_names.clear();
-  for (int k = 1; k <= s.f; ++k) s.output_names.push_back("independent" + std::to_string(k));
-  s.independent_out.assign(static_cast<size_t>(s.f), -1);
-  for (size_t k = 0; k < s.independent_out.size(); ++k) {
+  s.outputs.output_names.clear();
+  for (int k = 1; k <= s.f; ++k)
+    s.outputs.output_names.push_back("independent" + std::to_string(k));
+  s.outputs.independent_out.assign(static_cast<size_t>(s.f), -1);
+  for (size_t k = 0; k < s.outputs.independent_out.size(); ++k) {
     const mh_output_spec spec =
-        monohydra::output_spec(s.output_names[k].c_str(), "", MH_OUTPUT_COORDINATE);
-    if (s.host->add_output(s.host, &spec, &s.independent_out[k]) != MH_OK) return MH_ERROR;
+        monohydra::output_spec(s.outputs.output_names[k].c_str(), "", MH_OUTPUT_COORDINATE);
+    if (s.host->add_output(s.host, &spec, &s.outputs.independent_out[k]) != MH_OK) return MH_ERROR;
   }
   const mh_output_spec spec = monohydra::output_spec("repartitions", "", MH_OUTPUT_COUNTER);
-  return s.host->add_output(s.host, &spec, &s.repartitions_out);
+  return s.host->add_output(s.host, &spec, &s.outputs.repartitions_out);
 }
 
 mh_status setup(const mh_formulation* fo) noexcept {
@@ -260,14 +290,16 @@ mh_status setup(const mh_formulation* fo) noexcept {
     s.t0 = info.t0;
     s.z0 = Eigen::Map<const Eigen::VectorXd>(info.z0, s.N);
     s.zd0 = Eigen::Map<const Eigen::VectorXd>(info.zd0, s.N);
-    if (std::isnan(s.tolerance)) s.tolerance = info.position_tolerance;  // the default
+    if (std::isnan(s.settings.tolerance))
+      s.settings.tolerance = info.position_tolerance;  // the default
 
     // Full pivoting on Phi_z(z0) chooses z^d and z^i (Sect. 2.2).
     mh_mech_result rs{};
     const mh_status st = evaluate(s.host, MH_EVAL_CONSTRAINTS, s.t0, info.z0, info.zd0, rs);
     if (st >= MH_DISCARD) return st;
-    s.full_lu = Eigen::FullPivLU<Eigen::MatrixXd>(s.m, s.N);
-    s.r = factor_full_pivoting(Eigen::Map<const Eigen::MatrixXd>(rs.phi_z, s.m, s.N), s.full_lu);
+    s.partitioning.full_lu = Eigen::FullPivLU<Eigen::MatrixXd>(s.m, s.N);
+    s.r = factor_full_pivoting(Eigen::Map<const Eigen::MatrixXd>(rs.phi_z, s.m, s.N),
+                               s.partitioning.full_lu);
     if (s.r == 0) {
       log_error(s,
                 "the constraint Jacobian Phi_z vanishes at the initial configuration: "
@@ -281,16 +313,16 @@ mh_status setup(const mh_formulation* fo) noexcept {
       return MH_ERROR;
     }
     s.f = s.N - s.r;
-    size_partition(s.partition, s.N, s.r);
-    partition_from_pivots(s.full_lu, s.r, s.partition);
+    size_partition(s.partitioning.partition, s.N, s.r);
+    partition_from_pivots(s.partitioning.full_lu, s.r, s.partitioning.partition);
     std::string origin;
-    if (!s.independent_option.empty()) {
+    if (!s.settings.independent_option.empty()) {
       // The user's choice replaces full pivoting's, if Phi_z^d is invertible.
       std::vector<int> chosen;
       if (!parse_independent(s, chosen)) return MH_ERROR;
-      const std::string pivoting = coordinate_list(s.partition.independent, s.names);
+      const std::string pivoting = coordinate_list(s.partitioning.partition.independent, s.names);
       const double ratio = partition_with_independent(
-          Eigen::Map<const Eigen::MatrixXd>(rs.phi_z, s.m, s.N), chosen, s.partition);
+          Eigen::Map<const Eigen::MatrixXd>(rs.phi_z, s.m, s.N), chosen, s.partitioning.partition);
       if (!(ratio > kRankThreshold))
         return s.host->option_error(
             s.host, "independent_coordinates",
@@ -304,9 +336,10 @@ mh_status setup(const mh_formulation* fo) noexcept {
       log(s.host, MH_LOG_WARNING,
           "redundant constraints: using " + std::to_string(s.r) + " of " + std::to_string(s.m) +
               " rows (" + (s.m - s.r == 1 ? "row " : "rows ") +
-              dropped_rows(s.partition.rows, s.m) + " dropped)");
+              dropped_rows(s.partitioning.partition.rows, s.m) + " dropped)");
     log(s.host, MH_LOG_INFO,
-        "independent coordinates: " + coordinate_list(s.partition.independent, s.names) + origin);
+        "independent coordinates: " +
+            coordinate_list(s.partitioning.partition.independent, s.names) + origin);
     size_buffers(s);
     return declare(s);
   });
@@ -317,7 +350,7 @@ mh_status setup(const mh_formulation* fo) noexcept {
 // Why the dependent Newton failed, for the log.
 std::string dependent_failure(const DoubleStep& s, const DependentSolveResult& res, double t) {
   const std::string where = " at t = " + short_number(t) + " s with independent coordinates " +
-                            coordinate_list(s.partition.independent, s.names);
+                            coordinate_list(s.partitioning.partition.independent, s.names);
   if (res.outcome == DependentSolveResult::Outcome::singular)
     return "Phi_z^d is singular" + where + " (pivot ratio " + short_number(res.pivot_ratio) +
            " after " + std::to_string(res.iterations) +
@@ -325,15 +358,17 @@ std::string dependent_failure(const DoubleStep& s, const DependentSolveResult& r
   return "the dependent coordinates did not converge" + where + ": " +
          std::to_string(res.iterations) +
          " Newton iterations, max |Phi| = " + short_number(res.residual) + ", last increment " +
-         short_number(res.increment) + " (tolerance " + short_number(s.position_tolerance) + ")";
+         short_number(res.increment) + " (tolerance " +
+         short_number(s.settings.position_tolerance) + ")";
 }
 
 // With z_it and zd_it set on z^i and z_it on z^d set to the estimate: z^d by
 // Newton, zd^d (Eq. 13), R_z (Eq. 14), one evaluation of M', Q' with `flags`
 // added, Rdot_z zd^i (Eq. 15) and M'', Q'' (Eq. 17).
 mh_status two_steps(DoubleStep& s, double t, uint32_t flags) {
-  const DependentSolveResult res = s.dependent.solve(s.host, t, s.partition, s.position_tolerance,
-                                                     s.max_position_iterations, s.z_it, s.zd_it);
+  const DependentSolveResult res =
+      s.dependent.solve(s.host, t, s.partitioning.partition, s.settings.position_tolerance,
+                        s.settings.max_position_iterations, s.iterate.z_it, s.iterate.zd_it);
   if (res.outcome == DependentSolveResult::Outcome::host_failed) return res.host_status;
   if (res.outcome != DependentSolveResult::Outcome::converged) {
     // At error level so the host's failure message carries the reason.
@@ -341,27 +376,28 @@ mh_status two_steps(DoubleStep& s, double t, uint32_t flags) {
     return MH_DISCARD;
   }
   const double det = s.dependent.lu().determinant();
-  if (s.det_sign != 0.0 && !(det * s.det_sign > 0.0)) {
+  if (s.partitioning.det_sign != 0.0 && !(det * s.partitioning.det_sign > 0.0)) {
     log_error(s, "the step to t = " + short_number(t) +
                      " s crosses a configuration where the partition with independent "
                      "coordinates " +
-                     coordinate_list(s.partition.independent, s.names) +
+                     coordinate_list(s.partitioning.partition.independent, s.names) +
                      " is singular (det Phi_z^d changed sign): the re-partition check "
                      "(repartition_rcond = " +
-                     short_number(s.repartition_rcond) +
+                     short_number(s.settings.repartition_rcond) +
                      ") came too late; raise it or shorten the step");
     return MH_DISCARD;
   }
-  s.transform.rates(s.dependent.lu(), s.dependent.phi_z_i(), s.partition, s.zd_it);
+  s.transform.rates(s.dependent.lu(), s.dependent.phi_z_i(), s.partitioning.partition,
+                    s.iterate.zd_it);
   mh_mech_result rs{};
   const mh_status st = evaluate(s.host, MH_EVAL_DYNAMICS | MH_EVAL_CONSTRAINTS | flags, t,
-                                s.z_it.data(), s.zd_it.data(), rs);
+                                s.iterate.z_it.data(), s.iterate.zd_it.data(), rs);
   if (st >= MH_DISCARD) return st;
   // The velocity-product term at the full zd just completed.
-  s.transform.velocity_term(s.dependent.lu(), rs.phi_dot_zd, s.partition);
+  s.transform.velocity_term(s.dependent.lu(), rs.phi_dot_zd, s.partitioning.partition);
   s.transform.reduce(rs.M, rs.Q);
-  s.M_prime = Eigen::Map<const Eigen::MatrixXd>(rs.M, s.N, s.N);  // for the tangent
-  s.Q_prime = Eigen::Map<const Eigen::VectorXd>(rs.Q, s.N);
+  s.iterate.M_prime = Eigen::Map<const Eigen::MatrixXd>(rs.M, s.N, s.N);  // for the tangent
+  s.iterate.Q_prime = Eigen::Map<const Eigen::VectorXd>(rs.Q, s.N);
   return MH_OK;
 }
 
@@ -374,43 +410,43 @@ mh_status evaluate_iterate(DoubleStep& s, double t, const double* x, const doubl
   // last iterate's z moved along its tangent R_z (Eq. 14) to this x (a
   // difference column's x is 1e-8 away, a Newton update's close); else the
   // step's prediction.
-  if (s.iterate_valid) {
-    s.dx_i = Eigen::Map<const Eigen::VectorXd>(x, s.f) - s.x_it;
-    s.z_est.noalias() = s.transform.R_z().lazyProduct(s.dx_i);
-    s.z_it += s.z_est;
+  if (s.iterate.iterate_valid) {
+    s.iterate.dx_i = Eigen::Map<const Eigen::VectorXd>(x, s.f) - s.iterate.x_it;
+    s.iterate.z_est.noalias() = s.transform.R_z().lazyProduct(s.iterate.dx_i);
+    s.iterate.z_it += s.iterate.z_est;
   } else {
-    s.z_it = s.z_pred;
+    s.iterate.z_it = s.iterate.z_pred;
   }
-  s.iterate_valid = false;
-  s.derivatives_valid = false;
-  s.t_it = t;
+  s.iterate.iterate_valid = false;
+  s.derivs.derivatives_valid = false;
+  s.iterate.t_it = t;
   for (int k = 0; k < s.f; ++k) {
-    const int i = s.partition.independent[static_cast<size_t>(k)];
-    s.z_it[i] = x[k];
-    s.zd_it[i] = xd[k];
-    s.zdd_it[i] = xdd[k];
+    const int i = s.partitioning.partition.independent[static_cast<size_t>(k)];
+    s.iterate.z_it[i] = x[k];
+    s.iterate.zd_it[i] = xd[k];
+    s.iterate.zdd_it[i] = xdd[k];
   }
   const mh_status st = two_steps(s, t, flags);
   if (st >= MH_DISCARD) return st;
-  s.transform.accelerations(s.partition, s.zdd_it);  // Eq. (15)
-  s.x_it = Eigen::Map<const Eigen::VectorXd>(x, s.f);
-  s.xd_it = Eigen::Map<const Eigen::VectorXd>(xd, s.f);
-  s.xdd_it = Eigen::Map<const Eigen::VectorXd>(xdd, s.f);
-  s.iterate_valid = true;
+  s.transform.accelerations(s.partitioning.partition, s.iterate.zdd_it);  // Eq. (15)
+  s.iterate.x_it = Eigen::Map<const Eigen::VectorXd>(x, s.f);
+  s.iterate.xd_it = Eigen::Map<const Eigen::VectorXd>(xd, s.f);
+  s.iterate.xdd_it = Eigen::Map<const Eigen::VectorXd>(xdd, s.f);
+  s.iterate.iterate_valid = true;
   return MH_OK;
 }
 
 // True when the last evaluated iterate was at (x, xd, xdd).
 bool is_last_iterate(const DoubleStep& s, const double* x, const double* xd, const double* xdd) {
   using Map = Eigen::Map<const Eigen::VectorXd>;
-  return s.iterate_valid && s.x_it == Map(x, s.f) && s.xd_it == Map(xd, s.f) &&
-         s.xdd_it == Map(xdd, s.f);
+  return s.iterate.iterate_valid && s.iterate.x_it == Map(x, s.f) &&
+         s.iterate.xd_it == Map(xd, s.f) && s.iterate.xdd_it == Map(xdd, s.f);
 }
 
 // x, xd, xdd (f each) from the accepted z, zd, zdd on the current partition.
 void write_unknowns(const DoubleStep& s, double* x, double* xd, double* xdd) {
   for (int k = 0; k < s.f; ++k) {
-    const int i = s.partition.independent[static_cast<size_t>(k)];
+    const int i = s.partitioning.partition.independent[static_cast<size_t>(k)];
     x[k] = s.z[i];
     xd[k] = s.zd[i];
     xdd[k] = s.zdd[i];
@@ -425,9 +461,9 @@ mh_status start(const mh_formulation* fo, double* x0, double* xd0, double* xdd0)
     // Consistent initial state on this partition: z^d from Phi(z) = 0 with
     // z^i = z0^i (the host assembled z0, so this only polishes it), zd^d by
     // Eq. (13), then zdd^i from M'' zdd^i = Q'' (Eq. 17) and zdd^d by Eq. (15).
-    s.det_sign = 0.0;  // no reference yet
-    s.z_it = s.z0;
-    s.zd_it = s.zd0;
+    s.partitioning.det_sign = 0.0;  // no reference yet
+    s.iterate.z_it = s.z0;
+    s.iterate.zd_it = s.zd0;
     const mh_status st = two_steps(s, s.t0, 0u);
     if (st >= MH_DISCARD) {
       log_error(s, "the initial state is not consistent on the chosen partition");
@@ -440,23 +476,24 @@ mh_status start(const mh_formulation* fo, double* x0, double* xd0, double* xdd0)
                 "state (a massless chain of bodies?)");
       return MH_ERROR;
     }
-    s.zdd_i = ldlt.solve(s.transform.Q_reduced());  // Eq. (17)
+    s.iterate.zdd_i = ldlt.solve(s.transform.Q_reduced());  // Eq. (17)
     for (int k = 0; k < s.f; ++k)
-      s.zdd_it[s.partition.independent[static_cast<size_t>(k)]] = s.zdd_i[k];
-    s.transform.accelerations(s.partition, s.zdd_it);  // Eq. (15)
-    const double moved = (s.z_it - s.z0).lpNorm<Eigen::Infinity>();
-    if (moved > s.tolerance)
+      s.iterate.zdd_it[s.partitioning.partition.independent[static_cast<size_t>(k)]] =
+          s.iterate.zdd_i[k];
+    s.transform.accelerations(s.partitioning.partition, s.iterate.zdd_it);  // Eq. (15)
+    const double moved = (s.iterate.z_it - s.z0).lpNorm<Eigen::Infinity>();
+    if (moved > s.settings.tolerance)
       log(s.host, MH_LOG_INFO,
           "start: dependent coordinates moved by up to " + short_number(moved) +
               " to close the loops");
-    s.z = s.z_it;
-    s.zd = s.zd_it;
-    s.zdd = s.zdd_it;
-    s.iterate_valid = false;
-    s.ill_conditioned_reported = false;
-    s.det_sign = s.dependent.lu().determinant() > 0.0 ? 1.0 : -1.0;
+    s.z = s.iterate.z_it;
+    s.zd = s.iterate.zd_it;
+    s.zdd = s.iterate.zdd_it;
+    s.iterate.iterate_valid = false;
+    s.partitioning.ill_conditioned_reported = false;
+    s.partitioning.det_sign = s.dependent.lu().determinant() > 0.0 ? 1.0 : -1.0;
     s.t_k = s.t0;
-    s.repartitions = 0;
+    s.partitioning.repartitions = 0;
     write_unknowns(s, x0, xd0, xdd0);
     return MH_OK;
   });
@@ -472,8 +509,8 @@ mh_status begin_step(const mh_formulation* fo, double t_next, const double*, con
   return guarded(s, "begin_step", [&]() -> mh_status {
     const NoHeapScope no_heap;
     const double h = t_next - s.t_k;
-    s.z_pred = s.z + h * s.zd + (0.5 * h * h) * s.zdd;
-    s.iterate_valid = false;
+    s.iterate.z_pred = s.z + h * s.zd + (0.5 * h * h) * s.zdd;
+    s.iterate.iterate_valid = false;
     return MH_OK;
   });
 }
@@ -486,10 +523,11 @@ mh_status residual(const mh_formulation* fo, double t, const double* x, const do
     const mh_status st = evaluate_iterate(s, t, x, xd, xdd, MH_EVAL_SUBSYSTEMS);
     if (st >= MH_DISCARD) return st;
     for (int k = 0; k < s.f; ++k)
-      s.zdd_i[k] = s.zdd_it[s.partition.independent[static_cast<size_t>(k)]];
+      s.iterate.zdd_i[k] =
+          s.iterate.zdd_it[s.partitioning.partition.independent[static_cast<size_t>(k)]];
     // Eq. (17) as rows (Eq. 38 without dt^2/4): M'' zdd^i - Q''.
     Eigen::Map<Eigen::VectorXd> rows(r, s.f);
-    rows.noalias() = s.transform.M_reduced().lazyProduct(s.zdd_i);
+    rows.noalias() = s.transform.M_reduced().lazyProduct(s.iterate.zdd_i);
     rows -= s.transform.Q_reduced();
     return MH_OK;
   });
@@ -505,10 +543,10 @@ bool has_mech_derivatives(const mh_host* host) {
 // -dep rows of (Phi_z^d)^{-1} rhs (r x f) into the dependent rows of out (N x f).
 void solve_dependent_rows(DoubleStep& s, const Eigen::MatrixXd& rhs, Eigen::MatrixXd& out) {
   for (int c = 0; c < s.f; ++c) {
-    s.column_r = -rhs.col(c);
-    lu_solve_in_place(s.dependent.lu(), s.column_r, s.scratch_r);
+    s.derivs.column_r = -rhs.col(c);
+    lu_solve_in_place(s.dependent.lu(), s.derivs.column_r, s.derivs.scratch_r);
     for (int k = 0; k < s.r; ++k)
-      out(s.partition.dependent[static_cast<size_t>(k)], c) = s.column_r[k];
+      out(s.partitioning.partition.dependent[static_cast<size_t>(k)], c) = s.derivs.column_r[k];
   }
 }
 
@@ -525,26 +563,27 @@ void solve_dependent_rows(DoubleStep& s, const Eigen::MatrixXd& rhs, Eigen::Matr
 //   dr/dxd  = R_z^T (C R_z + M' dzdd/dxd),
 //   dr/dxdd = R_z^T M' R_z = M''.
 mh_status derivatives(DoubleStep& s) {
-  if (s.derivatives_valid) return MH_OK;
+  if (s.derivs.derivatives_valid) return MH_OK;
   const Eigen::MatrixXd& R = s.transform.R_z();
-  const Partition& p = s.partition;
+  const Partition& p = s.partitioning.partition;
   // lambda on the kept rows from e^d, zero on dropped ones.
-  s.residual_force.noalias() = s.M_prime * s.zdd_it;
-  s.residual_force -= s.Q_prime;
+  s.derivs.residual_force.noalias() = s.iterate.M_prime * s.iterate.zdd_it;
+  s.derivs.residual_force -= s.iterate.Q_prime;
   for (int k = 0; k < s.r; ++k)
-    s.lambda_r[k] = s.residual_force[p.dependent[static_cast<size_t>(k)]];
-  lu_solve_transpose_in_place(s.dependent.lu(), s.lambda_r, s.scratch_r);
-  s.lambda_m.setZero();
-  for (int a = 0; a < s.r; ++a) s.lambda_m[p.rows[static_cast<size_t>(a)]] = s.lambda_r[a];
+    s.derivs.lambda_r[k] = s.derivs.residual_force[p.dependent[static_cast<size_t>(k)]];
+  lu_solve_transpose_in_place(s.dependent.lu(), s.derivs.lambda_r, s.derivs.scratch_r);
+  s.derivs.lambda_m.setZero();
+  for (int a = 0; a < s.r; ++a)
+    s.derivs.lambda_m[p.rows[static_cast<size_t>(a)]] = s.derivs.lambda_r[a];
 
   mh_mech_derivatives_request rq{};
   rq.struct_size = sizeof(rq);
   rq.flags = MH_DERIV_DYNAMICS | MH_DERIV_CONSTRAINT_FORCES | MH_DERIV_CONSTRAINT_ACCELERATIONS;
-  rq.t = s.t_it;
-  rq.z = s.z_it.data();
-  rq.zd = s.zd_it.data();
-  rq.zdd = s.zdd_it.data();
-  rq.v = s.lambda_m.data();
+  rq.t = s.iterate.t_it;
+  rq.z = s.iterate.z_it.data();
+  rq.zd = s.iterate.zd_it.data();
+  rq.zdd = s.iterate.zdd_it.data();
+  rq.v = s.derivs.lambda_m.data();
   mh_mech_derivatives d{};
   d.struct_size = sizeof(d);
   const mh_status st = s.host->mech_derivatives(s.host, &rq, &d);
@@ -554,38 +593,38 @@ mh_status derivatives(DoubleStep& s) {
   const ConstMap dA_dz(d.dA_dz, s.m, s.N), dA_dzd(d.dA_dzd, s.m, s.N);
   for (int a = 0; a < s.r; ++a) {
     const int row = p.rows[static_cast<size_t>(a)];
-    s.dA_dz_kept.row(a) = dA_dz.row(row);
-    s.dA_dzd_kept.row(a) = dA_dzd.row(row);
+    s.derivs.dA_dz_kept.row(a) = dA_dz.row(row);
+    s.derivs.dA_dzd_kept.row(a) = dA_dzd.row(row);
     for (int k = 0; k < s.r; ++k) {
       const int j = p.dependent[static_cast<size_t>(k)];
-      s.rate_stiffness(a, j) = 0.5 * dA_dzd(row, j);
+      s.derivs.rate_stiffness(a, j) = 0.5 * dA_dzd(row, j);
     }
     for (int k = 0; k < s.f; ++k) {
       const int j = p.independent[static_cast<size_t>(k)];
-      s.rate_stiffness(a, j) = 0.5 * dA_dzd(row, j);
+      s.derivs.rate_stiffness(a, j) = 0.5 * dA_dzd(row, j);
     }
   }
   // Zero on the independent rows, which a re-partition may have moved.
-  s.dzd_dx.setZero();
-  s.dzdd_dx.setZero();
-  s.dzdd_dxd.setZero();
-  s.rhs_rf.noalias() = s.rate_stiffness * R;
-  solve_dependent_rows(s, s.rhs_rf, s.dzd_dx);
-  s.rhs_rf.noalias() = s.dA_dz_kept * R;
-  s.rhs_rf.noalias() += s.dA_dzd_kept * s.dzd_dx;
-  solve_dependent_rows(s, s.rhs_rf, s.dzdd_dx);
-  s.rhs_rf.noalias() = s.dA_dzd_kept * R;
-  solve_dependent_rows(s, s.rhs_rf, s.dzdd_dxd);
+  s.derivs.dzd_dx.setZero();
+  s.derivs.dzdd_dx.setZero();
+  s.derivs.dzdd_dxd.setZero();
+  s.derivs.rhs_rf.noalias() = s.derivs.rate_stiffness * R;
+  solve_dependent_rows(s, s.derivs.rhs_rf, s.derivs.dzd_dx);
+  s.derivs.rhs_rf.noalias() = s.derivs.dA_dz_kept * R;
+  s.derivs.rhs_rf.noalias() += s.derivs.dA_dzd_kept * s.derivs.dzd_dx;
+  solve_dependent_rows(s, s.derivs.rhs_rf, s.derivs.dzdd_dx);
+  s.derivs.rhs_rf.noalias() = s.derivs.dA_dzd_kept * R;
+  solve_dependent_rows(s, s.derivs.rhs_rf, s.derivs.dzdd_dxd);
 
-  s.work_Nf.noalias() = K * R;
-  s.work_Nf.noalias() -= S * R;
-  s.work_Nf.noalias() += C * s.dzd_dx;
-  s.work_Nf.noalias() += s.M_prime * s.dzdd_dx;
-  s.dr_dx.noalias() = R.transpose() * s.work_Nf;
-  s.work_Nf.noalias() = C * R;
-  s.work_Nf.noalias() += s.M_prime * s.dzdd_dxd;
-  s.dr_dxd.noalias() = R.transpose() * s.work_Nf;
-  s.derivatives_valid = true;
+  s.derivs.work_Nf.noalias() = K * R;
+  s.derivs.work_Nf.noalias() -= S * R;
+  s.derivs.work_Nf.noalias() += C * s.derivs.dzd_dx;
+  s.derivs.work_Nf.noalias() += s.iterate.M_prime * s.derivs.dzdd_dx;
+  s.derivs.dr_dx.noalias() = R.transpose() * s.derivs.work_Nf;
+  s.derivs.work_Nf.noalias() = C * R;
+  s.derivs.work_Nf.noalias() += s.iterate.M_prime * s.derivs.dzdd_dxd;
+  s.derivs.dr_dxd.noalias() = R.transpose() * s.derivs.work_Nf;
+  s.derivs.derivatives_valid = true;
   return MH_OK;
 }
 
@@ -605,8 +644,8 @@ mh_status tangent(const mh_formulation* fo, double t, const double* x, const dou
     }
     const mh_status st = derivatives(s);
     if (st >= MH_DISCARD) return st;
-    Eigen::Map<Eigen::MatrixXd>(dr_dx, s.f, s.f) = s.dr_dx;
-    Eigen::Map<Eigen::MatrixXd>(dr_dxd, s.f, s.f) = s.dr_dxd;
+    Eigen::Map<Eigen::MatrixXd>(dr_dx, s.f, s.f) = s.derivs.dr_dx;
+    Eigen::Map<Eigen::MatrixXd>(dr_dxd, s.f, s.f) = s.derivs.dr_dxd;
     Eigen::Map<Eigen::MatrixXd>(dr_dxdd, s.f, s.f) = s.transform.M_reduced();
     std::fill(column_given, column_given + s.f, uint8_t{1});
     return MH_OK;
@@ -623,7 +662,7 @@ mh_status mechanics_map(const mh_formulation* fo, double* dz_dx, double* dzd_dx,
   DoubleStep& s = self(fo);
   return guarded(s, "mechanics_map", [&]() -> mh_status {
     const NoHeapScope no_heap;
-    if (!s.iterate_valid) {
+    if (!s.iterate.iterate_valid) {
       log_error(s, "mechanics_map: no residual was evaluated in this step");
       return MH_ERROR;
     }
@@ -640,7 +679,7 @@ mh_status mechanics_map(const mh_formulation* fo, double* dz_dx, double* dzd_dx,
     if (st >= MH_DISCARD) return st;
     Eigen::Map<Eigen::MatrixXd>(dz_dx, s.N, s.f) = R;
     Eigen::Map<Eigen::MatrixXd>(dzd_dxd, s.N, s.f) = R;
-    Eigen::Map<Eigen::MatrixXd>(dzd_dx, s.N, s.f) = s.dzd_dx;
+    Eigen::Map<Eigen::MatrixXd>(dzd_dx, s.N, s.f) = s.derivs.dzd_dx;
     return MH_OK;
   });
 }
@@ -650,15 +689,16 @@ mh_status mechanics_map(const mh_formulation* fo, double* dz_dx, double* dzd_dx,
 // *changed tells whether it did.
 mh_status check_partition(DoubleStep& s, double t, bool* changed) {
   *changed = false;
-  s.block_lu.compute(s.dependent.phi_z_d());  // at the accepted z (r x r, no reallocation)
-  const double ratio = pivot_ratio(s.block_lu);
-  if (ratio >= s.repartition_rcond) return MH_OK;
+  s.partitioning.block_lu.compute(
+      s.dependent.phi_z_d());  // at the accepted z (r x r, no reallocation)
+  const double ratio = pivot_ratio(s.partitioning.block_lu);
+  if (ratio >= s.settings.repartition_rcond) return MH_OK;
 
   mh_mech_result rs{};
   const mh_status st = evaluate(s.host, MH_EVAL_CONSTRAINTS, t, s.z.data(), s.zd.data(), rs);
   if (st >= MH_DISCARD) return st;
-  const int rank =
-      factor_full_pivoting(Eigen::Map<const Eigen::MatrixXd>(rs.phi_z, s.m, s.N), s.full_lu);
+  const int rank = factor_full_pivoting(Eigen::Map<const Eigen::MatrixXd>(rs.phi_z, s.m, s.N),
+                                        s.partitioning.full_lu);
   if (rank < s.r) {
     log_error(s, "singular configuration at t = " + short_number(t) +
                      " s: the constraint Jacobian "
@@ -668,43 +708,46 @@ mh_status check_partition(DoubleStep& s, double t, bool* changed) {
                      "bifurcation or a dead point)");
     return MH_ERROR;
   }
-  partition_from_pivots(s.full_lu, s.r, s.candidate);
+  partition_from_pivots(s.partitioning.full_lu, s.r, s.partitioning.candidate);
   // The candidate's Phi_z^d has the first r pivots of the full LU.
-  const auto& LU = s.full_lu.matrixLU();
+  const auto& LU = s.partitioning.full_lu.matrixLU();
   double lo = std::abs(LU(0, 0));
   for (int k = 1; k < s.r; ++k) lo = std::min(lo, std::abs(LU(k, k)));
   const double candidate_ratio = lo / std::abs(LU(0, 0));
   // Switch only for a clear gain: two partitions of similar conditioning
   // would otherwise take turns, one re-partition per step.
-  if (s.candidate == s.partition || !(candidate_ratio > kRepartitionGain * ratio)) {
-    if (!s.ill_conditioned_reported)
+  if (s.partitioning.candidate == s.partitioning.partition ||
+      !(candidate_ratio > kRepartitionGain * ratio)) {
+    if (!s.partitioning.ill_conditioned_reported)
       log(s.host, MH_LOG_WARNING,
           "Phi_z^d is ill-conditioned at t = " + short_number(t) + " s (pivot ratio " +
               short_number(ratio) +
               ") but full pivoting finds no better independent coordinates than " +
-              coordinate_list(s.partition.independent, s.names) + "; going on with them");
-    s.ill_conditioned_reported = true;
+              coordinate_list(s.partitioning.partition.independent, s.names) +
+              "; going on with them");
+    s.partitioning.ill_conditioned_reported = true;
     return MH_OK;
   }
   std::string message = "re-partitioned at t = " + short_number(t) +
                         " s: independent coordinates " +
-                        coordinate_list(s.candidate.independent, s.names) + " (were " +
-                        coordinate_list(s.partition.independent, s.names) + ")";
-  if (s.r < s.m && s.candidate.rows != s.partition.rows)
-    message += "; dropped rows " + dropped_rows(s.candidate.rows, s.m) + " (were " +
-               dropped_rows(s.partition.rows, s.m) + ")";
-  std::swap(s.partition, s.candidate);  // equal sizes: no allocation
-  s.transform.set_partition(s.partition);
+                        coordinate_list(s.partitioning.candidate.independent, s.names) + " (were " +
+                        coordinate_list(s.partitioning.partition.independent, s.names) + ")";
+  if (s.r < s.m && s.partitioning.candidate.rows != s.partitioning.partition.rows)
+    message += "; dropped rows " + dropped_rows(s.partitioning.candidate.rows, s.m) + " (were " +
+               dropped_rows(s.partitioning.partition.rows, s.m) + ")";
+  std::swap(s.partitioning.partition, s.partitioning.candidate);  // equal sizes: no allocation
+  s.transform.set_partition(s.partitioning.partition);
   // The new partition's reference sign of det Phi_z^d, at the accepted z.
   const Eigen::Map<const Eigen::MatrixXd> phi_z(rs.phi_z, s.m, s.N);
   for (int a = 0; a < s.r; ++a)
     for (int k = 0; k < s.r; ++k)
-      s.block(a, k) = phi_z(s.partition.rows[static_cast<size_t>(a)],
-                            s.partition.dependent[static_cast<size_t>(k)]);
-  s.block_lu.compute(s.block);
-  s.det_sign = s.block_lu.determinant() > 0.0 ? 1.0 : -1.0;
-  s.ill_conditioned_reported = false;
-  ++s.repartitions;
+      s.partitioning.block(a, k) =
+          phi_z(s.partitioning.partition.rows[static_cast<size_t>(a)],
+                s.partitioning.partition.dependent[static_cast<size_t>(k)]);
+  s.partitioning.block_lu.compute(s.partitioning.block);
+  s.partitioning.det_sign = s.partitioning.block_lu.determinant() > 0.0 ? 1.0 : -1.0;
+  s.partitioning.ill_conditioned_reported = false;
+  ++s.partitioning.repartitions;
   *changed = true;
   log(s.host, MH_LOG_WARNING, message);
   return MH_OK;
@@ -724,12 +767,12 @@ mh_status accept(const mh_formulation* fo, double t, const mh_step_coefficients*
       const mh_status st = evaluate_iterate(s, t, x, xd, xdd, 0u);
       if (st >= MH_DISCARD) return st;
     }
-    s.z = s.z_it;
-    s.zd = s.zd_it;
-    s.zdd = s.zdd_it;
+    s.z = s.iterate.z_it;
+    s.zd = s.iterate.zd_it;
+    s.zdd = s.iterate.zdd_it;
     s.t_k = t;
-    s.iterate_valid = false;
-    s.det_sign = s.dependent.lu().determinant() > 0.0 ? 1.0 : -1.0;
+    s.iterate.iterate_valid = false;
+    s.partitioning.det_sign = s.dependent.lu().determinant() > 0.0 ? 1.0 : -1.0;
     bool changed = false;
     const mh_status st = check_partition(s, t, &changed);
     if (st >= MH_DISCARD) return st;
@@ -758,9 +801,9 @@ mh_status write_outputs(const mh_formulation* fo, double* outputs, uint32_t num_
     const auto put = [&](int32_t index, double value) {
       if (index >= 0 && static_cast<uint32_t>(index) < num_outputs) outputs[index] = value;
     };
-    for (size_t k = 0; k < s.independent_out.size(); ++k)
-      put(s.independent_out[k], s.partition.independent[k] + 1.0);
-    put(s.repartitions_out, s.repartitions);
+    for (size_t k = 0; k < s.outputs.independent_out.size(); ++k)
+      put(s.outputs.independent_out[k], s.partitioning.partition.independent[k] + 1.0);
+    put(s.outputs.repartitions_out, s.partitioning.repartitions);
     return MH_OK;
   });
 }
