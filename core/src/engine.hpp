@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 #include <chrono>
+#include <cmath>
 #include <complex>
 #include <memory>
 #include <set>
@@ -54,7 +55,8 @@ struct InstanceHost {
   InstanceHost& operator=(InstanceHost&&) = delete;
   ~InstanceHost();
   Simulation::Engine* engine = nullptr;
-  std::string source;  // for log lines: "subsystem 'spring'"
+  std::string source;   // for log lines: "subsystem 'spring'"
+  std::string library;  // the file its factory came from
   const OptionMap* options = nullptr;
   SourceMark mark;
   std::set<std::string> keys_read;
@@ -374,6 +376,11 @@ struct Simulation::Engine {
   // tangent.cpp
   void build_pattern();
   mh_status assemble_tangent(double t_eval);
+  void check_formulation_blocks() const;  // the entries the host reads, each finite
+  void check_tangent_values() const;      // the assembled values, then who wrote one
+  // Inside a host service no exception may reach the plugin: the reason is
+  // kept in last_plugin_error and the service returns MH_ERROR.
+  mh_status refuse_nonfinite_derivatives();
   // r(x): the formulation's rows (which evaluate the subsystems' rows) at the
   // rates the integrator's map gives x.
   mh_status residual(double t_eval, const Eigen::VectorXd& xq, Eigen::VectorXd& rq);
@@ -399,6 +406,31 @@ struct Simulation::Engine {
   // A failure of this step that a shorter one may cure (Newton, a discarded
   // evaluation): retried by advance() while halvings are left.
   [[noreturn]] void fail_step(const std::string& reason) const;
+  // Every value a plugin writes is checked where it crosses into the host:
+  // the first non-finite one of `count` at `values` stops the step naming
+  // the instance, its library, the call, what it wrote and the index. Within
+  // the step's iteration (`retryable`) a shorter step may cure it; once the
+  // step is being accepted it ends the run.
+  void check_finite(const double* values, size_t count, const InstanceHost& writer,
+                    const char* call, const char* what, bool retryable = true) const {
+    if (!all_finite(values, count)) report_nonfinite(values, count, writer, call, what, retryable);
+  }
+  // v * 0 is 0 for a finite v and NaN otherwise: one pass without a branch
+  // per entry; the entry is looked for only when one is not finite.
+  static bool all_finite(const double* values, size_t count) {
+    double zero = 0.0;
+    for (size_t i = 0; i < count; ++i) zero += values[i] * 0.0;
+    return zero == 0.0;
+  }
+  // The message naming a non-finite value's writer, call, what and index.
+  std::string nonfinite_reason(double value, size_t index, const InstanceHost& writer,
+                               const char* call, const char* what) const;
+  [[noreturn]] void fail_nonfinite(double value, size_t index, const InstanceHost& writer,
+                                   const char* call, const char* what, bool retryable) const;
+  [[noreturn]] void report_nonfinite(const double* values, size_t count, const InstanceHost& writer,
+                                     const char* call, const char* what, bool retryable) const;
+  // The outputs of the step's evaluation, each checked and named by its owner.
+  void check_outputs(const char* when) const;
   std::string status_reason(mh_status s, const std::string& what) const;
   std::string unknown_name(int i) const;
   // Throws SimulationError naming the plugin and the operation when `s` is

@@ -168,6 +168,46 @@ TEST(HostServices, NullOutPointersAndNullOrForgedHandlesAreRefusedWithAMessageNo
     EXPECT_NE(r.output.find(said), std::string::npos) << said << "\n" << r.output;
 }
 
+// Every value a plugin writes is checked where it crosses into the host: a
+// NaN output or point-force derivative stops the run at its step, naming the
+// instance, its library, the call, what it wrote and the index, and every
+// row before it stays.
+TEST(HostBoundary, ANonFiniteWriteStopsTheRunNamingTheInstanceItsLibraryTheCallAndTheIndex) {
+  const struct {
+    const char* fixture;
+    const char* said;
+  } cases[] = {
+      {"nan_output",
+       "subsystem 'spring' (faulty-spring) of nan_output.so wrote a non-finite value (nan) in "
+       "evaluate: output 'spring.extension' at the accepted step, outputs entry 0"},
+      // (the NaN's sign, printed as -nan here, is the plugin's arithmetic's)
+      {"nan_force_jacobian", "nan) in point_force_jacobian: dF_dp entry 0"}};
+  for (const auto& c : cases) {
+    const auto dir = mh::test::scratch_dir(std::string("nonfinite-") + c.fixture);
+    const auto model = dir / "spring.yaml";
+    {
+      std::ifstream in(spring_model());
+      std::ofstream out(model);
+      out << in.rdbuf() << "plugins: {faulty-spring: " << fixture(c.fixture) << "}\n";
+    }
+    const auto csv = dir / "out.csv";
+    const CliResult r = run_cli("run " + model.string() + " --out " + csv.string());
+    EXPECT_EQ(r.code, 1) << c.fixture << "\n" << r.output;
+    EXPECT_NE(r.output.find("simulation failed at t = 0.5 s, step 500"), std::string::npos)
+        << r.output;
+    EXPECT_NE(r.output.find(c.said), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(std::string("subsystem 'spring' (faulty-spring) of ") + c.fixture +
+                            ".so wrote a non-finite value ("),
+              std::string::npos)
+        << r.output;
+    // The header and the rows of t = 0 to 0.499 s.
+    std::ifstream rows(csv);
+    long lines = 0;
+    for (std::string line; std::getline(rows, line);) ++lines;
+    EXPECT_EQ(lines, 501) << c.fixture;
+  }
+}
+
 TEST(PluginCheck, AFailingCreateFailsWithThePluginsReason) {
   const CliResult r = run_cli("check " + fixture("failing_create") + " " + spring_model());
   EXPECT_EQ(r.code, 1) << r.output;

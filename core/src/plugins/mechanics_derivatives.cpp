@@ -9,6 +9,7 @@
 // evaluations of one instance, never of the mechanics.
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "engine.hpp"
 #include "monohydra/core/dynamics.hpp"
@@ -83,6 +84,25 @@ mh_status differenced_point_forces(SubsystemInstance& s, mh_subsystem_eval ev) {
 
 }  // namespace
 
+// K or C is not finite: the point-force derivatives a plugin gave are
+// searched for the writer (differenced ones come from finite forces).
+mh_status Simulation::Engine::refuse_nonfinite_derivatives() {
+  last_plugin_error = "the mechanics' derivatives K, C are not finite";
+  for (const SubsystemInstance& s : subsystems) {
+    if (s.points.empty() || s.api.ops.point_force_jacobian == nullptr) continue;
+    const std::pair<const std::vector<double>*, const char*> given[] = {{&s.dF_dp, "dF_dp"},
+                                                                        {&s.dF_dv, "dF_dv"}};
+    for (const auto& [buffer, name] : given)
+      for (size_t i = 0; i < buffer->size(); ++i)
+        if (!std::isfinite((*buffer)[i])) {
+          last_plugin_error =
+              nonfinite_reason((*buffer)[i], i, *s.host, "point_force_jacobian", name);
+          return MH_ERROR;
+        }
+  }
+  return MH_ERROR;
+}
+
 mh_status Simulation::Engine::mechanics_derivatives(const mh_mech_derivatives_request& rq) {
   kinematics_at(rq.z, rq.zd);
   if ((rq.flags & MH_DERIV_DYNAMICS) != 0) {
@@ -143,6 +163,9 @@ mh_status Simulation::Engine::mechanics_derivatives(const mh_mech_derivatives_re
     derivs.zdd_eval = Eigen::Map<const Eigen::VectorXd>(rq.zdd, N);
     dynamics_derivatives(model, data, derivs.zdd_eval, derivs.force_terms, *derivs.dyn_ws, derivs.K,
                          derivs.C);
+    if (!all_finite(derivs.K.data(), static_cast<size_t>(derivs.K.size())) ||
+        !all_finite(derivs.C.data(), static_cast<size_t>(derivs.C.size())))
+      return refuse_nonfinite_derivatives();
   }
   if ((rq.flags & MH_DERIV_CONSTRAINT_FORCES) != 0 && m > 0) {
     derivs.v_eval = Eigen::Map<const Eigen::VectorXd>(rq.v, m);

@@ -31,6 +31,7 @@ void Simulation::Engine::start_energy_balance() {
     check(formulation.ops.write_outputs(formulation.self, registry.outputs.data(),
                                         static_cast<uint32_t>(n_o)),
           "formulation write_outputs");
+  check_outputs("at the start");
   registry.outputs_k = registry.outputs;
   energy_terms(energy.stored0, energy.dissipation_k);
   energy.stored = energy.stored0;

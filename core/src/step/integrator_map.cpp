@@ -14,6 +14,14 @@ void Simulation::Engine::begin_step(double t_next, double h) {
   map_ws.map.xdd_offset = map_ws.xdd_off.data();
   check(integrator.ops.begin_step(integrator.self, t_next, h, &map_ws.map), "integrator",
         integrator_name, "begin_step");
+  const mh_step_coefficients& c = map_ws.map.coefficients;
+  const double coefficients[3] = {c.dxd_dx_second, c.dxdd_dx_second, c.dxd_dx_first};
+  check_finite(coefficients, 3, *integrator_host, "begin_step",
+               "the map's coefficients (dxd_dx_second, dxdd_dx_second, dxd_dx_first)");
+  const auto count = static_cast<size_t>(n);
+  check_finite(map_ws.x_pred.data(), count, *integrator_host, "begin_step", "x_predicted");
+  check_finite(map_ws.xd_off.data(), count, *integrator_host, "begin_step", "xd_offset");
+  check_finite(map_ws.xdd_off.data(), count, *integrator_host, "begin_step", "xdd_offset");
 }
 
 void Simulation::Engine::rates_of(const Eigen::VectorXd& xq, Eigen::VectorXd& xdq,

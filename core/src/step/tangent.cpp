@@ -6,6 +6,7 @@
 // differences (Eqs. 40-41) where they do not.
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "engine.hpp"
 #include "monohydra/core/mechanical_coupling.hpp"
@@ -123,6 +124,67 @@ mh_status Simulation::Engine::residual(double t_eval, const Eigen::VectorXd& xq,
     return MH_ERROR;
   }
   return st;
+}
+
+// One pass over the assembled values (v * 0 is 0 only for a finite v); on a
+// non-finite one, the plugins' buffers read into them are searched for the
+// writer, in the order they were read.
+void Simulation::Engine::check_tangent_values() const {
+  if (all_finite(tangent_ws.values.data(), tangent_ws.values.size())) return;
+  if (formulation.ops.tangent != nullptr) check_formulation_blocks();
+  if (tangent_ws.any_points && coupling.coupling_possible) {
+    const std::pair<const Eigen::MatrixXd*, const char*> maps[] = {
+        {&coupling.map_dz_dx, "dz_dx"},
+        {&coupling.map_dzd_dx, "dzd_dx"},
+        {&coupling.map_dzd_dxd, "dzd_dxd"},
+        {&coupling.map_dr_dQ, "dr_dQ"}};
+    for (const auto& [block, name] : maps)
+      check_finite(block->data(), static_cast<size_t>(block->size()), *formulation_host,
+                   "mechanics_map", name);
+  }
+  for (const SubsystemInstance& s : subsystems) {
+    if (s.api.ops.jacobian != nullptr) {
+      check_finite(s.d_dy.data(), s.d_dy.size(), *s.host, "jacobian", "d_dy");
+      check_finite(s.d_dydot.data(), s.d_dydot.size(), *s.host, "jacobian", "d_dydot");
+    }
+    if (s.api.ops.coupling_jacobian != nullptr && coupling.coupling_possible) {
+      check_finite(s.dR_dp.data(), s.dR_dp.size(), *s.host, "coupling_jacobian", "dR_dp");
+      check_finite(s.dR_dv.data(), s.dR_dv.size(), *s.host, "coupling_jacobian", "dR_dv");
+      check_finite(s.dF_dy.data(), s.dF_dy.size(), *s.host, "coupling_jacobian", "dF_dy");
+      check_finite(s.dF_dydot.data(), s.dF_dydot.size(), *s.host, "coupling_jacobian", "dF_dydot");
+    }
+  }
+  // No plugin buffer holds it: a difference of finite residuals overflowed.
+  const auto& colptr = tangent_ws.pattern->column_start();
+  for (int c = 0; c < n; ++c)
+    for (int k = colptr[c]; k < colptr[c + 1]; ++k)
+      if (!std::isfinite(tangent_ws.values[static_cast<size_t>(k)]))
+        fail_step("the tangent's column of " + unknown_name(c) +
+                  " is not finite: its forward differences of the residual overflowed");
+}
+
+// Outside the topological pattern of coordinate unknowns the blocks are not
+// read (and not zeroed): only the entries read are checked, O(nonzeros).
+void Simulation::Engine::check_formulation_blocks() const {
+  const Eigen::MatrixXd* blocks[3] = {&tangent_ws.dr_dx, &tangent_ws.dr_dxd, &tangent_ws.dr_dxdd};
+  const char* names[3] = {"dr_dx (column-major)", "dr_dxd (column-major)",
+                          "dr_dxdd (column-major)"};
+  for (int b = 0; b < 3; ++b) {
+    const double* v = blocks[b]->data();
+    if (!tangent_ws.coordinate_unknowns) {
+      check_finite(v, static_cast<size_t>(blocks[b]->size()), *formulation_host, "tangent",
+                   names[b]);
+      continue;
+    }
+    const auto& colptr = tangent_ws.pattern->column_start();
+    const auto& rows = tangent_ws.pattern->row_index();
+    for (int c = 0; c < n_m; ++c)
+      for (int k = colptr[c]; k < colptr[c + 1] && rows[k] < n_m; ++k) {
+        const auto at = static_cast<size_t>(c) * static_cast<size_t>(n_m) + rows[k];
+        if (!std::isfinite(v[at]))
+          fail_nonfinite(v[at], at, *formulation_host, "tangent", names[b], true);
+      }
+  }
 }
 
 mh_status Simulation::Engine::assemble_tangent(double t_eval) {
@@ -252,6 +314,7 @@ mh_status Simulation::Engine::assemble_tangent(double t_eval) {
             s.d_dy[a * k + b] + cv * s.d_dydot[a * k + b];
     }
   }
+  check_tangent_values();
   return MH_OK;
 }
 

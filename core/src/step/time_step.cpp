@@ -26,6 +26,48 @@ void Simulation::Engine::fail_step(const std::string& reason) const {
   throw StepFailure(accepted.attempt_t, accepted.attempt_step, reason);
 }
 
+void Simulation::Engine::fail_nonfinite(double value, size_t index, const InstanceHost& writer,
+                                        const char* call, const char* what, bool retryable) const {
+  const std::string reason = nonfinite_reason(value, index, writer, call, what);
+  if (retryable) fail_step(reason);
+  fail(reason);
+}
+
+std::string Simulation::Engine::nonfinite_reason(double value, size_t index,
+                                                 const InstanceHost& writer, const char* call,
+                                                 const char* what) const {
+  const std::string library = writer.library.substr(writer.library.find_last_of('/') + 1);
+  return writer.source + (library.empty() ? "" : " of " + library) + " wrote a non-finite value (" +
+         short_number(value) + ") in " + call + ": " + what + " entry " + std::to_string(index);
+}
+
+void Simulation::Engine::report_nonfinite(const double* values, size_t count,
+                                          const InstanceHost& writer, const char* call,
+                                          const char* what, bool retryable) const {
+  size_t i = 0;
+  while (i + 1 < count && std::isfinite(values[i])) ++i;
+  fail_nonfinite(values[i], i, writer, call, what, retryable);
+}
+
+void Simulation::Engine::check_outputs(const char* when) const {
+  for (int i = 0; i < n_o; ++i) {
+    const double v = registry.outputs[i];
+    if (std::isfinite(v)) continue;
+    // The owner is the qualified name's prefix: an instance, or the formulation.
+    const VariableInfo& info = registry.output_info[static_cast<size_t>(i)];
+    const std::string owner = info.qualified.substr(0, info.qualified.find('.'));
+    const InstanceHost* writer = formulation_host.get();
+    const char* call = "write_outputs";
+    for (const SubsystemInstance& s : subsystems)
+      if (s.spec->name == owner && owner != formulation_name) {
+        writer = s.host.get();
+        call = "evaluate";
+      }
+    const std::string what = std::string("output '") + info.qualified + "' " + when + ", outputs";
+    fail_nonfinite(v, static_cast<size_t>(i), *writer, call, what.c_str(), false);
+  }
+}
+
 std::string Simulation::Engine::status_reason(mh_status s, const std::string& what) const {
   const int v = static_cast<int>(s);
   std::string reason = what;
@@ -80,9 +122,17 @@ void Simulation::Engine::start() {
   xdd.setZero();
   check(formulation.ops.start(formulation.self, x.data(), xd.data(), xdd.data()),
         "formulation start");
+  const auto mech = static_cast<size_t>(n_m);
+  check_finite(x.data(), mech, *formulation_host, "accept", "x", false);
+  check_finite(xd.data(), mech, *formulation_host, "accept", "xd", false);
+  check_finite(xdd.data(), mech, *formulation_host, "accept", "xdd", false);
   check(formulation.ops.coordinates(formulation.self, accepted.z.data(), accepted.zd.data(),
                                     accepted.zdd.data()),
         "formulation coordinates");
+  const auto coords = static_cast<size_t>(N);
+  check_finite(accepted.z.data(), coords, *formulation_host, "coordinates", "z", false);
+  check_finite(accepted.zd.data(), coords, *formulation_host, "coordinates", "zd", false);
+  check_finite(accepted.zdd.data(), coords, *formulation_host, "coordinates", "zdd", false);
   registry.tol.resize(n);
   registry.tol.head(n_m) = registry.unknown_tol;
   registry.tol.tail(n_s) = states.state_tol;
@@ -211,6 +261,7 @@ void Simulation::Engine::accept_step(double t_next, bool event, double h) {
     check(formulation.ops.write_outputs(formulation.self, registry.outputs.data(),
                                         static_cast<uint32_t>(n_o)),
           "formulation write_outputs");
+  check_outputs("at the accepted step");
   registry.outputs_k = registry.outputs;  // of the converged iterate's evaluation
   update_energy_balance(h);
   for (auto& s : subsystems) {
