@@ -37,21 +37,54 @@ void walk_factory(const void* raw) {
   }
 }
 
+// The phases of a probe, each announced to the parent by one byte on the
+// pipe before it starts, so that a crash or a hang is told with its phase.
+constexpr char kPhases[] = "oifdu";
+const char* phase_text(char phase) {
+  switch (phase) {
+    case 'o':
+      return "while loading (its constructors)";
+    case 'i':
+      return "in its init";
+    case 'f':
+      return "listing its components (get_factory, count, descriptor)";
+    case 'd':
+      return "in its deinit";
+    case 'u':
+      return "while unloading (its destructors)";
+    default:
+      return "during probing";
+  }
+}
+
+void announce(int fd, char phase) {
+  while (::write(fd, &phase, 1) < 0 && errno == EINTR) {
+  }
+}
+
 // The child's whole life: never returns.
-[[noreturn]] void probe_in_child(const std::string& path) {
+[[noreturn]] void probe_in_child(const std::string& path, int fd) {
   const rlimit no_core{0, 0};
   setrlimit(RLIMIT_CORE, &no_core);  // a crash here is expected, not a bug report
+  announce(fd, kPhases[0]);
   void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (handle == nullptr) _exit(0);
   const auto* entry = static_cast<const mh_plugin_entry*>(dlsym(handle, MH_ENTRY_SYMBOL));
   if (entry == nullptr || entry->abi_version.major != MH_ABI_VERSION_MAJOR ||
       entry->init == nullptr || entry->get_factory == nullptr)
     _exit(0);
+  announce(fd, kPhases[1]);
   if (entry->init(path.c_str()) == 0) _exit(0);
+  announce(fd, kPhases[2]);
   for (const char* id :
        {MH_FORMULATION_FACTORY_ID, MH_SUBSYSTEM_FACTORY_ID, MH_INTEGRATOR_FACTORY_ID})
     walk_factory(entry->get_factory(id));
+  announce(fd, kPhases[3]);
   if (entry->deinit != nullptr) entry->deinit();
+  announce(fd, kPhases[4]);
+  // Unloaded here, so that its destructors run in the child too: a library
+  // whose destructor crashes is refused before the host ever loads it.
+  if (dlclose(handle) != 0) _exit(0);
   _exit(0);
 }
 
@@ -94,13 +127,26 @@ ProbeVerdict probe_library(const std::string& path, std::chrono::milliseconds li
   }
   if (pid == 0) {
     ::close(fds[0]);
-    probe_in_child(path);
+    probe_in_child(path, fds[1]);
   }
   ::close(fds[1]);
 
   using Clock = std::chrono::steady_clock;
   const auto deadline = Clock::now() + limit;
   int status = 0;
+  char phase = 0;  // the last the child announced
+  // Reads what the child announced so far, without waiting; false at its end.
+  const auto drain = [&]() {
+    for (;;) {
+      pollfd p{fds[0], POLLIN, 0};
+      if (::poll(&p, 1, 0) <= 0) return true;
+      char byte = 0;
+      const ssize_t got = ::read(fds[0], &byte, 1);
+      if (got == 0) return false;
+      if (got < 0) return errno == EINTR;
+      phase = byte;
+    }
+  };
   for (;;) {
     const pid_t r = waitpid(pid, &status, WNOHANG);
     if (r == pid) break;
@@ -114,27 +160,28 @@ ProbeVerdict probe_library(const std::string& path, std::chrono::milliseconds li
       kill(pid, SIGKILL);
       while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
       }
+      drain();
       ::close(fds[0]);
       const auto ms = limit.count();
       const std::string amount =
           ms % 1000 == 0 ? std::to_string(ms / 1000) + " s" : std::to_string(ms) + " ms";
-      return {false, "timed out after " + amount + " during probing"};
+      return {false, "timed out after " + amount + " during probing, " + phase_text(phase)};
     }
     // Wakes when the child ends (the pipe closes), or to look again: a library
     // may have handed the pipe on to a process of its own.
     pollfd p{fds[0], POLLIN, 0};
-    if (::poll(&p, 1, static_cast<int>(std::min<long long>(left, 100))) > 0) {
-      char byte = 0;
-      if (::read(fds[0], &byte, 1) == 0) {  // closed: the child is gone or going
-        while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-        }
-        break;
+    if (::poll(&p, 1, static_cast<int>(std::min<long long>(left, 100))) > 0 && !drain()) {
+      // closed: the child is gone or going
+      while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
       }
+      break;
     }
   }
+  drain();
   ::close(fds[0]);
   if (WIFSIGNALED(status))
-    return {false, "crashed with " + signal_abbreviation(WTERMSIG(status)) + " during probing"};
+    return {false, "crashed with " + signal_abbreviation(WTERMSIG(status)) + " during probing, " +
+                       phase_text(phase)};
   if (WIFEXITED(status) && WEXITSTATUS(status) != 0)
     return {false, "exited with status " + std::to_string(WEXITSTATUS(status)) + " during probing"};
   return {};

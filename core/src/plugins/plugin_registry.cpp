@@ -1,10 +1,14 @@
 #include "monohydra/core/plugin_registry.hpp"
 
+#include <dlfcn.h>
+
 #include <algorithm>
 #include <boost/dll/runtime_symbol_info.hpp>
 #include <boost/dll/shared_library.hpp>
 #include <chrono>
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -43,6 +47,80 @@ const char* to_string(ComponentKind kind) {
 
 namespace {
 
+// What model files, results (JSON) and logs quote of a component: its id and
+// version at most kMaxIdBytes, its other texts at most kMaxTextBytes, each
+// valid UTF-8 without control characters, an id without spaces either.
+constexpr size_t kMaxIdBytes = 64;
+constexpr size_t kMaxTextBytes = 4096;
+
+// The length of a valid UTF-8 sequence at s (at most `left` bytes), or 0.
+size_t utf8_sequence(const unsigned char* s, size_t left) {
+  const unsigned char c = s[0];
+  size_t n = 0;
+  uint32_t code = 0;
+  if (c < 0x80) return 1;
+  if ((c & 0xE0) == 0xC0) {
+    n = 2;
+    code = c & 0x1Fu;
+  } else if ((c & 0xF0) == 0xE0) {
+    n = 3;
+    code = c & 0x0Fu;
+  } else if ((c & 0xF8) == 0xF0) {
+    n = 4;
+    code = c & 0x07u;
+  } else {
+    return 0;
+  }
+  if (n > left) return 0;
+  for (size_t i = 1; i < n; ++i) {
+    if ((s[i] & 0xC0) != 0x80) return 0;
+    code = (code << 6) | (s[i] & 0x3Fu);
+  }
+  const uint32_t least[5] = {0, 0, 0x80, 0x800, 0x10000};  // no overlong forms
+  if (code < least[n] || code > 0x10FFFF || (code >= 0xD800 && code <= 0xDFFF)) return 0;
+  return n;
+}
+
+// "" when `text` may be quoted, else what is wrong with it, with the numbers.
+std::string text_problem(const char* text, size_t max_bytes, bool is_id) {
+  if (text == nullptr) return is_id ? "is NULL" : "";
+  const size_t length = strnlen(text, size_t{1} << 26);
+  if (length == 0 && is_id) return "is empty";
+  if (length > max_bytes)
+    return "is " + std::to_string(length) + " bytes long (at most " + std::to_string(max_bytes) +
+           ")";
+  const auto* s = reinterpret_cast<const unsigned char*>(text);
+  for (size_t i = 0; i < length;) {
+    const size_t n = utf8_sequence(s + i, length - i);
+    if (n == 0) return "is not valid UTF-8 (byte " + std::to_string(i) + ")";
+    if (n == 1 && (s[i] < 0x20 || s[i] == 0x7F) && !((s[i] == '\n' || s[i] == '\t') && !is_id))
+      return "holds the control character " + std::to_string(s[i]) + " at byte " +
+             std::to_string(i);
+    if (is_id && s[i] == ' ') return "holds a space at byte " + std::to_string(i);
+    i += n;
+  }
+  return "";
+}
+
+// The descriptor's texts, each checked: the first problem, naming the field.
+std::string descriptor_problem(const mh_component_descriptor& d) {
+  const struct {
+    const char* field;
+    const char* text;
+    size_t max;
+    bool id;
+  } fields[] = {{"id", d.id, kMaxIdBytes, true},
+                {"version", d.version, kMaxIdBytes, false},
+                {"name", d.name, kMaxTextBytes, false},
+                {"vendor", d.vendor, kMaxTextBytes, false},
+                {"description", d.description, kMaxTextBytes, false}};
+  for (const auto& f : fields) {
+    const std::string problem = text_problem(f.text, f.max, f.id);
+    if (!problem.empty()) return std::string("its ") + f.field + " " + problem;
+  }
+  return "";
+}
+
 // The components a factory lists. Every factory starts with struct_size,
 // count, descriptor, create: read up to its struct_size, a factory without
 // them lists nothing.
@@ -71,6 +149,10 @@ void list_components(const void* raw, ComponentKind kind, Factory ComponentInfo:
     info.*slot = f;
     info.factory = raw;
     if (info.descriptor == nullptr || info.descriptor->id == nullptr) continue;
+    const std::string problem = descriptor_problem(*info.descriptor);
+    if (!problem.empty())
+      throw PluginError("'" + path + "' offers a " + to_string(kind) + " component (number " +
+                        std::to_string(i) + ") whose descriptor cannot be quoted: " + problem);
     info.id = info.descriptor->id;
     found.push_back(info);
   }
@@ -83,6 +165,19 @@ bool same_contents(const std::string& a, const std::string& b) {
   std::ifstream fa(a, std::ios::binary), fb(b, std::ios::binary);
   return std::equal(std::istreambuf_iterator<char>(fa), std::istreambuf_iterator<char>(),
                     std::istreambuf_iterator<char>(fb), std::istreambuf_iterator<char>());
+}
+
+// Why the dynamic loader refuses `path` in its own words (dlerror), which the
+// error code of the library loader reduces to an errno ("Bad file descriptor").
+std::string dlopen_reason(const std::string& path, const std::string& fallback) {
+  ::dlerror();
+  void* handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (handle != nullptr) {
+    ::dlclose(handle);
+    return fallback;
+  }
+  const char* reason = ::dlerror();
+  return reason != nullptr ? reason : fallback;
 }
 
 std::string canonical_path(const std::string& path) {
@@ -148,7 +243,9 @@ void PluginRegistry::load_library(const std::string& path) {
   boost::dll::fs::error_code ec;
   lib->library.load(canonical, boost::dll::load_mode::rtld_local | boost::dll::load_mode::rtld_now,
                     ec);
-  if (ec) throw PluginError("'" + path + "' is not a loadable shared library: " + ec.message());
+  if (ec)
+    throw PluginError("'" + path + "' is not a loadable shared library: " +
+                      dlopen_reason(canonical, ec.message()));
   if (!lib->library.has(MH_ENTRY_SYMBOL))
     throw PluginError("'" + path +
                       "' is not a monohydra plugin: it does not export the entry "
@@ -230,9 +327,12 @@ const ComponentInfo& PluginRegistry::find(ComponentKind kind, const std::string&
     throw PluginError(std::string(to_string(kind)) + " '" + id + "' is offered by " +
                       std::to_string(offers.size()) + " libraries: " + from +
                       "; say which in the model file: plugins: {" + id + ": LIBRARY.so}");
+  // A library that was refused may be the one meant: say which, and why.
+  std::string refused;
+  for (const auto& r : refusals_) refused += "; refused: " + r;
   throw PluginError("unknown " + std::string(to_string(kind)) + " '" + id + "' (found: " +
                     (known.empty() ? std::string("none; check the plugin search path") : known) +
-                    ")");
+                    refused + ")");
 }
 
 }  // namespace mh

@@ -57,7 +57,17 @@ using test::load_error;
 TEST(PluginProbe, RefusesALibraryThatCrashesInInitNamingTheSignal) {
   const ProbeCacheSetting off("off");
   const std::string path = kFaulty + "/crash_in_init.so";
-  EXPECT_EQ(load_error(path), "'" + path + "' crashed with SIGSEGV during probing");
+  EXPECT_EQ(load_error(path), "'" + path + "' crashed with SIGSEGV during probing, in its init");
+}
+
+// The probe unloads the library in its child, so its destructors run there
+// first: one that crashes is refused, naming the phase, and never runs in the
+// host (which would crash at its own exit).
+TEST(PluginProbe, ALibraryWhoseDestructorCrashesIsRefusedBeforeTheHostLoadsIt) {
+  const std::string path = std::string(MH_BOUNDARY_PLUGIN_DIR) + "/crashing_destructor.so";
+  EXPECT_EQ(
+      load_error(path),
+      "'" + path + "' crashed with SIGSEGV during probing, while unloading (its destructors)");
 }
 
 TEST(PluginProbe, RefusesAFactoryThatCountsFourBillionComponentsWithoutWalkingThem) {
@@ -70,7 +80,8 @@ TEST(PluginProbe, RefusesAFactoryThatCountsFourBillionComponentsWithoutWalkingTh
 TEST(PluginProbe, RefusesALibraryCutToHalfItsSize) {
   const ProbeCacheSetting off("off");
   const std::string path = kFaulty + "/truncated_plugin.so";
-  EXPECT_EQ(load_error(path), "'" + path + "' crashed with SIGBUS during probing");
+  EXPECT_EQ(load_error(path),
+            "'" + path + "' crashed with SIGBUS during probing, while loading (its constructors)");
 }
 
 TEST(PluginProbe, KillsALibraryThatHangsInInitAfterTheTimeLimit) {
@@ -80,7 +91,7 @@ TEST(PluginProbe, KillsALibraryThatHangsInInitAfterTheTimeLimit) {
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   EXPECT_FALSE(v.usable);
-  EXPECT_EQ(v.reason, "timed out after 300 ms during probing");
+  EXPECT_EQ(v.reason, "timed out after 300 ms during probing, in its init");
   EXPECT_LT(seconds, 5.0);
 }
 
@@ -92,12 +103,13 @@ TEST(PluginProbe, ScanOfTheFaultyFolderLoadsTheGoodPluginAndRefusesEachBadOne) {
   EXPECT_EQ(r.components()[0].id, "crashing-formulation");
   ASSERT_EQ(r.refusals().size(), 3u);
   EXPECT_EQ(r.refusals()[0],
-            "'" + kFaulty + "/crash_in_init.so' crashed with SIGSEGV during probing");
+            "'" + kFaulty + "/crash_in_init.so' crashed with SIGSEGV during probing, in its init");
   EXPECT_EQ(r.refusals()[1], "'" + kFaulty +
                                  "/huge_count.so' claims 4294967295 formulation components (at "
                                  "most 10000)");
-  EXPECT_EQ(r.refusals()[2],
-            "'" + kFaulty + "/truncated_plugin.so' crashed with SIGBUS during probing");
+  EXPECT_EQ(r.refusals()[2], "'" + kFaulty +
+                                 "/truncated_plugin.so' crashed with SIGBUS during probing, while "
+                                 "loading (its constructors)");
 }
 
 TEST(PluginProbe, CachedVerdictIsUsedUntilTheLibraryChanges) {
@@ -129,7 +141,7 @@ TEST(PluginProbe, CachedVerdictIsUsedUntilTheLibraryChanges) {
 TEST(PluginProbe, UnwritableCacheIsNoCache) {
   const ProbeCacheSetting file("/proc/monohydra-cannot-write/probe-cache");
   const std::string path = kFaulty + "/crash_in_init.so";
-  EXPECT_EQ(load_error(path), "'" + path + "' crashed with SIGSEGV during probing");
+  EXPECT_EQ(load_error(path), "'" + path + "' crashed with SIGSEGV during probing, in its init");
 }
 
 // A cache path that is not a regular file is no cache: /dev/zero would be read
@@ -145,7 +157,7 @@ TEST(PluginProbe, ACachePathThatIsADeviceOrFifoIsNoCacheAndIsLeftAlone) {
     SCOPED_TRACE(path);
     const ProbeCacheSetting file(path);
     const std::string lib = kFaulty + "/crash_in_init.so";
-    EXPECT_EQ(load_error(lib), "'" + lib + "' crashed with SIGSEGV during probing");
+    EXPECT_EQ(load_error(lib), "'" + lib + "' crashed with SIGSEGV during probing, in its init");
   }
   EXPECT_TRUE(fs::is_character_file("/dev/null"));
   EXPECT_TRUE(fs::is_character_file("/dev/zero"));

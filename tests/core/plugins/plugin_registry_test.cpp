@@ -90,6 +90,46 @@ TEST(PluginRegistry, RefusesAFileThatIsNotASharedLibrary) {
   const std::string path = std::string(MH_FIXTURE_DIR) + "/text_file.so";
   const std::string err = load_error(path);
   EXPECT_NE(err.find("'" + path + "' is not a loadable shared library"), std::string::npos) << err;
+  // In the dynamic loader's own words, not an errno.
+  EXPECT_NE(err.find("file too short"), std::string::npos) << err;
+  EXPECT_EQ(err.find("Bad file descriptor"), std::string::npos) << err;
+}
+
+// Ids and versions are quoted in model files, results (JSON) and logs: at
+// most 64 bytes of UTF-8 without control characters or spaces.
+TEST(PluginRegistry, RefusesAnIdLongerThanTheHostQuotesWithItsLength) {
+  const std::string path = std::string(MH_BOUNDARY_PLUGIN_DIR) + "/long_id.so";
+  EXPECT_EQ(load_error(path), "'" + path +
+                                  "' offers a subsystem component (number 0) whose descriptor "
+                                  "cannot be quoted: its id is 1048575 bytes long (at most 64)");
+}
+
+TEST(PluginRegistry, RefusesAnIdThatIsNotUtf8NamingTheByte) {
+  const std::string path = std::string(MH_BOUNDARY_PLUGIN_DIR) + "/non_utf8_id.so";
+  EXPECT_EQ(load_error(path), "'" + path +
+                                  "' offers a subsystem component (number 0) whose descriptor "
+                                  "cannot be quoted: its id is not valid UTF-8 (byte 7)");
+}
+
+// The model asks for a component a refused library offered: the error says
+// which libraries were refused, and why.
+TEST(PluginRegistry, AnUnknownComponentErrorNamesTheLibrariesRefusedAndWhy) {
+  PluginRegistry r;
+  r.scan({MH_BOUNDARY_PLUGIN_DIR});
+  try {
+    r.find(ComponentKind::subsystem, "faulty-spring");
+    FAIL() << "found";
+  } catch (const PluginError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("unknown subsystem 'faulty-spring' (found: none; check the plugin "
+                        "search path; refused: '"),
+              std::string::npos)
+        << what;
+    EXPECT_NE(what.find("/long_id.so' offers a subsystem component (number 0) whose descriptor "
+                        "cannot be quoted: its id is 1048575 bytes long (at most 64)"),
+              std::string::npos)
+        << what;
+  }
 }
 
 TEST(PluginRegistry, RefusesALibraryWithoutTheEntrySymbol) {
