@@ -13,8 +13,12 @@ namespace fs = std::filesystem;
 
 namespace mh {
 
-// One line per library: usable (0 or 1), size, mtime (ns), path, reason,
-// separated by tabs (paths with a tab or newline are not cached).
+// A first line naming the format and the probe's version, then one line per
+// library: usable (0 or 1), size, mtime (ns), content hash, path, reason,
+// separated by tabs (paths with a tab or newline are not cached). Bump the
+// version when the probe tests more: older verdicts are then probed again.
+constexpr const char* kCacheHeader = "monohydra-probe-cache 2";
+
 std::string ProbeCache::default_file() {
   if (const char* env = std::getenv("MONOHYDRA_PROBE_CACHE"); env != nullptr && *env != '\0')
     return std::string(env) == "off" ? std::string() : std::string(env);
@@ -40,26 +44,49 @@ ProbeCache::ProbeCache(std::string file) : file_(std::move(file)) {
     return;
   }
   std::ifstream in(file_);
+  std::string header;
+  if (!std::getline(in, header) || header != kCacheHeader) return;  // none, or an older probe's
   for (std::string line; std::getline(in, line);) {
     std::stringstream ss(line);
-    std::string usable, size, mtime, path, reason;
+    std::string usable, size, mtime, content, path, reason;
     if (!std::getline(ss, usable, '\t') || !std::getline(ss, size, '\t') ||
-        !std::getline(ss, mtime, '\t') || !std::getline(ss, path, '\t'))
+        !std::getline(ss, mtime, '\t') || !std::getline(ss, content, '\t') ||
+        !std::getline(ss, path, '\t'))
       continue;
     std::getline(ss, reason);
     try {
-      Entry e{{std::stoull(size), std::stoll(mtime)}, {usable == "1", reason}};
+      Entry e{{std::stoull(size), std::stoll(mtime), std::stoull(content, nullptr, 16)},
+              {usable == "1", reason}};
       entries_[path] = e;
     } catch (const std::exception&) {  // a damaged line is probed again
     }
   }
 }
 
+std::optional<std::uint64_t> ProbeCache::content_hash(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::uint64_t h = 0xcbf29ce484222325ULL;  // FNV-1a, 64 bits
+  char buf[1 << 16];
+  while (in.read(buf, sizeof buf) || in.gcount() > 0) {
+    const auto got = static_cast<size_t>(in.gcount());
+    for (size_t i = 0; i < got; ++i) {
+      h ^= static_cast<unsigned char>(buf[i]);
+      h *= 0x100000001b3ULL;
+    }
+    if (!in) break;
+  }
+  return h;
+}
+
 std::optional<ProbeCache::Key> ProbeCache::key_of(const std::string& path) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) return std::nullopt;
+  const auto content = content_hash(path);
+  if (!content) return std::nullopt;
   return Key{static_cast<std::uintmax_t>(st.st_size),
-             static_cast<std::int64_t>(st.st_mtim.tv_sec) * 1'000'000'000 + st.st_mtim.tv_nsec};
+             static_cast<std::int64_t>(st.st_mtim.tv_sec) * 1'000'000'000 + st.st_mtim.tv_nsec,
+             *content};
 }
 
 std::optional<ProbeVerdict> ProbeCache::find(const std::string& canonical_path) const {
@@ -67,7 +94,8 @@ std::optional<ProbeVerdict> ProbeCache::find(const std::string& canonical_path) 
   const auto it = entries_.find(canonical_path);
   if (it == entries_.end()) return std::nullopt;
   const auto key = key_of(canonical_path);
-  if (!key || key->size != it->second.key.size || key->mtime_ns != it->second.key.mtime_ns)
+  if (!key || key->size != it->second.key.size || key->mtime_ns != it->second.key.mtime_ns ||
+      key->content != it->second.key.content)
     return std::nullopt;
   return it->second.verdict;
 }
@@ -90,9 +118,11 @@ void ProbeCache::save() {
   {
     std::ofstream out(tmp, std::ios::trunc);
     if (!out) return;
+    out << kCacheHeader << '\n' << std::hex;
     for (const auto& [path, e] : entries_)
-      out << (e.verdict.usable ? '1' : '0') << '\t' << e.key.size << '\t' << e.key.mtime_ns << '\t'
-          << path << '\t' << e.verdict.reason << '\n';
+      out << (e.verdict.usable ? '1' : '0') << '\t' << std::dec << e.key.size << '\t'
+          << e.key.mtime_ns << '\t' << std::hex << e.key.content << '\t' << path << '\t'
+          << e.verdict.reason << '\n';
     if (!out.flush()) {
       out.close();
       fs::remove(tmp, ec);

@@ -1,5 +1,8 @@
 // Probing forks once per library; the verdicts are kept in a small file keyed
-// by (canonical path, size, mtime) so that start-up stays fast.
+// by (canonical path, size, mtime, a hash of the contents) so that start-up
+// stays fast and a library rebuilt with the same size and mtime is probed
+// again. The file names the probe's version: a verdict of an older probe
+// (which tested less) is not trusted.
 #pragma once
 
 #include <cstdint>
@@ -29,12 +32,14 @@ class ProbeCache {
   struct Key {
     std::uintmax_t size = 0;
     std::int64_t mtime_ns = 0;
+    std::uint64_t content = 0;  // FNV-1a of the bytes
   };
   struct Entry {
     Key key;
     ProbeVerdict verdict;
   };
   static std::optional<Key> key_of(const std::string& path);
+  static std::optional<std::uint64_t> content_hash(const std::string& path);
 
   std::string file_;
   std::map<std::string, Entry> entries_;  // by canonical path

@@ -1,6 +1,6 @@
 // A library that crashes or hangs while being loaded is refused, with the
 // reason, and the host lives on (core/src/plugins/plugin_probe.hpp); verdicts are
-// cached by path, size and mtime (core/src/plugins/probe_cache.hpp).
+// cached by path, size, mtime and contents (core/src/plugins/probe_cache.hpp).
 #include "../../../core/src/plugins/plugin_probe.hpp"
 
 #include <gtest/gtest.h>
@@ -122,7 +122,9 @@ TEST(PluginProbe, CachedVerdictIsUsedUntilTheLibraryChanges) {
 
   std::stringstream text;
   text << std::ifstream(cache).rdbuf();
-  const std::string line = text.str();
+  const std::string header = "monohydra-probe-cache 2\n";
+  ASSERT_EQ(text.str().rfind(header, 0), 0u) << text.str();
+  const std::string line = text.str().substr(header.size());
   ASSERT_EQ(line.rfind("1\t" + std::to_string(fs::file_size(lib)) + "\t", 0), 0u) << line;
   ASSERT_NE(line.find("\t" + fs::canonical(lib).string() + "\t\n"), std::string::npos) << line;
 
@@ -130,8 +132,27 @@ TEST(PluginProbe, CachedVerdictIsUsedUntilTheLibraryChanges) {
   std::string forged = line;
   forged[0] = '0';
   forged.insert(forged.size() - 1, "forged verdict");
-  std::ofstream(cache, std::ios::trunc) << forged;
+  std::ofstream(cache, std::ios::trunc) << header << forged;
   EXPECT_EQ(load_error(lib.string()), "'" + lib.string() + "' forged verdict");
+  // ... but not from the cache of an older probe (no header: it tested less).
+  std::ofstream(cache, std::ios::trunc) << forged;
+  EXPECT_EQ(load_error(lib.string()), "");
+  std::ofstream(cache, std::ios::trunc) << header << forged;
+
+  // The same size and mtime with other contents (a rebuild within the
+  // mtime's resolution, a copy that kept the time): probed again.
+  const auto mtime = fs::last_write_time(lib);
+  {
+    std::fstream bytes(lib, std::ios::in | std::ios::out | std::ios::binary);
+    bytes.seekg(-1, std::ios::end);
+    const char last = static_cast<char>(bytes.get());
+    bytes.seekp(-1, std::ios::end);
+    bytes.put(static_cast<char>(last ^ 1));
+  }
+  fs::last_write_time(lib, mtime);
+  ASSERT_EQ(fs::last_write_time(lib), mtime);  // only the contents tell
+  EXPECT_EQ(load_error(lib.string()), "");
+  std::ofstream(cache, std::ios::trunc) << header << forged;
 
   // Once the file changes, its verdict no longer applies: probed again.
   fs::last_write_time(lib, fs::last_write_time(lib) + std::chrono::seconds(1));
