@@ -38,6 +38,30 @@ static SolverSettings checked_settings(const ModelFile& file, const RunChoices& 
   return s;
 }
 
+namespace {
+// The coordinates move only through the formulation's unknowns: a
+// formulation with fewer second-order unknowns (or pairs of first-order
+// ones) than the mechanism's degrees of freedom at the assembled start would
+// leave coordinates frozen while the run "succeeds". Refused at setup.
+void require_moving_unknowns(const Simulation::Engine& e, const std::string& who) {
+  int rank = 0;
+  if (e.m > 0) rank = static_cast<int>(Eigen::FullPivLU<Eigen::MatrixXd>(e.cons.phi_z).rank());
+  const int dof = e.N - rank;
+  int second = 0, first = 0;
+  for (uint8_t k : e.registry.unknown_kinds) {
+    second += k == MH_UNKNOWN_SECOND_ORDER ? 1 : 0;
+    first += k == MH_UNKNOWN_FIRST_ORDER ? 1 : 0;
+  }
+  if (2 * second + first >= 2 * dof) return;
+  throw PluginError(who + " declares " + std::to_string(second) + " second-order and " +
+                    std::to_string(first) + " first-order unknowns for a mechanism of " +
+                    std::to_string(dof) + (dof == 1 ? " degree" : " degrees") + " of freedom (" +
+                    std::to_string(e.N) + " coordinates, constraints of rank " +
+                    std::to_string(rank) +
+                    " at the start): the coordinates it leaves without one would not move");
+}
+}  // namespace
+
 Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
                        const std::string& formulation, LogSink log)
     : Simulation(file, registry, RunChoices{formulation, "", std::nullopt, std::nullopt},
@@ -143,6 +167,7 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
   e.formulation_host->in_setup = false;
   if (!status_ok(fst)) throw_setup_failure(e, file.formulation.mark, fwho);
   e.check_unread_options(*e.formulation_host);
+  require_moving_unknowns(e, fwho);
   e.registry.outputs.conservativeResize(e.n_o);
   e.registry.outputs_k.setZero(e.n_o);
 

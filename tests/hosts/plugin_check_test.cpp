@@ -125,6 +125,32 @@ INSTANTIATE_TEST_SUITE_P(
       return std::string(param.param.fixture);
     });
 
+// A formulation whose coordinates have no unknown to move them (here: its
+// coordinate unknowns declared algebraic) froze the mechanism and exited 0;
+// the host refuses it at setup, with the counts.
+TEST(PluginCheck, AFormulationThatLeavesTheMechanismWithoutMovingUnknownsIsRefusedAtSetup) {
+  const std::string said =
+      "formulation 'lagrange-baumgarte-broken' declares 0 second-order and 0 first-order "
+      "unknowns for a mechanism of 1 degree of freedom (3 coordinates, constraints of rank 2 "
+      "at the start): the coordinates it leaves without one would not move";
+  const CliResult check = run_cli("check " + fixture("tangent_no_moving_unknowns") + " " +
+                                  mh::test::shipped_model("fourbar.yaml"));
+  EXPECT_EQ(check.code, 1) << check.output;
+  EXPECT_NE(check.output.find(said), std::string::npos) << check.output;
+  const auto model = mh::test::scratch_dir("frozen") / "fourbar.yaml";
+  {
+    std::ifstream in(mh::test::shipped_model("fourbar.yaml"));
+    std::ofstream out(model);
+    out << in.rdbuf()
+        << "plugins: {lagrange-baumgarte-broken: " << fixture("tangent_no_moving_unknowns")
+        << "}\n";
+  }
+  const CliResult run =
+      run_cli("run " + model.string() + " --formulation lagrange-baumgarte-broken --t-end 0.1");
+  EXPECT_EQ(run.code, 2) << run.output;
+  EXPECT_NE(run.output.find(said), std::string::npos) << run.output;
+}
+
 TEST(PluginCheck, AFormulationsOwnBlocksAreComparedAndSaySoWhenTheyPass) {
   const CliResult r = run_cli("check " + std::string(MH_PLUGIN_DIR) + "/monohydra-penalty.so");
   ASSERT_EQ(r.code, 0) << r.output;
