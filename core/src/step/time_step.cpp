@@ -108,8 +108,11 @@ void Simulation::Engine::start() {
   // The step's statistics grow by one entry per iteration: sized here so
   // that a step allocates nothing (only a retried step may need more).
   const size_t per_attempt = static_cast<size_t>(std::max(settings.max_iterations, 1)) + 2;
+  // A damped iteration evaluates the residual at each trial (NewtonDamping:
+  // at most 11) and once more after the formulation's iteration_done.
+  const size_t residuals_per_iteration = settings.line_search ? 12 : 1;
   solver.stats.increment_norms.reserve(4 * per_attempt);
-  solver.stats.residual_norms.reserve(4 * per_attempt);
+  solver.stats.residual_norms.reserve(4 * per_attempt * residuals_per_iteration);
   // Algebraic states, and the equilibrium the model asks for, before the
   // formulation computes its initial accelerations from them.
   solve_algebraic_and_equilibrium();

@@ -111,10 +111,12 @@ struct Case {
   const char* model;
   const char* formulation;
   NewtonKind newton;
+  bool line_search = false;
 };
 
 std::string name(const Case& c) {
-  return std::string(c.model) + " " + c.formulation + " " + to_string(c.newton);
+  return std::string(c.model) + " " + c.formulation + " " + to_string(c.newton) +
+         (c.line_search ? " line search" : "");
 }
 
 void PrintTo(const Case& c, std::ostream* os) {
@@ -125,8 +127,11 @@ void PrintTo(const Case& c, std::ostream* os) {
 // linear solver's first factorization); after them, `steps` more steps
 // allocate nothing.
 void expect_no_allocation(const Case& c) {
-  ModelFile file = load_model_file(test::source_path(std::string("models/") + c.model));
+  const std::string model = c.model;
+  ModelFile file =
+      load_model_file(test::source_path(model.rfind("tests/", 0) == 0 ? model : "models/" + model));
   file.solver.newton = c.newton;
+  file.solver.line_search = c.line_search;
   Simulation sim(file, test::build_plugins(), RunChoices{c.formulation, "", {}, {}});
   sim.start();
   for (int k = 0; k < 20; ++k) sim.step();
@@ -162,7 +167,12 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"quickreturn.yaml", "double-step", NewtonKind::modified},
                       Case{"double-pendulum.yaml", "open-loop", NewtonKind::full},
                       Case{"double-pendulum.yaml", "open-loop", NewtonKind::modified},
-                      Case{"excavator.yaml", "", NewtonKind::full}),
+                      Case{"excavator.yaml", "", NewtonKind::full},
+                      Case{"fourbar.yaml", "penalty", NewtonKind::full, true},
+                      Case{"quickreturn.yaml", "double-step", NewtonKind::full, true},
+                      // Increments shortened at every valve opening: up to 12 residuals
+                      // an iteration.
+                      Case{"tests/fixtures/check/stiff-relief.yaml", "", NewtonKind::full, true}),
     [](const ::testing::TestParamInfo<Case>& param) {
       std::string n = name(param.param);
       for (char& ch : n)
