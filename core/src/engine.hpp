@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/LU>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <complex>
@@ -24,6 +25,7 @@
 #include "monohydra/core/dynamics_derivatives.hpp"
 #include "monohydra/core/linear_solver.hpp"
 #include "monohydra/core/model_file.hpp"
+#include "monohydra/core/plugin_call.hpp"
 #include "monohydra/core/simulation.hpp"
 #include "monohydra/core/sparse_pattern.hpp"
 #include "monohydra/cpp/number_text.hpp"
@@ -57,6 +59,42 @@ struct InstanceHost {
   Simulation::Engine* engine = nullptr;
   std::string source;   // for log lines: "subsystem 'spring'"
   std::string library;  // the file its factory came from
+  std::string label;    // source and library's name, for messages and crash reports
+  // The calls the host makes into plugins, each with its site (plugin_call.hpp).
+  enum class Op {
+    accept,
+    begin_step,
+    coordinates,
+    coupling_jacobian,
+    energy,
+    evaluate,
+    finish_step,
+    iteration_done,
+    jacobian,
+    mechanics_map,
+    point_force_jacobian,
+    residual,
+    restart,
+    stage_rates,
+    stage_state,
+    start,
+    tangent,
+    write_outputs,
+    count
+  };
+  std::array<PluginCallSite, static_cast<size_t>(Op::count)> sites{};
+  void set_library(const std::string& path) {
+    static constexpr const char* kNames[] = {
+        "accept",   "begin_step",    "coordinates",          "coupling_jacobian",
+        "energy",   "evaluate",      "finish_step",          "iteration_done",
+        "jacobian", "mechanics_map", "point_force_jacobian", "residual",
+        "restart",  "stage_rates",   "stage_state",          "start",
+        "tangent",  "write_outputs"};
+    library = path;
+    const std::string name = path.substr(path.find_last_of('/') + 1);
+    label = name.empty() ? source : source + " of " + name;
+    for (size_t i = 0; i < sites.size(); ++i) sites[i] = {label.c_str(), kNames[i]};
+  }
   const OptionMap* options = nullptr;
   SourceMark mark;
   std::set<std::string> keys_read;
@@ -65,6 +103,14 @@ struct InstanceHost {
   bool in_setup = false;
   mh_host table{};
 };
+
+// Calls f() (one call into a plugin) with that call marked in flight, for
+// a crash handler to name (plugin_call.hpp).
+template <class F>
+auto in_flight(const InstanceHost& h, InstanceHost::Op op, F&& f) {
+  const PluginCallScope scope(h.sites[static_cast<size_t>(op)]);
+  return f();
+}
 
 struct SubsystemInstance {
   const SubsystemSpec* spec = nullptr;

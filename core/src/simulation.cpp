@@ -101,7 +101,7 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
     } catch (const PluginError& err) {
       throw InputError(spec.mark, "subsystems '" + spec.name + "'.type", err.what());
     }
-    s.host->library = info->library;
+    s.host->set_library(info->library);
     e.last_plugin_error.clear();
     s.api = SubsystemProxy(
         info->subsystem_factory.create(static_cast<const mh_subsystem_factory*>(info->factory),
@@ -153,7 +153,7 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
       e.formulation_name == file.formulation.name ? &file.formulation.options : nullptr;
   e.make_host(*e.formulation_host, fwho, fopts, file.formulation.mark,
               InstanceHost::Role::formulation, -1);
-  e.formulation_host->library = finfo->library;
+  e.formulation_host->set_library(finfo->library);
   e.last_plugin_error.clear();
   e.formulation = FormulationProxy(
       finfo->formulation_factory.create(static_cast<const mh_formulation_factory*>(finfo->factory),
@@ -192,7 +192,7 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
       e.integrator_name == file.integrator.name ? &file.integrator.options : nullptr;
   e.make_host(*e.integrator_host, iwho, iopts, file.integrator.mark, InstanceHost::Role::integrator,
               -1);
-  e.integrator_host->library = iinfo->library;
+  e.integrator_host->set_library(iinfo->library);
   e.last_plugin_error.clear();
   e.integrator = IntegratorProxy(
       iinfo->integrator_factory.create(static_cast<const mh_integrator_factory*>(iinfo->factory),

@@ -16,11 +16,13 @@
 #include <optional>
 
 #include "cli_support.hpp"
+#include "crash_report.hpp"
 #include "model_plugins.hpp"
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/plugin_registry.hpp"
 #include "monohydra/core/run.hpp"
 #include "monohydra/core/simulation.hpp"
+#include "monohydra/cpp/number_text.hpp"
 #include "result_sidecar.hpp"
 #include "run_setup.hpp"
 #include "stability_text.hpp"
@@ -338,9 +340,11 @@ int simulate(RunRequest request, const std::string& out_path) {
   std::cout.flush();
   std::cerr.flush();
   std::fflush(nullptr);
+  CrashReport* crash = shared_crash_report();
   const pid_t pid = ::fork();
   if (pid < 0) return run_prepared(*prepared, request, out_path, stop, true);
   if (pid == 0) {
+    install_crash_handler(crash);
     int code = run_prepared(*prepared, request, out_path, stop, true);
     errno = 0;
     std::cout.flush();
@@ -370,11 +374,15 @@ int simulate(RunRequest request, const std::string& out_path) {
   if (!out_path.empty()) {
     const double t = last_row_time(out_path);
     where = std::isnan(t) ? "; '" + out_path + "' holds no row"
-                          : " after t = " + std::to_string(t) +
-                                " s; every row up to there is in '" + out_path + "'";
+                          : "; every row up to t = " + monohydra::short_number(t) + " s is in '" +
+                                out_path + "'";
   }
-  std::cerr << "monohydra: the run crashed (" << signal_name(sig) << ") in its formulation, "
-            << "integrator or a subsystem plugin" << where << '\n';
+  const std::string site = crash_site(crash);
+  std::cerr << "monohydra: the run crashed (" << signal_name(sig) << ")"
+            << (site.empty() ? " outside the plugin calls the host marks (in the host, or in a "
+                               "thread a plugin started)"
+                             : site)
+            << where << '\n';
   return 1;
 }
 

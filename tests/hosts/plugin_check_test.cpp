@@ -234,6 +234,27 @@ TEST(HostBoundary, ANonFiniteWriteStopsTheRunNamingTheInstanceItsLibraryTheCallA
   }
 }
 
+// A crash inside a subsystem's evaluate, itself inside the formulation's
+// residual: the report names the innermost call in flight.
+TEST(HostBoundary, ACrashInsideASubsystemCallNamesTheInstanceTheCallTheTimeAndTheStep) {
+  const auto dir = mh::test::scratch_dir("crash-evaluate");
+  const auto model = dir / "spring.yaml";
+  {
+    std::ifstream in(spring_model());
+    std::ofstream out(model);
+    out << in.rdbuf() << "plugins: {faulty-spring: " << fixture("crash_evaluate") << "}\n";
+  }
+  const auto csv = dir / "out.csv";
+  const CliResult r = run_cli("run " + model.string() + " --out " + csv.string());
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("monohydra: the run crashed (SIGSEGV) in subsystem 'spring' "
+                          "(faulty-spring) of crash_evaluate.so, in its evaluate, at t = 0.501 s, "
+                          "step 501; every row up to t = 0.5 s is in '" +
+                          csv.string() + "'"),
+            std::string::npos)
+      << r.output;
+}
+
 TEST(PluginCheck, AFailingCreateFailsWithThePluginsReason) {
   const CliResult r = run_cli("check " + fixture("failing_create") + " " + spring_model());
   EXPECT_EQ(r.code, 1) << r.output;

@@ -84,8 +84,11 @@ TEST(PluginIsolation, RunSaysWhereAFormulationCrashedAndKeepsEveryRowBefore) {
                   " --formulation crashing-formulation --t-end 0.5 --out " + csv.string(),
               kEnv);
   EXPECT_EQ(r.code, 1) << r.output;
-  EXPECT_NE(r.output.find("monohydra: the run crashed (SIGSEGV) in its formulation, integrator or "
-                          "a subsystem plugin after t = 0.100000 s; every row up to there is in '" +
+  // The instance, its library, the call in flight, the time and step it
+  // attempted, and where the rows are.
+  EXPECT_NE(r.output.find("monohydra: the run crashed (SIGSEGV) in formulation "
+                          "'crashing-formulation' of crashing_formulation.so, in its residual, at "
+                          "t = 0.101 s, step 101; every row up to t = 0.1 s is in '" +
                           csv.string() + "'"),
             std::string::npos)
       << r.output;

@@ -605,7 +605,8 @@ mh_status Simulation::Engine::evaluate_subsystems(double t_eval, double* rows) {
       }
     }
     point_at(ev, s);
-    const mh_status st = normalized(s.api.ops.evaluate(s.api.self, &ev));
+    const mh_status st = normalized(in_flight(*s.host, InstanceHost::Op::evaluate,
+                                              [&] { return s.api.ops.evaluate(s.api.self, &ev); }));
     if (!status_ok(st)) return st;
     s.power = 0.0;
     for (size_t k = 0; k < np; ++k) {

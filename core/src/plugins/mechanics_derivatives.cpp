@@ -66,7 +66,9 @@ mh_status differenced_point_forces(SubsystemInstance& s, mh_subsystem_eval ev) {
       for (int side = 0; side < 2; ++side) {
         x[c] = side == 0 ? x0 + h : x0 - h;
         std::fill(s.f.begin(), s.f.end(), 0.0);
-        const mh_status st = normalized(s.api.ops.evaluate(s.api.self, &ev));
+        const mh_status st = normalized(in_flight(*s.host, InstanceHost::Op::evaluate, [&] {
+          return s.api.ops.evaluate(s.api.self, &ev);
+        }));
         if (!status_ok(st)) {
           x[c] = x0;
           return st;
@@ -124,8 +126,9 @@ mh_status Simulation::Engine::mechanics_derivatives(const mh_mech_derivatives_re
         std::fill(s.dF_dp.begin(), s.dF_dp.end(), 0.0);
         std::fill(s.dF_dv.begin(), s.dF_dv.end(), 0.0);
         point_at(ev, s);
-        st = normalized(
-            s.api.ops.point_force_jacobian(s.api.self, &ev, s.dF_dp.data(), s.dF_dv.data()));
+        st = normalized(in_flight(*s.host, InstanceHost::Op::point_force_jacobian, [&] {
+          return s.api.ops.point_force_jacobian(s.api.self, &ev, s.dF_dp.data(), s.dF_dv.data());
+        }));
       } else {
         st = differenced_point_forces(s, ev);
       }

@@ -62,8 +62,12 @@ class StepProblem final : public NewtonProblem {
   bool accepted() override {
     if (e_.formulation.ops.iteration_done == nullptr) return false;
     e_.rates_of(e_.x, e_.xd, e_.xdd);
-    e_.check(normalized(e_.formulation.ops.iteration_done(e_.formulation.self, t_next_, e_.x.data(),
-                                                          e_.xd.data(), e_.xdd.data())),
+    e_.check(normalized(in_flight(*e_.formulation_host, InstanceHost::Op::iteration_done,
+                                  [&] {
+                                    return e_.formulation.ops.iteration_done(
+                                        e_.formulation.self, t_next_, e_.x.data(), e_.xd.data(),
+                                        e_.xdd.data());
+                                  })),
              "formulation iteration");
     return true;
   }
@@ -126,7 +130,8 @@ std::string Simulation::Engine::nonfinite_source(int row) {
   for (auto& s : subsystems) {
     eval.scratch_rows.setZero();
     point_at(ev, s);
-    const mh_status st = normalized(s.api.ops.evaluate(s.api.self, &ev));
+    const mh_status st = normalized(in_flight(*s.host, InstanceHost::Op::evaluate,
+                                              [&] { return s.api.ops.evaluate(s.api.self, &ev); }));
     if (status_ok(st) && !std::isfinite(eval.scratch_rows[row]))
       return "subsystem '" + s.spec->name + "' (" + s.spec->type + ")";
   }

@@ -15,7 +15,9 @@ void Simulation::Engine::energy_terms(double& stored_out, double& dissipation_ou
     if (s.api.ops.energy == nullptr) continue;
     point_at(ev, s);
     double st = 0.0, diss = 0.0;
-    if (status_ok(normalized(s.api.ops.energy(s.api.self, &ev, &st, &diss)))) {
+    if (status_ok(normalized(in_flight(*s.host, InstanceHost::Op::energy, [&] {
+          return s.api.ops.energy(s.api.self, &ev, &st, &diss);
+        })))) {
       stored_out += st;
       dissipation_out += diss;
     }
@@ -28,8 +30,11 @@ void Simulation::Engine::start_energy_balance() {
   check(evaluate_subsystems(accepted.t, eval.scratch_rows.data()), "subsystem evaluation");
   energy.power_k = eval.power;
   if (formulation.ops.write_outputs != nullptr)
-    check(formulation.ops.write_outputs(formulation.self, registry.outputs.data(),
-                                        static_cast<uint32_t>(n_o)),
+    check(in_flight(*formulation_host, InstanceHost::Op::write_outputs,
+                    [&] {
+                      return formulation.ops.write_outputs(
+                          formulation.self, registry.outputs.data(), static_cast<uint32_t>(n_o));
+                    }),
           "formulation write_outputs");
   check_outputs("at the start");
   registry.outputs_k = registry.outputs;

@@ -137,8 +137,12 @@ std::vector<std::complex<double>> Simulation::Engine::rates_eigenvalues(double t
     stages.xdds = xdd;
     if (j >= 0) (entries[j].velocity ? stages.xds : stages.xs)[entries[j].i] += delta;
     if (formulation.ops.begin_step != nullptr)
-      check(formulation.ops.begin_step(formulation.self, t_eval, stages.xs.data(),
-                                       stages.xds.data(), stages.xdds.data()),
+      check(in_flight(*formulation_host, InstanceHost::Op::begin_step,
+                      [&] {
+                        return formulation.ops.begin_step(formulation.self, t_eval,
+                                                          stages.xs.data(), stages.xds.data(),
+                                                          stages.xdds.data());
+                      }),
             "formulation begin_step");
     solve_rates(t_eval, h, stages.xs, stages.xds, stages.xdds);
     for (Eigen::Index row = 0; row < size; ++row) {

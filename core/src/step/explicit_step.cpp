@@ -46,8 +46,10 @@ mh_status Simulation::Engine::rates_residual(double t_eval, const Eigen::VectorX
   ++eval.counters.residual_evaluations;
   eval.rows_target = rq.data() + n_m;
   eval.iterate_evaluated = false;
-  const mh_status st = normalized(formulation.ops.residual(formulation.self, t_eval, xq.data(),
-                                                           xdq.data(), xddq.data(), rq.data()));
+  const mh_status st = normalized(in_flight(*formulation_host, InstanceHost::Op::residual, [&] {
+    return formulation.ops.residual(formulation.self, t_eval, xq.data(), xdq.data(), xddq.data(),
+                                    rq.data());
+  }));
   eval.rows_target = nullptr;
   if (status_ok(st) && !eval.iterate_evaluated) {
     last_plugin_error = "formulation '" + formulation_name +
@@ -200,8 +202,11 @@ void Simulation::Engine::explicit_attempt(double t_eval, double h) {
     double t_stage = accepted.t;
     // The integrator's status, named only when it failed (Engine::check):
     // no string is built on the step's path.
-    check(integrator.ops.stage_state(integrator.self, s, h, &t_stage, stages.xs.data(),
-                                     stages.xds.data()),
+    check(in_flight(*integrator_host, InstanceHost::Op::stage_state,
+                    [&] {
+                      return integrator.ops.stage_state(integrator.self, s, h, &t_stage,
+                                                        stages.xs.data(), stages.xds.data());
+                    }),
           "integrator", integrator_name, "stage_state");
     if (!(t_stage >= accepted.t && t_stage <= accepted.t + h))
       fail("integrator '" + integrator_name + "' put stage " + std::to_string(s) +
@@ -213,16 +218,25 @@ void Simulation::Engine::explicit_attempt(double t_eval, double h) {
              std::to_string(s) + ": " + unknown_name(i) + " is not finite (h = " + short_number(h) +
              " s; a smaller step may be within its stability bound)");
     if (formulation.ops.begin_step != nullptr)
-      check(formulation.ops.begin_step(formulation.self, t_stage, stages.xs.data(),
-                                       stages.xds.data(), stages.xdds.data()),
+      check(in_flight(*formulation_host, InstanceHost::Op::begin_step,
+                      [&] {
+                        return formulation.ops.begin_step(formulation.self, t_stage,
+                                                          stages.xs.data(), stages.xds.data(),
+                                                          stages.xdds.data());
+                      }),
             "formulation begin_step");
     solve_rates(std::min(t_stage, t_eval), h, stages.xs, stages.xds, stages.xdds);
-    check(integrator.ops.stage_rates(integrator.self, s, stages.xs.data(), stages.xds.data(),
-                                     stages.xdds.data()),
+    check(in_flight(*integrator_host, InstanceHost::Op::stage_rates,
+                    [&] {
+                      return integrator.ops.stage_rates(integrator.self, s, stages.xs.data(),
+                                                        stages.xds.data(), stages.xdds.data());
+                    }),
           "integrator", integrator_name, "stage_rates");
   }
-  check(integrator.ops.finish_step(integrator.self, h, x.data(), xd.data()), "integrator",
-        integrator_name, "finish_step");
+  check(in_flight(
+            *integrator_host, InstanceHost::Op::finish_step,
+            [&] { return integrator.ops.finish_step(integrator.self, h, x.data(), xd.data()); }),
+        "integrator", integrator_name, "finish_step");
   for (int i = 0; i < n; ++i)
     if (!std::isfinite(x[i]) || !std::isfinite(xd[i]))
       fail("the explicit integrator '" + integrator_name + "' diverged: " + unknown_name(i) +

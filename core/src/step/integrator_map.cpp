@@ -12,8 +12,10 @@ void Simulation::Engine::begin_step(double t_next, double h) {
   map_ws.map.x_predicted = map_ws.x_pred.data();
   map_ws.map.xd_offset = map_ws.xd_off.data();
   map_ws.map.xdd_offset = map_ws.xdd_off.data();
-  check(integrator.ops.begin_step(integrator.self, t_next, h, &map_ws.map), "integrator",
-        integrator_name, "begin_step");
+  check(
+      in_flight(*integrator_host, InstanceHost::Op::begin_step,
+                [&] { return integrator.ops.begin_step(integrator.self, t_next, h, &map_ws.map); }),
+      "integrator", integrator_name, "begin_step");
   const mh_step_coefficients& c = map_ws.map.coefficients;
   const double coefficients[3] = {c.dxd_dx_second, c.dxdd_dx_second, c.dxd_dx_first};
   check_finite(coefficients, 3, *integrator_host, "begin_step",
@@ -46,7 +48,11 @@ void Simulation::Engine::rates_of(const Eigen::VectorXd& xq, Eigen::VectorXd& xd
 }
 
 void Simulation::Engine::restart_integrator() {
-  check(integrator.ops.restart(integrator.self, accepted.t, x.data(), xd.data(), xdd.data()),
+  check(in_flight(*integrator_host, InstanceHost::Op::restart,
+                  [&] {
+                    return integrator.ops.restart(integrator.self, accepted.t, x.data(), xd.data(),
+                                                  xdd.data());
+                  }),
         "integrator", integrator_name, "restart");
   stages.stability_due = explicit_method;  // a new start: its stability is checked again
 }

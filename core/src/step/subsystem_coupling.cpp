@@ -70,7 +70,8 @@ mh_status difference_instance(SubsystemInstance& s, mh_subsystem_eval ev, Eigen:
   const auto run = [&]() {
     rows.setZero();
     std::fill(s.f.begin(), s.f.end(), 0.0);
-    return normalized(s.api.ops.evaluate(s.api.self, &ev));
+    return normalized(in_flight(*s.host, InstanceHost::Op::evaluate,
+                                [&] { return s.api.ops.evaluate(s.api.self, &ev); }));
   };
   // The points' motion: columns of dR/dp and dR/dv.
   for (int level = 0; level < 2; ++level) {
@@ -145,10 +146,12 @@ mh_status Simulation::Engine::read_mechanics_map() {
   // formulation's tangent gave: without one, the formulation need not compute them.
   bool any_given = false;
   for (uint8_t g : tangent_ws.mech_column_given) any_given = any_given || g != 0;
-  return normalized(formulation.ops.mechanics_map(
-      formulation.self, any_given ? coupling.map_dz_dx.data() : nullptr,
-      any_given ? coupling.map_dzd_dx.data() : nullptr,
-      any_given ? coupling.map_dzd_dxd.data() : nullptr, coupling.map_dr_dQ.data()));
+  return normalized(in_flight(*formulation_host, InstanceHost::Op::mechanics_map, [&] {
+    return formulation.ops.mechanics_map(
+        formulation.self, any_given ? coupling.map_dz_dx.data() : nullptr,
+        any_given ? coupling.map_dzd_dx.data() : nullptr,
+        any_given ? coupling.map_dzd_dxd.data() : nullptr, coupling.map_dr_dQ.data());
+  }));
 }
 
 mh_status Simulation::Engine::couple_subsystems(double t_eval) {
@@ -201,8 +204,10 @@ mh_status Simulation::Engine::couple_subsystems(double t_eval) {
       std::fill(s.dF_dy.begin(), s.dF_dy.end(), 0.0);
       std::fill(s.dF_dydot.begin(), s.dF_dydot.end(), 0.0);
       point_at(ev, s);
-      st = normalized(s.api.ops.coupling_jacobian(s.api.self, &ev, s.dR_dp.data(), s.dR_dv.data(),
-                                                  s.dF_dy.data(), s.dF_dydot.data()));
+      st = normalized(in_flight(*s.host, InstanceHost::Op::coupling_jacobian, [&] {
+        return s.api.ops.coupling_jacobian(s.api.self, &ev, s.dR_dp.data(), s.dR_dv.data(),
+                                           s.dF_dy.data(), s.dF_dydot.data());
+      }));
       // Along the integrator's map (Eq. 33): d/dy + dydot_dy d/dydot.
       for (size_t b = 0; b < k; ++b) {
         const double cv = states.algebraic[static_cast<size_t>(s.touched[b])] != 0 ? 0.0 : dydot_dy;

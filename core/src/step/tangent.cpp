@@ -114,8 +114,10 @@ mh_status Simulation::Engine::residual(double t_eval, const Eigen::VectorXd& xq,
   ++eval.counters.residual_evaluations;
   eval.rows_target = rq.data() + n_m;
   eval.iterate_evaluated = false;
-  const mh_status st = normalized(formulation.ops.residual(formulation.self, t_eval, xq.data(),
-                                                           xd.data(), xdd.data(), rq.data()));
+  const mh_status st = normalized(in_flight(*formulation_host, InstanceHost::Op::residual, [&] {
+    return formulation.ops.residual(formulation.self, t_eval, xq.data(), xd.data(), xdd.data(),
+                                    rq.data());
+  }));
   eval.rows_target = nullptr;
   if (status_ok(st) && !eval.iterate_evaluated) {
     last_plugin_error = "formulation '" + formulation_name +
@@ -209,9 +211,11 @@ mh_status Simulation::Engine::assemble_tangent(double t_eval) {
       for (Eigen::MatrixXd* b : {&tangent_ws.dr_dx, &tangent_ws.dr_dxd, &tangent_ws.dr_dxdd})
         b->setZero();
     }
-    const mh_status st = normalized(formulation.ops.tangent(
-        formulation.self, t_eval, x.data(), xd.data(), xdd.data(), tangent_ws.dr_dx.data(),
-        tangent_ws.dr_dxd.data(), tangent_ws.dr_dxdd.data(), tangent_ws.mech_column_given.data()));
+    const mh_status st = normalized(in_flight(*formulation_host, InstanceHost::Op::tangent, [&] {
+      return formulation.ops.tangent(
+          formulation.self, t_eval, x.data(), xd.data(), xdd.data(), tangent_ws.dr_dx.data(),
+          tangent_ws.dr_dxd.data(), tangent_ws.dr_dxdd.data(), tangent_ws.mech_column_given.data());
+    }));
     if (!status_ok(st)) return st;
   }
   // With the formulation's mechanics map (ABI 2.2) the subsystems with points
@@ -230,8 +234,9 @@ mh_status Simulation::Engine::assemble_tangent(double t_eval) {
     std::fill(s.d_dy.begin(), s.d_dy.end(), 0.0);
     std::fill(s.d_dydot.begin(), s.d_dydot.end(), 0.0);
     point_at(ev, s);
-    const mh_status st =
-        normalized(s.api.ops.jacobian(s.api.self, &ev, s.d_dy.data(), s.d_dydot.data()));
+    const mh_status st = normalized(in_flight(*s.host, InstanceHost::Op::jacobian, [&] {
+      return s.api.ops.jacobian(s.api.self, &ev, s.d_dy.data(), s.d_dydot.data());
+    }));
     if (!status_ok(st)) return st;
   }
 

@@ -36,8 +36,7 @@ void Simulation::Engine::fail_nonfinite(double value, size_t index, const Instan
 std::string Simulation::Engine::nonfinite_reason(double value, size_t index,
                                                  const InstanceHost& writer, const char* call,
                                                  const char* what) const {
-  const std::string library = writer.library.substr(writer.library.find_last_of('/') + 1);
-  return writer.source + (library.empty() ? "" : " of " + library) + " wrote a non-finite value (" +
+  return (writer.label.empty() ? writer.source : writer.label) + " wrote a non-finite value (" +
          short_number(value) + ") in " + call + ": " + what + " entry " + std::to_string(index);
 }
 
@@ -123,14 +122,20 @@ void Simulation::Engine::start() {
   x.setZero();
   xd.setZero();
   xdd.setZero();
-  check(formulation.ops.start(formulation.self, x.data(), xd.data(), xdd.data()),
+  check(in_flight(*formulation_host, InstanceHost::Op::start,
+                  [&] {
+                    return formulation.ops.start(formulation.self, x.data(), xd.data(), xdd.data());
+                  }),
         "formulation start");
   const auto mech = static_cast<size_t>(n_m);
   check_finite(x.data(), mech, *formulation_host, "accept", "x", false);
   check_finite(xd.data(), mech, *formulation_host, "accept", "xd", false);
   check_finite(xdd.data(), mech, *formulation_host, "accept", "xdd", false);
-  check(formulation.ops.coordinates(formulation.self, accepted.z.data(), accepted.zd.data(),
-                                    accepted.zdd.data()),
+  check(in_flight(*formulation_host, InstanceHost::Op::coordinates,
+                  [&] {
+                    return formulation.ops.coordinates(formulation.self, accepted.z.data(),
+                                                       accepted.zd.data(), accepted.zdd.data());
+                  }),
         "formulation coordinates");
   const auto coords = static_cast<size_t>(N);
   check_finite(accepted.z.data(), coords, *formulation_host, "coordinates", "z", false);
@@ -204,6 +209,9 @@ void Simulation::Engine::advance(double t_to, int halvings_left) {
 void Simulation::Engine::attempt(double t_next) {
   const double h = t_next - accepted.t;
   accepted.attempt_t = t_next;  // failures name the step being attempted
+  // ... and so does a crash handler (plugin_call.hpp)
+  plugin_call_in_flight().t.store(t_next, std::memory_order_relaxed);
+  plugin_call_in_flight().step.store(accepted.attempt_step, std::memory_order_relaxed);
   last_plugin_error.clear();
 
   // A time event inside the step, or at its end: the end is evaluated at the
@@ -244,7 +252,11 @@ void Simulation::Engine::prepare_step(double t_next, double h) {
   x = map_ws.x_pred;
   rates_of(x, xd, xdd);
   if (formulation.ops.begin_step != nullptr)
-    check(formulation.ops.begin_step(formulation.self, t_next, x.data(), xd.data(), xdd.data()),
+    check(in_flight(*formulation_host, InstanceHost::Op::begin_step,
+                    [&] {
+                      return formulation.ops.begin_step(formulation.self, t_next, x.data(),
+                                                        xd.data(), xdd.data());
+                    }),
           "formulation begin_step");
 }
 
@@ -252,17 +264,27 @@ void Simulation::Engine::prepare_step(double t_next, double h) {
 // subsystems' rows, powers and outputs are the step's.
 void Simulation::Engine::accept_step(double t_next, bool event, double h) {
   uint32_t flags = 0;
-  check(formulation.ops.accept(formulation.self, t_next, &map_ws.map.coefficients, x.data(),
-                               xd.data(), xdd.data(), &flags),
+  check(in_flight(*formulation_host, InstanceHost::Op::accept,
+                  [&] {
+                    return formulation.ops.accept(formulation.self, t_next,
+                                                  &map_ws.map.coefficients, x.data(), xd.data(),
+                                                  xdd.data(), &flags);
+                  }),
         "formulation accept");
-  check(formulation.ops.coordinates(formulation.self, accepted.z.data(), accepted.zd.data(),
-                                    accepted.zdd.data()),
+  check(in_flight(*formulation_host, InstanceHost::Op::coordinates,
+                  [&] {
+                    return formulation.ops.coordinates(formulation.self, accepted.z.data(),
+                                                       accepted.zd.data(), accepted.zdd.data());
+                  }),
         "formulation coordinates");
   states.y = x.tail(n_s);
   states.ydot = xd.tail(n_s);
   if (formulation.ops.write_outputs != nullptr)
-    check(formulation.ops.write_outputs(formulation.self, registry.outputs.data(),
-                                        static_cast<uint32_t>(n_o)),
+    check(in_flight(*formulation_host, InstanceHost::Op::write_outputs,
+                    [&] {
+                      return formulation.ops.write_outputs(
+                          formulation.self, registry.outputs.data(), static_cast<uint32_t>(n_o));
+                    }),
           "formulation write_outputs");
   check_outputs("at the accepted step");
   registry.outputs_k = registry.outputs;  // of the converged iterate's evaluation
@@ -271,7 +293,9 @@ void Simulation::Engine::accept_step(double t_next, bool event, double h) {
     if (s.api.ops.accept == nullptr) continue;
     mh_subsystem_eval ev = subsystem_eval(t_next, eval.scratch_rows.data());
     point_at(ev, s);
-    check(s.api.ops.accept(s.api.self, &ev), "subsystem", s.spec->name, "accept");
+    check(in_flight(*s.host, InstanceHost::Op::accept,
+                    [&] { return s.api.ops.accept(s.api.self, &ev); }),
+          "subsystem", s.spec->name, "accept");
   }
   accepted.t = t_next;
   kinematics_at(accepted.z.data(), accepted.zd.data());
@@ -286,7 +310,11 @@ void Simulation::Engine::accept_step(double t_next, bool event, double h) {
     solver.reuse.invalidate();  // x may mean something else now, or jump
     restart_integrator();
   } else {
-    check(integrator.ops.accept(integrator.self, accepted.t, x.data(), xd.data(), xdd.data()),
+    check(in_flight(*integrator_host, InstanceHost::Op::accept,
+                    [&] {
+                      return integrator.ops.accept(integrator.self, accepted.t, x.data(), xd.data(),
+                                                   xdd.data());
+                    }),
           "integrator", integrator_name, "accept");
   }
   measure_mechanism();

@@ -1,0 +1,54 @@
+// The plugin call in flight, for a host's crash handler to name: which
+// instance (its label: "subsystem 'spring' (spring-damper) of
+// monohydra-mechanics.so"), which call ("evaluate"), and the time and step
+// being attempted. The engine marks every call into a plugin with a
+// PluginCallScope (nested: a subsystem's evaluate inside the formulation's
+// residual restores the residual after). The fields are lock-free atomics,
+// so a signal handler may read them; the strings live as long as the run.
+#pragma once
+
+#include <atomic>
+
+namespace mh {
+
+// One call of one instance: its label and the call's name. Each instance
+// holds one per call it can make (built once, at setup), so that marking a
+// call is one pointer store.
+struct PluginCallSite {
+  const char* who = nullptr;
+  const char* call = nullptr;
+};
+
+struct PluginCallInFlight {
+  std::atomic<const PluginCallSite*> site{nullptr};
+  std::atomic<double> t{0.0};
+  std::atomic<long> step{0};
+};
+
+static_assert(std::atomic<const PluginCallSite*>::is_always_lock_free &&
+                  std::atomic<double>::is_always_lock_free &&
+                  std::atomic<long>::is_always_lock_free,
+              "a signal handler reads the record: its fields must be lock-free");
+
+// The process's record (one stepping engine per process reports crashes);
+// constant-initialized, so reading it from a signal handler is safe.
+inline PluginCallInFlight& plugin_call_in_flight() {
+  static PluginCallInFlight record;
+  return record;
+}
+
+class PluginCallScope {
+ public:
+  explicit PluginCallScope(const PluginCallSite& site)
+      : previous_(plugin_call_in_flight().site.load(std::memory_order_relaxed)) {
+    plugin_call_in_flight().site.store(&site, std::memory_order_relaxed);
+  }
+  ~PluginCallScope() { plugin_call_in_flight().site.store(previous_, std::memory_order_relaxed); }
+  PluginCallScope(const PluginCallScope&) = delete;
+  PluginCallScope& operator=(const PluginCallScope&) = delete;
+
+ private:
+  const PluginCallSite* previous_;
+};
+
+}  // namespace mh

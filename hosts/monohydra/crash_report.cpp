@@ -1,0 +1,69 @@
+#include "crash_report.hpp"
+
+#include <signal.h>
+#include <sys/mman.h>
+
+#include <cstring>
+#include <new>
+
+#include "monohydra/core/plugin_call.hpp"
+#include "monohydra/cpp/number_text.hpp"
+
+namespace mh::cli {
+namespace {
+
+CrashReport* g_report = nullptr;
+char g_alternate_stack[1 << 16];
+
+// Bounded copy, async-signal-safe (no library call).
+void copy_text(char* to, size_t capacity, const char* from) {
+  size_t i = 0;
+  if (from != nullptr)
+    for (; i + 1 < capacity && from[i] != '\0'; ++i) to[i] = from[i];
+  to[i] = '\0';
+}
+
+extern "C" void on_crash(int signal) {
+  if (g_report != nullptr) {
+    const PluginCallInFlight& f = plugin_call_in_flight();
+    const PluginCallSite* site = f.site.load(std::memory_order_relaxed);
+    copy_text(g_report->who, sizeof g_report->who, site != nullptr ? site->who : nullptr);
+    copy_text(g_report->call, sizeof g_report->call, site != nullptr ? site->call : nullptr);
+    g_report->t = f.t.load(std::memory_order_relaxed);
+    g_report->step = f.step.load(std::memory_order_relaxed);
+    g_report->signal = signal;
+  }
+  // SA_RESETHAND restored the default action; SA_NODEFER lets it act now.
+  raise(signal);
+}
+
+}  // namespace
+
+CrashReport* shared_crash_report() {
+  void* page = ::mmap(nullptr, sizeof(CrashReport), PROT_READ | PROT_WRITE,
+                      MAP_SHARED | MAP_ANONYMOUS, -1, 0);
+  if (page == MAP_FAILED) return nullptr;
+  return new (page) CrashReport();
+}
+
+void install_crash_handler(CrashReport* report) {
+  g_report = report;
+  stack_t alternate{};
+  alternate.ss_sp = g_alternate_stack;
+  alternate.ss_size = sizeof g_alternate_stack;
+  sigaltstack(&alternate, nullptr);
+  struct sigaction action {};
+  action.sa_handler = on_crash;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESETHAND | SA_NODEFER | SA_ONSTACK;
+  for (int signal : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT}) sigaction(signal, &action, nullptr);
+}
+
+std::string crash_site(const CrashReport* report) {
+  if (report == nullptr || report->signal == 0 || report->who[0] == '\0') return "";
+  return std::string(" in ") + report->who + ", in its " + report->call +
+         ", at t = " + monohydra::short_number(report->t) + " s, step " +
+         std::to_string(report->step);
+}
+
+}  // namespace mh::cli

@@ -1,0 +1,35 @@
+// A crash inside a plugin call, told by the child that steps to the parent
+// that reports it: the child's handler copies the call in flight (core's
+// plugin_call.hpp: the instance, the call, the time and step) into a page
+// both processes share, then dies of the same signal; the parent, seeing the
+// signal, names them. Without a call in flight (a crash in the host's own
+// code) the report is empty and the parent says so.
+#pragma once
+
+#include <csignal>
+#include <string>
+
+namespace mh::cli {
+
+struct CrashReport {
+  volatile std::sig_atomic_t signal = 0;
+  long step = 0;
+  double t = 0.0;
+  char who[512] = {};
+  char call[64] = {};
+};
+
+// A zeroed report shared with children forked after it (nullptr if the
+// system refuses the mapping: then crashes are reported without it).
+CrashReport* shared_crash_report();
+
+// In the child: SIGSEGV, SIGBUS, SIGFPE, SIGILL and SIGABRT fill `report`
+// before the process dies of them (on an alternate stack: a stack overflow
+// is reported too).
+void install_crash_handler(CrashReport* report);
+
+// In the parent: " in subsystem 'x' (type) of lib.so, in its evaluate, at
+// t = 0.5 s, step 500", or "" when the report names no call.
+std::string crash_site(const CrashReport* report);
+
+}  // namespace mh::cli
