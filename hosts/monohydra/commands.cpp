@@ -368,6 +368,8 @@ int simulate(RunRequest request, const std::string& out_path) {
     }
     ::usleep(20000);
   }
+  const std::string site = crash_site(crash);
+  release_crash_report(crash);
   if (WIFEXITED(status)) return WEXITSTATUS(status);
   const int sig = WIFSIGNALED(status) ? WTERMSIG(status) : 0;
   std::string where;
@@ -377,7 +379,6 @@ int simulate(RunRequest request, const std::string& out_path) {
                           : "; every row up to t = " + monohydra::short_number(t) + " s is in '" +
                                 out_path + "'";
   }
-  const std::string site = crash_site(crash);
   std::cerr << "monohydra: the run crashed (" << signal_name(sig) << ")"
             << (site.empty() ? " outside the plugin calls the host marks (in the host, or in a "
                                "thread a plugin started)"

@@ -192,7 +192,7 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
       if (bar.enabled && runs.back().failed && runs.back().rows() > 0) std::cerr << '\n';
       if (runs.back().failed)
         std::cerr << "monohydra: " << label << " failed on " << name << ": " << runs.back().failure
-                  << '\n';
+                  << (runs.back().crash_site.empty() ? "" : ";" + runs.back().crash_site) << '\n';
       if (runs.back().stopped_by != 0) break;
     }
     if (!runs.empty() && runs.back().stopped_by != 0) break;

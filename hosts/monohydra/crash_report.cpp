@@ -46,6 +46,10 @@ CrashReport* shared_crash_report() {
   return new (page) CrashReport();
 }
 
+void release_crash_report(CrashReport* report) {
+  if (report != nullptr) ::munmap(report, sizeof(CrashReport));
+}
+
 void install_crash_handler(CrashReport* report) {
   g_report = report;
   stack_t alternate{};

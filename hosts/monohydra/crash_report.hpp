@@ -23,6 +23,9 @@ struct CrashReport {
 // system refuses the mapping: then crashes are reported without it).
 CrashReport* shared_crash_report();
 
+// Unmaps a report (nullptr: nothing).
+void release_crash_report(CrashReport* report);
+
 // In the child: SIGSEGV, SIGBUS, SIGFPE, SIGILL and SIGABRT fill `report`
 // before the process dies of them (on an alternate stack: a stack overflow
 // is reported too).

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "crash_report.hpp"
 #include "run_record_stream.hpp"
 #include "stop_signals.hpp"
 
@@ -66,14 +67,17 @@ RunRecord record_run_isolated(const ModelFile& file, const PluginRegistry& regis
   std::cout.flush();  // nothing buffered is written twice
   std::cerr.flush();
   std::fflush(nullptr);
+  CrashReport* crash = shared_crash_report();
   const pid_t pid = fork();
   if (pid < 0) {
     ::close(fds[0]);
     ::close(fds[1]);
+    release_crash_report(crash);
     return record_run(file, registry, formulation, integrator, options);
   }
   if (pid == 0) {
     ::close(fds[0]);
+    install_crash_handler(crash);
     run_in_child(fds[1], file, registry, formulation, integrator, std::move(options));
   }
   ::close(fds[1]);
@@ -98,6 +102,8 @@ RunRecord record_run_isolated(const ModelFile& file, const PluginRegistry& regis
   while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
 
+  const std::string site = crash_site(crash);
+  release_crash_report(crash);
   DecodedRecord decoded = decode_record_stream(bytes);
   RunRecord rec = std::move(decoded.record);
   if (decoded.complete && WIFEXITED(status) && WEXITSTATUS(status) == 0) return rec;
@@ -110,6 +116,7 @@ RunRecord record_run_isolated(const ModelFile& file, const PluginRegistry& regis
   if (WIFSIGNALED(status)) {
     rec.crashed_by = WTERMSIG(status);
     rec.failure = crash_text(rec.crashed_by, rec);
+    rec.crash_site = site;
   } else {
     rec.failure = "its process exited with status " +
                   std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) +

@@ -26,7 +26,8 @@ struct RunRecord {
   std::string label;  // what varies between the runs compared: F, I or "F+I"
   std::string formulation, integrator;
   bool failed = false;
-  std::string failure;  // why, when failed: the setup error or "t = .. s, step ..: reason"
+  std::string failure;     // why, when failed: the setup error or "t = .. s, step ..: reason"
+  std::string crash_site;  // a crash in a plugin call: " in <instance>, in its <call>, at t, step"
   std::optional<double> failure_time;  // s: the step that failed (none: setup failed)
   double dt = 0.0;                     // s, the settings the run used
   double t_end = 0.0;                  // s

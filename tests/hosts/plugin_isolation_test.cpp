@@ -61,7 +61,8 @@ TEST(PluginIsolation, CompareKeepsTheOtherRunsAndTheRowsBeforeWhenAFormulationCr
   EXPECT_EQ(t.cell("steps", "crashing-formulation"), "100");  // t = 0.001 .. 0.1
   EXPECT_EQ(t.cell("steps", "penalty"), "500");
   EXPECT_NE(r.output.find("monohydra: crashing-formulation failed on fourbar-free: crashed "
-                          "(SIGSEGV) after t = 0.1 s\n"),
+                          "(SIGSEGV) after t = 0.1 s; in formulation 'crashing-formulation' of "
+                          "crashing_formulation.so, in its residual, at t = 0.101 s, step 101\n"),
             std::string::npos)
       << r.output;
   // The CSVs hold every run's rows, the crashed one's up to its last row.
