@@ -62,6 +62,8 @@ struct InstanceHost {
   std::string label;    // source and library's name, for messages and crash reports
   // The calls the host makes into plugins, each with its site (plugin_call.hpp).
   enum class Op {
+    create,
+    setup,
     accept,
     begin_step,
     coordinates,
@@ -84,12 +86,26 @@ struct InstanceHost {
   };
   std::array<PluginCallSite, static_cast<size_t>(Op::count)> sites{};
   void set_library(const std::string& path) {
-    static constexpr const char* kNames[] = {
-        "accept",   "begin_step",    "coordinates",          "coupling_jacobian",
-        "energy",   "evaluate",      "finish_step",          "iteration_done",
-        "jacobian", "mechanics_map", "point_force_jacobian", "residual",
-        "restart",  "stage_rates",   "stage_state",          "start",
-        "tangent",  "write_outputs"};
+    static constexpr const char* kNames[] = {"create",
+                                             "setup",
+                                             "accept",
+                                             "begin_step",
+                                             "coordinates",
+                                             "coupling_jacobian",
+                                             "energy",
+                                             "evaluate",
+                                             "finish_step",
+                                             "iteration_done",
+                                             "jacobian",
+                                             "mechanics_map",
+                                             "point_force_jacobian",
+                                             "residual",
+                                             "restart",
+                                             "stage_rates",
+                                             "stage_state",
+                                             "start",
+                                             "tangent",
+                                             "write_outputs"};
     library = path;
     const std::string name = path.substr(path.find_last_of('/') + 1);
     label = name.empty() ? source : source + " of " + name;

@@ -103,15 +103,17 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
     }
     s.host->set_library(info->library);
     e.last_plugin_error.clear();
-    s.api = SubsystemProxy(
-        info->subsystem_factory.create(static_cast<const mh_subsystem_factory*>(info->factory),
-                                       &s.host->table, spec.type.c_str()));
+    s.api = SubsystemProxy(in_flight(*s.host, InstanceHost::Op::create, [&] {
+      return info->subsystem_factory.create(static_cast<const mh_subsystem_factory*>(info->factory),
+                                            &s.host->table, spec.type.c_str());
+    }));
     if (!s.api) throw_setup_failure(e, spec.mark, who);
     require_op(
         s.api.ops.setup != nullptr && s.api.ops.evaluate != nullptr && s.api.ops.destroy != nullptr,
         who, "setup/evaluate/destroy");
     s.host->in_setup = true;
-    const mh_status st = normalized(s.api.ops.setup(s.api.self));
+    const mh_status st = normalized(
+        in_flight(*s.host, InstanceHost::Op::setup, [&] { return s.api.ops.setup(s.api.self); }));
     s.host->in_setup = false;
     if (!status_ok(st)) throw_setup_failure(e, spec.mark, who);
     e.check_unread_options(*s.host);
@@ -155,15 +157,18 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
               InstanceHost::Role::formulation, -1);
   e.formulation_host->set_library(finfo->library);
   e.last_plugin_error.clear();
-  e.formulation = FormulationProxy(
-      finfo->formulation_factory.create(static_cast<const mh_formulation_factory*>(finfo->factory),
-                                        &e.formulation_host->table, e.formulation_name.c_str()));
+  e.formulation = FormulationProxy(in_flight(*e.formulation_host, InstanceHost::Op::create, [&] {
+    return finfo->formulation_factory.create(
+        static_cast<const mh_formulation_factory*>(finfo->factory), &e.formulation_host->table,
+        e.formulation_name.c_str());
+  }));
   if (!e.formulation) throw_setup_failure(e, file.formulation.mark, fwho);
   const mh_formulation& f = e.formulation.ops;
   require_op(f.setup && f.start && f.residual && f.accept && f.coordinates && f.destroy, fwho,
              "setup/start/residual/accept/coordinates/destroy");
   e.formulation_host->in_setup = true;
-  const mh_status fst = normalized(f.setup(e.formulation.self));
+  const mh_status fst = normalized(in_flight(*e.formulation_host, InstanceHost::Op::setup,
+                                             [&] { return f.setup(e.formulation.self); }));
   e.formulation_host->in_setup = false;
   if (!status_ok(fst)) throw_setup_failure(e, file.formulation.mark, fwho);
   e.check_unread_options(*e.formulation_host);
@@ -194,9 +199,11 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
               -1);
   e.integrator_host->set_library(iinfo->library);
   e.last_plugin_error.clear();
-  e.integrator = IntegratorProxy(
-      iinfo->integrator_factory.create(static_cast<const mh_integrator_factory*>(iinfo->factory),
-                                       &e.integrator_host->table, e.integrator_name.c_str()));
+  e.integrator = IntegratorProxy(in_flight(*e.integrator_host, InstanceHost::Op::create, [&] {
+    return iinfo->integrator_factory.create(
+        static_cast<const mh_integrator_factory*>(iinfo->factory), &e.integrator_host->table,
+        e.integrator_name.c_str());
+  }));
   if (!e.integrator) throw_setup_failure(e, file.integrator.mark, iwho);
   const mh_integrator& in = e.integrator.ops;
   if (in.method == MH_METHOD_EXPLICIT) {
@@ -223,7 +230,9 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
   problem.kinds = e.registry.kinds.data();
   problem.t0 = 0.0;
   problem.dt = e.settings.dt;
-  const mh_status ist = normalized(in.setup(e.integrator.self, &problem));
+  const mh_status ist = normalized(in_flight(*e.integrator_host, InstanceHost::Op::setup, [&] {
+    return in.setup(e.integrator.self, &problem);
+  }));
   if (!status_ok(ist)) throw_setup_failure(e, file.integrator.mark, iwho);
   e.check_unread_options(*e.integrator_host);
   if (e.explicit_method) {  // its stability check's own instance (explicit_stability.hpp)

@@ -2,6 +2,7 @@
 
 #include <signal.h>
 #include <sys/mman.h>
+#include <unistd.h>
 
 #include <cstring>
 #include <new>
@@ -23,8 +24,49 @@ void copy_text(char* to, size_t capacity, const char* from) {
   to[i] = '\0';
 }
 
+const char* crash_signal_name(int signal) {
+  switch (signal) {
+    case SIGSEGV:
+      return "SIGSEGV";
+    case SIGBUS:
+      return "SIGBUS";
+    case SIGFPE:
+      return "SIGFPE";
+    case SIGILL:
+      return "SIGILL";
+    case SIGABRT:
+      return "SIGABRT";
+    default:
+      return "a signal";
+  }
+}
+
+void write_text(const char* text) {
+  size_t n = 0;
+  while (text[n] != '\0') ++n;
+  while (n > 0) {
+    const ssize_t w = ::write(2, text, n);
+    if (w <= 0) return;
+    text += w;
+    n -= static_cast<size_t>(w);
+  }
+}
+
 extern "C" void on_crash(int signal) {
-  if (g_report != nullptr) {
+  if (g_report == nullptr) {
+    // This process reports its own crash (setting a run up, before any
+    // fork): said on stderr, when a plugin call was in flight.
+    const PluginCallSite* site = plugin_call_in_flight().site.load(std::memory_order_relaxed);
+    if (site != nullptr && site->who != nullptr && site->call != nullptr) {
+      write_text("monohydra: crashed (");
+      write_text(crash_signal_name(signal));
+      write_text(") in ");
+      write_text(site->who);
+      write_text(", in its ");
+      write_text(site->call);
+      write_text("\n");
+    }
+  } else {
     const PluginCallInFlight& f = plugin_call_in_flight();
     const PluginCallSite* site = f.site.load(std::memory_order_relaxed);
     copy_text(g_report->who, sizeof g_report->who, site != nullptr ? site->who : nullptr);

@@ -11,6 +11,7 @@
 
 #include "cli_support.hpp"
 #include "commands.hpp"
+#include "crash_report.hpp"
 #include "plugin_check.hpp"
 #include "sweep_command.hpp"
 
@@ -67,6 +68,8 @@ bool take_log_level(std::vector<std::string>& args) {
 
 int main(int argc, char** argv) {
   mh::cli::set_command_line(argc, argv);
+  // A plugin that crashes while a run is set up (create, setup) is named.
+  mh::cli::install_crash_handler(nullptr);
   std::vector<std::string> args(argv + 1, argv + argc);
   if (!take_log_level(args)) return 2;
   int code = 2;

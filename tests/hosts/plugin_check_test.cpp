@@ -255,6 +255,23 @@ TEST(HostBoundary, ACrashInsideASubsystemCallNamesTheInstanceTheCallTheTimeAndTh
       << r.output;
 }
 
+// A crash while the run is set up, before the child that steps is forked:
+// the command's own process names the call before it dies of the signal.
+TEST(HostBoundary, ACrashInSetupNamesTheInstanceAndTheCall) {
+  const auto model = mh::test::scratch_dir("crash-setup") / "spring.yaml";
+  {
+    std::ifstream in(spring_model());
+    std::ofstream out(model);
+    out << in.rdbuf() << "plugins: {faulty-spring: " << fixture("crash_setup") << "}\n";
+  }
+  const CliResult r = run_cli("run " + model.string() + " --out /dev/null");
+  EXPECT_NE(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("monohydra: crashed (SIGSEGV) in subsystem 'spring' (faulty-spring) of "
+                          "crash_setup.so, in its setup\n"),
+            std::string::npos)
+      << r.output;
+}
+
 TEST(PluginCheck, AFailingCreateFailsWithThePluginsReason) {
   const CliResult r = run_cli("check " + fixture("failing_create") + " " + spring_model());
   EXPECT_EQ(r.code, 1) << r.output;
