@@ -111,6 +111,15 @@ TEST(PluginRegistry, RefusesAnIdThatIsNotUtf8NamingTheByte) {
                                   "cannot be quoted: its id is not valid UTF-8 (byte 7)");
 }
 
+// An id that runs into unmapped memory: the probe's child measures every
+// descriptor text before the host does, so it crashes there and is refused.
+TEST(PluginRegistry, AnIdWithoutItsEndIsMeasuredInTheProbeNotInTheHost) {
+  const std::string path = std::string(MH_BOUNDARY_PLUGIN_DIR) + "/unterminated_id.so";
+  EXPECT_EQ(load_error(path), "'" + path +
+                                  "' crashed with SIGSEGV during probing, listing its components "
+                                  "(get_factory, count, descriptor)");
+}
+
 // The model asks for a component a refused library offered: the error says
 // which libraries were refused, and why.
 TEST(PluginRegistry, AnUnknownComponentErrorNamesTheLibrariesRefusedAndWhy) {
