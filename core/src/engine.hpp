@@ -423,8 +423,6 @@ struct Simulation::Engine {
   // evaluation at the solution (the step's record when it is the end's).
   void solve_rates(double t_eval, double h, Eigen::VectorXd& xq, Eigen::VectorXd& xdq,
                    Eigen::VectorXd& xddq);
-  mh_status rates_residual(double t_eval, const Eigen::VectorXd& xq, const Eigen::VectorXd& xdq,
-                           const Eigen::VectorXd& xddq, Eigen::VectorXd& rq);
 
   // mechanics_derivatives.cpp
   void size_derivatives();
@@ -446,6 +444,11 @@ struct Simulation::Engine {
   // r(x): the formulation's rows (which evaluate the subsystems' rows) at the
   // rates the integrator's map gives x.
   mh_status residual(double t_eval, const Eigen::VectorXd& xq, Eigen::VectorXd& rq);
+  // r(x, xd, xdd) at rates given: the one call of the formulation's residual
+  // (residual, explicit stages, the check's blocks), with the subsystems'
+  // rows routed into rq and the ABI's evaluate_mechanics contract checked.
+  mh_status residual_at(double t_eval, const Eigen::VectorXd& xq, const Eigen::VectorXd& xdq,
+                        const Eigen::VectorXd& xddq, Eigen::VectorXd& rq);
 
   // newton_solve.cpp
   void newton_solve(double t_eval, double t_next);
@@ -475,7 +478,9 @@ struct Simulation::Engine {
   // step is being accepted it ends the run.
   void check_finite(const double* values, size_t count, const InstanceHost& writer,
                     const char* call, const char* what, bool retryable = true) const {
-    if (!all_finite(values, count)) report_nonfinite(values, count, writer, call, what, retryable);
+    if (all_finite(values, count)) return;
+    const size_t i = first_nonfinite(values, count);
+    fail_nonfinite(values[i], i, writer, call, what, retryable);
   }
   // v * 0 is 0 for a finite v and NaN otherwise: one pass without a branch
   // per entry; the entry is looked for only when one is not finite.
@@ -484,13 +489,17 @@ struct Simulation::Engine {
     for (size_t i = 0; i < count; ++i) zero += values[i] * 0.0;
     return zero == 0.0;
   }
+  // The index of the first non-finite value, or `count` when there is none.
+  static size_t first_nonfinite(const double* values, size_t count) {
+    size_t i = 0;
+    while (i < count && std::isfinite(values[i])) ++i;
+    return i;
+  }
   // The message naming a non-finite value's writer, call, what and index.
   std::string nonfinite_reason(double value, size_t index, const InstanceHost& writer,
                                const char* call, const char* what) const;
   [[noreturn]] void fail_nonfinite(double value, size_t index, const InstanceHost& writer,
                                    const char* call, const char* what, bool retryable) const;
-  [[noreturn]] void report_nonfinite(const double* values, size_t count, const InstanceHost& writer,
-                                     const char* call, const char* what, bool retryable) const;
   // The outputs of the step's evaluation, each checked and named by its owner.
   void check_outputs(const char* when) const;
   std::string status_reason(mh_status s, const std::string& what) const;

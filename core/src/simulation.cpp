@@ -538,15 +538,8 @@ Simulation::FormulationBlocks Simulation::formulation_blocks() {
   const auto rows_at = [&]() -> Eigen::VectorXd {
     e.xd = args[1];
     e.xdd = args[2];
-    e.states.y = args[0].tail(e.n_s);
-    e.states.ydot = args[1].tail(e.n_s);
     full.setZero();
-    e.eval.rows_target = full.data() + n_m;
-    e.eval.iterate_evaluated = false;
-    const mh_status st = normalized(e.formulation.ops.residual(
-        e.formulation.self, t_next, args[0].data(), e.xd.data(), e.xdd.data(), full.data()));
-    e.eval.rows_target = nullptr;
-    if (!status_ok(st))
+    if (!status_ok(e.residual_at(t_next, args[0], e.xd, e.xdd, full)))
       throw SimulationError(
           e.accepted.t, e.accepted.step,
           "formulation '" + e.formulation_name + "' residual failed: " + e.last_plugin_error);

@@ -94,13 +94,12 @@ mh_status Simulation::Engine::refuse_nonfinite_derivatives() {
     if (s.points.empty() || s.api.ops.point_force_jacobian == nullptr) continue;
     const std::pair<const std::vector<double>*, const char*> given[] = {{&s.dF_dp, "dF_dp"},
                                                                         {&s.dF_dv, "dF_dv"}};
-    for (const auto& [buffer, name] : given)
-      for (size_t i = 0; i < buffer->size(); ++i)
-        if (!std::isfinite((*buffer)[i])) {
-          last_plugin_error =
-              nonfinite_reason((*buffer)[i], i, *s.host, "point_force_jacobian", name);
-          return MH_ERROR;
-        }
+    for (const auto& [buffer, name] : given) {
+      const size_t i = first_nonfinite(buffer->data(), buffer->size());
+      if (i == buffer->size()) continue;
+      last_plugin_error = nonfinite_reason((*buffer)[i], i, *s.host, "point_force_jacobian", name);
+      return MH_ERROR;
+    }
   }
   return MH_ERROR;
 }

@@ -38,28 +38,6 @@ void Simulation::Engine::size_explicit() {
   stages.rates_lu = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
 }
 
-mh_status Simulation::Engine::rates_residual(double t_eval, const Eigen::VectorXd& xq,
-                                             const Eigen::VectorXd& xdq,
-                                             const Eigen::VectorXd& xddq, Eigen::VectorXd& rq) {
-  states.y = xq.tail(n_s);
-  states.ydot = xdq.tail(n_s);
-  ++eval.counters.residual_evaluations;
-  eval.rows_target = rq.data() + n_m;
-  eval.iterate_evaluated = false;
-  const mh_status st = normalized(in_flight(*formulation_host, InstanceHost::Op::residual, [&] {
-    return formulation.ops.residual(formulation.self, t_eval, xq.data(), xdq.data(), xddq.data(),
-                                    rq.data());
-  }));
-  eval.rows_target = nullptr;
-  if (status_ok(st) && !eval.iterate_evaluated) {
-    last_plugin_error = "formulation '" + formulation_name +
-                        "' broke the ABI contract: its residual did not call "
-                        "evaluate_mechanics with MH_EVAL_SUBSYSTEMS";
-    return MH_ERROR;
-  }
-  return st;
-}
-
 namespace {
 
 // The rates at an explicit stage: r(x, xd, xdd) = 0 for the unknown of each
@@ -72,7 +50,7 @@ class StageRatesProblem final : public NewtonProblem {
       : e_(e), t_eval_(t_eval), xq_(xq), xdq_(xdq), xddq_(xddq) {}
 
   void residual(Eigen::VectorXd& f) override {
-    e_.check(e_.rates_residual(t_eval_, xq_, xdq_, xddq_, f), "residual evaluation");
+    e_.check(e_.residual_at(t_eval_, xq_, xdq_, xddq_, f), "residual evaluation");
     if (evaluated_) e_.solver.stats.residual_norms.push_back(f.lpNorm<Eigen::Infinity>());
     evaluated_ = true;
   }
@@ -83,7 +61,7 @@ class StageRatesProblem final : public NewtonProblem {
       const double saved = u;
       const double d = 1.5e-8 * std::max(std::abs(u), e_.stages.rate_scale[j] * 1e3);
       u = saved + d;
-      e_.check(e_.rates_residual(t_eval_, xq_, xdq_, xddq_, e_.stages.r_rates_pert),
+      e_.check(e_.residual_at(t_eval_, xq_, xdq_, xddq_, e_.stages.r_rates_pert),
                "residual evaluation");
       u = saved;
       e_.stages.rates_jacobian.col(j) = (e_.stages.r_rates_pert - e_.stages.r_rates) / d;

@@ -109,13 +109,19 @@ void Simulation::Engine::build_pattern() {
 mh_status Simulation::Engine::residual(double t_eval, const Eigen::VectorXd& xq,
                                        Eigen::VectorXd& rq) {
   rates_of(xq, xd, xdd);
+  return residual_at(t_eval, xq, xd, xdd, rq);
+}
+
+mh_status Simulation::Engine::residual_at(double t_eval, const Eigen::VectorXd& xq,
+                                          const Eigen::VectorXd& xdq, const Eigen::VectorXd& xddq,
+                                          Eigen::VectorXd& rq) {
   states.y = xq.tail(n_s);
-  states.ydot = xd.tail(n_s);
+  states.ydot = xdq.tail(n_s);
   ++eval.counters.residual_evaluations;
   eval.rows_target = rq.data() + n_m;
   eval.iterate_evaluated = false;
   const mh_status st = normalized(in_flight(*formulation_host, InstanceHost::Op::residual, [&] {
-    return formulation.ops.residual(formulation.self, t_eval, xq.data(), xd.data(), xdd.data(),
+    return formulation.ops.residual(formulation.self, t_eval, xq.data(), xdq.data(), xddq.data(),
                                     rq.data());
   }));
   eval.rows_target = nullptr;

@@ -40,14 +40,6 @@ std::string Simulation::Engine::nonfinite_reason(double value, size_t index,
          short_number(value) + ") in " + call + ": " + what + " entry " + std::to_string(index);
 }
 
-void Simulation::Engine::report_nonfinite(const double* values, size_t count,
-                                          const InstanceHost& writer, const char* call,
-                                          const char* what, bool retryable) const {
-  size_t i = 0;
-  while (i + 1 < count && std::isfinite(values[i])) ++i;
-  fail_nonfinite(values[i], i, writer, call, what, retryable);
-}
-
 void Simulation::Engine::check_outputs(const char* when) const {
   for (int i = 0; i < n_o; ++i) {
     const double v = registry.outputs[i];
