@@ -30,18 +30,16 @@ void walk_factory(const void* raw) {
       f->count == nullptr || f->descriptor == nullptr)
     return;
   const uint32_t count = f->count(f);
-  constexpr uint32_t kMaxComponents = 10000;  // as plugin_registry.cpp
   if (count > kMaxComponents) return;
   // Every text the host will measure (plugin_registry.cpp), measured here
   // first, as far as the host reads: one that runs into unmapped memory
   // crashes this child, not the host.
-  constexpr size_t kMeasured = size_t{1} << 26;
   volatile size_t sink = 0;
   for (uint32_t i = 0; i < count; ++i) {
     const mh_component_descriptor* d = f->descriptor(f, i);
     if (d == nullptr || d->id == nullptr) continue;
     for (const char* text : {d->id, d->name, d->vendor, d->version, d->description})
-      if (text != nullptr) sink = sink + strnlen(text, kMeasured);
+      if (text != nullptr) sink = sink + strnlen(text, kMaxMeasuredText);
   }
 }
 

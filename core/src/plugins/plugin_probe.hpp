@@ -4,9 +4,16 @@
 #pragma once
 
 #include <chrono>
+#include <cstddef>
+#include <cstdint>
 #include <string>
 
 namespace mh {
+
+// What the host reads of a library, bounded; the probe reads as far first,
+// so that a library that lies about it crashes the probe, not the host.
+inline constexpr uint32_t kMaxComponents = 10000;            // per factory's count()
+inline constexpr size_t kMaxMeasuredText = size_t{1} << 26;  // strnlen of a descriptor text
 
 struct ProbeVerdict {
   bool usable = true;  // the child exited 0: the host may load it itself

@@ -84,7 +84,7 @@ size_t utf8_sequence(const unsigned char* s, size_t left) {
 // "" when `text` may be quoted, else what is wrong with it, with the numbers.
 std::string text_problem(const char* text, size_t max_bytes, bool is_id) {
   if (text == nullptr) return is_id ? "is NULL" : "";
-  const size_t length = strnlen(text, size_t{1} << 26);
+  const size_t length = strnlen(text, kMaxMeasuredText);
   if (length == 0 && is_id) return "is empty";
   if (length > max_bytes)
     return "is " + std::to_string(length) + " bytes long (at most " + std::to_string(max_bytes) +
@@ -136,7 +136,6 @@ void list_components(const void* raw, ComponentKind kind, Factory ComponentInfo:
                       " factory (count, descriptor or create is missing)");
   const uint32_t count = f.count(plugin_factory);
   // A library lists a handful of components; a count beyond this is garbage.
-  constexpr uint32_t kMaxComponents = 10000;
   if (count > kMaxComponents)
     throw PluginError("'" + path + "' claims " + std::to_string(count) + " " + to_string(kind) +
                       " components (at most " + std::to_string(kMaxComponents) + ")");

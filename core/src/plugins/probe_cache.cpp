@@ -79,24 +79,31 @@ std::optional<std::uint64_t> ProbeCache::content_hash(const std::string& path) {
   return h;
 }
 
-std::optional<ProbeCache::Key> ProbeCache::key_of(const std::string& path) {
+std::optional<ProbeCache::Key> ProbeCache::stat_of(const std::string& path) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) return std::nullopt;
-  const auto content = content_hash(path);
-  if (!content) return std::nullopt;
   return Key{static_cast<std::uintmax_t>(st.st_size),
-             static_cast<std::int64_t>(st.st_mtim.tv_sec) * 1'000'000'000 + st.st_mtim.tv_nsec,
-             *content};
+             static_cast<std::int64_t>(st.st_mtim.tv_sec) * 1'000'000'000 + st.st_mtim.tv_nsec, 0};
+}
+
+std::optional<ProbeCache::Key> ProbeCache::key_of(const std::string& path) {
+  auto key = stat_of(path);
+  const auto content = key ? content_hash(path) : std::nullopt;
+  if (!content) return std::nullopt;
+  key->content = *content;
+  return key;
 }
 
 std::optional<ProbeVerdict> ProbeCache::find(const std::string& canonical_path) const {
   if (file_.empty()) return std::nullopt;
   const auto it = entries_.find(canonical_path);
   if (it == entries_.end()) return std::nullopt;
-  const auto key = key_of(canonical_path);
-  if (!key || key->size != it->second.key.size || key->mtime_ns != it->second.key.mtime_ns ||
-      key->content != it->second.key.content)
-    return std::nullopt;
+  // Size and mtime first: the contents are read only when they agree.
+  const Key& kept = it->second.key;
+  const auto now = stat_of(canonical_path);
+  if (!now || now->size != kept.size || now->mtime_ns != kept.mtime_ns) return std::nullopt;
+  const auto content = content_hash(canonical_path);
+  if (!content || *content != kept.content) return std::nullopt;
   return it->second.verdict;
 }
 

@@ -38,7 +38,8 @@ class ProbeCache {
     Key key;
     ProbeVerdict verdict;
   };
-  static std::optional<Key> key_of(const std::string& path);
+  static std::optional<Key> stat_of(const std::string& path);  // size and mtime only
+  static std::optional<Key> key_of(const std::string& path);   // and the contents' hash
   static std::optional<std::uint64_t> content_hash(const std::string& path);
 
   std::string file_;
