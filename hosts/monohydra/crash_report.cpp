@@ -9,6 +9,7 @@
 
 #include "monohydra/core/plugin_call.hpp"
 #include "monohydra/cpp/number_text.hpp"
+#include "stop_signals.hpp"
 
 namespace mh::cli {
 namespace {
@@ -22,23 +23,6 @@ void copy_text(char* to, size_t capacity, const char* from) {
   if (from != nullptr)
     for (; i + 1 < capacity && from[i] != '\0'; ++i) to[i] = from[i];
   to[i] = '\0';
-}
-
-const char* crash_signal_name(int signal) {
-  switch (signal) {
-    case SIGSEGV:
-      return "SIGSEGV";
-    case SIGBUS:
-      return "SIGBUS";
-    case SIGFPE:
-      return "SIGFPE";
-    case SIGILL:
-      return "SIGILL";
-    case SIGABRT:
-      return "SIGABRT";
-    default:
-      return "a signal";
-  }
 }
 
 void write_text(const char* text) {
@@ -59,7 +43,8 @@ extern "C" void on_crash(int signal) {
     const PluginCallSite* site = plugin_call_in_flight().site.load(std::memory_order_relaxed);
     if (site != nullptr && site->who != nullptr && site->call != nullptr) {
       write_text("monohydra: crashed (");
-      write_text(crash_signal_name(signal));
+      // The five signals handled are in its table: no snprintf in a handler.
+      write_text(signal_name(signal));
       write_text(") in ");
       write_text(site->who);
       write_text(", in its ");
