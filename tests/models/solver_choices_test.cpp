@@ -129,28 +129,10 @@ TEST(SolverChoices, LineSearchLeavesTheCaseStudiesAsFullNewtonSolvesThem) {
   }
 }
 
-// A pump into a small hose (1 cm^3, stiffness B/V = 1.5e15 Pa/m^3) relieved
-// at 15 MPa: the first step crosses the cracking pressure, where the valve's
-// flow turns from zero to 1e-4 m^3/s within 0.5 MPa. Full Newton from the
-// closed valve's tangent overshoots to an open valve and back, and cycles.
-constexpr const char* kStiffRelief = R"(units: {length: m, mass: kg, time: s, angle: rad}
-gravity: [0, 0, 0]
-bodies:
-  - {name: slider, parent: ground, joint: {type: prismatic, at: [0, 0, 0], axis: [1, 0, 0]},
-     mass: 1.0, com: [0, 0, 0], inertia: [1, 1, 1]}
-subsystems:
-  - {name: pump, type: flow-source, ports: {p: n}, flow: 1e-4}
-  - {name: hose, type: volume, ports: {p: n}, volume: 1e-6, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, initial_pressure: 1e6}
-  - {name: relief, type: relief-valve, ports: {P: n, T: tank}, cracking_pressure: 1.5e7, override_pressure: 5e5, nominal_flow: 1e-4}
-  - {name: tank, type: pressure-source, ports: {p: tank}, pressure: 1e5}
-formulation: open-loop
-solver: {dt: 0.001, t_end: 0.5}
-)";
-
 TEST(SolverChoices, LineSearchSolvesAStiffReliefCircuitWherePlainNewtonCycles) {
   const auto simulate = [](bool line_search, int halvings, int& max_iterations, long& damped,
                            long& retries) {
-    ModelFile file = parse_model_text(kStiffRelief, "stiff-relief.yaml");
+    ModelFile file = load_model_file(source_path("tests/fixtures/check/stiff-relief.yaml"));
     file.solver.line_search = line_search;
     file.solver.max_step_halvings = halvings;
     Simulation sim(file, build_plugins());
