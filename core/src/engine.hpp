@@ -479,8 +479,8 @@ struct Simulation::Engine {
   void check_finite(const double* values, size_t count, const InstanceHost& writer,
                     const char* call, const char* what, bool retryable = true) const {
     if (all_finite(values, count)) return;
-    const size_t i = first_nonfinite(values, count);
-    fail_nonfinite(values[i], i, writer, call, what, retryable);
+    const size_t i = first_nonfinite(values, count);  // < count: the two agree
+    if (i < count) fail_nonfinite(values[i], i, writer, call, what, retryable);
   }
   // v * 0 is 0 for a finite v and NaN otherwise: one pass without a branch
   // per entry; the entry is looked for only when one is not finite.
