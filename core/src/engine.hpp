@@ -29,6 +29,7 @@
 #include "monohydra/core/simulation.hpp"
 #include "monohydra/core/sparse_pattern.hpp"
 #include "monohydra/cpp/number_text.hpp"
+#include "monohydra/cpp/unknowns.hpp"
 #include "monohydra/monohydra.h"
 #include "plugins/plugin_instance.hpp"
 #include "solver/tangent_reuse.hpp"
@@ -256,7 +257,7 @@ struct ConstraintState {
   Eigen::VectorXd z0, zd0;
 };
 
-// Derivatives of the mechanics (host service mech_derivatives, ABI 2.1,
+// Derivatives of the mechanics (host service mech_derivatives,
 // mechanics_derivatives.cpp).
 struct DerivativesWorkspace {
   std::unique_ptr<DynamicsDerivativesWorkspace> dyn_ws;
@@ -298,7 +299,7 @@ struct TangentWorkspace {
 };
 
 // The analytic coupling of subsystems with points to the mechanical
-// unknowns (ABI 2.2 mechanics_map, subsystem_coupling.cpp).
+// unknowns (mechanics_map, subsystem_coupling.cpp).
 struct CouplingWorkspace {
   bool coupling_possible = false;
   Eigen::MatrixXd map_dz_dx, map_dzd_dx, map_dzd_dxd, map_dzd_total;  // N x n_m
@@ -342,12 +343,13 @@ struct Simulation::Engine {
   std::unique_ptr<InstanceHost> formulation_host;  // outlives the instance
   FormulationProxy formulation;
   // Integrator: applied by the host to all n unknowns; an explicit one
-  // (ABI 2.3, explicit_step.cpp) has no map, and the host solves the rates
-  // at its stages.
+  // (explicit_step.cpp) has no map, and the host solves the rates at its
+  // stages, through its own operations.
   std::string integrator_name;
   std::unique_ptr<InstanceHost> integrator_host;  // outlives the instance
   IntegratorProxy integrator;
   bool explicit_method = false;
+  mh_explicit_method explicit_ops{};
   // Subsystems and their states (the last n_s unknowns).
   std::vector<SubsystemInstance> subsystems;
 
@@ -407,6 +409,9 @@ struct Simulation::Engine {
 
   // integrator_map.cpp: the integrator's map from x to its rates.
   void begin_step(double t_next, double h);
+  void formulation_begin_step(const mh_step_coefficients& coefficients, double t_next,
+                              const Eigen::VectorXd& xq, const Eigen::VectorXd& xdq,
+                              const Eigen::VectorXd& xddq);
   void rates_of(const Eigen::VectorXd& xq, Eigen::VectorXd& xdq, Eigen::VectorXd& xddq) const;
   void restart_integrator();  // from x, xd, xdd at t
 

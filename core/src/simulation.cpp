@@ -206,20 +206,21 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
   }));
   if (!e.integrator) throw_setup_failure(e, file.integrator.mark, iwho);
   const mh_integrator& in = e.integrator.ops;
-  if (in.method == MH_METHOD_EXPLICIT) {
-    // ABI 2.3: a plugin of an older minor has no stage operations (read as NULL).
-    if (in.num_stages == 0 || in.stage_state == nullptr || in.stage_rates == nullptr ||
-        in.finish_step == nullptr)
+  if (in.explicit_method != nullptr) {
+    // An explicit method's own operations, read as this host's (abi_struct.hpp).
+    e.explicit_ops = read_struct(in.explicit_method);
+    const mh_explicit_method& x = e.explicit_ops;
+    if (in.begin_step != nullptr)
+      throw PluginError(iwho + " gives both begin_step and explicit_method (exactly one: " +
+                        "an implicit map or an explicit method's stages)");
+    if (x.num_stages == 0 || x.stage_state == nullptr || x.stage_rates == nullptr ||
+        x.finish_step == nullptr)
       throw PluginError(iwho +
-                        " is an explicit method without the stage operations of ABI 2.3 "
-                        "(num_stages, stage_state, stage_rates, finish_step)");
+                        " is an explicit method without all of its operations "
+                        "(num_stages >= 1, stage_state, stage_rates, finish_step)");
     require_op(in.setup && in.restart && in.accept && in.destroy, iwho,
                "setup/restart/accept/destroy");
     e.explicit_method = true;
-  } else if (in.method != MH_METHOD_IMPLICIT_AFFINE) {
-    throw PluginError(iwho + " has the unknown method " + std::to_string(in.method) +
-                      ", which this host (ABI " + std::to_string(MH_ABI_VERSION_MAJOR) + "." +
-                      std::to_string(MH_ABI_VERSION_MINOR) + ") does not drive");
   } else {
     require_op(in.setup && in.restart && in.begin_step && in.accept && in.destroy, iwho,
                "setup/restart/begin_step/accept/destroy");
@@ -499,10 +500,7 @@ Simulation::TangentSample Simulation::tangent_sample(double h) {
     e.begin_step(t_next, h);
     e.x = x0;
     e.rates_of(e.x, e.xd, e.xdd);
-    if (e.formulation.ops.begin_step != nullptr)
-      e.check(e.formulation.ops.begin_step(e.formulation.self, t_next, e.x.data(), e.xd.data(),
-                                           e.xdd.data()),
-              "formulation begin_step");
+    e.formulation_begin_step(e.map_ws.map.coefficients, t_next, e.x, e.xd, e.xdd);
   }
   if (!status_ok(e.residual(t_next, e.x, e.r)) || !status_ok(e.assemble_tangent(t_next)))
     throw SimulationError(e.accepted.t, e.accepted.step,
@@ -550,9 +548,12 @@ Simulation::FormulationBlocks Simulation::formulation_blocks() {
   for (auto& a : analytic) a = Eigen::MatrixXd::Zero(n_m, n_m);
   if (e.formulation.ops.tangent != nullptr) {
     out.given.assign(static_cast<size_t>(n_m), 0);
-    const mh_status st = normalized(e.formulation.ops.tangent(
-        e.formulation.self, t_next, args[0].data(), e.xd.data(), e.xdd.data(), analytic[0].data(),
-        analytic[1].data(), analytic[2].data(), out.given.data()));
+    const mh_unknown_values at = monohydra::unknown_values(
+        t_next, static_cast<size_t>(n_m), args[0].data(), e.xd.data(), e.xdd.data());
+    const mh_tangent_blocks blocks{sizeof(mh_tangent_blocks), static_cast<uint32_t>(n_m),
+                                   analytic[0].data(),        analytic[1].data(),
+                                   analytic[2].data(),        out.given.data()};
+    const mh_status st = normalized(e.formulation.ops.tangent(e.formulation.self, &at, &blocks));
     if (!status_ok(st))
       throw SimulationError(
           e.accepted.t, e.accepted.step,
@@ -597,8 +598,14 @@ Simulation::CoordinateMaps Simulation::coordinate_maps() {
   Eigen::MatrixXd dzd_dxd = Eigen::MatrixXd::Zero(e.N, e.n_m);
   Eigen::MatrixXd dr_dQ = Eigen::MatrixXd::Zero(e.n_m, e.N);
   out.dz_dx.setZero(e.N, e.n_m);
-  if (!status_ok(normalized(e.formulation.ops.mechanics_map(
-          e.formulation.self, out.dz_dx.data(), dzd_dx.data(), dzd_dxd.data(), dr_dQ.data()))))
+  const mh_mechanics_map map{sizeof(mh_mechanics_map),
+                             static_cast<uint32_t>(e.N),
+                             static_cast<uint32_t>(e.n_m),
+                             out.dz_dx.data(),
+                             dzd_dx.data(),
+                             dzd_dxd.data(),
+                             dr_dQ.data()};
+  if (!status_ok(normalized(e.formulation.ops.mechanics_map(e.formulation.self, &map))))
     throw SimulationError(e.accepted.t, e.accepted.step,
                           "mechanics_map failed: " + e.last_plugin_error);
   out.dzd_dx = dzd_dx;

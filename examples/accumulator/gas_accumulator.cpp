@@ -32,7 +32,7 @@ namespace {
 class GasAccumulator {
  public:
   static const mh_component_descriptor kDescriptor;
-  // SDK 2.4: the model `monohydra check gas-accumulator.so` checks it on: a
+  // The model `monohydra check gas-accumulator.so` checks it on: a
   // node charged from 8 MPa through a throttle, from 2.5 MPa.
   static constexpr const char* kExampleModel = R"(
 units: {length: m, mass: kg, time: s, angle: rad}

@@ -4,7 +4,7 @@
 // Isothermal (n = 1) the gas follows p V = p0 V0 at every step and ends
 // storing p0 V0 ln(V0/V); adiabatic (n = 1.4) p V^n = p0 V0^n; the energy it
 // reports is the integral of p q dt; its jacobian equals differences; and
-// `monohydra check` passes on the example model it declares (SDK 2.4).
+// `monohydra check` passes on the example model it declares.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -113,7 +113,7 @@ TEST(GasAccumulator, AnalyticJacobianEqualsDifferencesWhileCharging) {
 
 TEST(GasAccumulator, PassesEveryCheckOnItsDeclaredExampleModel) {
   const std::string example = host().example_model();
-  ASSERT_FALSE(example.empty()) << "the descriptor declares no example model (SDK 2.4)";
+  ASSERT_FALSE(example.empty()) << "the descriptor declares no example model";
   const th::CheckReport r = host().check(th::Model::text(example, "declared example"));
   for (const th::Check& c : r.checks)
     EXPECT_NE(c.verdict, th::Check::Verdict::failed) << c.what << ": " << c.detail;

@@ -14,7 +14,7 @@
 // open by what the integrator's error feeds in. Redundant constraints make
 // the multipliers non-unique and the Newton matrix singular (use penalty).
 //
-// The tangent is analytic, from the host's mech_derivatives (SDK 2.1): with
+// The tangent is analytic, from the host's mech_derivatives: with
 // A = Phi_z zdd + Phidot_z zd and d(Phi_z zd)/dz = Phidot_z = (1/2) dA/dzd,
 //   d/dz:   [K + d(Phi_z^T lambda)/dz ; dA/dz + alpha dA/dzd + beta^2 Phi_z]
 //   d/dzd:  [C ; dA/dzd + 2 alpha Phi_z]      d/dzdd: [M' ; Phi_z]
@@ -108,7 +108,7 @@ mh_status read_options(State& s) {
   s.analytic_tangent = name == "analytic";
   if (s.analytic_tangent && !has_mech_derivatives(h)) {
     log(s, MH_LOG_ERROR,
-        "setup: tangent: analytic needs the host service mech_derivatives (SDK 2.1); this host "
+        "setup: tangent: analytic needs the host service mech_derivatives; this host "
         "is older: use tangent: differences");
     return MH_ERROR;
   }
@@ -173,7 +173,10 @@ Eigen::VectorXd stabilized_terms(const State& s, const mh_mech_result& rs, const
 
 // Consistent accelerations and multipliers at t0: the KKT system
 //   [M' Phi_z^T; Phi_z 0] [zdd; lambda] = [Q'; -(Phidot_z zd + 2 alpha Phi_z zd + beta^2 Phi)].
-mh_status start(const mh_formulation* f, double* x0, double* xd0, double* xdd0) noexcept {
+mh_status start(const mh_formulation* f, const mh_unknown_buffers* out) noexcept {
+  double* x0 = out->x;
+  double* xd0 = out->xd;
+  double* xdd0 = out->xdd;
   return guarded(f, "start", [&](State& s) {
     mh_mech_result rs;
     if (evaluate(s, MH_EVAL_DYNAMICS | MH_EVAL_CONSTRAINTS, s.t0, s.z.data(), s.zd.data(), rs) >=
@@ -213,8 +216,11 @@ mh_status start(const mh_formulation* f, double* x0, double* xd0, double* xdd0) 
   });
 }
 
-mh_status residual(const mh_formulation* f, double t, const double* x, const double* xd,
-                   const double* xdd, double* r) noexcept {
+mh_status residual(const mh_formulation* f, const mh_unknown_values* at, double* r) noexcept {
+  const double t = at->t;
+  const double* x = at->x;
+  const double* xd = at->xd;
+  const double* xdd = at->xdd;
   return guarded(f, "residual", [&](State& s) {
     mh_mech_result rs;
     const mh_status st =
@@ -241,9 +247,16 @@ mh_status residual(const mh_formulation* f, double t, const double* x, const dou
 }
 
 // Analytic blocks at the last residual call's arguments (see the top of the file).
-mh_status tangent(const mh_formulation* f, double t, const double* x, const double* xd,
-                  const double* xdd, double* dr_dx, double* dr_dxd, double* dr_dxdd,
-                  uint8_t* column_given) noexcept {
+mh_status tangent(const mh_formulation* f, const mh_unknown_values* at,
+                  const mh_tangent_blocks* blocks) noexcept {
+  const double t = at->t;
+  const double* x = at->x;
+  const double* xd = at->xd;
+  const double* xdd = at->xdd;
+  double* dr_dx = blocks->dr_dx;
+  double* dr_dxd = blocks->dr_dxd;
+  double* dr_dxdd = blocks->dr_dxdd;
+  uint8_t* column_given = blocks->column_given;
   return guarded(f, "tangent", [&](State& s) {
     const int N = s.N, m = s.m, n = N + m;
     if (!s.analytic_tangent) {  // tangent: differences: no column given, the host differences
@@ -281,8 +294,11 @@ mh_status tangent(const mh_formulation* f, double t, const double* x, const doub
 }
 
 // No projections: the converged state is committed as the integrator left it.
-mh_status accept(const mh_formulation* f, double t, const mh_step_coefficients*, double* x,
-                 double* xd, double* xdd, uint32_t*) noexcept {
+mh_status accept(const mh_formulation* f, double t, const mh_step_coefficients*,
+                 const mh_unknown_buffers* values, uint32_t*) noexcept {
+  double* x = values->x;
+  double* xd = values->xd;
+  double* xdd = values->xdd;
   return guarded(f, "accept", [&](State& s) {
     s.z = ConstVectorMap(x, s.N);
     s.zd = ConstVectorMap(xd, s.N);
@@ -299,7 +315,10 @@ mh_status accept(const mh_formulation* f, double t, const mh_step_coefficients*,
   });
 }
 
-mh_status coordinates(const mh_formulation* f, double* z, double* zd, double* zdd) noexcept {
+mh_status coordinates(const mh_formulation* f, const mh_coordinate_buffers* out) noexcept {
+  double* z = out->z;
+  double* zd = out->zd;
+  double* zdd = out->zdd;
   return guarded(f, "coordinates", [&](State& s) {
     VectorMap(z, s.N) = s.z;
     VectorMap(zd, s.N) = s.zd;

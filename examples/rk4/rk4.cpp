@@ -1,5 +1,5 @@
 // The classical explicit fourth-order Runge-Kutta method (Kutta 1901) as a
-// monohydra integrator (ABI 2.3, MH_METHOD_EXPLICIT): the integrator the
+// monohydra integrator (an explicit method, mh_explicit_method): the integrator the
 // double-step method is usually run with. For the state X = (x, xd) of
 // second-order unknowns and x of first-order ones, with the host's rates
 // F(t, X) = (xd, xdd) and xd:
@@ -77,28 +77,35 @@ mh_status take_state(Rk4& r, double t, const double* x, const double* xd) {
   return MH_OK;
 }
 
-mh_status restart(const mh_integrator* s, double t, const double* x, const double* xd,
-                  const double*) {
+mh_status restart(const mh_integrator* s, const mh_unknown_values* at) {
   Rk4& r = self(s);
-  return monohydra::guarded_integrator_op(r.host, "rk4 restart",
-                                          [&] { return take_state(r, t, x, xd); });
+  return monohydra::guarded_integrator_op(r.host, "rk4 restart", [&] {
+    if (at == nullptr || at->num_unknowns != r.n)
+      return fail(r, "restart: no values, or not of the problem's length");
+    return take_state(r, at->t, at->x, at->xd);
+  });
 }
 
-mh_status accept(const mh_integrator* s, double t, const double* x, const double* xd,
-                 const double*) {
+mh_status accept(const mh_integrator* s, const mh_unknown_values* accepted) {
   Rk4& r = self(s);
-  return monohydra::guarded_integrator_op(r.host, "rk4 accept",
-                                          [&] { return take_state(r, t, x, xd); });
+  return monohydra::guarded_integrator_op(r.host, "rk4 accept", [&] {
+    if (accepted == nullptr || accepted->num_unknowns != r.n)
+      return fail(r, "accept: no values, or not of the problem's length");
+    return take_state(r, accepted->t, accepted->x, accepted->xd);
+  });
 }
 
 // X_k + a h K_{s-1} (X_k at stage 0).
-mh_status stage_state(const mh_integrator* s, uint32_t stage, double h, double* t_stage, double* x,
-                      double* xd) {
+mh_status stage_state(const mh_integrator* s, uint32_t stage, double h, double* t_stage,
+                      const mh_unknown_buffers* out) {
   Rk4& r = self(s);
   return monohydra::guarded_integrator_op(r.host, "rk4 stage_state", [&] {
     if (!r.restarted) return fail(r, "stage_state: no restart since setup");
-    if (stage >= kStages || t_stage == nullptr || x == nullptr || xd == nullptr || !(h > 0.0))
+    if (stage >= kStages || t_stage == nullptr || out == nullptr || out->num_unknowns != r.n ||
+        out->x == nullptr || out->xd == nullptr || !(h > 0.0))
       return fail(r, "stage_state: bad arguments (stage " + std::to_string(stage) + ")");
+    double* x = out->x;
+    double* xd = out->xd;
     const double ah = kStageFraction[stage] * h;
     const double* kx = stage == 0 ? nullptr : &r.kx[size_t{stage - 1} * r.n];
     const double* kv = stage == 0 ? nullptr : &r.kv[size_t{stage - 1} * r.n];
@@ -121,12 +128,15 @@ mh_status stage_state(const mh_integrator* s, uint32_t stage, double h, double* 
   });
 }
 
-mh_status stage_rates(const mh_integrator* s, uint32_t stage, const double* x, const double* xd,
-                      const double* xdd) {
+mh_status stage_rates(const mh_integrator* s, uint32_t stage, const mh_unknown_values* solved) {
   Rk4& r = self(s);
   return monohydra::guarded_integrator_op(r.host, "rk4 stage_rates", [&] {
-    if (stage >= kStages || x == nullptr || xd == nullptr || xdd == nullptr)
+    if (stage >= kStages || solved == nullptr || solved->num_unknowns != r.n ||
+        solved->x == nullptr || solved->xd == nullptr || solved->xdd == nullptr)
       return fail(r, "stage_rates: bad arguments (stage " + std::to_string(stage) + ")");
+    const double* x = solved->x;
+    const double* xd = solved->xd;
+    const double* xdd = solved->xdd;
     double* kx = &r.kx[size_t{stage} * r.n];
     double* kv = &r.kv[size_t{stage} * r.n];
     for (uint32_t i = 0; i < r.n; ++i) {
@@ -139,11 +149,14 @@ mh_status stage_rates(const mh_integrator* s, uint32_t stage, const double* x, c
 }
 
 // X_{k+1} = X_k + h/6 (K_0 + 2 K_1 + 2 K_2 + K_3).
-mh_status finish_step(const mh_integrator* s, double h, double* x, double* xd) {
+mh_status finish_step(const mh_integrator* s, double h, const mh_unknown_buffers* out) {
   Rk4& r = self(s);
   return monohydra::guarded_integrator_op(r.host, "rk4 finish_step", [&] {
-    if (!r.restarted || x == nullptr || xd == nullptr || !(h > 0.0))
+    if (!r.restarted || out == nullptr || out->num_unknowns != r.n || out->x == nullptr ||
+        out->xd == nullptr || !(h > 0.0))
       return fail(r, "finish_step: bad arguments or no restart since setup");
+    double* x = out->x;
+    double* xd = out->xd;
     for (uint32_t i = 0; i < r.n; ++i) {
       double dx = 0.0;
       double dv = 0.0;
@@ -176,21 +189,21 @@ const mh_component_descriptor kDescriptor{
     "1.0.0",
     "Explicit 4-stage Runge-Kutta on the host's rates; stable only while |h lambda| < 2.78"};
 
+// Its explicit method's own operations (integrator.h).
+const mh_explicit_method kStagesOps{sizeof(mh_explicit_method), kStages, stage_state, stage_rates,
+                                    finish_step};
+
 mh_integrator make_ops() {
   mh_integrator f{};
   f.struct_size = sizeof(mh_integrator);
   f.descriptor = &kDescriptor;
-  f.method = MH_METHOD_EXPLICIT;
   f.setup = setup;
   f.restart = restart;
   f.begin_step = nullptr;  // explicit: the host never asks for a map
   f.accept = accept;
   f.destroy = monohydra::destroy_integrator<Rk4>;
   f.get_extension = [](const mh_integrator*, const char*) -> const void* { return nullptr; };
-  f.num_stages = kStages;
-  f.stage_state = stage_state;
-  f.stage_rates = stage_rates;
-  f.finish_step = finish_step;
+  f.explicit_method = &kStagesOps;
   return f;
 }
 const mh_integrator kOps = make_ops();

@@ -455,7 +455,10 @@ void write_unknowns(const DoubleStep& s, double* x, double* xd, double* xdd) {
 
 // ------------------------------------------------------------- start ----
 
-mh_status start(const mh_formulation* fo, double* x0, double* xd0, double* xdd0) noexcept {
+mh_status start(const mh_formulation* fo, const mh_unknown_buffers* out) noexcept {
+  double* x0 = out->x;
+  double* xd0 = out->xd;
+  double* xdd0 = out->xdd;
   DoubleStep& s = self(fo);
   return guarded(s, "start", [&]() -> mh_status {
     // Consistent initial state on this partition: z^d from Phi(z) = 0 with
@@ -503,8 +506,8 @@ mh_status start(const mh_formulation* fo, double* x0, double* xd0, double* xdd0)
 
 // The step to t_next begins from the accepted state at t_k: the estimate of
 // z_{k+1} the dependent Newton starts from (after Eq. 34), with h = t_next - t_k.
-mh_status begin_step(const mh_formulation* fo, double t_next, const double*, const double*,
-                     const double*) noexcept {
+mh_status begin_step(const mh_formulation* fo, const mh_step_begin* step) noexcept {
+  const double t_next = step->predicted.t;
   DoubleStep& s = self(fo);
   return guarded(s, "begin_step", [&]() -> mh_status {
     const NoHeapScope no_heap;
@@ -515,8 +518,11 @@ mh_status begin_step(const mh_formulation* fo, double t_next, const double*, con
   });
 }
 
-mh_status residual(const mh_formulation* fo, double t, const double* x, const double* xd,
-                   const double* xdd, double* r) noexcept {
+mh_status residual(const mh_formulation* fo, const mh_unknown_values* at, double* r) noexcept {
+  const double t = at->t;
+  const double* x = at->x;
+  const double* xd = at->xd;
+  const double* xdd = at->xdd;
   DoubleStep& s = self(fo);
   return guarded(s, "residual", [&]() -> mh_status {
     const NoHeapScope no_heap;
@@ -533,7 +539,7 @@ mh_status residual(const mh_formulation* fo, double t, const double* x, const do
   });
 }
 
-// Whether the host offers mech_derivatives (ABI 2.1): its table reaches the field.
+// Whether the host offers mech_derivatives: its table reaches the field.
 bool has_mech_derivatives(const mh_host* host) {
   return host->struct_size >=
              offsetof(mh_host, mech_derivatives) + sizeof(host->mech_derivatives) &&
@@ -552,7 +558,7 @@ void solve_dependent_rows(DoubleStep& s, const Eigen::MatrixXd& rhs, Eigen::Matr
 
 // The derivatives of the last iterate's z, zd, zdd and rows r = R_z^T e,
 // e = M' zdd - Q' (Eq. 17 with Eq. 15's zdd), from the host's recursions
-// (ABI 2.1), no differences. With z = z(x) on Phi(z) = 0 and the kept rows of
+//, no differences. With z = z(x) on Phi(z) = 0 and the kept rows of
 // Phi_z zd = 0 and A = Phi_z zdd + Phi_z_dot zd = 0 (Eqs. 13-15):
 //   dz/dx = R_z,  Phi_z^d dzd^d/dx = -G R_z,  G = d(Phi_z zd)/dz,
 //   Phi_z^d dzdd^d/dx = -(dA/dz R_z + dA/dzd dzd/dx),
@@ -631,9 +637,16 @@ mh_status derivatives(DoubleStep& s) {
 // The analytic tangent at the last residual call (derivatives()): every
 // column given, so the host differences nothing mechanical. Without
 // mech_derivatives the host differences every column (Eqs. 40-41).
-mh_status tangent(const mh_formulation* fo, double t, const double* x, const double* xd,
-                  const double* xdd, double* dr_dx, double* dr_dxd, double* dr_dxdd,
-                  uint8_t* column_given) noexcept {
+mh_status tangent(const mh_formulation* fo, const mh_unknown_values* at,
+                  const mh_tangent_blocks* blocks) noexcept {
+  const double t = at->t;
+  const double* x = at->x;
+  const double* xd = at->xd;
+  const double* xdd = at->xdd;
+  double* dr_dx = blocks->dr_dx;
+  double* dr_dxd = blocks->dr_dxd;
+  double* dr_dxdd = blocks->dr_dxdd;
+  uint8_t* column_given = blocks->column_given;
   DoubleStep& s = self(fo);
   return guarded(s, "tangent", [&]() -> mh_status {
     const NoHeapScope no_heap;
@@ -652,13 +665,16 @@ mh_status tangent(const mh_formulation* fo, double t, const double* x, const dou
   });
 }
 
-// How the last residual's mechanics depended on x = z^i (ABI 2.2), so that the
+// How the last residual's mechanics depended on x = z^i, so that the
 // host couples the subsystems to them without differences: z = z(z^i) with
 // dz/dz^i = R_z (Eq. 14), zd = R_z zd^i, the rows r = M'' zdd^i - Q'' take Q'
 // as -R_z^T (Eq. 17), and at fixed zd^i the dependent rates move with z^i by
 // Phi_z^d dzd^d = -(d(Phi_z zd)/dz) R_z (derivatives()).
-mh_status mechanics_map(const mh_formulation* fo, double* dz_dx, double* dzd_dx, double* dzd_dxd,
-                        double* dr_dQ) noexcept {
+mh_status mechanics_map(const mh_formulation* fo, const mh_mechanics_map* map) noexcept {
+  double* dz_dx = map->dz_dx;
+  double* dzd_dx = map->dzd_dx;
+  double* dzd_dxd = map->dzd_dxd;
+  double* dr_dQ = map->dr_dQ;
   DoubleStep& s = self(fo);
   return guarded(s, "mechanics_map", [&]() -> mh_status {
     const NoHeapScope no_heap;
@@ -672,7 +688,7 @@ mh_status mechanics_map(const mh_formulation* fo, double* dz_dx, double* dzd_dx,
       for (int j = 0; j < s.N; ++j) Q_map(k, j) = -R(j, k);
     if (dz_dx == nullptr || dzd_dx == nullptr || dzd_dxd == nullptr) return MH_OK;  // not needed
     if (!has_mech_derivatives(s.host)) {
-      log_error(s, "mechanics_map: the host has no mech_derivatives (ABI 2.1)");
+      log_error(s, "mechanics_map: the host has no mech_derivatives");
       return MH_ERROR;
     }
     const mh_status st = derivatives(s);
@@ -756,8 +772,11 @@ mh_status check_partition(DoubleStep& s, double t, bool* changed) {
 // The step converged: commit the full z, zd, zdd (the next step's estimate),
 // then check the partition. A re-partition redefines the unknowns: x, xd, xdd
 // become the new independent coordinates' z, zd, zdd.
-mh_status accept(const mh_formulation* fo, double t, const mh_step_coefficients*, double* x,
-                 double* xd, double* xdd, uint32_t* flags) noexcept {
+mh_status accept(const mh_formulation* fo, double t, const mh_step_coefficients*,
+                 const mh_unknown_buffers* values, uint32_t* flags) noexcept {
+  double* x = values->x;
+  double* xd = values->xd;
+  double* xdd = values->xdd;
   DoubleStep& s = self(fo);
   return guarded(s, "accept", [&]() -> mh_status {
     const NoHeapScope no_heap;
@@ -784,7 +803,10 @@ mh_status accept(const mh_formulation* fo, double t, const mh_step_coefficients*
   });
 }
 
-mh_status coordinates(const mh_formulation* fo, double* z, double* zd, double* zdd) noexcept {
+mh_status coordinates(const mh_formulation* fo, const mh_coordinate_buffers* out) noexcept {
+  double* z = out->z;
+  double* zd = out->zd;
+  double* zdd = out->zdd;
   const DoubleStep& s = self(fo);
   return guarded(s, "coordinates", [&]() -> mh_status {
     Eigen::Map<Eigen::VectorXd>(z, s.N) = s.z;

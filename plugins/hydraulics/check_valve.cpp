@@ -9,7 +9,7 @@ namespace hyd {
 namespace {
 
 struct CheckTraits {
-  static constexpr const char* kExampleModel = kCheckValveExample;  // SDK 2.4
+  static constexpr const char* kExampleModel = kCheckValveExample;
   static constexpr const char* kInlet = "A";
   static constexpr const char* kOutlet = "B";
   static constexpr double kMinCracking = 0.0;  // a check valve without a spring cracks at 0

@@ -31,7 +31,7 @@ constexpr double kPi = 3.14159265358979323846;
 class Cylinder {
  public:
   static const mh_component_descriptor kDescriptor;
-  static constexpr const char* kExampleModel = kCylinderExample;  // SDK 2.4, example_models.hpp
+  static constexpr const char* kExampleModel = kCylinderExample;  // example_models.hpp
 
   explicit Cylinder(const mh_host* host) : host_(host) {}
 
@@ -125,7 +125,7 @@ class Cylinder {
     return MH_OK;
   }
 
-  // d(point forces)/d(points' positions, velocities), states held (ABI 2.1):
+  // d(point forces)/d(points' positions, velocities), states held:
   // 3P x 3P column-major. With f_b = F e = -f_a, de/dx_b = (I - e e^T)/s and
   // dsdot/dx_b = (v_b - v_a)^T (I - e e^T)/s, dsdot/dv_b = e^T (minus for a).
   mh_status point_force_jacobian(const mh_subsystem_eval& eval, double* dF_dp,
@@ -153,13 +153,14 @@ class Cylinder {
     return MH_OK;
   }
 
-  // The coupling to the mechanics (ABI 2.2): rows by the points' motion
-  // (n x 3P row-major) and point forces by the pressures (3P x n column-major).
+  // The coupling to the mechanics: rows by the points' motion (n x 3P) and
+  // point forces by the pressures (3P x n), both column-major.
   mh_status coupling_jacobian(const mh_subsystem_eval& eval, double* dR_dp, double* dR_dv,
                               double* dF_dy, double*) const {
     Motion mo;
     if (!motion(eval, mo)) return MH_ERROR;
-    const size_t n3 = 3 * eval.num_points;
+    const size_t n3 = 3 * eval.num_points;  // rows of dF_dy
+    const size_t nt = eval.num_touched;     // rows of dR_dp, dR_dv
     const size_t ra = states_.local(p_a_), rb = states_.local(p_b_);
     // d(A row)/ds through l2 and d(B row)/ds through l3 = -s; past an end
     // stop a chamber's length is held at 0 and no longer moves with s.
@@ -175,10 +176,10 @@ class Cylinder {
         const double ds = ms * mo.st.e[j];
         const double dsdot_dx = ms * mo.dsdot_dxb[j];
         const double dsdot_dv = ms * mo.st.e[j];
-        dR_dp[ra * n3 + c] += ga * ds + a2_ * dsdot_dx;
-        dR_dp[rb * n3 + c] += gb * ds - a3_ * dsdot_dx;
-        dR_dv[ra * n3 + c] += a2_ * dsdot_dv;
-        dR_dv[rb * n3 + c] += -a3_ * dsdot_dv;
+        dR_dp[c * nt + ra] += ga * ds + a2_ * dsdot_dx;
+        dR_dp[c * nt + rb] += gb * ds - a3_ * dsdot_dx;
+        dR_dv[c * nt + ra] += a2_ * dsdot_dv;
+        dR_dv[c * nt + rb] += -a3_ * dsdot_dv;
       }
     }
     // dF/dp_A, dF/dp_B of F = p_A A2 - p_B A3 - F_mu, along e (b) and -e (a).

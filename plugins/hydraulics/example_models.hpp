@@ -1,5 +1,5 @@
-// The example models the hydraulic components declare (SDK 2.4,
-// mh_subsystem_factory.example_model, filled from each component's
+// The example models the hydraulic components declare
+// (mh_subsystem_factory.example_model, filled from each component's
 // kExampleModel): small model files that use each component with example
 // options, on which `monohydra check monohydra-hydraulics.so` checks it
 // without a model of the user's.

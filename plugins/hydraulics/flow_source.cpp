@@ -21,7 +21,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 class FlowSource {
  public:
   static const mh_component_descriptor kDescriptor;
-  static constexpr const char* kExampleModel = kReliefValveExample;  // SDK 2.4, example_models.hpp
+  static constexpr const char* kExampleModel = kReliefValveExample;  // example_models.hpp
 
   explicit FlowSource(const mh_host* host) : host_(host) {}
 

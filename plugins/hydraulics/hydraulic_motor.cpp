@@ -56,8 +56,7 @@ Vec<S> cross(const Vec<S>& a, const Vec<S>& b) {
 class HydraulicMotor {
  public:
   static const mh_component_descriptor kDescriptor;
-  static constexpr const char* kExampleModel =
-      kHydraulicMotorExample;  // SDK 2.4, example_models.hpp
+  static constexpr const char* kExampleModel = kHydraulicMotorExample;  // example_models.hpp
 
   explicit HydraulicMotor(const mh_host* host) : host_(host) {}
 

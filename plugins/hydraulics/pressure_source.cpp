@@ -17,7 +17,7 @@ namespace {
 class PressureSource {
  public:
   static const mh_component_descriptor kDescriptor;
-  static constexpr const char* kExampleModel = kThrottleExample;  // SDK 2.4, example_models.hpp
+  static constexpr const char* kExampleModel = kThrottleExample;  // example_models.hpp
 
   explicit PressureSource(const mh_host* host) : host_(host) {}
 

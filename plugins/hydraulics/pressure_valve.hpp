@@ -82,7 +82,7 @@ template <class Traits>
 class PressureValve {
  public:
   static const mh_component_descriptor kDescriptor;
-  static constexpr const char* kExampleModel = Traits::kExampleModel;  // SDK 2.4
+  static constexpr const char* kExampleModel = Traits::kExampleModel;
 
   explicit PressureValve(const mh_host* host) : host_(host) {}
 

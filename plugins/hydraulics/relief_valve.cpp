@@ -10,7 +10,7 @@ namespace hyd {
 namespace {
 
 struct ReliefTraits {
-  static constexpr const char* kExampleModel = kReliefValveExample;  // SDK 2.4
+  static constexpr const char* kExampleModel = kReliefValveExample;
   static constexpr const char* kInlet = "P";
   static constexpr const char* kOutlet = "T";
   static constexpr double kMinCracking = 1e-300;  // > 0: a set pressure

@@ -18,7 +18,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 class Throttle {
  public:
   static const mh_component_descriptor kDescriptor;
-  static constexpr const char* kExampleModel = kThrottleExample;  // SDK 2.4, example_models.hpp
+  static constexpr const char* kExampleModel = kThrottleExample;  // example_models.hpp
 
   explicit Throttle(const mh_host* host) : host_(host) {}
 

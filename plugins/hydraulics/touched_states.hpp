@@ -30,7 +30,7 @@ class TouchedStates {
   std::vector<int32_t> globals_;
 };
 
-// A view of an n x n row-major jacobian block in local (touched) numbering,
+// A view of an n x n column-major jacobian block in local (touched) numbering,
 // addressed by global state indices. Entries accumulate: two ports on one node
 // add to the same entry.
 class JacobianBlock {
@@ -39,7 +39,7 @@ class JacobianBlock {
       : states_(states), values_(values), n_(states.size()) {}
   // d(row's contribution)/d(column state) += value.
   void add(int32_t row, int32_t column, double value) {
-    values_[states_.local(row) * n_ + states_.local(column)] += value;
+    values_[states_.local(column) * n_ + states_.local(row)] += value;
   }
 
  private:

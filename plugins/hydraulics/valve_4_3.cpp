@@ -26,7 +26,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 class Valve43 {
  public:
   static const mh_component_descriptor kDescriptor;
-  static constexpr const char* kExampleModel = kValve43Example;  // SDK 2.4, example_models.hpp
+  static constexpr const char* kExampleModel = kValve43Example;  // example_models.hpp
 
   explicit Valve43(const mh_host* host) : host_(host) {}
 

@@ -27,7 +27,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 class ValveTable {
  public:
   static const mh_component_descriptor kDescriptor;
-  static constexpr const char* kExampleModel = kValveTableExample;  // SDK 2.4, example_models.hpp
+  static constexpr const char* kExampleModel = kValveTableExample;  // example_models.hpp
 
   explicit ValveTable(const mh_host* host) : host_(host) {}
 

@@ -20,7 +20,7 @@ namespace {
 class Volume {
  public:
   static const mh_component_descriptor kDescriptor;
-  static constexpr const char* kExampleModel = kThrottleExample;  // SDK 2.4, example_models.hpp
+  static constexpr const char* kExampleModel = kThrottleExample;  // example_models.hpp
 
   explicit Volume(const mh_host* host) : host_(host) {}
 

@@ -32,11 +32,14 @@ mh_status setup(const mh_integrator* s, const mh_integrator_problem* problem) {
   });
 }
 
-mh_status restart(const mh_integrator* s, double t, const double* x, const double* xd,
-                  const double* xdd) {
+mh_status restart(const mh_integrator* s, const mh_unknown_values* at) {
   Bdf2& b = self(s);
   return monohydra::guarded_integrator_op(b.host, "bdf2 restart", [&] {
-    if (check_restart(b, t, x, xd, xdd) != MH_OK) return MH_ERROR;
+    if (check_restart(b, at) != MH_OK) return MH_ERROR;
+    const double t = at->t;
+    const double* x = at->x;
+    const double* xd = at->xd;
+    const double* xdd = at->xdd;
     for (uint32_t i = 0; i < b.n; ++i) {
       b.x[i] = x[i];
       b.xd[i] = xd[i];
@@ -101,11 +104,14 @@ mh_status begin_step(const mh_integrator* s, double t_next, double h, mh_step_ma
   });
 }
 
-mh_status accept(const mh_integrator* s, double t, const double* x, const double* xd,
-                 const double* xdd) {
+mh_status accept(const mh_integrator* s, const mh_unknown_values* at) {
   Bdf2& b = self(s);
   return monohydra::guarded_integrator_op(b.host, "bdf2 accept", [&] {
-    if (check_accept(b, t, x, xd, xdd) != MH_OK) return MH_ERROR;
+    if (check_accept(b, at) != MH_OK) return MH_ERROR;
+    const double t = at->t;
+    const double* x = at->x;
+    const double* xd = at->xd;
+    const double* xdd = at->xdd;
     // Shift the history: (t_{n-1}, t_n) <- (t_n, t_{n+1}); t_{n+1} - t_n is the open step's h.
     for (uint32_t i = 0; i < b.n; ++i) {
       b.x1[i] = b.x[i];

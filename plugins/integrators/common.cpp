@@ -27,9 +27,9 @@ mh_status read_problem(Common& c, const mh_integrator_problem* problem) {
   c.restarted = false;
   c.step_open = false;
   if (problem == nullptr) return fail(c, "setup", "no problem given");
-  // 2.0 fields, read only when the host's struct holds them (types.h).
+  // 3.0 fields, read only when the host's struct holds them (types.h).
   if (problem->struct_size < offsetof(mh_integrator_problem, dt) + sizeof(problem->dt))
-    return fail(c, "setup", "the problem struct is too small for SDK 2.0");
+    return fail(c, "setup", "the problem struct is too small for SDK 3.0");
   if (problem->num_unknowns > 0 && problem->kinds == nullptr)
     return fail(c, "setup", "no kinds given for the unknowns");
   if (!std::isfinite(problem->t0)) return fail(c, "setup", "t0 is not finite");
@@ -44,10 +44,15 @@ mh_status read_problem(Common& c, const mh_integrator_problem* problem) {
   return MH_OK;
 }
 
-mh_status check_restart(const Common& c, double t, const double* x, const double* xd,
-                        const double* xdd) noexcept {
+mh_status check_restart(const Common& c, const mh_unknown_values* at) noexcept {
   if (!c.set_up) return fail(c, "restart", "called before a successful setup");
-  if (!std::isfinite(t)) return fail(c, "restart", "t is not finite");
+  if (at == nullptr) return fail(c, "restart", "no values given");
+  if (at->num_unknowns != c.n)
+    return fail(c, "restart", "the values' num_unknowns is not the problem's");
+  const double* x = at->x;
+  const double* xd = at->xd;
+  const double* xdd = at->xdd;
+  if (!std::isfinite(at->t)) return fail(c, "restart", "t is not finite");
   if (c.n > 0 && (x == nullptr || xd == nullptr || xdd == nullptr))
     return fail(c, "restart", "x, xd or xdd is NULL");
   if (!all_finite(x, c.n) || !all_finite(xd, c.n) || !all_finite(xdd, c.n))
@@ -62,17 +67,24 @@ mh_status check_begin_step(const Common& c, double t_next, double h,
   if (!std::isfinite(t_next)) return fail(c, "begin_step", "t_next is not finite");
   if (map == nullptr) return fail(c, "begin_step", "no map given");
   if (map->struct_size < offsetof(mh_step_map, xdd_offset) + sizeof(map->xdd_offset))
-    return fail(c, "begin_step", "the map struct is too small for SDK 2.0");
+    return fail(c, "begin_step", "the map struct is too small for SDK 3.0");
+  if (map->num_unknowns != c.n)
+    return fail(c, "begin_step", "the map's num_unknowns is not the problem's");
   if (c.n > 0 &&
       (map->x_predicted == nullptr || map->xd_offset == nullptr || map->xdd_offset == nullptr))
     return fail(c, "begin_step", "x_predicted, xd_offset or xdd_offset is NULL");
   return MH_OK;
 }
 
-mh_status check_accept(const Common& c, double t, const double* x, const double* xd,
-                       const double* xdd) noexcept {
+mh_status check_accept(const Common& c, const mh_unknown_values* at) noexcept {
   if (!c.step_open) return fail(c, "accept", "no step is open (begin_step was not called)");
-  if (!std::isfinite(t)) return fail(c, "accept", "t is not finite");
+  if (at == nullptr) return fail(c, "accept", "no values given");
+  if (at->num_unknowns != c.n)
+    return fail(c, "accept", "the values' num_unknowns is not the problem's");
+  const double* x = at->x;
+  const double* xd = at->xd;
+  const double* xdd = at->xdd;
+  if (!std::isfinite(at->t)) return fail(c, "accept", "t is not finite");
   if (c.n > 0 && (x == nullptr || xd == nullptr || xdd == nullptr))
     return fail(c, "accept", "x, xd or xdd is NULL");
   if (!all_finite(x, c.n) || !all_finite(xd, c.n) || !all_finite(xdd, c.n))

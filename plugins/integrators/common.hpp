@@ -33,17 +33,16 @@ bool all_finite(const double* v, uint32_t n) noexcept;
 // setup: checks the problem (struct size, n, kinds, t0, dt) and sizes `kinds`.
 mh_status read_problem(Common& c, const mh_integrator_problem* problem);
 
-// restart: checks t and the state (non-NULL, finite).
-mh_status check_restart(const Common& c, double t, const double* x, const double* xd,
-                        const double* xdd) noexcept;
+// restart: checks t and the state (given, of the problem's length, non-NULL, finite).
+mh_status check_restart(const Common& c, const mh_unknown_values* at) noexcept;
 
 // begin_step: checks the protocol, t_next and h (> 0, finite) and the map.
 mh_status check_begin_step(const Common& c, double t_next, double h,
                            const mh_step_map* map) noexcept;
 
-// accept: checks that a step is open and the accepted state (non-NULL, finite).
-mh_status check_accept(const Common& c, double t, const double* x, const double* xd,
-                       const double* xdd) noexcept;
+// accept: checks that a step is open and the accepted state (given, of the
+// problem's length, non-NULL, finite).
+mh_status check_accept(const Common& c, const mh_unknown_values* at) noexcept;
 
 // The operations of an implicit integrator T (its state derives from Common):
 // the same table for every integrator of this library but for its four ops.
@@ -56,7 +55,6 @@ mh_integrator implicit_ops(const mh_component_descriptor& descriptor,
   mh_integrator f{};
   f.struct_size = sizeof(mh_integrator);
   f.descriptor = &descriptor;
-  f.method = MH_METHOD_IMPLICIT_AFFINE;
   f.setup = setup;
   f.restart = restart;
   f.begin_step = begin_step;

@@ -48,11 +48,14 @@ mh_status setup(const mh_integrator* s, const mh_integrator_problem* problem) {
   });
 }
 
-mh_status restart(const mh_integrator* s, double t, const double* x, const double* xd,
-                  const double* xdd) {
+mh_status restart(const mh_integrator* s, const mh_unknown_values* at) {
   GeneralizedAlpha& g = self(s);
   return monohydra::guarded_integrator_op(g.host, "generalized-alpha restart", [&] {
-    if (check_restart(g, t, x, xd, xdd) != MH_OK) return MH_ERROR;
+    if (check_restart(g, at) != MH_OK) return MH_ERROR;
+    const double t = at->t;
+    const double* x = at->x;
+    const double* xd = at->xd;
+    const double* xdd = at->xdd;
     for (uint32_t i = 0; i < g.n; ++i) {
       g.x[i] = x[i];
       g.xd[i] = xd[i];
@@ -124,11 +127,14 @@ mh_status begin_step(const mh_integrator* s, double t_next, double h, mh_step_ma
   });
 }
 
-mh_status accept(const mh_integrator* s, double t, const double* x, const double* xd,
-                 const double* xdd) {
+mh_status accept(const mh_integrator* s, const mh_unknown_values* at) {
   GeneralizedAlpha& g = self(s);
   return monohydra::guarded_integrator_op(g.host, "generalized-alpha accept", [&] {
-    if (check_accept(g, t, x, xd, xdd) != MH_OK) return MH_ERROR;
+    if (check_accept(g, at) != MH_OK) return MH_ERROR;
+    const double t = at->t;
+    const double* x = at->x;
+    const double* xd = at->xd;
+    const double* xdd = at->xdd;
     for (uint32_t i = 0; i < g.n; ++i) {
       if (g.kinds[i] == MH_UNKNOWN_SECOND_ORDER)
         // (1 - am) a_{n+1} + am a_n = (1 - af) xdd_{n+1} + af xdd_n, from the accepted xdd.

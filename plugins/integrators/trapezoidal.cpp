@@ -28,11 +28,14 @@ mh_status setup(const mh_integrator* s, const mh_integrator_problem* problem) {
   });
 }
 
-mh_status restart(const mh_integrator* s, double t, const double* x, const double* xd,
-                  const double* xdd) {
+mh_status restart(const mh_integrator* s, const mh_unknown_values* at) {
   Trapezoidal& z = self(s);
   return monohydra::guarded_integrator_op(z.host, "trapezoidal restart", [&] {
-    if (check_restart(z, t, x, xd, xdd) != MH_OK) return MH_ERROR;
+    if (check_restart(z, at) != MH_OK) return MH_ERROR;
+    const double t = at->t;
+    const double* x = at->x;
+    const double* xd = at->xd;
+    const double* xdd = at->xdd;
     for (uint32_t i = 0; i < z.n; ++i) {
       z.x[i] = x[i];
       z.xd[i] = xd[i];
@@ -84,11 +87,14 @@ mh_status begin_step(const mh_integrator* s, double t_next, double h, mh_step_ma
   });
 }
 
-mh_status accept(const mh_integrator* s, double t, const double* x, const double* xd,
-                 const double* xdd) {
+mh_status accept(const mh_integrator* s, const mh_unknown_values* at) {
   Trapezoidal& z = self(s);
   return monohydra::guarded_integrator_op(z.host, "trapezoidal accept", [&] {
-    if (check_accept(z, t, x, xd, xdd) != MH_OK) return MH_ERROR;
+    if (check_accept(z, at) != MH_OK) return MH_ERROR;
+    const double t = at->t;
+    const double* x = at->x;
+    const double* xd = at->xd;
+    const double* xdd = at->xdd;
     // The history of the next step's Eq. (34) is the accepted state.
     for (uint32_t i = 0; i < z.n; ++i) {
       z.x[i] = x[i];

@@ -1,5 +1,5 @@
-// The example model the mechanics components declare (SDK 2.4,
-// mh_subsystem_factory.example_model, filled from each component's
+// The example model the mechanics components declare
+// (mh_subsystem_factory.example_model, filled from each component's
 // kExampleModel): a slider held by a spring-damper and a Maxwell element, on
 // which `monohydra check monohydra-mechanics.so` checks both without a model
 // of the user's.

@@ -13,7 +13,7 @@ namespace {
 class Maxwell {
  public:
   static const mh_component_descriptor kDescriptor;
-  static constexpr const char* kExampleModel = kSliderExample;  // SDK 2.4, example_models.hpp
+  static constexpr const char* kExampleModel = kSliderExample;  // example_models.hpp
 
   explicit Maxwell(const mh_host* host) : host_(host) {}
 
@@ -62,8 +62,8 @@ class Maxwell {
     return MH_OK;
   }
 
-  // T = k (l - l0 - delta): the point forces' derivatives (ABI 2.1), and the
-  // coupling (ABI 2.2): delta's row c deltadot - T by the points' motion
+  // T = k (l - l0 - delta): the point forces' derivatives, and the
+  // coupling: delta's row c deltadot - T by the points' motion
   // (-k dl/dp), the forces by delta (dT/ddelta = -k; +T e on a, -T e on b).
   mh_status point_force_jacobian(const mh_subsystem_eval& eval, double* dF_dp,
                                  double* dF_dv) const {

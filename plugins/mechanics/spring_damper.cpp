@@ -11,7 +11,7 @@ namespace {
 class SpringDamper {
  public:
   static const mh_component_descriptor kDescriptor;
-  static constexpr const char* kExampleModel = kSliderExample;  // SDK 2.4, example_models.hpp
+  static constexpr const char* kExampleModel = kSliderExample;  // example_models.hpp
 
   explicit SpringDamper(const mh_host* host) : host_(host) {}
 
@@ -40,7 +40,7 @@ class SpringDamper {
   }
 
   // No states, so no jacobian: the host needs none. Its point forces' own
-  // derivatives (ABI 2.1) and, with no states, an empty coupling (ABI 2.2).
+  // derivatives and, with no states, an empty coupling.
   mh_status point_force_jacobian(const mh_subsystem_eval& eval, double* dF_dp,
                                  double* dF_dv) const {
     PointPair pp;

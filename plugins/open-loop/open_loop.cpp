@@ -3,7 +3,7 @@
 // integrator ties zd and zdd at the step's end to them (the trapezoidal rule,
 // Eqs. 32-34, by default), and the residual is Eq. (39) without constraints
 // and without its dt^2/4 factor: r = M'(z) zdd - Q'(z, zd). Its tangent is
-// analytic (the host's mech_derivatives, ABI 2.1): dr/dz = K, dr/dzd = C,
+// analytic (the host's mech_derivatives): dr/dz = K, dr/dzd = C,
 // dr/dzdd = M'.
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
@@ -29,7 +29,7 @@ struct OpenLoop {
   Eigen::MatrixXd M_last;      // M' of the last residual call: the tangent's dr/dzdd
 };
 
-// Whether the host offers mech_derivatives (ABI 2.1): its table reaches the field.
+// Whether the host offers mech_derivatives: its table reaches the field.
 bool has_mech_derivatives(const mh_host* host) {
   return host->struct_size >=
              offsetof(mh_host, mech_derivatives) + sizeof(host->mech_derivatives) &&
@@ -78,7 +78,10 @@ mh_status setup(const mh_formulation* f) noexcept {
 }
 
 // x0 = z0, xd0 = zd0 and xdd0 from M' zdd = Q' (Eq. 12) at t0.
-mh_status start(const mh_formulation* f, double* x0, double* xd0, double* xdd0) noexcept {
+mh_status start(const mh_formulation* f, const mh_unknown_buffers* out) noexcept {
+  double* x0 = out->x;
+  double* xd0 = out->xd;
+  double* xdd0 = out->xdd;
   return monohydra::guarded_op<OpenLoop>(f, "start", [&](OpenLoop& s) {
     const mh_mech_request rq{sizeof(rq), MH_EVAL_DYNAMICS, s.t0, s.z.data(), s.zd.data()};
     mh_mech_result rs{};
@@ -102,8 +105,11 @@ mh_status start(const mh_formulation* f, double* x0, double* xd0, double* xdd0) 
 }
 
 // Eq. (12) as residual rows: r = M'(x) xdd - Q'(x, xd).
-mh_status residual(const mh_formulation* f, double t, const double* x, const double* xd,
-                   const double* xdd, double* r) noexcept {
+mh_status residual(const mh_formulation* f, const mh_unknown_values* at, double* r) noexcept {
+  const double t = at->t;
+  const double* x = at->x;
+  const double* xd = at->xd;
+  const double* xdd = at->xdd;
   return monohydra::guarded_op<OpenLoop>(f, "residual", [&](OpenLoop& s) {
     const mh_mech_request rq{sizeof(rq), MH_EVAL_DYNAMICS | MH_EVAL_SUBSYSTEMS, t, x, xd};
     mh_mech_result rs{};
@@ -122,9 +128,16 @@ mh_status residual(const mh_formulation* f, double t, const double* x, const dou
 // The analytic tangent at the last residual call: dr/dz = K = d(M' zdd - Q')/dz,
 // dr/dzd = C = -dQ'/dzd (the host's recursions, subsystem forces included),
 // dr/dzdd = M'. Without mech_derivatives the host differences every column.
-mh_status tangent(const mh_formulation* f, double t, const double* x, const double* xd,
-                  const double* xdd, double* dr_dx, double* dr_dxd, double* dr_dxdd,
-                  uint8_t* column_given) noexcept {
+mh_status tangent(const mh_formulation* f, const mh_unknown_values* at,
+                  const mh_tangent_blocks* blocks) noexcept {
+  const double t = at->t;
+  const double* x = at->x;
+  const double* xd = at->xd;
+  const double* xdd = at->xdd;
+  double* dr_dx = blocks->dr_dx;
+  double* dr_dxd = blocks->dr_dxd;
+  double* dr_dxdd = blocks->dr_dxdd;
+  uint8_t* column_given = blocks->column_given;
   return monohydra::guarded_op<OpenLoop>(f, "tangent", [&](OpenLoop& s) {
     if (!has_mech_derivatives(s.host)) return MH_OK;
     mh_mech_derivatives_request rq{};
@@ -149,9 +162,11 @@ mh_status tangent(const mh_formulation* f, double t, const double* x, const doub
 }
 
 // The unknowns are the coordinates (z = x, zd = xd) and the rows take Q' with
-// the sign -1 (ABI 2.2: the host couples the subsystems to them analytically).
-mh_status mechanics_map(const mh_formulation* f, double* dz_dx, double*, double* dzd_dxd,
-                        double* dr_dQ) noexcept {
+// the sign -1 (the host couples the subsystems to them analytically).
+mh_status mechanics_map(const mh_formulation* f, const mh_mechanics_map* map) noexcept {
+  double* dz_dx = map->dz_dx;
+  double* dzd_dxd = map->dzd_dxd;
+  double* dr_dQ = map->dr_dQ;
   return monohydra::guarded_op<OpenLoop>(f, "mechanics_map", [&](OpenLoop& s) {
     for (int i = 0; i < s.N; ++i) {
       const size_t d = static_cast<size_t>(i) * static_cast<size_t>(s.N) + static_cast<size_t>(i);
@@ -164,8 +179,11 @@ mh_status mechanics_map(const mh_formulation* f, double* dz_dx, double*, double*
 }
 
 // The step converged: its z, zd, zdd are the accepted state (no correction).
-mh_status accept(const mh_formulation* f, double, const mh_step_coefficients*, double* x,
-                 double* xd, double* xdd, uint32_t*) noexcept {
+mh_status accept(const mh_formulation* f, double, const mh_step_coefficients*,
+                 const mh_unknown_buffers* values, uint32_t*) noexcept {
+  double* x = values->x;
+  double* xd = values->xd;
+  double* xdd = values->xdd;
   return monohydra::guarded_op<OpenLoop>(f, "accept", [&](OpenLoop& s) {
     s.z = ConstVectorMap(x, s.N);
     s.zd = ConstVectorMap(xd, s.N);
@@ -174,7 +192,10 @@ mh_status accept(const mh_formulation* f, double, const mh_step_coefficients*, d
   });
 }
 
-mh_status coordinates(const mh_formulation* f, double* z, double* zd, double* zdd) noexcept {
+mh_status coordinates(const mh_formulation* f, const mh_coordinate_buffers* out) noexcept {
+  double* z = out->z;
+  double* zd = out->zd;
+  double* zdd = out->zdd;
   return monohydra::guarded_op<OpenLoop>(f, "coordinates", [&](OpenLoop& s) {
     VectorMap(z, s.N) = s.z;
     VectorMap(zd, s.N) = s.zd;

@@ -39,7 +39,7 @@ struct Penalty {
   double tol = 1e-7;        // Newton tolerance on every z_i (rad or m)
   bool projections = true;  // Eqs. (20)-(21)
   // W of the projections: M' + C c_v/c_a + K/c_a (the paper's, needs the
-  // host's mech_derivatives, ABI 2.1) or M' alone.
+  // host's mech_derivatives) or M' alone.
   bool tangent_projection_matrix = true;
   // Sizes and the initial time (setup, from mech_info).
   int N = 0;  // coordinates = Newton unknowns
@@ -71,7 +71,7 @@ struct Penalty {
   double phi_dot_norm = 0.0;
 };
 
-// Whether the host offers mech_derivatives (ABI 2.1): its table reaches the field.
+// Whether the host offers mech_derivatives: its table reaches the field.
 bool has_mech_derivatives(const mh_host* host) {
   return host->struct_size >=
              offsetof(mh_host, mech_derivatives) + sizeof(host->mech_derivatives) &&
@@ -172,8 +172,8 @@ mh_status setup(const mh_formulation* f) noexcept {
     s.tangent_projection_matrix = matrix_name == "tangent";
     if (s.tangent_projection_matrix && !has_mech_derivatives(s.host)) {
       log(s, MH_LOG_ERROR,
-          "setup: projection_matrix: tangent needs the host service mech_derivatives (ABI 2.1); "
-          "this host is older: use projection_matrix: mass");
+          "setup: projection_matrix: tangent needs the host service mech_derivatives, which "
+          "this host does not give: use projection_matrix: mass");
       return MH_ERROR;
     }
 
@@ -200,7 +200,10 @@ mh_status setup(const mh_formulation* f) noexcept {
   });
 }
 
-mh_status start(const mh_formulation* f, double* x0, double* xd0, double* xdd0) noexcept {
+mh_status start(const mh_formulation* f, const mh_unknown_buffers* out) noexcept {
+  double* x0 = out->x;
+  double* xd0 = out->xd;
+  double* xdd0 = out->xdd;
   return guarded(f, "start", [&](Penalty& s) {
     s.last_valid = false;
     mh_mech_result rs;
@@ -256,8 +259,7 @@ mh_status start(const mh_formulation* f, double* x0, double* xd0, double* xdd0) 
 }
 
 // A step begins from the accepted state: lambda_{k+1}^(0) = lambda_k (Eq. 19's start).
-mh_status begin_step(const mh_formulation* f, double, const double*, const double*,
-                     const double*) noexcept {
+mh_status begin_step(const mh_formulation* f, const mh_step_begin*) noexcept {
   return guarded(f, "begin_step", [&](Penalty& s) {
     [[maybe_unused]] const NoMalloc no_malloc;
     s.lambda = s.lambda_k;
@@ -266,8 +268,11 @@ mh_status begin_step(const mh_formulation* f, double, const double*, const doubl
   });
 }
 
-mh_status residual(const mh_formulation* f, double t, const double* x, const double* xd,
-                   const double* xdd, double* r) noexcept {
+mh_status residual(const mh_formulation* f, const mh_unknown_values* at, double* r) noexcept {
+  const double t = at->t;
+  const double* x = at->x;
+  const double* xd = at->xd;
+  const double* xdd = at->xdd;
   return guarded(f, "residual", [&](Penalty& s) {
     [[maybe_unused]] const NoMalloc no_malloc;
     mh_mech_result rs;
@@ -295,14 +300,21 @@ mh_status residual(const mh_formulation* f, double t, const double* x, const dou
 }
 
 // The analytic tangent of Eq. (18) at the last residual call (the host's
-// recursions, ABI 2.1, subsystem forces included):
+// recursions, subsystem forces included):
 //   dr/dz   = K + d(Phi_z^T v)/dz + alpha Phi_z^T Phi_z,  v = alpha Phi + lambda,
 //   dr/dzd  = C,
 //   dr/dzdd = M'.
 // Without mech_derivatives the host differences every column (Eqs. 40-41).
-mh_status tangent(const mh_formulation* f, double t, const double* x, const double* xd,
-                  const double* xdd, double* dr_dx, double* dr_dxd, double* dr_dxdd,
-                  uint8_t* column_given) noexcept {
+mh_status tangent(const mh_formulation* f, const mh_unknown_values* at,
+                  const mh_tangent_blocks* blocks) noexcept {
+  const double t = at->t;
+  const double* x = at->x;
+  const double* xd = at->xd;
+  const double* xdd = at->xdd;
+  double* dr_dx = blocks->dr_dx;
+  double* dr_dxd = blocks->dr_dxd;
+  double* dr_dxdd = blocks->dr_dxdd;
+  uint8_t* column_given = blocks->column_given;
   return guarded(f, "tangent", [&](Penalty& s) {
     [[maybe_unused]] const NoMalloc no_malloc;
     if (!has_mech_derivatives(s.host)) return MH_OK;
@@ -342,9 +354,11 @@ mh_status tangent(const mh_formulation* f, double t, const double* x, const doub
 }
 
 // The unknowns are the coordinates (z = x, zd = xd) and the rows take Q' with
-// the sign -1 (ABI 2.2: the host couples the subsystems to them analytically).
-mh_status mechanics_map(const mh_formulation* f, double* dz_dx, double*, double* dzd_dxd,
-                        double* dr_dQ) noexcept {
+// the sign -1 (the host couples the subsystems to them analytically).
+mh_status mechanics_map(const mh_formulation* f, const mh_mechanics_map* map) noexcept {
+  double* dz_dx = map->dz_dx;
+  double* dzd_dxd = map->dzd_dxd;
+  double* dr_dQ = map->dr_dQ;
   return guarded(f, "mechanics_map", [&](Penalty& s) {
     for (int i = 0; i < s.N; ++i) {
       const size_t d = static_cast<size_t>(i) * static_cast<size_t>(s.N) + static_cast<size_t>(i);
@@ -356,8 +370,10 @@ mh_status mechanics_map(const mh_formulation* f, double* dz_dx, double*, double*
   });
 }
 
-mh_status iteration_done(const mh_formulation* f, double t, const double* x, const double* xd,
-                         const double*) noexcept {
+mh_status iteration_done(const mh_formulation* f, const mh_unknown_values* at) noexcept {
+  const double t = at->t;
+  const double* x = at->x;
+  const double* xd = at->xd;
   return guarded(f, "iteration_done", [&](Penalty& s) {
     [[maybe_unused]] const NoMalloc no_malloc;
     mh_mech_result rs;
@@ -375,8 +391,11 @@ mh_status iteration_done(const mh_formulation* f, double t, const double* x, con
 
 // The step converged at x with the integrator's xd = zd', xdd = zdd': project
 // them in place (Eqs. 20-21) and commit z, zd, zdd and lambda_k.
-mh_status accept(const mh_formulation* f, double t, const mh_step_coefficients* c, double* x,
-                 double* xd, double* xdd, uint32_t*) noexcept {
+mh_status accept(const mh_formulation* f, double t, const mh_step_coefficients* c,
+                 const mh_unknown_buffers* values, uint32_t*) noexcept {
+  double* x = values->x;
+  double* xd = values->xd;
+  double* xdd = values->xdd;
   return guarded(f, "accept", [&](Penalty& s) {
     [[maybe_unused]] const NoMalloc no_malloc;
     const ConstVectorMap xz(x, s.N);
@@ -450,7 +469,10 @@ mh_status accept(const mh_formulation* f, double t, const mh_step_coefficients* 
   });
 }
 
-mh_status coordinates(const mh_formulation* f, double* z, double* zd, double* zdd) noexcept {
+mh_status coordinates(const mh_formulation* f, const mh_coordinate_buffers* out) noexcept {
+  double* z = out->z;
+  double* zd = out->zd;
+  double* zdd = out->zdd;
   return guarded(f, "coordinates", [&](Penalty& s) {
     VectorMap(z, s.N) = s.z;
     VectorMap(zd, s.N) = s.zd;

@@ -44,6 +44,13 @@ const abi_layout mh_c_layouts[] = {
     LAYOUT(mh_unknown_spec),
     LAYOUT(mh_mech_derivatives_request),
     LAYOUT(mh_mech_derivatives),
+    LAYOUT(mh_unknown_values),
+    LAYOUT(mh_unknown_buffers),
+    LAYOUT(mh_step_begin),
+    LAYOUT(mh_tangent_blocks),
+    LAYOUT(mh_mechanics_map),
+    LAYOUT(mh_coordinate_buffers),
+    LAYOUT(mh_explicit_method),
 };
 const size_t mh_c_layout_count = sizeof(mh_c_layouts) / sizeof(mh_c_layouts[0]);
 const size_t mh_c_offset_host_evaluate = offsetof(mh_host, evaluate_mechanics);

@@ -47,6 +47,13 @@ TEST(AbiLayout, CAndCxxSeeTheSameSizesAndAlignments) {
       CXX_LAYOUT(mh_unknown_spec),
       CXX_LAYOUT(mh_mech_derivatives_request),
       CXX_LAYOUT(mh_mech_derivatives),
+      CXX_LAYOUT(mh_unknown_values),
+      CXX_LAYOUT(mh_unknown_buffers),
+      CXX_LAYOUT(mh_step_begin),
+      CXX_LAYOUT(mh_tangent_blocks),
+      CXX_LAYOUT(mh_mechanics_map),
+      CXX_LAYOUT(mh_coordinate_buffers),
+      CXX_LAYOUT(mh_explicit_method),
   };
   ASSERT_EQ(mh_c_layout_count, sizeof(cxx) / sizeof(cxx[0]));
   for (size_t i = 0; i < mh_c_layout_count; ++i) {
@@ -62,70 +69,64 @@ TEST(AbiLayout, FunctionTablesKeepTheirFieldOffsets) {
   EXPECT_EQ(mh_c_offset_subsystem_get_extension, offsetof(mh_subsystem, get_extension));
 }
 
-TEST(AbiLayout, VersionIsTwoFive) {
+TEST(AbiLayout, VersionIsThreeZero) {
   const mh_version v = MH_ABI_VERSION_INIT;
-  EXPECT_EQ(v.major, 2u);
-  EXPECT_EQ(v.minor, 5u);
+  EXPECT_EQ(v.major, 3u);
+  EXPECT_EQ(v.minor, 0u);
 }
 
-// ABI 2.5 added a modifier bit of evaluate_mechanics' flags, no field: it is
-// distinct from every flag of 2.0, whose values stand.
-TEST(AbiLayout, MinorFiveAddsThePositionsOnlyBitBesideTheTwoZeroFlags) {
+// Every instance table begins with the same head (struct_size, descriptor,
+// plugin_data, setup, destroy, get_extension), so a host reads any of them
+// the same way before it knows the role.
+TEST(AbiLayout, EveryInstanceTableBeginsWithTheSameHead) {
+  EXPECT_EQ(offsetof(mh_formulation, descriptor), offsetof(mh_subsystem, descriptor));
+  EXPECT_EQ(offsetof(mh_formulation, descriptor), offsetof(mh_integrator, descriptor));
+  EXPECT_EQ(offsetof(mh_formulation, plugin_data), offsetof(mh_subsystem, plugin_data));
+  EXPECT_EQ(offsetof(mh_formulation, plugin_data), offsetof(mh_integrator, plugin_data));
+  EXPECT_EQ(offsetof(mh_formulation, setup), offsetof(mh_subsystem, setup));
+  EXPECT_EQ(offsetof(mh_formulation, setup), offsetof(mh_integrator, setup));
+  EXPECT_EQ(offsetof(mh_formulation, destroy), offsetof(mh_subsystem, destroy));
+  EXPECT_EQ(offsetof(mh_formulation, destroy), offsetof(mh_integrator, destroy));
+  EXPECT_EQ(offsetof(mh_formulation, get_extension), offsetof(mh_subsystem, get_extension));
+  EXPECT_EQ(offsetof(mh_formulation, get_extension), offsetof(mh_integrator, get_extension));
+}
+
+// The three factories have one shape, example_model included.
+TEST(AbiLayout, TheThreeFactoriesHaveOneShape) {
+  EXPECT_EQ(sizeof(mh_formulation_factory), sizeof(mh_subsystem_factory));
+  EXPECT_EQ(sizeof(mh_formulation_factory), sizeof(mh_integrator_factory));
+  EXPECT_EQ(offsetof(mh_formulation_factory, count), offsetof(mh_subsystem_factory, count));
+  EXPECT_EQ(offsetof(mh_formulation_factory, count), offsetof(mh_integrator_factory, count));
+  EXPECT_EQ(offsetof(mh_formulation_factory, descriptor),
+            offsetof(mh_subsystem_factory, descriptor));
+  EXPECT_EQ(offsetof(mh_formulation_factory, descriptor),
+            offsetof(mh_integrator_factory, descriptor));
+  EXPECT_EQ(offsetof(mh_formulation_factory, create), offsetof(mh_subsystem_factory, create));
+  EXPECT_EQ(offsetof(mh_formulation_factory, create), offsetof(mh_integrator_factory, create));
+  EXPECT_EQ(offsetof(mh_formulation_factory, example_model),
+            offsetof(mh_subsystem_factory, example_model));
+  EXPECT_EQ(offsetof(mh_formulation_factory, example_model),
+            offsetof(mh_integrator_factory, example_model));
+}
+
+// Every array a formulation or an integrator call hands over travels with
+// its length: the count precedes the arrays in each view.
+TEST(AbiLayout, EveryViewOfTheUnknownsCarriesItsLength) {
+  EXPECT_LT(offsetof(mh_unknown_values, num_unknowns), offsetof(mh_unknown_values, x));
+  EXPECT_LT(offsetof(mh_unknown_buffers, num_unknowns), offsetof(mh_unknown_buffers, x));
+  EXPECT_LT(offsetof(mh_tangent_blocks, num_unknowns), offsetof(mh_tangent_blocks, dr_dx));
+  EXPECT_LT(offsetof(mh_mechanics_map, num_unknowns), offsetof(mh_mechanics_map, dz_dx));
+  EXPECT_LT(offsetof(mh_coordinate_buffers, num_coordinates), offsetof(mh_coordinate_buffers, z));
+  EXPECT_LT(offsetof(mh_step_map, num_unknowns), offsetof(mh_step_map, x_predicted));
+  EXPECT_GT(offsetof(mh_subsystem_eval, num_touched), offsetof(mh_subsystem_eval, outputs));
+}
+
+// The positions-only modifier of evaluate_mechanics' flags is distinct from
+// the three requests.
+TEST(AbiLayout, ThePositionsOnlyBitIsDistinctFromTheRequestFlags) {
   EXPECT_EQ(MH_EVAL_DYNAMICS, 0x1u);
   EXPECT_EQ(MH_EVAL_CONSTRAINTS, 0x2u);
   EXPECT_EQ(MH_EVAL_SUBSYSTEMS, 0x4u);
   EXPECT_EQ(MH_EVAL_POSITIONS_ONLY & (MH_EVAL_DYNAMICS | MH_EVAL_CONSTRAINTS | MH_EVAL_SUBSYSTEMS),
             0u);
-}
-
-// ABI 2.1 only appended: every 2.0 field keeps its offset (the frozen 2.0
-// headers' sizes, recorded by abi_layout_sdk20.c), the new ones follow.
-extern "C" {
-extern const size_t mh_sdk20_sizeof_host;
-extern const size_t mh_sdk20_sizeof_subsystem;
-extern const size_t mh_sdk20_sizeof_formulation;
-extern const size_t mh_sdk20_sizeof_integrator;
-extern const size_t mh_sdk20_sizeof_subsystem_factory;
-extern const size_t mh_sdk20_offset_host_evaluate;
-extern const size_t mh_sdk20_offset_subsystem_get_extension;
-}
-
-TEST(AbiLayout, MinorOneAppendsAfterEveryTwoZeroField) {
-  EXPECT_EQ(offsetof(mh_host, evaluate_mechanics), mh_sdk20_offset_host_evaluate);
-  EXPECT_EQ(offsetof(mh_host, mech_derivatives), mh_sdk20_sizeof_host);
-  EXPECT_EQ(sizeof(mh_host), mh_sdk20_sizeof_host + sizeof(void*));
-  EXPECT_EQ(offsetof(mh_subsystem, get_extension), mh_sdk20_offset_subsystem_get_extension);
-  EXPECT_EQ(offsetof(mh_subsystem, point_force_jacobian), mh_sdk20_sizeof_subsystem);
-}
-
-// ABI 2.2 appended mechanics_map at the end of mh_formulation (unchanged in
-// 2.1) and coupling_jacobian at the end of mh_subsystem: every field before
-// keeps its offset.
-TEST(AbiLayout, MinorTwoAppendsOneOpToFormulationsAndOneToSubsystems) {
-  EXPECT_EQ(offsetof(mh_formulation, mechanics_map), mh_sdk20_sizeof_formulation);
-  EXPECT_EQ(sizeof(mh_formulation), mh_sdk20_sizeof_formulation + sizeof(void*));
-  // and coupling_jacobian right after 2.1's point_force_jacobian in mh_subsystem.
-  EXPECT_EQ(offsetof(mh_subsystem, coupling_jacobian), mh_sdk20_sizeof_subsystem + sizeof(void*));
-  EXPECT_EQ(sizeof(mh_subsystem), mh_sdk20_sizeof_subsystem + 2 * sizeof(void*));
-}
-
-// ABI 2.3 appended the explicit stage operations at the end of mh_integrator
-// (unchanged from 2.0 to 2.2): every 2.0 field keeps its offset, and an
-// integrator of an older SDK reads them as 0 / NULL (implicit).
-TEST(AbiLayout, MinorThreeAppendsTheExplicitStagesToIntegrators) {
-  EXPECT_EQ(offsetof(mh_integrator, num_stages), mh_sdk20_sizeof_integrator);
-  EXPECT_GT(offsetof(mh_integrator, stage_state), offsetof(mh_integrator, num_stages));
-  EXPECT_EQ(offsetof(mh_integrator, stage_rates),
-            offsetof(mh_integrator, stage_state) + sizeof(void*));
-  EXPECT_EQ(offsetof(mh_integrator, finish_step),
-            offsetof(mh_integrator, stage_rates) + sizeof(void*));
-  EXPECT_EQ(sizeof(mh_integrator), offsetof(mh_integrator, finish_step) + sizeof(void*));
-}
-
-// ABI 2.4 appended example_model at the end of mh_subsystem_factory
-// (unchanged from 2.0 to 2.3): a factory of an older SDK ends before it and
-// reads it as NULL ("declares no example model").
-TEST(AbiLayout, MinorFourAppendsTheExampleModelToSubsystemFactories) {
-  EXPECT_EQ(offsetof(mh_subsystem_factory, example_model), mh_sdk20_sizeof_subsystem_factory);
-  EXPECT_EQ(sizeof(mh_subsystem_factory), mh_sdk20_sizeof_subsystem_factory + sizeof(void*));
 }

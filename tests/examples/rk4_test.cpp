@@ -1,6 +1,6 @@
 // The example integrator examples/rk4, built against the installed SDK alone
-// (build_examples.cmake), driven by the host's explicit stages (ABI 2.3,
-// core/src/step/explicit_step.cpp): fourth order against closed forms (a damped
+// (build_examples.cmake), driven by the host's explicit stages
+// (core/src/step/explicit_step.cpp): fourth order against closed forms (a damped
 // slider and a slider on a Maxwell element, whose damper elongation is a
 // first-order state), the same motion as the trapezoidal rule on the
 // four-bar's mechanics, and a clear failure, never a crash, where the stiff

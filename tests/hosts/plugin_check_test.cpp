@@ -321,7 +321,7 @@ TEST(PluginCheck, BadArgumentsExitTwoWithTheUsage) {
       << r.output;
 }
 
-// SDK 2.4: without a model, each subsystem is checked on the example model
+// Without a model, each subsystem is checked on the example model
 // its factory declares; a broken one fails naming it; one without is skipped.
 TEST(PluginCheck, EveryShippedSubsystemIsCheckedOnItsDeclaredExampleModel) {
   for (const char* library : {"monohydra-hydraulics", "monohydra-mechanics"}) {
@@ -345,9 +345,9 @@ TEST(PluginCheck, ABrokenDeclaredExampleModelFailsNamingItsFieldAndLine) {
 }
 
 TEST(PluginCheck, ASubsystemThatDeclaresNoExampleModelIsSkippedWithTheReason) {
-  const CliResult r = run_cli("check " + fixture("sdk23_spring"));
+  const CliResult r = run_cli("check " + fixture("short_factory_spring"));
   EXPECT_EQ(r.code, 0) << r.output;
-  EXPECT_NE(r.output.find("ok    load: ABI 2.3.0"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("ok    load: ABI 3.0.0"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("skip  subsystem faulty-spring: no shipped model uses it and it "
                           "declares no example model"),
             std::string::npos)

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "fake_host.hpp"
+#include "monohydra/cpp/unknowns.hpp"
 #include "monohydra/entry.h"
 #include "monohydra/integrator.h"
 
@@ -84,11 +85,14 @@ class Integrator {
   }
   mh_status restart(double t, const std::vector<double>& x, const std::vector<double>& xd,
                     const std::vector<double>& xdd) {
-    return api_->restart(api_, t, x.data(), xd.data(), xdd.data());
+    const mh_unknown_values at =
+        monohydra::unknown_values(t, x.size(), x.data(), xd.data(), xdd.data());
+    return api_->restart(api_, &at);
   }
   mh_status begin_step(double t_next, double h) {
     map = mh_step_map{};
     map.struct_size = sizeof(map);
+    map.num_unknowns = static_cast<uint32_t>(kinds_.size());
     map.x_predicted = x_predicted.data();
     map.xd_offset = xd_offset.data();
     map.xdd_offset = xdd_offset.data();
@@ -96,7 +100,9 @@ class Integrator {
   }
   mh_status accept(double t, const std::vector<double>& x, const std::vector<double>& xd,
                    const std::vector<double>& xdd) {
-    return api_->accept(api_, t, x.data(), xd.data(), xdd.data());
+    const mh_unknown_values at =
+        monohydra::unknown_values(t, x.size(), x.data(), xd.data(), xdd.data());
+    return api_->accept(api_, &at);
   }
 
   // The map's rate coefficients of unknown i (0 when it has no such rate).

@@ -156,7 +156,7 @@ TEST(DoubleStep, FullPivotingPicksZ3OnTheFourBarAndZ4OnTheQuickReturn) {
   }
 }
 
-// ABI 2.5: the dependent solve asks the host for Phi and Phi_z alone
+// The dependent solve asks the host for Phi and Phi_z alone
 // (MH_EVAL_POSITIONS_ONLY); the velocity term Phi_z_dot zd is evaluated only
 // for the dynamics at the converged z, i.e. at most once per residual call
 // (and for the accepted state's projections-free measure, never).
@@ -388,7 +388,7 @@ TEST(DoubleStep, FourBarConvergesAtSecondOrder) {
 
 // ------------------------------------------------------------- tangent ----
 
-// The analytic tangent (every column given: ABI 2.1 derivatives and the
+// The analytic tangent (every column given: the host's derivatives and the
 // derivative of R_z) and the host's forward differences of the residual,
 // against central differences of it, at the next step's iterate after `steps`
 // steps of `dt`, in the block the formulation gives (its rows and columns;

@@ -283,6 +283,7 @@ struct Evaluation {
   std::vector<double> point_p, point_v;  // 3 per point of the instance
   std::vector<double> residual, point_f, outputs;
   mh_status status = MH_OK;
+  size_t num_touched = 0;  // the instance's touched states: its jacobian blocks' size
 
   explicit Evaluation(const FakeNetwork& network, size_t num_points = 0)
       : y(network.num_states(), 0.0),
@@ -308,6 +309,7 @@ struct Evaluation {
     e.point_f = point_f.data();
     e.num_outputs = static_cast<uint32_t>(outputs.size());
     e.outputs = outputs.data();
+    e.num_touched = static_cast<uint32_t>(num_touched);
     return e;
   }
   // Runs the instance's evaluate; the results land in residual, point_f, outputs.
@@ -331,6 +333,7 @@ inline double jacobian_error(const Instance& instance, Evaluation at) {
   const std::vector<int32_t>& touched = instance.host().touched;
   const size_t n = touched.size();
   std::vector<double> d_dy(n * n, 0.0), d_dydot(n * n, 0.0);
+  at.num_touched = n;
   {
     const mh_subsystem_eval e = at.record();
     EXPECT_NE(instance.api()->jacobian, nullptr);
@@ -355,15 +358,15 @@ inline double jacobian_error(const Instance& instance, Evaluation at) {
       x[g] = x0;
       for (size_t i = 0; i < n; ++i) {
         const size_t r = static_cast<size_t>(touched[i]);
-        fd[i * n + j] = (plus[r] - minus[r]) / (2.0 * h);
+        fd[j * n + i] = (plus[r] - minus[r]) / (2.0 * h);  // column-major
       }
     }
     for (size_t i = 0; i < n; ++i) {
       double row = 0.0;
       for (size_t j = 0; j < n; ++j)
-        row = std::max({row, std::abs(analytic[i * n + j]), std::abs(fd[i * n + j])});
+        row = std::max({row, std::abs(analytic[j * n + i]), std::abs(fd[j * n + i])});
       for (size_t j = 0; j < n; ++j) {
-        const double a = analytic[i * n + j], f = fd[i * n + j];
+        const double a = analytic[j * n + i], f = fd[j * n + i];
         const double scale = std::max({std::abs(a), std::abs(f), 1e-9 * row, 1e-300});
         worst = std::max(worst, std::abs(a - f) / scale);
       }

@@ -635,7 +635,7 @@ TEST(HydraulicCylinder, AnalyticJacobianMatchesCentralDifferences) {
   report(worst);
 }
 
-// point_force_jacobian (ABI 2.1) and coupling_jacobian (ABI 2.2) against
+// point_force_jacobian and coupling_jacobian against
 // central differences of evaluate in the points' motion and the pressures, at
 // points a and b moving as given; the largest error relative to the scales
 // (force derivatives: force_scale, N/m) goes to `worst`.
@@ -648,6 +648,7 @@ void point_and_coupling_error(CylinderFixture& f, const std::vector<double>& poi
   const std::vector<int32_t>& touched = f.host.touched;
   const size_t n = touched.size();
   Evaluation e = f.at(kS0, 0.0, 5e6, 3.5e6);
+  e.num_touched = n;
   e.point_p = point_p;
   e.point_v = point_v;
   e.ydot[f.A] = 1e7;
@@ -664,7 +665,7 @@ void point_and_coupling_error(CylinderFixture& f, const std::vector<double>& poi
   const auto check = [&](double analytic, double fd, double scale) {
     worst = std::max(worst, std::abs(analytic - fd) / std::max(scale, 1e-300));
   };
-  // In the points' motion: forces (3P x 3P column-major) and rows (n x 3P row-major).
+  // In the points' motion: forces (3P x 3P) and rows (n x 3P), both column-major.
   for (int level = 0; level < 2; ++level) {
     std::vector<double>& x = level == 0 ? e.point_p : e.point_v;
     for (size_t c = 0; c < 6; ++c) {
@@ -680,7 +681,7 @@ void point_and_coupling_error(CylinderFixture& f, const std::vector<double>& poi
               force_scale);
       for (size_t a = 0; a < n; ++a) {
         const size_t row = static_cast<size_t>(touched[a]);
-        check((level == 0 ? dR_dp : dR_dv)[a * 6 + c], (r_plus[row] - e.residual[row]) / (2 * h),
+        check((level == 0 ? dR_dp : dR_dv)[c * n + a], (r_plus[row] - e.residual[row]) / (2 * h),
               1e-3);
       }
     }

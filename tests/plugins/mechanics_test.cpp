@@ -87,7 +87,7 @@ TEST(MaxwellElement, PendulumBalancesEnergyWithTheDampersDissipatedWork) {
 }
 
 // A spring-damper between two moving bodies of a spatial double pendulum (off
-// any symmetry line): its analytic point-force derivatives (ABI 2.1) make the
+// any symmetry line): its analytic point-force derivatives make the
 // whole open-loop tangent, which equals central differences of the residual.
 TEST(SpringDamper, AnalyticTangentBetweenTwoMovingBodiesEqualsCentralDifferences) {
   const ModelFile file = parse_model_text(R"(

@@ -236,7 +236,7 @@ TEST(Penalty, RejectsProjectionsOtherThanZeroOrOne) {
 namespace mh {
 namespace {
 
-// The K, C recursion of the host (mech_derivatives, ABI 2.1) is the
+// The K, C recursion of the host (mech_derivatives) is the
 // formulation's most expensive call: once per tangent assembled and once per
 // step for the projections' W (Eqs. 20-21) at the converged state, never
 // more; and the kinematics at most 6 passes per step (issue 11's target).

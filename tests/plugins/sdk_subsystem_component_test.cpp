@@ -99,7 +99,7 @@ struct Destroy {
   }
 };
 
-// A component with 2.1's point_force_jacobian (a point-less stand-in: the
+// A component with point_force_jacobian (a point-less stand-in: the
 // adapter only has to find it and pass the call through).
 class WithPointJacobian : public Minimal {
  public:

@@ -584,6 +584,7 @@ mh_subsystem_eval Simulation::Engine::subsystem_eval(double t_eval, double* rows
 
 void Simulation::Engine::point_at(mh_subsystem_eval& ev, SubsystemInstance& s) {
   ev.num_points = static_cast<uint32_t>(s.points.size());
+  ev.num_touched = static_cast<uint32_t>(s.touched.size());
   ev.point_p = s.p.data();
   ev.point_v = s.v.data();
   ev.point_f = s.f.data();

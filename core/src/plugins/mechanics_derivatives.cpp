@@ -1,4 +1,4 @@
-// The host service mech_derivatives (ABI 2.1): K = d(M' zdd - Q')/dz and
+// The host service mech_derivatives: K = d(M' zdd - Q')/dz and
 // C = -dQ'/dzd with every subsystem force included, and the constraint
 // terms' derivatives, from the core's analytic recursions
 // (dynamics_derivatives.cpp, constraint_derivatives.cpp). A subsystem's
@@ -53,6 +53,7 @@ mh_status differenced_point_forces(SubsystemInstance& s, mh_subsystem_eval ev) {
   std::copy(s.p.begin(), s.p.end(), s.p_pert.begin());
   std::copy(s.v.begin(), s.v.end(), s.v_pert.begin());
   ev.num_points = static_cast<uint32_t>(s.points.size());
+  ev.num_touched = static_cast<uint32_t>(s.touched.size());
   ev.point_p = s.p_pert.data();
   ev.point_v = s.v_pert.data();
   ev.point_f = s.f.data();

@@ -258,7 +258,10 @@ void PluginRegistry::load_library(const std::string& path) {
                       ", this host speaks ABI " + std::to_string(MH_ABI_VERSION_MAJOR) + "." +
                       std::to_string(MH_ABI_VERSION_MINOR) +
                       " (major versions must match: rebuild the plugin against SDK " +
-                      std::to_string(MH_ABI_VERSION_MAJOR) + ")");
+                      std::to_string(MH_ABI_VERSION_MAJOR) +
+                      (v.major == 2 ? "; what changed since ABI 2 and how to port it: "
+                                      "\"Migrating a 2.x plugin\" in docs/sdk.md)"
+                                    : ")"));
   }
   if (lib->entry->init == nullptr || lib->entry->get_factory == nullptr) {
     lib->entry = nullptr;

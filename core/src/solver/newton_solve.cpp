@@ -64,9 +64,11 @@ class StepProblem final : public NewtonProblem {
     e_.rates_of(e_.x, e_.xd, e_.xdd);
     e_.check(normalized(in_flight(*e_.formulation_host, InstanceHost::Op::iteration_done,
                                   [&] {
-                                    return e_.formulation.ops.iteration_done(
-                                        e_.formulation.self, t_next_, e_.x.data(), e_.xd.data(),
-                                        e_.xdd.data());
+                                    const mh_unknown_values at = monohydra::unknown_values(
+                                        t_next_, static_cast<size_t>(e_.n_m), e_.x.data(),
+                                        e_.xd.data(), e_.xdd.data());
+                                    return e_.formulation.ops.iteration_done(e_.formulation.self,
+                                                                             &at);
                                   })),
              "formulation iteration");
     return true;

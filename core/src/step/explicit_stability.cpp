@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "engine.hpp"
+#include "monohydra/cpp/unknowns.hpp"
 #include "plugins/abi_struct.hpp"
 
 namespace mh {
@@ -36,7 +37,7 @@ double cpu_now() {
 }  // namespace
 
 StageAmplification::StageAmplification(const mh_integrator* instance)
-    : self_(instance), ops_(read_struct(instance)) {}
+    : self_(instance), ops_(read_struct(instance)), stages_(read_struct(ops_.explicit_method)) {}
 
 StageAmplification::~StageAmplification() {
   if (self_ != nullptr && ops_.destroy != nullptr) ops_.destroy(self_);
@@ -60,14 +61,18 @@ std::complex<double> StageAmplification::factor(std::complex<double> lambda, dou
   std::array<double, 2> x{1.0, 0.0};
   std::array<double, 2> xd{a, b};
   std::array<double, 2> xdd{0.0, 0.0};
-  require(ops_.restart(self_, 0.0, x.data(), xd.data(), xdd.data()), "restart");
-  for (uint32_t s = 0; s < ops_.num_stages; ++s) {
+  const mh_unknown_values at = monohydra::unknown_values(0.0, 2, x.data(), xd.data(), xdd.data());
+  const mh_unknown_buffers out = monohydra::unknown_buffers(2, x.data(), xd.data(), nullptr);
+  require(ops_.restart(self_, &at), "restart");
+  for (uint32_t s = 0; s < stages_.num_stages; ++s) {
     double t_stage = 0.0;
-    require(ops_.stage_state(self_, s, h, &t_stage, x.data(), xd.data()), "stage_state");
+    require(stages_.stage_state(self_, s, h, &t_stage, &out), "stage_state");
     xd = {a * x[0] - b * x[1], b * x[0] + a * x[1]};  // u' = A u
-    require(ops_.stage_rates(self_, s, x.data(), xd.data(), xdd.data()), "stage_rates");
+    mh_unknown_values solved = at;
+    solved.t = t_stage;
+    require(stages_.stage_rates(self_, s, &solved), "stage_rates");
   }
-  require(ops_.finish_step(self_, h, x.data(), xd.data()), "finish_step");
+  require(stages_.finish_step(self_, h, &out), "finish_step");
   return {x[0], x[1]};
 }
 
@@ -136,14 +141,8 @@ std::vector<std::complex<double>> Simulation::Engine::rates_eigenvalues(double t
     stages.xds = xd;
     stages.xdds = xdd;
     if (j >= 0) (entries[j].velocity ? stages.xds : stages.xs)[entries[j].i] += delta;
-    if (formulation.ops.begin_step != nullptr)
-      check(in_flight(*formulation_host, InstanceHost::Op::begin_step,
-                      [&] {
-                        return formulation.ops.begin_step(formulation.self, t_eval,
-                                                          stages.xs.data(), stages.xds.data(),
-                                                          stages.xdds.data());
-                      }),
-            "formulation begin_step");
+    formulation_begin_step(monohydra::step_coefficients(h, 0.0, 0.0, 0.0), t_eval, stages.xs,
+                           stages.xds, stages.xdds);
     solve_rates(t_eval, h, stages.xs, stages.xds, stages.xdds);
     for (Eigen::Index row = 0; row < size; ++row) {
       const Entry& e = entries[row];

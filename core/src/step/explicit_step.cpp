@@ -1,4 +1,4 @@
-// One step of an explicit integrator (ABI 2.3, integrator.h): the integrator
+// One step of an explicit integrator (integrator.h, mh_explicit_method): the integrator
 // chooses stage states, the host gives it the rates f(t, x) there, and it
 // combines them. The rates come from the formulation's own residual, not from
 // a new operation: with x (and the velocities xd of second-order unknowns)
@@ -13,6 +13,7 @@
 #include <limits>
 
 #include "engine.hpp"
+#include "monohydra/cpp/unknowns.hpp"
 #include "solver/newton.hpp"
 
 namespace mh {
@@ -172,7 +173,7 @@ void Simulation::Engine::explicit_attempt(double t_eval, double h) {
   c.dxd_dx_first = 2.0 / h;
   if (stages.stability_due || accepted.step >= stages.stability_next_step)
     check_explicit_stability(h);
-  const uint32_t num_stages = integrator.ops.num_stages;
+  const uint32_t num_stages = explicit_ops.num_stages;
   for (uint32_t s = 0; s < num_stages; ++s) {
     stages.xs = x;  // guesses: the accepted values
     stages.xds = xd;
@@ -182,8 +183,9 @@ void Simulation::Engine::explicit_attempt(double t_eval, double h) {
     // no string is built on the step's path.
     check(in_flight(*integrator_host, InstanceHost::Op::stage_state,
                     [&] {
-                      return integrator.ops.stage_state(integrator.self, s, h, &t_stage,
-                                                        stages.xs.data(), stages.xds.data());
+                      const mh_unknown_buffers out = monohydra::unknown_buffers(
+                          static_cast<size_t>(n), stages.xs.data(), stages.xds.data(), nullptr);
+                      return explicit_ops.stage_state(integrator.self, s, h, &t_stage, &out);
                     }),
           "integrator", integrator_name, "stage_state");
     if (!(t_stage >= accepted.t && t_stage <= accepted.t + h))
@@ -195,25 +197,25 @@ void Simulation::Engine::explicit_attempt(double t_eval, double h) {
         fail("the explicit integrator '" + integrator_name + "' diverged at stage " +
              std::to_string(s) + ": " + unknown_name(i) + " is not finite (h = " + short_number(h) +
              " s; a smaller step may be within its stability bound)");
-    if (formulation.ops.begin_step != nullptr)
-      check(in_flight(*formulation_host, InstanceHost::Op::begin_step,
-                      [&] {
-                        return formulation.ops.begin_step(formulation.self, t_stage,
-                                                          stages.xs.data(), stages.xds.data(),
-                                                          stages.xdds.data());
-                      }),
-            "formulation begin_step");
+    // A stage has no map: its coefficients are h alone (formulation.h).
+    formulation_begin_step(monohydra::step_coefficients(h, 0.0, 0.0, 0.0), t_stage, stages.xs,
+                           stages.xds, stages.xdds);
     solve_rates(std::min(t_stage, t_eval), h, stages.xs, stages.xds, stages.xdds);
     check(in_flight(*integrator_host, InstanceHost::Op::stage_rates,
                     [&] {
-                      return integrator.ops.stage_rates(integrator.self, s, stages.xs.data(),
-                                                        stages.xds.data(), stages.xdds.data());
+                      const mh_unknown_values solved = monohydra::unknown_values(
+                          t_stage, static_cast<size_t>(n), stages.xs.data(), stages.xds.data(),
+                          stages.xdds.data());
+                      return explicit_ops.stage_rates(integrator.self, s, &solved);
                     }),
           "integrator", integrator_name, "stage_rates");
   }
-  check(in_flight(
-            *integrator_host, InstanceHost::Op::finish_step,
-            [&] { return integrator.ops.finish_step(integrator.self, h, x.data(), xd.data()); }),
+  check(in_flight(*integrator_host, InstanceHost::Op::finish_step,
+                  [&] {
+                    const mh_unknown_buffers out = monohydra::unknown_buffers(
+                        static_cast<size_t>(n), x.data(), xd.data(), nullptr);
+                    return explicit_ops.finish_step(integrator.self, h, &out);
+                  }),
         "integrator", integrator_name, "finish_step");
   for (int i = 0; i < n; ++i)
     if (!std::isfinite(x[i]) || !std::isfinite(xd[i]))

@@ -3,11 +3,13 @@
 // every unknown alike, mechanical or not. For the trapezoidal rule this is
 // Eq. (33) with the hats of Eq. (34) as offsets.
 #include "engine.hpp"
+#include "monohydra/cpp/unknowns.hpp"
 
 namespace mh {
 
 void Simulation::Engine::begin_step(double t_next, double h) {
   map_ws.map.struct_size = sizeof(map_ws.map);
+  map_ws.map.num_unknowns = static_cast<uint32_t>(n);
   map_ws.map.coefficients.struct_size = sizeof(map_ws.map.coefficients);
   map_ws.map.x_predicted = map_ws.x_pred.data();
   map_ws.map.xd_offset = map_ws.xd_off.data();
@@ -50,8 +52,9 @@ void Simulation::Engine::rates_of(const Eigen::VectorXd& xq, Eigen::VectorXd& xd
 void Simulation::Engine::restart_integrator() {
   check(in_flight(*integrator_host, InstanceHost::Op::restart,
                   [&] {
-                    return integrator.ops.restart(integrator.self, accepted.t, x.data(), xd.data(),
-                                                  xdd.data());
+                    const mh_unknown_values at = monohydra::unknown_values(
+                        accepted.t, static_cast<size_t>(n), x.data(), xd.data(), xdd.data());
+                    return integrator.ops.restart(integrator.self, &at);
                   }),
         "integrator", integrator_name, "restart");
   stages.stability_due = explicit_method;  // a new start: its stability is checked again

@@ -1,5 +1,5 @@
 // The tangent's coupling of the subsystems with points to the mechanical
-// unknowns without differencing the mechanics (ABI 2.2): when the formulation
+// unknowns without differencing the mechanics: when the formulation
 // says how its mechanics depended on x (mechanics_map: dz/dx, dzd/dx, dzd/dxd
 // and dr/dQ'), then, in the state columns and in the mechanical columns its
 // tangent gave (the host differences the others whole),
@@ -7,7 +7,7 @@
 //   d(mechanical rows)/dy = dr/dQ' sum_points J_p^T dF/dy
 // (Eq. 10: a point force F enters Q' as J_p^T F). The instance's own
 // derivatives in its points' motion and its states come from its
-// coupling_jacobian (ABI 2.2), else from central differences of its evaluate
+// coupling_jacobian, else from central differences of its evaluate
 // alone (one instance, never the mechanics); the
 // point Jacobians from the kinematics of the iterate (motion_variation.hpp).
 #include <algorithm>
@@ -51,7 +51,7 @@ void Simulation::Engine::size_coupling() {
 
 namespace {
 
-// dR/dp, dR/dv (k x 3P, row-major: row a = touched state a) and dF/dy
+// dR/dp, dR/dv (k x 3P, column-major: row a = touched state a) and dF/dy
 // (3P x k, column b = d/dy_b + cv_b d/dydot_b) of instance s by central
 // differences of its evaluate at the points' motion in s.p, s.v and the states
 // y, ydot (held and restored). Rows go to `rows`, a scratch buffer of n_s.
@@ -63,6 +63,7 @@ mh_status difference_instance(SubsystemInstance& s, mh_subsystem_eval ev, Eigen:
   std::copy(s.p.begin(), s.p.end(), s.p_pert.begin());
   std::copy(s.v.begin(), s.v.end(), s.v_pert.begin());
   ev.num_points = static_cast<uint32_t>(s.points.size());
+  ev.num_touched = static_cast<uint32_t>(s.touched.size());
   ev.point_p = s.p_pert.data();
   ev.point_v = s.v_pert.data();
   ev.point_f = s.f.data();
@@ -87,7 +88,7 @@ mh_status difference_instance(SubsystemInstance& s, mh_subsystem_eval ev, Eigen:
         if (!status_ok(st)) return st;
         const double w = (side == 0 ? 1.0 : -1.0) / (2.0 * h);
         for (size_t a = 0; a < k; ++a) {
-          double& o = out[a * n3 + c];
+          double& o = out[c * k + a];
           o = (side == 0 ? 0.0 : o) + w * rows[s.touched[a]];
         }
       }
@@ -147,10 +148,14 @@ mh_status Simulation::Engine::read_mechanics_map() {
   bool any_given = false;
   for (uint8_t g : tangent_ws.mech_column_given) any_given = any_given || g != 0;
   return normalized(in_flight(*formulation_host, InstanceHost::Op::mechanics_map, [&] {
-    return formulation.ops.mechanics_map(
-        formulation.self, any_given ? coupling.map_dz_dx.data() : nullptr,
-        any_given ? coupling.map_dzd_dx.data() : nullptr,
-        any_given ? coupling.map_dzd_dxd.data() : nullptr, coupling.map_dr_dQ.data());
+    const mh_mechanics_map map{sizeof(mh_mechanics_map),
+                               static_cast<uint32_t>(N),
+                               static_cast<uint32_t>(n_m),
+                               any_given ? coupling.map_dz_dx.data() : nullptr,
+                               any_given ? coupling.map_dzd_dx.data() : nullptr,
+                               any_given ? coupling.map_dzd_dxd.data() : nullptr,
+                               coupling.map_dr_dQ.data()};
+    return formulation.ops.mechanics_map(formulation.self, &map);
   }));
 }
 
@@ -239,8 +244,8 @@ mh_status Simulation::Engine::couple_subsystems(double t_eval) {
           if (slot < 0) continue;  // c moves none of its points
           double d = 0.0;
           for (int i = 0; i < 3; ++i)
-            d += s.dR_dp[row * n3 + 3 * a + static_cast<size_t>(i)] * coupling.point_dp_dx(i, c) +
-                 s.dR_dv[row * n3 + 3 * a + static_cast<size_t>(i)] * coupling.point_dv_dx(i, c);
+            d += s.dR_dp[(3 * a + static_cast<size_t>(i)) * k + row] * coupling.point_dp_dx(i, c) +
+                 s.dR_dv[(3 * a + static_cast<size_t>(i)) * k + row] * coupling.point_dv_dx(i, c);
           tangent_ws.values[static_cast<size_t>(slot)] += d;
         }
       }

@@ -97,7 +97,7 @@ void Simulation::Engine::build_pattern() {
     s.d_dydot.resize(k * k);
     for (size_t a = 0; a < k; ++a)
       for (size_t b = 0; b < k; ++b)
-        s.slots[a * k + b] = tangent_ws.pattern->slot(n_m + s.touched[a], n_m + s.touched[b]);
+        s.slots[b * k + a] = tangent_ws.pattern->slot(n_m + s.touched[a], n_m + s.touched[b]);
   }
   solver.linear_solver = make_linear_solver(*tangent_ws.pattern, settings.linear);
   for (Eigen::VectorXd* v :
@@ -121,8 +121,9 @@ mh_status Simulation::Engine::residual_at(double t_eval, const Eigen::VectorXd& 
   eval.rows_target = rq.data() + n_m;
   eval.iterate_evaluated = false;
   const mh_status st = normalized(in_flight(*formulation_host, InstanceHost::Op::residual, [&] {
-    return formulation.ops.residual(formulation.self, t_eval, xq.data(), xdq.data(), xddq.data(),
-                                    rq.data());
+    const mh_unknown_values at = monohydra::unknown_values(t_eval, static_cast<size_t>(n_m),
+                                                           xq.data(), xdq.data(), xddq.data());
+    return formulation.ops.residual(formulation.self, &at, rq.data());
   }));
   eval.rows_target = nullptr;
   if (status_ok(st) && !eval.iterate_evaluated) {
@@ -218,13 +219,17 @@ mh_status Simulation::Engine::assemble_tangent(double t_eval) {
         b->setZero();
     }
     const mh_status st = normalized(in_flight(*formulation_host, InstanceHost::Op::tangent, [&] {
-      return formulation.ops.tangent(
-          formulation.self, t_eval, x.data(), xd.data(), xdd.data(), tangent_ws.dr_dx.data(),
-          tangent_ws.dr_dxd.data(), tangent_ws.dr_dxdd.data(), tangent_ws.mech_column_given.data());
+      const mh_unknown_values at = monohydra::unknown_values(t_eval, static_cast<size_t>(n_m),
+                                                             x.data(), xd.data(), xdd.data());
+      const mh_tangent_blocks blocks{
+          sizeof(mh_tangent_blocks), static_cast<uint32_t>(n_m),
+          tangent_ws.dr_dx.data(),   tangent_ws.dr_dxd.data(),
+          tangent_ws.dr_dxdd.data(), tangent_ws.mech_column_given.data()};
+      return formulation.ops.tangent(formulation.self, &at, &blocks);
     }));
     if (!status_ok(st)) return st;
   }
-  // With the formulation's mechanics map (ABI 2.2) the subsystems with points
+  // With the formulation's mechanics map the subsystems with points
   // couple analytically (subsystem_coupling.cpp): no residual is differenced
   // in a state column that feeds the mechanics, nor in a mechanical column the
   // formulation's tangent gave. Read here, at the iterate, before the
@@ -310,7 +315,7 @@ mh_status Simulation::Engine::assemble_tangent(double t_eval) {
     for (size_t b = 0; b < k; ++b) {
       if (tangent_ws.column_analytic[static_cast<size_t>(s.touched[b])] == 0) continue;
       for (size_t a = 0; a < k; ++a)
-        tangent_ws.values[static_cast<size_t>(s.slots[a * k + b])] = 0.0;
+        tangent_ws.values[static_cast<size_t>(s.slots[b * k + a])] = 0.0;
     }
   }
   for (const auto& s : subsystems) {
@@ -321,8 +326,8 @@ mh_status Simulation::Engine::assemble_tangent(double t_eval) {
       // An algebraic state has no rate: its column is d r / d y alone.
       const double cv = states.algebraic[static_cast<size_t>(state)] != 0 ? 0.0 : dydot_dy;
       for (size_t a = 0; a < k; ++a)
-        tangent_ws.values[static_cast<size_t>(s.slots[a * k + b])] +=
-            s.d_dy[a * k + b] + cv * s.d_dydot[a * k + b];
+        tangent_ws.values[static_cast<size_t>(s.slots[b * k + a])] +=
+            s.d_dy[b * k + a] + cv * s.d_dydot[b * k + a];
     }
   }
   check_tangent_values();

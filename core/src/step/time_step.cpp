@@ -116,7 +116,9 @@ void Simulation::Engine::start() {
   xdd.setZero();
   check(in_flight(*formulation_host, InstanceHost::Op::start,
                   [&] {
-                    return formulation.ops.start(formulation.self, x.data(), xd.data(), xdd.data());
+                    const mh_unknown_buffers out = monohydra::unknown_buffers(
+                        static_cast<size_t>(n_m), x.data(), xd.data(), xdd.data());
+                    return formulation.ops.start(formulation.self, &out);
                   }),
         "formulation start");
   const auto mech = static_cast<size_t>(n_m);
@@ -125,8 +127,10 @@ void Simulation::Engine::start() {
   check_finite(xdd.data(), mech, *formulation_host, "accept", "xdd", false);
   check(in_flight(*formulation_host, InstanceHost::Op::coordinates,
                   [&] {
-                    return formulation.ops.coordinates(formulation.self, accepted.z.data(),
-                                                       accepted.zd.data(), accepted.zdd.data());
+                    const mh_coordinate_buffers out{sizeof(mh_coordinate_buffers),
+                                                    static_cast<uint32_t>(N), accepted.z.data(),
+                                                    accepted.zd.data(), accepted.zdd.data()};
+                    return formulation.ops.coordinates(formulation.self, &out);
                   }),
         "formulation coordinates");
   const auto coords = static_cast<size_t>(N);
@@ -243,13 +247,24 @@ void Simulation::Engine::prepare_step(double t_next, double h) {
   begin_step(t_next, h);
   x = map_ws.x_pred;
   rates_of(x, xd, xdd);
-  if (formulation.ops.begin_step != nullptr)
-    check(in_flight(*formulation_host, InstanceHost::Op::begin_step,
-                    [&] {
-                      return formulation.ops.begin_step(formulation.self, t_next, x.data(),
-                                                        xd.data(), xdd.data());
-                    }),
-          "formulation begin_step");
+  formulation_begin_step(map_ws.map.coefficients, t_next, x, xd, xdd);
+}
+
+// The formulation's begin_step (optional) with the step's coefficients and
+// the prediction of its own n_m unknowns.
+void Simulation::Engine::formulation_begin_step(const mh_step_coefficients& coefficients,
+                                                double t_next, const Eigen::VectorXd& xq,
+                                                const Eigen::VectorXd& xdq,
+                                                const Eigen::VectorXd& xddq) {
+  if (formulation.ops.begin_step == nullptr) return;
+  mh_step_begin step{};
+  step.struct_size = sizeof(step);
+  step.coefficients = coefficients;
+  step.predicted = monohydra::unknown_values(t_next, static_cast<size_t>(n_m), xq.data(),
+                                             xdq.data(), xddq.data());
+  check(in_flight(*formulation_host, InstanceHost::Op::begin_step,
+                  [&] { return formulation.ops.begin_step(formulation.self, &step); }),
+        "formulation begin_step");
 }
 
 // The last residual call evaluated the converged iterate: its rates, the
@@ -258,15 +273,18 @@ void Simulation::Engine::accept_step(double t_next, bool event, double h) {
   uint32_t flags = 0;
   check(in_flight(*formulation_host, InstanceHost::Op::accept,
                   [&] {
+                    const mh_unknown_buffers values = monohydra::unknown_buffers(
+                        static_cast<size_t>(n_m), x.data(), xd.data(), xdd.data());
                     return formulation.ops.accept(formulation.self, t_next,
-                                                  &map_ws.map.coefficients, x.data(), xd.data(),
-                                                  xdd.data(), &flags);
+                                                  &map_ws.map.coefficients, &values, &flags);
                   }),
         "formulation accept");
   check(in_flight(*formulation_host, InstanceHost::Op::coordinates,
                   [&] {
-                    return formulation.ops.coordinates(formulation.self, accepted.z.data(),
-                                                       accepted.zd.data(), accepted.zdd.data());
+                    const mh_coordinate_buffers out{sizeof(mh_coordinate_buffers),
+                                                    static_cast<uint32_t>(N), accepted.z.data(),
+                                                    accepted.zd.data(), accepted.zdd.data()};
+                    return formulation.ops.coordinates(formulation.self, &out);
                   }),
         "formulation coordinates");
   states.y = x.tail(n_s);
@@ -304,8 +322,9 @@ void Simulation::Engine::accept_step(double t_next, bool event, double h) {
   } else {
     check(in_flight(*integrator_host, InstanceHost::Op::accept,
                     [&] {
-                      return integrator.ops.accept(integrator.self, accepted.t, x.data(), xd.data(),
-                                                   xdd.data());
+                      const mh_unknown_values at = monohydra::unknown_values(
+                          accepted.t, static_cast<size_t>(n), x.data(), xd.data(), xdd.data());
+                      return integrator.ops.accept(integrator.self, &at);
                     }),
           "integrator", integrator_name, "accept");
   }

@@ -77,7 +77,7 @@ std::string compare_blocks(const char* what, const Eigen::MatrixXd& analytic,
 }
 
 // The host's mechanics derivatives K and C (every subsystem's point force
-// jacobian, ABI 2.1, in them) against central differences of the dynamics
+// jacobian in them) against central differences of the dynamics
 // residual M zdd - Q in z and zd: what a formulation's analytic tangent is
 // built from.
 std::string mechanics_check(Simulation& sim) {

@@ -135,22 +135,31 @@ void load_model_plugins(const ModelFile& file, PluginRegistry& registry,
   registry.scan(folders);
 }
 
-// SDK 2.4: the subsystem's declared example model, "" when it declares none
-// (a formulation or an integrator, a factory of SDK 2.3 or before, whose
-// struct_size ends before example_model and which reads as NULL, or NULL).
-std::string example_model_of(const mh::ComponentInfo& c) {
-  if (c.kind != ComponentKind::subsystem) return "";
-  const mh_subsystem_factory& f = c.subsystem_factory;  // read up to its struct_size
-  if (f.example_model == nullptr) return "";
-  const auto* plugin = static_cast<const mh_subsystem_factory*>(c.factory);
+// The component's declared example model, "" when it declares none. The
+// three factories have one shape (ABI 3), so one walk serves them all.
+template <class Factory>
+std::string example_in(const Factory& f, const void* raw, const std::string& id) {
+  if (f.example_model == nullptr || f.count == nullptr || f.descriptor == nullptr) return "";
+  const auto* plugin = static_cast<const Factory*>(raw);
   const uint32_t n = f.count(plugin);
   for (uint32_t i = 0; i < n; ++i) {
     const mh_component_descriptor* d = f.descriptor(plugin, i);
-    if (d == nullptr || d->id == nullptr || c.id != d->id) continue;
+    if (d == nullptr || d->id == nullptr || id != d->id) continue;
     const char* text = f.example_model(plugin, i);
     return text != nullptr ? text : "";
   }
   return "";
+}
+
+std::string example_model_of(const mh::ComponentInfo& c) {
+  switch (c.kind) {
+    case ComponentKind::subsystem:
+      return example_in(c.subsystem_factory, c.factory, c.id);
+    case ComponentKind::formulation:
+      return example_in(c.formulation_factory, c.factory, c.id);
+    default:
+      return example_in(c.integrator_factory, c.factory, c.id);
+  }
 }
 
 std::string text_or_empty(const char* s) {
@@ -270,7 +279,7 @@ CheckReport check_library(const std::string& library, const Model* model,
     } else {
       const std::string example = example_model_of(registry.find(who.kind, who.id));
       if (!example.empty()) {
-        // The component's own example (SDK 2.4): it must read and use it.
+        // The component's own example: it must read and use it.
         const std::string label = example_label(who, canonical);
         try {
           const ModelFile file = mh::parse_model_text(example, label, library_dir.string());
@@ -297,8 +306,8 @@ CheckReport check_library(const std::string& library, const Model* model,
         }
         if (setups.empty())
           why = who.kind == ComponentKind::subsystem
-                    ? "no shipped model uses it and it declares no example model (SDK 2.4: "
-                      "mh_subsystem_factory.example_model): give a model that does "
+                    ? "no shipped model uses it and it declares no example model "
+                      "(mh_subsystem_factory.example_model): give a model that does "
                       "(monohydra check PLUGIN.so MODEL.yaml)"
                     : "no shipped model was found and it declares no example model";
       }

@@ -1,6 +1,6 @@
 /* point-load: a constant force, fixed in the world frame, acting at one body
  * point (a payload, a cable pulling steadily). Written in C11 against the
- * installed SDK 2.1 only, as docs/plugin-guide.md walks through it. It has no
+ * installed SDK only, as docs/plugin-guide.md walks through it. It has no
  * states and no outputs: setup only reads its option and attaches to a point. */
 #include <stdlib.h>
 #include <string.h>
@@ -91,7 +91,7 @@ static const mh_subsystem* create(const mh_subsystem_factory* f, const mh_host* 
   return s;
 }
 
-/* ABI 2.4: a small model that uses the component, on which `monohydra check
+/* A small model that uses the component, on which `monohydra check
  * point-load.so` checks it without a model of the user's: a double pendulum
  * pulled sideways at its tip. */
 static const char* example_model(const mh_subsystem_factory* f, uint32_t i) {

@@ -9,8 +9,9 @@
  * the sparse tangent and its factorization.
  *
  * One step to t_next, as the host drives it:
- *   begin_step -> [ residual (-> host evaluate_mechanics), tangent?, solve,
- *                   iteration_done? ]* -> accept -> coordinates, write_outputs?
+ *   begin_step -> [ residual (-> host evaluate_mechanics), mechanics_map?,
+ *                   tangent?, solve, iteration_done? ]* -> accept ->
+ *   coordinates, write_outputs?
  * A step whose Newton iteration fails is abandoned: accept is only called for
  * converged steps, and the next begin_step starts again from the last accepted
  * state. */
@@ -24,19 +25,85 @@
 extern "C" {
 #endif
 
-#define MH_FORMULATION_FACTORY_ID "monohydra.formulation-factory/2"
+#define MH_FORMULATION_FACTORY_ID "monohydra.formulation-factory/3"
 
 /* How the integrator ties the rates at the step's end to the unknowns x there:
  * xd = dxd_dx x + (offset), xdd = dxdd_dx x + (offset), by the unknown's kind.
- * A formulation needs them only for corrections that mix levels (e.g. the
- * projections' W = M' + C dxd_dx / dxdd_dx + K / dxdd_dx, Eqs. 20-21). */
+ * A formulation needs them for corrections that mix levels (e.g. the
+ * projections' W = M' + C dxd_dx / dxdd_dx + K / dxdd_dx, Eqs. 20-21) and to
+ * scale an algebraic unknown's tolerance with the step. */
 typedef struct mh_step_coefficients {
   uint32_t struct_size;
   double h;              /* the step t_next - t_k (s) */
-  double dxd_dx_second;  /* of second-order unknowns, e.g. 2 / h (trapezoidal) */
-  double dxdd_dx_second; /* e.g. 4 / h^2 */
+  double dxd_dx_second;  /* c_v of second-order unknowns, e.g. 2 / h (trapezoidal) */
+  double dxdd_dx_second; /* c_a, e.g. 4 / h^2 */
   double dxd_dx_first;   /* of first-order unknowns, e.g. 2 / h */
 } mh_step_coefficients;
+
+/* The Newton unknowns at one time, as the host hands them in: every array has
+ * num_unknowns entries (xd and xdd of unknowns without them hold 0). */
+typedef struct mh_unknown_values {
+  uint32_t struct_size;
+  double t;              /* s */
+  uint32_t num_unknowns; /* n */
+  const double* x;
+  const double* xd;
+  const double* xdd;
+} mh_unknown_values;
+
+/* Host-owned arrays of num_unknowns each that a call writes (start) or
+ * corrects in place (accept). */
+typedef struct mh_unknown_buffers {
+  uint32_t struct_size;
+  uint32_t num_unknowns; /* n */
+  double* x;
+  double* xd;
+  double* xdd;
+} mh_unknown_buffers;
+
+/* begin_step's argument: the step's map and the integrator's prediction. For
+ * a stage of an explicit integrator there is no map: h is the stage's step and
+ * the three rates are 0. */
+typedef struct mh_step_begin {
+  uint32_t struct_size;
+  mh_step_coefficients coefficients;
+  mh_unknown_values predicted; /* t = t_next */
+} mh_step_begin;
+
+/* tangent's blocks: dense, column-major num_unknowns x num_unknowns each, zero
+ * on entry (see MH_EXT_COORDINATE_UNKNOWNS for the sparse case);
+ * column_given has num_unknowns entries, 0 on entry. */
+typedef struct mh_tangent_blocks {
+  uint32_t struct_size;
+  uint32_t num_unknowns; /* n */
+  double* dr_dx;
+  double* dr_dxd;
+  double* dr_dxdd;
+  uint8_t* column_given;
+} mh_tangent_blocks;
+
+/* mechanics_map's blocks, column-major, zero on entry: dz_dx, dzd_dx and
+ * dzd_dxd are num_coordinates x num_unknowns (NULL when the host needs none of
+ * them), dr_dQ is num_unknowns x num_coordinates. */
+typedef struct mh_mechanics_map {
+  uint32_t struct_size;
+  uint32_t num_coordinates; /* N */
+  uint32_t num_unknowns;    /* n */
+  double* dz_dx;
+  double* dzd_dx;
+  double* dzd_dxd;
+  double* dr_dQ;
+} mh_mechanics_map;
+
+/* The joint coordinates, rates and accelerations a formulation writes
+ * (coordinates): num_coordinates each. */
+typedef struct mh_coordinate_buffers {
+  uint32_t struct_size;
+  uint32_t num_coordinates; /* N */
+  double* z;
+  double* zd;
+  double* zdd;
+} mh_coordinate_buffers;
 
 /* accept's flags (out). */
 #define MH_ACCEPT_REDEFINED                                                    \
@@ -66,49 +133,50 @@ typedef struct mh_formulation {
    * (add_unknown) and outputs (add_output). */
   mh_status (*setup)(const struct mh_formulation* self);
 
-  /* Consistent initial conditions at t0: x0, xd0, xdd0 of the unknowns (n
-   * each; xd0, xdd0 of algebraic unknowns are ignored). */
-  mh_status (*start)(const struct mh_formulation* self, double* x0, double* xd0, double* xdd0);
+  void (*destroy)(const struct mh_formulation* self);
 
-  /* Optional: a step to t_next begins from the last accepted state; x, xd,
-   * xdd are the integrator's prediction (e.g. to reset multipliers, or to
-   * estimate dependent coordinates). */
-  mh_status (*begin_step)(const struct mh_formulation* self, double t_next, const double* x,
-                          const double* xd, const double* xdd);
+  /* Extensions by string id ("name/rev"); NULL when not supported. */
+  const void* (*get_extension)(const struct mh_formulation* self, const char* id);
 
-  /* Residual rows r(x, xd, xdd) at t (n each; e.g. Eqs. 38-39 without their
-   * dt^2/4). Calls the host's evaluate_mechanics with MH_EVAL_SUBSYSTEMS once,
-   * at the iterate. Pure: no history changes. */
-  mh_status (*residual)(const struct mh_formulation* self, double t, const double* x,
-                        const double* xd, const double* xdd, double* r);
+  /* Consistent initial conditions at t0: x0, xd0, xdd0 of the unknowns into
+   * `out` (xd0, xdd0 of algebraic unknowns are ignored). */
+  mh_status (*start)(const struct mh_formulation* self, const mh_unknown_buffers* out);
+
+  /* Optional: a step to t_next begins from the last accepted state, with the
+   * step's coefficients and the integrator's prediction (e.g. to reset
+   * multipliers, to estimate dependent coordinates, or to scale tolerances
+   * with h). */
+  mh_status (*begin_step)(const struct mh_formulation* self, const mh_step_begin* step);
+
+  /* Residual rows r(x, xd, xdd) at `at` (r: at->num_unknowns entries; e.g.
+   * Eqs. 38-39 without their dt^2/4). Calls the host's evaluate_mechanics with
+   * MH_EVAL_SUBSYSTEMS once, at the iterate. Pure: no history changes. */
+  mh_status (*residual)(const struct mh_formulation* self, const mh_unknown_values* at, double* r);
 
   /* Optional (NULL: the host differences `residual` along the integrator's
-   * map, x perturbed and xd, xdd following it, Eqs. 40-41). Analytic
-   * blocks at the arguments of the last residual call, holding the subsystem
-   * states fixed: dr_dx, dr_dxd, dr_dxdd, dense column-major n x n, zero on
-   * entry. The formulation sets column_given[j] = 1 for each column j it wrote
-   * in all three blocks; the host differences the others. */
-  mh_status (*tangent)(const struct mh_formulation* self, double t, const double* x,
-                       const double* xd, const double* xdd, double* dr_dx, double* dr_dxd,
-                       double* dr_dxdd, uint8_t* column_given);
+   * map, x perturbed and xd, xdd following it, Eqs. 40-41). Analytic blocks
+   * at `at`, the arguments of the last residual call, holding the subsystem
+   * states fixed. The formulation sets column_given[j] = 1 for each column j
+   * it wrote in all three blocks; the host differences the others. */
+  mh_status (*tangent)(const struct mh_formulation* self, const mh_unknown_values* at,
+                       const mh_tangent_blocks* out);
 
   /* Optional: after each Newton update, with the updated unknowns (e.g. Eq. 19). */
-  mh_status (*iteration_done)(const struct mh_formulation* self, double t, const double* x,
-                              const double* xd, const double* xdd);
+  mh_status (*iteration_done)(const struct mh_formulation* self, const mh_unknown_values* at);
 
-  /* The step to t converged at x, xd, xdd: update the history. The
-   * formulation may correct xd and xdd in place (e.g. the projections of Eqs.
-   * 20-21), or redefine its unknowns (*flags |= MH_ACCEPT_REDEFINED, with x,
-   * xd, xdd rewritten); the integrator continues from what it leaves there.
-   * *flags is 0 on entry. MH_DISCARD: the step is not accepted (nothing was
-   * committed) and the host treats it as a failed step. The coefficients are
-   * those of the step's map (every implicit integrator gives all three > 0). */
+  /* The step to t converged at `values`: update the history. The formulation
+   * may correct xd and xdd in place (e.g. the projections of Eqs. 20-21), or
+   * redefine its unknowns (*flags |= MH_ACCEPT_REDEFINED, with x, xd, xdd
+   * rewritten); the integrator continues from what it leaves there. *flags is
+   * 0 on entry. MH_DISCARD: the step is not accepted (nothing was committed)
+   * and the host treats it as a failed step. The coefficients are those of the
+   * step's map (every implicit integrator gives all three > 0). */
   mh_status (*accept)(const struct mh_formulation* self, double t,
-                      const mh_step_coefficients* coefficients, double* x, double* xd, double* xdd,
+                      const mh_step_coefficients* coefficients, const mh_unknown_buffers* values,
                       uint32_t* flags);
 
-  /* The accepted joint coordinates, rates and accelerations (N each). */
-  mh_status (*coordinates)(const struct mh_formulation* self, double* z, double* zd, double* zdd);
+  /* The accepted joint coordinates, rates and accelerations into `out`. */
+  mh_status (*coordinates)(const struct mh_formulation* self, const mh_coordinate_buffers* out);
 
   /* Optional: writes the values of the outputs it declared, at the accepted
    * state (after start and after each accept), into outputs[index]
@@ -116,26 +184,16 @@ typedef struct mh_formulation {
   mh_status (*write_outputs)(const struct mh_formulation* self, double* outputs,
                              uint32_t num_outputs);
 
-  void (*destroy)(const struct mh_formulation* self);
-
-  /* Extensions by string id ("name/rev"); NULL when not supported. */
-  const void* (*get_extension)(const struct mh_formulation* self, const char* id);
-
-  /* -- ABI 2.2 (the host reads it only when struct_size reaches it) ---------- */
   /* Optional: how the mechanics of the last residual call depended on the
    * unknowns, so that the host couples the subsystems with points to them
    * without differences: no residual is then differenced in a state column,
    * nor in a mechanical column that `tangent` gave (with `tangent` giving
    * every column, none at all). Called right after that residual call, before
-   * any difference the host takes. At the arguments of the last residual
-   * call: dz_dx, dzd_dx, dzd_dxd (N x n each, column-major) are the partial
-   * derivatives of the z and zd it passed to evaluate_mechanics with respect to
-   * x and xd; dr_dQ (n x N, column-major) those of its rows with respect to the
-   * generalized applied forces Q' it got back (e.g. -I for r = M' zdd - Q').
-   * All zero on entry. dz_dx, dzd_dx and dzd_dxd are NULL when the host needs
-   * none of them (when `tangent` gave no mechanical column). */
-  mh_status (*mechanics_map)(const struct mh_formulation* self, double* dz_dx, double* dzd_dx,
-                             double* dzd_dxd, double* dr_dQ);
+   * any difference the host takes. dz_dx, dzd_dx, dzd_dxd are the partial
+   * derivatives of the z and zd it passed to evaluate_mechanics with respect
+   * to x and xd; dr_dQ those of its rows with respect to the generalized
+   * applied forces Q' it got back (e.g. -I for r = M' zdd - Q'). */
+  mh_status (*mechanics_map)(const struct mh_formulation* self, const mh_mechanics_map* out);
 } mh_formulation;
 
 typedef struct mh_formulation_factory {
@@ -147,6 +205,11 @@ typedef struct mh_formulation_factory {
    * `host` outlives the instance. */
   const mh_formulation* (*create)(const struct mh_formulation_factory* factory, const mh_host* host,
                                   const char* id);
+  /* Optional (NULL: none): the YAML text of a small model file that uses
+   * component `index`, or NULL when it declares none; it lives as long as the
+   * library. `monohydra check PLUGIN.so` without a model checks the component
+   * on it. The same member, in the same place, in every factory. */
+  const char* (*example_model)(const struct mh_formulation_factory* factory, uint32_t index);
 } mh_formulation_factory;
 
 #ifdef __cplusplus

@@ -5,7 +5,8 @@
  * and everything it points to stay valid until the instance is destroyed.
  * Calls are made from the thread that called the plugin; a host never calls one
  * instance from two threads at once. Strings and arrays the host returns are
- * owned by the host. Every array travels with its length.
+ * owned by the host. Every array travels with its length, and every matrix
+ * is column-major (a table of option values is a list of rows: not a matrix).
  *
  * Structs the plugin hands in (specs, results to fill) begin with struct_size
  * = sizeof of the plugin's SDK: the host reads and writes them only up to that
@@ -27,7 +28,7 @@ extern "C" {
           residual rows (and powers) are recorded as the step's */
 #define MH_EVAL_POSITIONS_ONLY                                          \
   0x8u /* with MH_EVAL_CONSTRAINTS: Phi and Phi_z only, phi_dot_zd NULL \
-          (ABI 2.5; an earlier host ignores the bit and computes it) */
+        */
 /* The subsystems' forces always enter Q' under MH_EVAL_DYNAMICS, evaluated at the
  * host's current subsystem states and rates. */
 
@@ -133,14 +134,14 @@ typedef struct mh_unknown_spec {
   double abs_tolerance; /* on its Newton increment, > 0 */
 } mh_unknown_spec;
 
-/* What mech_derivatives computes (bit flags, ABI 2.1). */
+/* What mech_derivatives computes (bit flags). */
 #define MH_DERIV_DYNAMICS 0x1u /* K and C of the dynamics */
 #define MH_DERIV_CONSTRAINT_FORCES \
   0x2u /* d(Phi_z^T v)/dz for the request's v: the constraint forces' stiffness */
 #define MH_DERIV_CONSTRAINT_ACCELERATIONS \
   0x4u /* dA/dz and dA/dzd of A = Phi_z zdd + Phi_z_dot zd */
 
-/* A request for derivatives of the mechanics at (t, z, zd, zdd) (ABI 2.1). */
+/* A request for derivatives of the mechanics at (t, z, zd, zdd) */
 typedef struct mh_mech_derivatives_request {
   uint32_t struct_size;
   uint32_t flags;    /* MH_DERIV_* */
@@ -152,7 +153,7 @@ typedef struct mh_mech_derivatives_request {
 } mh_mech_derivatives_request;
 
 /* Results, owned by the host, valid until the next call; dense, column-major;
- * NULL for what was not requested (ABI 2.1). */
+ * NULL for what was not requested. */
 typedef struct mh_mech_derivatives {
   uint32_t struct_size;
   const double* K;           /* N x N: d(M' zdd - Q')/dz, with every subsystem force at
@@ -184,8 +185,9 @@ typedef struct mh_host {
                              double fallback, double* out);
   mh_status (*option_string)(const struct mh_host* host, const char* key, int required,
                              const char* fallback, const char** out);
-  /* A table of numbers with `columns` columns, row-major (e.g. a time signal).
-   * *rows receives the number of rows. */
+  /* A table of numbers with `columns` columns, row after row as the model file
+   * lists them (e.g. a time signal: t, value per row); *rows receives the
+   * number of rows, so data has rows x columns entries. */
   mh_status (*option_table)(const struct mh_host* host, const char* key, int required,
                             uint32_t columns, const double** data, uint32_t* rows);
   /* Reports an invalid option value with the file and line it came from. Returns
@@ -243,8 +245,7 @@ typedef struct mh_host {
   mh_status (*evaluate_mechanics)(const struct mh_host* host, const mh_mech_request* request,
                                   mh_mech_result* result);
 
-  /* -- ABI 2.1 (check struct_size before use) ------------------------------- */
-  /* -- formulation, after setup -- */
+  /* -- formulation, after setup -------------------------------------------- */
   /* Analytic derivatives of the semirecursive dynamics and of the constraint
    * terms (computed recursively in the core, not by differences of the
    * dynamics): e.g. the projections' W = M' + C dxd_dx/dxdd_dx + K/dxdd_dx

@@ -22,7 +22,7 @@
 extern "C" {
 #endif
 
-#define MH_SUBSYSTEM_FACTORY_ID "monohydra.subsystem-factory/2"
+#define MH_SUBSYSTEM_FACTORY_ID "monohydra.subsystem-factory/3"
 
 typedef struct mh_subsystem_eval {
   uint32_t struct_size;
@@ -38,6 +38,9 @@ typedef struct mh_subsystem_eval {
                             zero on entry */
   uint32_t num_outputs;  /* length of outputs */
   double* outputs;       /* every instance's outputs, by index: write your own */
+  uint32_t num_touched;  /* the states this instance touches (its own, those found
+                            with find_state, its ports' nodes): the size of its
+                            jacobian blocks, in first-call order without repeats */
 } mh_subsystem_eval;
 
 typedef struct mh_subsystem {
@@ -51,14 +54,18 @@ typedef struct mh_subsystem {
    * model order; find_state only finds states of instances set up before. */
   mh_status (*setup)(const struct mh_subsystem* self);
 
+  void (*destroy)(const struct mh_subsystem* self);
+  const void* (*get_extension)(const struct mh_subsystem* self, const char* id);
+
   /* Adds this instance's contributions to the residual rows and its point
    * forces, at the state and kinematics in `eval`. Pure: no history changes. */
   mh_status (*evaluate)(const struct mh_subsystem* self, const mh_subsystem_eval* eval);
 
   /* Optional (NULL: forward differences). Partial derivatives of this instance's
-   * contributions with respect to the states it touches, ordered as it received
-   * them from add_state and find_state (first call order, no repeats): n x n,
-   * row-major, into d_dy (wrt y) and d_dydot (wrt ydot); both zero on entry. */
+   * contributions with respect to the states it touches: n x n with
+   * n = eval->num_touched, column-major (entry (a, b) at b n + a: row a, column
+   * b, both in the touched order), into d_dy (wrt y) and d_dydot (wrt ydot);
+   * both zero on entry. */
   mh_status (*jacobian)(const struct mh_subsystem* self, const mh_subsystem_eval* eval,
                         double* d_dy, double* d_dydot);
 
@@ -70,10 +77,6 @@ typedef struct mh_subsystem {
   /* Optional: the step converged at `eval` (e.g. update hysteresis). */
   mh_status (*accept)(const struct mh_subsystem* self, const mh_subsystem_eval* eval);
 
-  void (*destroy)(const struct mh_subsystem* self);
-  const void* (*get_extension)(const struct mh_subsystem* self, const char* id);
-
-  /* -- ABI 2.1 ------------------------------------------------------------------ */
   /* Optional (NULL: the host differences `evaluate` in the point positions and
    * velocities). The derivatives of this instance's point forces with respect
    * to its points' world positions and velocities, at `eval`, states held:
@@ -82,16 +85,15 @@ typedef struct mh_subsystem {
   mh_status (*point_force_jacobian)(const struct mh_subsystem* self, const mh_subsystem_eval* eval,
                                     double* dF_dp, double* dF_dv);
 
-  /* -- ABI 2.2 ------------------------------------------------------------------ */
   /* Optional (NULL: the host differences `evaluate` in the points' motion and
    * the states, this instance alone). How this instance couples to the
-   * mechanics, at `eval`: the derivatives of its rows with respect to its
-   * points' world positions and velocities, dR_dp and dR_dv (n x 3P, row-major
-   * like `jacobian`: row a = the a-th state it touches, column 3b+j = point b,
+   * mechanics, at `eval`, all column-major and zero on entry, with n =
+   * eval->num_touched and P = eval->num_points: the derivatives of its rows
+   * with respect to its points' world positions and velocities, dR_dp and
+   * dR_dv (n x 3P: row a = the a-th state it touches, column 3b+j = point b,
    * component j), and of its point forces with respect to the states it
-   * touches and their rates, dF_dy and dF_dydot (3P x n, column-major: column
-   * a = the a-th state it touches, row 3b+i = force on point b, component i).
-   * n = the states it touches, P = eval->num_points. All zero on entry. */
+   * touches and their rates, dF_dy and dF_dydot (3P x n: row 3b+i = force on
+   * point b, component i, column a = the a-th state it touches). */
   mh_status (*coupling_jacobian)(const struct mh_subsystem* self, const mh_subsystem_eval* eval,
                                  double* dR_dp, double* dR_dv, double* dF_dy, double* dF_dydot);
 } mh_subsystem;
@@ -103,10 +105,10 @@ typedef struct mh_subsystem_factory {
                                                uint32_t index);
   const mh_subsystem* (*create)(const struct mh_subsystem_factory* factory, const mh_host* host,
                                 const char* id);
-  /* ABI 2.4, optional (NULL: none): the YAML text of a small model file that
-   * uses component `index` with example options, or NULL when it declares
-   * none. The text lives as long as the library. `monohydra check PLUGIN.so`
-   * without a model checks the component on it (docs/sdk.md). */
+  /* Optional (NULL: none): the YAML text of a small model file that uses
+   * component `index` with example options, or NULL when it declares none; it
+   * lives as long as the library. `monohydra check PLUGIN.so` without a model
+   * checks the component on it (docs/sdk.md). */
   const char* (*example_model)(const struct mh_subsystem_factory* factory, uint32_t index);
 } mh_subsystem_factory;
 

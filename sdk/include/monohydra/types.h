@@ -8,7 +8,15 @@
  * only up to the smaller of its own sizeof and that struct_size, so fields
  * past it are absent (zero, NULL: "not supported"). Optional services are
  * extensions by versioned string id. A published struct is never edited in
- * place; a changed one gets a new id or a new major version. */
+ * place: after 3.0 fields are only appended (CLAP's rule), never moved.
+ *
+ * ABI 3 is the break that made the contract one shape: column-major matrices
+ * everywhere, every array with its length (mh_unknown_values and friends),
+ * the same head on every instance table (setup, destroy, get_extension), the
+ * same factory in every role (example_model included), the step's
+ * coefficients at a formulation's begin_step, explicit integrators with
+ * operations of their own. A 2.x plugin is refused, naming both versions and
+ * the migration section of docs/sdk.md ("Migrating a 2.x plugin"). */
 #ifndef MONOHYDRA_TYPES_H
 #define MONOHYDRA_TYPES_H
 
@@ -19,8 +27,8 @@
 extern "C" {
 #endif
 
-#define MH_ABI_VERSION_MAJOR 2u
-#define MH_ABI_VERSION_MINOR 5u
+#define MH_ABI_VERSION_MAJOR 3u
+#define MH_ABI_VERSION_MINOR 0u
 #define MH_ABI_VERSION_PATCH 0u
 
 typedef struct mh_version {

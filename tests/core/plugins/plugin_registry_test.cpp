@@ -4,6 +4,8 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include "test_support.hpp"
@@ -156,14 +158,40 @@ TEST(PluginRegistry, RefusesAPluginOfAnIncompatibleAbiMajorVersion) {
   const std::string path = std::string(MH_FIXTURE_DIR) + "/mh_fixture_future_abi.so";
   EXPECT_EQ(load_error(path),
             "'" + path + "' was built for monohydra ABI 99.0, this host speaks ABI " + kHostAbi +
-                " (major versions must match: rebuild the plugin against SDK 2)");
+                " (major versions must match: rebuild the plugin against SDK " +
+                std::to_string(MH_ABI_VERSION_MAJOR) + ")");
 }
 
 TEST(PluginRegistry, RefusesAnAbi1PluginNamingBothVersions) {
   const std::string path = std::string(MH_FIXTURE_DIR) + "/mh_fixture_major_one.so";
   EXPECT_EQ(load_error(path),
             "'" + path + "' was built for monohydra ABI 1.1, this host speaks ABI " + kHostAbi +
-                " (major versions must match: rebuild the plugin against SDK 2)");
+                " (major versions must match: rebuild the plugin against SDK " +
+                std::to_string(MH_ABI_VERSION_MAJOR) + ")");
+}
+
+// ABI 3 was a break: a plugin of SDK 2.0 (tests/fixtures/sdk20_spring.c,
+// built against the frozen 2.0 headers) is refused with both versions and
+// where the migration is described, and never called.
+TEST(PluginRegistry, RefusesAnSdk2PluginNamingBothVersionsAndTheMigrationSection) {
+  const std::string path = std::string(MH_SDK20_PLUGIN_DIR) + "/mh_fixture_sdk20_spring.so";
+  EXPECT_EQ(load_error(path),
+            "'" + path + "' was built for monohydra ABI 2.0, this host speaks ABI " + kHostAbi +
+                " (major versions must match: rebuild the plugin against SDK " +
+                std::to_string(MH_ABI_VERSION_MAJOR) +
+                "; what changed since ABI 2 and how to port it: \"Migrating a 2.x plugin\" in "
+                "docs/sdk.md)");
+  PluginRegistry r;
+  r.scan({MH_SDK20_PLUGIN_DIR, MH_PLUGIN_DIR});
+  ASSERT_EQ(r.refusals().size(), 1u);
+  EXPECT_THROW(r.find(ComponentKind::subsystem, "sdk20-spring"), PluginError);
+}
+
+// The section the refusal names exists in the SDK's guide.
+TEST(PluginRegistry, TheMigrationSectionTheRefusalNamesExists) {
+  std::ifstream in(test::source_path("docs/sdk.md"));
+  const std::string guide((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(guide.find("## Migrating a 2.x plugin"), std::string::npos);
 }
 
 TEST(PluginRegistry, ScanRecordsRefusalsAndKeepsGoing) {

@@ -1,5 +1,5 @@
 // The analytic tangent end to end (core/src/step/subsystem_coupling.cpp with the
-// formulations' tangent and mechanics_map, ABI 2.2): the whole assembled
+// formulations' tangent and mechanics_map): the whole assembled
 // Newton tangent of runs whose subsystems act at body points (the hydraulic
 // cylinder of the case studies, the Maxwell element) equals central
 // differences of the residual in every entry, and assembling it differences

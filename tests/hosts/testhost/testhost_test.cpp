@@ -2,7 +2,7 @@
 // uses it, linked without the core: a sound spring runs and its series
 // conserve energy, its tangent agrees with differences and every check
 // passes; the broken springs fail where they are broken, as values, never as
-// a crash of the test; a declared example model (SDK 2.4) is what
+// a crash of the test; a declared example model is what
 // check_library checks a component on, a broken one fails with its file, line
 // and field, and a component without one is skipped with the reason.
 #include <gtest/gtest.h>
@@ -150,7 +150,7 @@ TEST(TestHostExampleModel, ABrokenDeclaredModelFailsNamingItsLineAndField) {
 }
 
 TEST(TestHostExampleModel, AComponentWithoutOneIsSkippedWithTheReason) {
-  for (const char* plugin : {"sound", "sdk23_spring"}) {
+  for (const char* plugin : {"sound", "short_factory_spring"}) {
     const th::CheckReport r = th::check_library(fixture(plugin), nullptr, search_build());
     EXPECT_TRUE(r.passed()) << plugin;
     const th::Check* c = about(r, "subsystem faulty-spring");

@@ -100,6 +100,7 @@ class StageAmplification {
   void set_up(double h);
   const mh_integrator* self_;
   mh_integrator ops_{};
+  mh_explicit_method stages_{};  // its explicit method's operations
   double setup_h_ = 0.0;
 };
 

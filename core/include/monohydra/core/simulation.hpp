@@ -155,7 +155,7 @@ class Simulation {
   // them) and the one forward differences alone give, both at the current
   // iterate of the next step, dense (to test analytic blocks).
   Eigen::MatrixXd assembled_tangent();
-  // What the host service mech_derivatives gives a formulation (ABI 2.1) at
+  // What the host service mech_derivatives gives a formulation at
   // (z, zd, zdd) with the current subsystem states: K = d(M' zdd - Q')/dz and
   // C = d(M' zdd - Q')/dzd, every subsystem force included; and M' zdd - Q'
   // itself, to test them against differences.
@@ -170,7 +170,7 @@ class Simulation {
   // The same by central differences (x +- h, h = 1e-6 max(1e-2, |x_i|)), the
   // reference of the analytic blocks' tests.
   Eigen::MatrixXd central_difference_tangent();
-  // The formulation's mechanics_map (ABI 2.2) at the prediction of the next
+  // The formulation's mechanics_map at the prediction of the next
   // step, every array asked for: dz/dx and the total dzd/dx along the
   // integrator's map (dzd_dx + dxd_dx dzd_dxd), and the same from central
   // differences of the coordinates its residual passed at x +- h.
@@ -206,7 +206,7 @@ class Simulation {
   FormulationBlocks formulation_blocks();
   int num_unknowns() const;
   int num_mechanical_unknowns() const;
-  // True when the run's integrator is explicit (ABI 2.3 stages): it takes no
+  // True when the run's integrator is explicit (its own stage operations): it takes no
   // Newton step, so the tangent accessors refuse it.
   bool explicit_integration() const;
   int tangent_nonzeros() const;

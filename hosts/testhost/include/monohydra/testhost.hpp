@@ -68,7 +68,7 @@ struct CheckOptions {
   // this library (lib/monohydra/plugins) and the install prefix's.
   std::vector<std::string> search_path;
   // Models tried, in order, for a formulation or an integrator that declares
-  // no example model (SDK 2.4, docs/sdk.md): the first it accepts. Empty: the
+  // no example model (docs/sdk.md): the first it accepts. Empty: the
   // shipped four-bar, then the double pendulum (a tree).
   std::vector<std::string> fallback_models;
   // The folder whose models (smallest first) a subsystem that declares no
@@ -147,7 +147,7 @@ class MONOHYDRA_TESTHOST_API Host {
   Kind kind() const;
   const std::string& id() const;
   std::string version() const;  // the descriptor's
-  // The component's declared example model (SDK 2.4), or "" when it declares none.
+  // The component's declared example model, or "" when it declares none.
   std::string example_model() const;
 
   // A formulation or an integrator replaces the model's; a subsystem must be

@@ -4,8 +4,8 @@
 // member), each body inside monohydra::guarded_op so that no exception crosses
 // into the host,
 //
-//   mh_status residual(const mh_formulation* f, double t, const double* x, const double* xd,
-//                      const double* xdd, double* r) noexcept {
+//   mh_status residual(const mh_formulation* f, const mh_unknown_values* at,
+//                      double* r) noexcept {
 //     return monohydra::guarded_op<MyState>(f, "residual", [&](MyState& s) { ... });
 //   }
 //
@@ -95,9 +95,13 @@ void destroy_formulation(const mh_formulation* f) noexcept {
     });                                                                                            \
     return made;                                                                                   \
   }                                                                                                \
+  const char* monohydra_formulation_example_model(const mh_formulation_factory*, uint32_t) {       \
+    return nullptr;                                                                                \
+  }                                                                                                \
   const mh_formulation_factory monohydra_formulation_factory{                                      \
       sizeof(mh_formulation_factory), monohydra_formulation_count,                                 \
-      monohydra_formulation_descriptor, monohydra_formulation_create};                             \
+      monohydra_formulation_descriptor, monohydra_formulation_create,                              \
+      monohydra_formulation_example_model};                                                        \
   int monohydra_formulation_init(const char*) {                                                    \
     return 1;                                                                                      \
   }                                                                                                \

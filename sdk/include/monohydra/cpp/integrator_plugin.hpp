@@ -96,10 +96,12 @@ void destroy_integrator(const mh_integrator* integrator) noexcept {
   delete integrator;
 }
 
-// One integrator of a library: its descriptor and how to create an instance.
+// One integrator of a library: its descriptor, how to create an instance and
+// its example model (NULL: none).
 struct IntegratorComponent {
   const mh_component_descriptor* descriptor;
   const mh_integrator* (*create)(const mh_host* host);
+  const char* example_model = nullptr;
 };
 
 // The mh_integrator_factory over a fixed list of integrators (a static array
@@ -108,7 +110,7 @@ class IntegratorFactory {
  public:
   template <std::size_t N>
   constexpr explicit IntegratorFactory(const IntegratorComponent (&components)[N]) noexcept
-      : api_{sizeof(mh_integrator_factory), count, descriptor, create},
+      : api_{sizeof(mh_integrator_factory), count, descriptor, create, example_model},
         components_(components),
         size_(static_cast<uint32_t>(N)) {}
 
@@ -135,6 +137,10 @@ class IntegratorFactory {
                                                    uint32_t index) noexcept {
     const IntegratorFactory& factory = self(f);
     return index < factory.size_ ? factory.components_[index].descriptor : nullptr;
+  }
+  static const char* example_model(const mh_integrator_factory* f, uint32_t index) noexcept {
+    const IntegratorFactory& factory = self(f);
+    return index < factory.size_ ? factory.components_[index].example_model : nullptr;
   }
   static const mh_integrator* create(const mh_integrator_factory* f, const mh_host* host,
                                      const char* id) noexcept {

@@ -21,11 +21,13 @@
 //   mh_status accept(const mh_subsystem_eval& eval);
 //   const void* extension(const char* id);                // NULL if not supported
 //   mh_status point_force_jacobian(const mh_subsystem_eval& eval, double* dF_dp,
-//                                  double* dF_dv);          // ABI 2.1
+//                                  double* dF_dv);
 //   mh_status coupling_jacobian(const mh_subsystem_eval& eval, double* dR_dp, double* dR_dv,
-//                               double* dF_dy, double* dF_dydot);   // ABI 2.2
-//   static constexpr const char* kExampleModel = R"(...)";  // ABI 2.4: a small model
-//                               // file (YAML) using it, for `monohydra check PLUGIN.so`
+//                               double* dF_dy, double* dF_dydot);
+//   static constexpr const char* kExampleModel = R"(...)";  // a small model file (YAML)
+//                               // using it, for `monohydra check PLUGIN.so`
+//
+// Every matrix is column-major (subsystem.h).
 //
 // setup declares states and outputs with the spec structs of host.h
 // (mh_state_spec, mh_output_spec; monohydra/cpp/specs.hpp fills them).
@@ -119,7 +121,7 @@ struct HasExampleModel<T, std::void_t<decltype(static_cast<const char*>(T::kExam
 }  // namespace detail
 
 // One component of a library: its descriptor, how to create an instance and
-// its example model (ABI 2.4; NULL: none).
+// its example model (NULL: none).
 struct SubsystemComponent {
   const mh_component_descriptor* descriptor;
   const mh_subsystem* (*create)(const mh_host* host);
