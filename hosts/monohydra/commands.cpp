@@ -15,6 +15,7 @@
 #include <iostream>
 #include <optional>
 
+#include "call_watchdog.hpp"
 #include "cli_support.hpp"
 #include "crash_report.hpp"
 #include "model_plugins.hpp"
@@ -109,7 +110,7 @@ std::optional<int> parse_run_args(const std::vector<std::string>& args, const ch
                      "(exit 0 or 1).");
   CLI::App& app = *app_holder;
   std::vector<std::string> models;
-  std::string dt, t_end, interval, cap, max_steps, max_bytes;
+  std::string dt, t_end, interval, cap, max_steps, max_bytes, call_timeout;
   bool real_time = false;
   app.add_option("MODEL.yaml", models, "the model file");
   app.add_option("--formulation", request.formulation, "replaces the model file's formulation");
@@ -126,6 +127,9 @@ std::optional<int> parse_run_args(const std::vector<std::string>& args, const ch
   auto* steps_opt = app.add_option("--max-steps", max_steps, "refuse runs of more steps (1e8)");
   auto* bytes_opt =
       app.add_option("--max-output-bytes", max_bytes, "refuse larger CSVs (1e10 bytes)");
+  auto* timeout_opt = app.add_option(
+      "--call-timeout", call_timeout,
+      "stop when one plugin call has not returned within S s, naming it (default 60; 0: never)");
   std::string stability;
   auto* stability_opt = app.add_option(
       "--explicit-stability", stability,
@@ -147,6 +151,17 @@ std::optional<int> parse_run_args(const std::vector<std::string>& args, const ch
     return usage(2);
   }
   request.model_path = models.front();
+  request.call_timeout = kDefaultCallTimeout;
+  if (timeout_opt->count() > 0) {
+    const std::optional<double> value = parse_number("--call-timeout", call_timeout);
+    if (!value) return 2;
+    if (!std::isfinite(*value) || *value < 0.0) {
+      std::cerr << "monohydra: --call-timeout expects a time in s (0 or more), got '"
+                << call_timeout << "'\n";
+      return 2;
+    }
+    request.call_timeout = *value;
+  }
   if (dt_opt->count() > 0) {
     request.dt = parse_number("--dt", dt);
     if (!request.dt) return 2;
@@ -334,6 +349,7 @@ double last_row_time(const std::string& path) {
 // after its current row. Without fork, the run is made here.
 int simulate(RunRequest request, const std::string& out_path) {
   request.csv = !out_path.empty();
+  start_call_watchdog(request.call_timeout);  // create and setup are plugin calls too
   const auto prepared = prepare_run(request);
   if (!prepared) return 2;
   const volatile std::sig_atomic_t* stop = install_stop_handlers();
@@ -345,6 +361,7 @@ int simulate(RunRequest request, const std::string& out_path) {
   if (pid < 0) return run_prepared(*prepared, request, out_path, stop, true);
   if (pid == 0) {
     install_crash_handler(crash);
+    start_call_watchdog(request.call_timeout);  // the parent's thread is not in the child
     int code = run_prepared(*prepared, request, out_path, stop, true);
     errno = 0;
     std::cout.flush();
@@ -475,6 +492,7 @@ int run(const std::vector<std::string>& args) {
 int validate(const std::vector<std::string>& args) {
   RunRequest request;
   if (const auto code = parse_run_args(args, "validate", request, nullptr)) return *code;
+  start_call_watchdog(request.call_timeout);
   const auto prepared = prepare_run(request);
   if (!prepared) return 1;
   try {

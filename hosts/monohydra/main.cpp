@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "call_watchdog.hpp"
 #include "cli_support.hpp"
 #include "commands.hpp"
 #include "crash_report.hpp"
@@ -70,6 +71,8 @@ int main(int argc, char** argv) {
   mh::cli::set_command_line(argc, argv);
   // A plugin that crashes while a run is set up (create, setup) is named.
   mh::cli::install_crash_handler(nullptr);
+  // Nor can a plugin call that never returns hang it (run sets its own limit).
+  mh::cli::start_call_watchdog(mh::cli::kDefaultCallTimeout);
   std::vector<std::string> args(argv + 1, argv + argc);
   if (!take_log_level(args)) return 2;
   int code = 2;

@@ -30,6 +30,7 @@ struct RunRequest {
   int real_time_cap = 0;                  // --real-time: Newton iterations per step (0: off)
   RunLimits limits;
   std::optional<ExplicitStabilityPolicy> explicit_stability;  // unset: the model file's
+  double call_timeout = 0.0;  // --call-timeout: s a plugin call may take (0: no limit)
 };
 
 struct PreparedRun {

@@ -272,6 +272,53 @@ TEST(HostBoundary, ACrashInSetupNamesTheInstanceAndTheCall) {
       << r.output;
 }
 
+// A plugin call that never returns: the host's watchdog stops the command
+// once the call has been in flight for --call-timeout, naming it.
+TEST(HostBoundary, ACreateThatNeverReturnsIsStoppedNamingTheInstanceAndTheCall) {
+  const auto model = mh::test::scratch_dir("hang-create") / "spring.yaml";
+  {
+    std::ifstream in(spring_model());
+    std::ofstream out(model);
+    out << in.rdbuf() << "plugins: {faulty-spring: " << fixture("hang_create") << "}\n";
+  }
+  const CliResult r = run_cli("run " + model.string() + " --out /dev/null --call-timeout 0.5");
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("monohydra: subsystem 'spring' (faulty-spring) of hang_create.so has "
+                          "not returned from its create within 0.5 s"),
+            std::string::npos)
+      << r.output;
+}
+
+// The same in the child that steps: every row before the hung call stays.
+TEST(HostBoundary, AnEvaluateThatNeverReturnsStopsTheRunKeepingEveryRowBefore) {
+  const auto dir = mh::test::scratch_dir("hang-evaluate");
+  const auto model = dir / "spring.yaml";
+  {
+    std::ifstream in(spring_model());
+    std::ofstream out(model);
+    out << in.rdbuf() << "plugins: {faulty-spring: " << fixture("hang_evaluate") << "}\n";
+  }
+  const auto csv = dir / "out.csv";
+  const CliResult r =
+      run_cli("run " + model.string() + " --out " + csv.string() + " --call-timeout 0.5");
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("monohydra: subsystem 'spring' (faulty-spring) of hang_evaluate.so has "
+                          "not returned from its evaluate within 0.5 s (at t = 0.501 s, step 501)"),
+            std::string::npos)
+      << r.output;
+  std::ifstream rows(csv);
+  std::string line, last;
+  while (std::getline(rows, line))
+    if (!line.empty()) last = line;
+  EXPECT_EQ(last.substr(0, last.find(',')), "0.5") << last;
+}
+
+TEST(HostBoundary, ACallTimeoutThatIsNotATimeIsRefused) {
+  const CliResult r = run_cli("run " + spring_model() + " --call-timeout soon");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("--call-timeout"), std::string::npos) << r.output;
+}
+
 TEST(PluginCheck, AFailingCreateFailsWithThePluginsReason) {
   const CliResult r = run_cli("check " + fixture("failing_create") + " " + spring_model());
   EXPECT_EQ(r.code, 1) << r.output;

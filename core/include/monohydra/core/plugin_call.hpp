@@ -23,11 +23,16 @@ struct PluginCallInFlight {
   std::atomic<const PluginCallSite*> site{nullptr};
   std::atomic<double> t{0.0};
   std::atomic<long> step{0};
+  // Calls entered so far: a host's watchdog that sees the same call in flight
+  // and this count unchanged for a while knows that the call has not returned
+  // (a call that makes nested calls keeps counting).
+  std::atomic<unsigned long> entered{0};
 };
 
 static_assert(std::atomic<const PluginCallSite*>::is_always_lock_free &&
                   std::atomic<double>::is_always_lock_free &&
-                  std::atomic<long>::is_always_lock_free,
+                  std::atomic<long>::is_always_lock_free &&
+                  std::atomic<unsigned long>::is_always_lock_free,
               "a signal handler reads the record: its fields must be lock-free");
 
 // The process's record (one stepping engine per process reports crashes);
@@ -41,7 +46,11 @@ class PluginCallScope {
  public:
   explicit PluginCallScope(const PluginCallSite& site)
       : previous_(plugin_call_in_flight().site.load(std::memory_order_relaxed)) {
-    plugin_call_in_flight().site.store(&site, std::memory_order_relaxed);
+    PluginCallInFlight& record = plugin_call_in_flight();
+    record.site.store(&site, std::memory_order_relaxed);
+    // One thread marks calls: a load and a store, no locked read-modify-write.
+    record.entered.store(record.entered.load(std::memory_order_relaxed) + 1,
+                         std::memory_order_relaxed);
   }
   ~PluginCallScope() { plugin_call_in_flight().site.store(previous_, std::memory_order_relaxed); }
   PluginCallScope(const PluginCallScope&) = delete;

@@ -1,0 +1,75 @@
+// The watchdog of call_watchdog.hpp: a detached thread that samples the
+// in-flight record every 50 ms and needs no lock of the engine's.
+#include "call_watchdog.hpp"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <thread>
+
+#include "monohydra/core/plugin_call.hpp"
+
+namespace mh::cli {
+namespace {
+
+std::atomic<double> g_limit{0.0};
+std::atomic<pid_t> g_watched_pid{0};  // the process whose thread is running
+
+[[noreturn]] void stop_hung(const PluginCallSite& site, double seconds) {
+  const PluginCallInFlight& record = plugin_call_in_flight();
+  char message[1024];
+  const int n = std::snprintf(
+      message, sizeof message,
+      "monohydra: %s has not returned from its %s within %g s (at t = %g s, step %ld): "
+      "stopped (--call-timeout sets the limit)\n",
+      site.who != nullptr ? site.who : "a plugin", site.call != nullptr ? site.call : "call",
+      seconds, record.t.load(std::memory_order_relaxed),
+      record.step.load(std::memory_order_relaxed));
+  if (n > 0) {
+    const auto len =
+        static_cast<size_t>(n) < sizeof message ? static_cast<size_t>(n) : sizeof message - 1;
+    const ssize_t written = ::write(STDERR_FILENO, message, len);
+    (void)written;
+  }
+  std::_Exit(1);  // the hung call holds the engine: nothing else can run safely
+}
+
+void watch() {
+  constexpr auto kPeriod = std::chrono::milliseconds(50);
+  const PluginCallSite* last_site = nullptr;
+  unsigned long last_entered = 0;
+  double stuck = 0.0;
+  for (;;) {
+    std::this_thread::sleep_for(kPeriod);
+    const double limit = g_limit.load(std::memory_order_relaxed);
+    const PluginCallInFlight& record = plugin_call_in_flight();
+    const PluginCallSite* site = record.site.load(std::memory_order_relaxed);
+    const unsigned long entered = record.entered.load(std::memory_order_relaxed);
+    if (site == nullptr || site != last_site || entered != last_entered || !(limit > 0.0)) {
+      last_site = site;
+      last_entered = entered;
+      stuck = 0.0;
+      continue;
+    }
+    stuck += std::chrono::duration<double>(kPeriod).count();
+    if (stuck >= limit) stop_hung(*site, limit);
+  }
+}
+
+}  // namespace
+
+void start_call_watchdog(double seconds) {
+  g_limit.store(seconds, std::memory_order_relaxed);
+  const pid_t self = ::getpid();
+  if (g_watched_pid.exchange(self) == self) return;  // this process has its thread
+  if (!(seconds > 0.0)) {
+    g_watched_pid.store(0);
+    return;
+  }
+  std::thread(watch).detach();
+}
+
+}  // namespace mh::cli
