@@ -342,26 +342,33 @@ double last_row_time(const std::string& path) {
   }
 }
 
-// `run` steps in a child process: a plugin that crashes (a segfault in its
-// residual) ends the child, not this one, which then says where the run
-// stopped; the child flushes every CSV row, so every row it computed stays.
-// A stop signal this process gets is passed on to the child, which stops
-// after its current row. Without fork, the run is made here.
+// `run` sets the run up and steps it in a child process: a plugin that
+// crashes (a segfault in its setup or its residual) ends the child, not this
+// one, which then says where the run stopped; the child flushes every CSV
+// row, so every row it computed stays. A stop signal this process gets is
+// passed on to the child, which stops after its current row. Without fork,
+// the run is made here.
 int simulate(RunRequest request, const std::string& out_path) {
   request.csv = !out_path.empty();
   start_call_watchdog(request.call_timeout);  // create and setup are plugin calls too
-  const auto prepared = prepare_run(request);
-  if (!prepared) return 2;
   const volatile std::sig_atomic_t* stop = install_stop_handlers();
   std::cout.flush();
   std::cerr.flush();
   std::fflush(nullptr);
   CrashReport* crash = shared_crash_report();
   const pid_t pid = ::fork();
-  if (pid < 0) return run_prepared(*prepared, request, out_path, stop, true);
+  if (pid < 0) {
+    const auto prepared = prepare_run(request);
+    return prepared ? run_prepared(*prepared, request, out_path, stop, true) : 2;
+  }
   if (pid == 0) {
     install_crash_handler(crash);
-    start_call_watchdog(request.call_timeout);  // the parent's thread is not in the child
+    start_call_watchdog(request.call_timeout);   // the parent's thread is not in the child
+    const auto prepared = prepare_run(request);  // every plugin's create and setup
+    if (!prepared) {
+      std::cerr.flush();
+      std::_Exit(2);
+    }
     int code = run_prepared(*prepared, request, out_path, stop, true);
     errno = 0;
     std::cout.flush();

@@ -29,7 +29,7 @@ void release_crash_report(CrashReport* report);
 // In the child: SIGSEGV, SIGBUS, SIGFPE, SIGILL and SIGABRT fill `report`
 // before the process dies of them (on an alternate stack: a stack overflow
 // is reported too). With no report (a process reporting for itself, as the
-// CLI does while it sets a run up) the call in flight is said on stderr.
+// CLI does for the calls it makes itself) the call in flight is said on stderr.
 void install_crash_handler(CrashReport* report);
 
 // In the parent: " in subsystem 'x' (type) of lib.so, in its evaluate, at

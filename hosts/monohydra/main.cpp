@@ -69,7 +69,8 @@ bool take_log_level(std::vector<std::string>& args) {
 
 int main(int argc, char** argv) {
   mh::cli::set_command_line(argc, argv);
-  // A plugin that crashes while a run is set up (create, setup) is named.
+  // A plugin that crashes in a call this process makes (validate and compare set runs up
+  // here; run does it in a child) is named.
   mh::cli::install_crash_handler(nullptr);
   // Nor can a plugin call that never returns hang it (run sets its own limit).
   mh::cli::start_call_watchdog(mh::cli::kDefaultCallTimeout);
