@@ -1,7 +1,8 @@
 #!/bin/sh
 # Are today's models bit-for-bit what they were before a change to the
 # hydraulics plugin? Builds the plugin of a base commit alone (its own
-# plugins/hydraulics and sdk headers), runs every case study with both
+# plugins/components/hydraulics, plugins/hydraulics before the folders by
+# concept, and sdk headers; a base of the same ABI major), runs every case study with both
 # formulations once with it (MONOHYDRA_PLUGIN_PATH puts it first, so the
 # build's own library is refused) and once with the build's, and compares the
 # CSVs byte for byte.
@@ -14,9 +15,11 @@ base=${2:-$(git merge-base HEAD main)}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 mkdir -p "$work/src" "$work/plugin"
-git archive "$base" plugins/hydraulics sdk | tar -x -C "$work/src"
+dir=plugins/components/hydraulics
+git cat-file -e "$base:$dir" 2>/dev/null || dir=plugins/hydraulics
+git archive "$base" "$dir" sdk | tar -x -C "$work/src"
 c++ -shared -std=c++17 -O3 -DNDEBUG -fPIC -fvisibility=hidden -fvisibility-inlines-hidden \
-  -I"$work/src/sdk/include" "$work"/src/plugins/hydraulics/*.cpp \
+  -I"$work/src/sdk/include" "$work/src/$dir"/*.cpp \
   -o "$work/plugin/monohydra-hydraulics.so"
 # The base library must be the one loaded, or the comparison proves nothing.
 MONOHYDRA_PLUGIN_PATH="$work/plugin" "$build/bin/monohydra" plugins 2>&1 |

@@ -9,7 +9,7 @@
 // (n = 1 isothermal, n = 1.4 adiabatic nitrogen). The oil taken from the node
 // is q = -dV/dt = C_gas(p) dp/dt with C_gas = -dV/dp = V / (n p), plus the
 // compressibility of the oil in the accumulator's port, V_oil / B_oil. Like a
-// hose volume (plugins/hydraulics/volume.cpp) its contribution is a storage
+// hose volume (plugins/components/hydraulics/volume.cpp) its contribution is a storage
 // term on the node's row:
 //
 //   node row += (V_oil / B_oil + C_gas(p)) dp/dt

@@ -320,7 +320,7 @@ TEST(Compare, AnUnknownIntegratorIsAFailedRunAndTheExitStatusIsOne) {
 TEST(Compare, AFailingFormulationIsInTheTableWithItsReasonAndTheOthersStillRun) {
   const fs::path dir = scratch_dir("failing");
   // double-step with a re-partition threshold too low for the crank-rocker
-  // stops at t = 0.434 s (tests/plugins/double_step_test.cpp); 'lagrange' is
+  // stops at t = 0.434 s (tests/plugins/formulations/double_step_test.cpp); 'lagrange' is
   // no formulation at all.
   std::string text = read_text(shipped_model("crank-rocker.yaml"));
   const std::string line = "formulation: {name: double-step}";

@@ -1,4 +1,4 @@
-// The host service mech_derivatives (core/src/plugins/mechanics_derivatives.cpp): K and
+// The host service mech_derivatives (core/src/plugins/components/mechanics_derivatives.cpp): K and
 // C of the full dynamics, subsystem forces included through their point-force
 // derivatives, against central differences of M' zdd - Q' with the same
 // subsystems at the same states. Models with a hydraulic cylinder (the

@@ -1,5 +1,5 @@
 // The minimum-pressure (cavitation) limit of the volume and the cylinder
-// chambers (plugins/hydraulics/gas_release.hpp): off by default the volume is
+// chambers (plugins/components/hydraulics/gas_release.hpp): off by default the volume is
 // bit-for-bit what it was; on, its row gains the released gas's storage
 // C_g(p) dp/dt of Boyle's law above p_min, with an analytic jacobian; and a
 // closed chamber pulled by a falling load keeps its pressure above p_min,
@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "fake_host.hpp"
+#include "plugins/fake_host.hpp"
 #include "monohydra/core/run.hpp"
 #include "monohydra/core/simulation.hpp"
 #include "test_support.hpp"

@@ -1,4 +1,4 @@
-// The cylinder's end stops (plugins/hydraulics/end_stop.hpp, options
+// The cylinder's end stops (plugins/components/hydraulics/end_stop.hpp, options
 // end_stop_*): off by default the cylinder is bit-for-bit what it was; on,
 // the stops push back with k delta + c w delta_dot past either stroke end;
 // and a slider driven by a pump into its stop keeps running, resting at the
@@ -10,7 +10,7 @@
 #include <memory>
 #include <string>
 
-#include "fake_host.hpp"
+#include "plugins/fake_host.hpp"
 #include "monohydra/core/run.hpp"
 #include "monohydra/core/simulation.hpp"
 #include "test_support.hpp"

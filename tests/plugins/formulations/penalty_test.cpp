@@ -1,4 +1,4 @@
-// The penalty-based semirecursive formulation (plugins/penalty/, Sect. 2.3):
+// The penalty-based semirecursive formulation (plugins/formulations/penalty/, Sect. 2.3):
 // constraint violation and energy conservation of the free case-study
 // mechanisms at the paper's alpha = 1e11 and dt = 1 ms, redundant
 // constraints, equality with open-loop on a tree, the effect of the

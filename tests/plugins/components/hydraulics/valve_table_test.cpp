@@ -1,4 +1,4 @@
-// The table valve (valve-table; plugins/hydraulics/flow_map.hpp, spool.hpp):
+// The table valve (valve-table; plugins/components/hydraulics/flow_map.hpp, spool.hpp):
 // through a fake host, a table made from the orifice formula gives valve-4-3's
 // rows exactly at any state (also between and beyond its points); a measured
 // table comes back exactly at its points, bilinearly in the flow coefficient
@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "fake_host.hpp"
+#include "plugins/fake_host.hpp"
 
 namespace mh::test {
 namespace {

@@ -1,4 +1,4 @@
-// The hydraulic motor (plugins/hydraulics/hydraulic_motor.cpp): through a fake
+// The hydraulic motor (plugins/components/hydraulics/hydraulic_motor.cpp): through a fake
 // host, its torque D (p_A - p_B) - friction as a pure couple about the axis on
 // the rotor and the opposite on the housing, its speed read from the arms'
 // velocities, its flow D omega + C_L dp, dissipation >= 0, the state jacobian
@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "fake_host.hpp"
+#include "plugins/fake_host.hpp"
 #include "monohydra/core/run.hpp"
 #include "monohydra/core/simulation.hpp"
 #include "test_support.hpp"

@@ -1,5 +1,5 @@
 // The pressure-opened valves of the hydraulics plugin (relief-valve,
-// check-valve; plugins/hydraulics/pressure_valve.hpp), driven through the C
+// check-valve; plugins/components/hydraulics/pressure_valve.hpp), driven through the C
 // ABI by a fake host: their flow against the closed form of
 // docs/hydraulics.md, no flow at or below the cracking pressure, the
 // catalogue point met exactly, a continuous slope across every corner of the
@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "fake_host.hpp"
+#include "plugins/fake_host.hpp"
 
 namespace mh::test {
 namespace {

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "fake_host.hpp"
+#include "plugins/fake_host.hpp"
 
 namespace mh::test {
 namespace {
