@@ -10,9 +10,9 @@
 #include <memory>
 #include <string>
 
-#include "plugins/fake_host.hpp"
 #include "monohydra/core/run.hpp"
 #include "monohydra/core/simulation.hpp"
+#include "plugins/fake_host.hpp"
 #include "test_support.hpp"
 
 namespace mh::test {

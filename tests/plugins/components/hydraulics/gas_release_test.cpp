@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "plugins/fake_host.hpp"
 #include "monohydra/core/run.hpp"
 #include "monohydra/core/simulation.hpp"
+#include "plugins/fake_host.hpp"
 #include "test_support.hpp"
 
 namespace mh::test {
