@@ -24,6 +24,7 @@
 #include <limits>
 #include <string>
 
+#include "monohydra/cpp/services.hpp"
 #include "monohydra/cpp/specs.hpp"
 #include "monohydra/cpp/subsystem_component.hpp"
 
@@ -67,9 +68,11 @@ solver: {dt: 0.001, t_end: 1}
                  &fluid) != MH_OK ||
         positive(h, "tolerance", 0, 1e-2, "a positive pressure tolerance (Pa)", &tolerance) !=
             MH_OK ||
-        h->option_number(h, "initial_pressure", 0, initial, &initial) != MH_OK)
+        monohydra::options(h).option_number(h, "initial_pressure", 0, initial, &initial) != MH_OK)
       return MH_ERROR;
-    if (n_ < 1.0) return h->option_error(h, "polytropic_exponent", "a polytropic exponent >= 1");
+    if (n_ < 1.0)
+      return monohydra::options(h).option_error(h, "polytropic_exponent",
+                                                "a polytropic exponent >= 1");
     oil_capacitance_ = oil_volume / fluid;
     mh_port_spec port{};
     port.struct_size = sizeof(mh_port_spec);
@@ -79,13 +82,13 @@ solver: {dt: 0.001, t_end: 1}
     port.role = MH_PORT_FLOW;
     port.initial = initial;
     port.abs_tolerance = tolerance;
-    if (h->add_port(h, &port, &p_) != MH_OK) return MH_ERROR;
+    if (monohydra::subsystem_setup(h).add_port(h, &port, &p_) != MH_OK) return MH_ERROR;
     const mh_output_spec outputs[] = {monohydra::output_spec("V_gas", "m^3"),
                                       monohydra::output_spec("q", "m^3/s"),
                                       monohydra::output_spec("E_gas", "J")};
     int32_t* indices[] = {&v_out_, &q_out_, &e_out_};
     for (int i = 0; i < 3; ++i)
-      if (h->add_output(h, &outputs[i], indices[i]) != MH_OK) return MH_ERROR;
+      if (monohydra::outputs(h).add_output(h, &outputs[i], indices[i]) != MH_OK) return MH_ERROR;
     return MH_OK;
   }
 
@@ -125,8 +128,10 @@ solver: {dt: 0.001, t_end: 1}
 
   static mh_status positive(const mh_host* h, const char* key, int required, double fallback,
                             const char* expected, double* out) {
-    if (h->option_number(h, key, required, fallback, out) != MH_OK) return MH_ERROR;
-    if (!(std::isfinite(*out) && *out > 0.0)) return h->option_error(h, key, expected);
+    if (monohydra::options(h).option_number(h, key, required, fallback, out) != MH_OK)
+      return MH_ERROR;
+    if (!(std::isfinite(*out) && *out > 0.0))
+      return monohydra::options(h).option_error(h, key, expected);
     return MH_OK;
   }
   static void put(const mh_subsystem_eval& eval, int32_t index, double value) {

@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "monohydra/cpp/formulation_plugin.hpp"
+#include "monohydra/cpp/services.hpp"
 #include "monohydra/monohydra.h"
 
 namespace lagrange_baumgarte {
@@ -42,9 +43,10 @@ using VectorMap = Eigen::Map<Eigen::VectorXd>;
 
 struct State {
   const mh_host* host = nullptr;
-  double alpha = 10.0;  // Baumgarte damping (1/s)
-  double beta = 10.0;   // Baumgarte stiffness (1/s)
-  double tol = 1e-7;    // Newton tolerance of z (rad or m)
+  const mh_mechanism_service* mech = nullptr;  // found once, at create
+  double alpha = 10.0;                         // Baumgarte damping (1/s)
+  double beta = 10.0;                          // Baumgarte stiffness (1/s)
+  double tol = 1e-7;                           // Newton tolerance of z (rad or m)
   double lambda_tol = 1e-3;
   bool analytic_tangent = true;
   int N = 0, m = 0;
@@ -79,37 +81,39 @@ mh_status evaluate(const State& s, uint32_t flags, double t, const double* z, co
   const mh_mech_request rq{sizeof(mh_mech_request), flags, t, z, zd};
   out = mh_mech_result{};
   out.struct_size = sizeof(mh_mech_result);
-  return s.host->evaluate_mechanics(s.host, &rq, &out);
-}
-
-bool has_mech_derivatives(const mh_host* host) {
-  return host->struct_size >=
-             offsetof(mh_host, mech_derivatives) + sizeof(host->mech_derivatives) &&
-         host->mech_derivatives != nullptr;
+  return s.mech->evaluate_mechanics(s.host, &rq, &out);
 }
 
 mh_status read_options(State& s) {
   const mh_host* h = s.host;
-  if (h->option_number(h, "alpha", 0, s.alpha, &s.alpha) != MH_OK) return MH_ERROR;
-  if (!(s.alpha >= 0.0)) return h->option_error(h, "alpha", "a damping rate >= 0 (1/s)");
-  if (h->option_number(h, "beta", 0, s.beta, &s.beta) != MH_OK) return MH_ERROR;
-  if (!(s.beta >= 0.0)) return h->option_error(h, "beta", "a stiffness rate >= 0 (1/s)");
-  if (h->option_number(h, "tolerance", 0, s.tol, &s.tol) != MH_OK) return MH_ERROR;
-  if (!(s.tol > 0.0)) return h->option_error(h, "tolerance", "a positive number");
-  if (h->option_number(h, "multiplier_tolerance", 0, s.lambda_tol, &s.lambda_tol) != MH_OK)
+  if (monohydra::options(h).option_number(h, "alpha", 0, s.alpha, &s.alpha) != MH_OK)
+    return MH_ERROR;
+  if (!(s.alpha >= 0.0))
+    return monohydra::options(h).option_error(h, "alpha", "a damping rate >= 0 (1/s)");
+  if (monohydra::options(h).option_number(h, "beta", 0, s.beta, &s.beta) != MH_OK) return MH_ERROR;
+  if (!(s.beta >= 0.0))
+    return monohydra::options(h).option_error(h, "beta", "a stiffness rate >= 0 (1/s)");
+  if (monohydra::options(h).option_number(h, "tolerance", 0, s.tol, &s.tol) != MH_OK)
+    return MH_ERROR;
+  if (!(s.tol > 0.0))
+    return monohydra::options(h).option_error(h, "tolerance", "a positive number");
+  if (monohydra::options(h).option_number(h, "multiplier_tolerance", 0, s.lambda_tol,
+                                          &s.lambda_tol) != MH_OK)
     return MH_ERROR;
   if (!(s.lambda_tol > 0.0))
-    return h->option_error(h, "multiplier_tolerance", "a positive force (N or N m)");
+    return monohydra::options(h).option_error(h, "multiplier_tolerance",
+                                              "a positive force (N or N m)");
   const char* tangent = "analytic";
-  if (h->option_string(h, "tangent", 0, tangent, &tangent) != MH_OK) return MH_ERROR;
+  if (monohydra::options(h).option_string(h, "tangent", 0, tangent, &tangent) != MH_OK)
+    return MH_ERROR;
   const std::string name = tangent != nullptr ? tangent : "";
   if (name != "analytic" && name != "differences")
-    return h->option_error(h, "tangent", "analytic or differences");
+    return monohydra::options(h).option_error(h, "tangent", "analytic or differences");
   s.analytic_tangent = name == "analytic";
-  if (s.analytic_tangent && !has_mech_derivatives(h)) {
+  if (s.analytic_tangent && !monohydra::has_mech_derivatives(*s.mech)) {
     log(s, MH_LOG_ERROR,
-        "setup: tangent: analytic needs the host service mech_derivatives; this host "
-        "is older: use tangent: differences");
+        "setup: tangent: analytic needs the host service mech_derivatives, which this "
+        "host does not give: use tangent: differences");
     return MH_ERROR;
   }
   return MH_OK;
@@ -119,8 +123,9 @@ mh_status setup(const mh_formulation* f) noexcept {
   return guarded(f, "setup", [&](State& s) {
     mh_mech_info info{};
     info.struct_size = sizeof(info);
-    if (s.host->mech_info(s.host, &info) != MH_OK || info.z0 == nullptr || info.zd0 == nullptr ||
-        info.coordinate_names == nullptr || info.coordinate_is_angle == nullptr) {
+    if (monohydra::mechanism(s.host).mech_info(s.host, &info) != MH_OK || info.z0 == nullptr ||
+        info.zd0 == nullptr || info.coordinate_names == nullptr ||
+        info.coordinate_is_angle == nullptr) {
       log(s, MH_LOG_ERROR, "setup: the host gave no mechanism information");
       return MH_ERROR;
     }
@@ -142,24 +147,25 @@ mh_status setup(const mh_formulation* f) noexcept {
           info.coordinate_names[i], info.coordinate_is_angle[i] != 0 ? "rad" : "m",
           MH_UNKNOWN_SECOND_ORDER, s.tol);
       int32_t index = -1;
-      if (s.host->add_unknown(s.host, &spec, &index) != MH_OK) return MH_ERROR;
+      if (monohydra::unknowns(s.host).add_unknown(s.host, &spec, &index) != MH_OK) return MH_ERROR;
     }
     for (int i = 1; i <= s.m; ++i) s.output_names.push_back("lambda" + std::to_string(i));
     for (int i = 0; i < s.m; ++i) {
       const mh_unknown_spec spec = monohydra::unknown_spec(
           s.output_names[static_cast<size_t>(i)].c_str(), "N", MH_UNKNOWN_ALGEBRAIC, s.lambda_tol);
       int32_t index = -1;
-      if (s.host->add_unknown(s.host, &spec, &index) != MH_OK) return MH_ERROR;
+      if (monohydra::unknowns(s.host).add_unknown(s.host, &spec, &index) != MH_OK) return MH_ERROR;
     }
     s.lambda_out.assign(static_cast<size_t>(s.m), -1);
     for (int i = 0; i < s.m; ++i) {
       const mh_output_spec spec =
           monohydra::output_spec(s.output_names[static_cast<size_t>(i)].c_str(), "");
-      if (s.host->add_output(s.host, &spec, &s.lambda_out[static_cast<size_t>(i)]) != MH_OK)
+      if (monohydra::outputs(s.host).add_output(s.host, &spec,
+                                                &s.lambda_out[static_cast<size_t>(i)]) != MH_OK)
         return MH_ERROR;
     }
     const mh_output_spec spec = monohydra::output_spec("phi_dot_norm", "1/s");
-    return s.host->add_output(s.host, &spec, &s.phi_dot_out);
+    return monohydra::outputs(s.host).add_output(s.host, &spec, &s.phi_dot_out);
   });
 }
 
@@ -274,7 +280,7 @@ mh_status tangent(const mh_formulation* f, const mh_unknown_values* at,
     rq.v = x + s.N;  // lambda
     mh_mech_derivatives d{};
     d.struct_size = sizeof(d);
-    const mh_status st = s.host->mech_derivatives(s.host, &rq, &d);
+    const mh_status st = s.mech->mech_derivatives(s.host, &rq, &d);
     if (st >= MH_DISCARD) return st;
     MatrixMap dx(dr_dx, n, n), dxd(dr_dxd, n, n), dxdd(dr_dxdd, n, n);
     dx.topLeftCorner(N, N) = ConstMatrixMap(d.K, N, N);

@@ -8,6 +8,7 @@
 
 #include "common.hpp"
 #include "integrators.hpp"
+#include "monohydra/cpp/services.hpp"
 
 namespace integ {
 namespace {
@@ -31,9 +32,11 @@ mh_status setup(const mh_integrator* s, const mh_integrator_problem* problem) {
   return monohydra::guarded_integrator_op(g.host, "generalized-alpha setup", [&] {
     if (read_problem(g, problem) != MH_OK) return MH_ERROR;
     const mh_host* host = g.host;
-    if (host->option_number(host, "rho_inf", 0, 0.8, &g.rho_inf) != MH_OK) return MH_ERROR;
+    if (monohydra::options(host).option_number(host, "rho_inf", 0, 0.8, &g.rho_inf) != MH_OK)
+      return MH_ERROR;
     if (!(g.rho_inf >= 0.0 && g.rho_inf <= 1.0))
-      return host->option_error(host, "rho_inf", "a spectral radius at infinity in [0, 1]");
+      return monohydra::options(host).option_error(host, "rho_inf",
+                                                   "a spectral radius at infinity in [0, 1]");
     const double rho = g.rho_inf;
     g.am = (2.0 * rho - 1.0) / (rho + 1.0);             // alpha_m
     g.af = rho / (rho + 1.0);                           // alpha_f

@@ -51,8 +51,13 @@ const abi_layout mh_c_layouts[] = {
     LAYOUT(mh_mechanics_map),
     LAYOUT(mh_coordinate_buffers),
     LAYOUT(mh_explicit_method),
+    LAYOUT(mh_options_service),
+    LAYOUT(mh_mechanism_service),
+    LAYOUT(mh_outputs_service),
+    LAYOUT(mh_subsystem_setup_service),
+    LAYOUT(mh_unknowns_service),
 };
 const size_t mh_c_layout_count = sizeof(mh_c_layouts) / sizeof(mh_c_layouts[0]);
-const size_t mh_c_offset_host_evaluate = offsetof(mh_host, evaluate_mechanics);
+const size_t mh_c_offset_host_get_service = offsetof(mh_host, get_service);
 const size_t mh_c_offset_formulation_get_extension = offsetof(mh_formulation, get_extension);
 const size_t mh_c_offset_subsystem_get_extension = offsetof(mh_subsystem, get_extension);

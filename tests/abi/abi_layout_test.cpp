@@ -15,7 +15,7 @@ struct abi_layout {
 };
 extern const abi_layout mh_c_layouts[];
 extern const size_t mh_c_layout_count;
-extern const size_t mh_c_offset_host_evaluate;
+extern const size_t mh_c_offset_host_get_service;
 extern const size_t mh_c_offset_formulation_get_extension;
 extern const size_t mh_c_offset_subsystem_get_extension;
 }
@@ -54,6 +54,11 @@ TEST(AbiLayout, CAndCxxSeeTheSameSizesAndAlignments) {
       CXX_LAYOUT(mh_mechanics_map),
       CXX_LAYOUT(mh_coordinate_buffers),
       CXX_LAYOUT(mh_explicit_method),
+      CXX_LAYOUT(mh_options_service),
+      CXX_LAYOUT(mh_mechanism_service),
+      CXX_LAYOUT(mh_outputs_service),
+      CXX_LAYOUT(mh_subsystem_setup_service),
+      CXX_LAYOUT(mh_unknowns_service),
   };
   ASSERT_EQ(mh_c_layout_count, sizeof(cxx) / sizeof(cxx[0]));
   for (size_t i = 0; i < mh_c_layout_count; ++i) {
@@ -64,7 +69,7 @@ TEST(AbiLayout, CAndCxxSeeTheSameSizesAndAlignments) {
 }
 
 TEST(AbiLayout, FunctionTablesKeepTheirFieldOffsets) {
-  EXPECT_EQ(mh_c_offset_host_evaluate, offsetof(mh_host, evaluate_mechanics));
+  EXPECT_EQ(mh_c_offset_host_get_service, offsetof(mh_host, get_service));
   EXPECT_EQ(mh_c_offset_formulation_get_extension, offsetof(mh_formulation, get_extension));
   EXPECT_EQ(mh_c_offset_subsystem_get_extension, offsetof(mh_subsystem, get_extension));
 }

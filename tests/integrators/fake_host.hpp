@@ -17,10 +17,9 @@ class FakeHost {
     api_.abi_version = MH_ABI_VERSION_INIT;
     api_.host_data = this;
     api_.log = log;
-    api_.option_number = option_number;
-    api_.option_string = option_string;
-    api_.option_table = option_table;
-    api_.option_error = option_error;
+    api_.get_service = get_service;
+    options_ = {sizeof(mh_options_service), option_number, option_string, option_table,
+                option_error};
   }
   FakeHost(const FakeHost&) = delete;
   FakeHost& operator=(const FakeHost&) = delete;
@@ -29,13 +28,19 @@ class FakeHost {
 
   std::map<std::string, double> numbers;
   std::map<std::string, std::string> strings;
-  std::map<std::string, std::vector<double>> tables;  // row-major
+  std::map<std::string, std::vector<double>> tables;  // rows after rows
   std::vector<std::string> logs;                      // "<level>: <message>"
   std::vector<std::string> option_errors;             // keys given to option_error
   std::vector<std::string> asked;                     // keys asked for, in order
 
  private:
   mh_host api_{};
+  mh_options_service options_{};
+
+  // An integrator's one service: its options.
+  static const void* get_service(const mh_host* h, const char* id) {
+    return id != nullptr && std::string(id) == MH_SERVICE_OPTIONS ? &self(h).options_ : nullptr;
+  }
 
   static FakeHost& self(const mh_host* h) { return *static_cast<FakeHost*>(h->host_data); }
 

@@ -70,21 +70,18 @@ class FakeHost {
     table.abi_version = MH_ABI_VERSION_INIT;
     table.host_data = this;
     table.log = log;
-    table.option_number = option_number;
-    table.option_string = option_string;
-    table.option_table = option_table;
-    table.option_error = option_error;
-    table.mech_info = mech_info;
-    table.add_state = add_state;
-    table.find_state = find_state;
-    table.add_point = add_point;
-    table.get_extension = get_extension;
-    table.add_output = add_output;
-    table.add_port = add_port;
-    table.point_position = point_position;
-    table.add_time_event = add_time_event;
-    table.add_unknown = nullptr;         // formulations only
-    table.evaluate_mechanics = nullptr;  // formulations only
+    table.get_service = get_service;
+    options_ = {sizeof(mh_options_service), option_number, option_string, option_table,
+                option_error};
+    mechanism_ = {sizeof(mh_mechanism_service), mech_info, nullptr, nullptr};  // a subsystem's
+    outputs_ = {sizeof(mh_outputs_service), add_output};
+    setup_ = {sizeof(mh_subsystem_setup_service),
+              add_state,
+              find_state,
+              add_point,
+              add_port,
+              point_position,
+              add_time_event};
   }
   FakeHost(const FakeHost&) = delete;
   FakeHost& operator=(const FakeHost&) = delete;
@@ -208,7 +205,21 @@ class FakeHost {
     *index = static_cast<int32_t>(f.points.size() - 1);
     return MH_OK;
   }
-  static const void* get_extension(const mh_host*, const char*) { return nullptr; }
+  // A subsystem's services: options, mech_info, outputs and its setup (no
+  // unknowns, no evaluate_mechanics).
+  static const void* get_service(const mh_host* h, const char* id) {
+    FakeHost& self = *static_cast<FakeHost*>(h->host_data);
+    const std::string which = id != nullptr ? id : "";
+    if (which == MH_SERVICE_OPTIONS) return &self.options_;
+    if (which == MH_SERVICE_MECHANISM) return &self.mechanism_;
+    if (which == MH_SERVICE_OUTPUTS) return &self.outputs_;
+    if (which == MH_SERVICE_SUBSYSTEM_SETUP) return &self.setup_;
+    return nullptr;
+  }
+  mh_options_service options_{};
+  mh_mechanism_service mechanism_{};
+  mh_outputs_service outputs_{};
+  mh_subsystem_setup_service setup_{};
   static mh_status add_output(const mh_host* h, const mh_output_spec* spec, int32_t* index) {
     FakeHost& f = self(h);
     if (spec == nullptr || spec->struct_size < sizeof(mh_output_spec) || spec->name == nullptr)

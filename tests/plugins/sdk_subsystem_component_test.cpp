@@ -11,6 +11,7 @@
 
 #include "fake_host.hpp"
 #include "monohydra/cpp/formulation_plugin.hpp"
+#include "monohydra/cpp/services.hpp"
 #include "monohydra/cpp/subsystem_component.hpp"
 
 namespace mh::test {
@@ -27,7 +28,7 @@ class Minimal {
   Minimal& operator=(const Minimal&) = delete;
   mh_status setup() {
     const mh_state_spec x = monohydra::state_spec("x", "m", 1.0, 1e-6);
-    return host_->add_state(host_, &x, &x_);
+    return monohydra::subsystem_setup(host_).add_state(host_, &x, &x_);
   }
   mh_status evaluate(const mh_subsystem_eval& eval) const {
     eval.residual[x_] += eval.ydot[x_] + 2.0 * eval.y[x_];
@@ -235,14 +236,14 @@ TEST(SdkSubsystemComponent, FactoryListsCreatesByIdAndAnswersOnlyItsFactoryId) {
 }
 
 TEST(SdkSubsystemComponent, HasFieldComparesTheTablesStructSize) {
-  mh_host host{};
-  host.struct_size = sizeof(mh_host);
-  EXPECT_TRUE(MONOHYDRA_HAS_FIELD(mh_host, &host, evaluate_mechanics));
-  // A table that ends before its last field (as a 2.0 table would before a
-  // field a later 2.x appends).
-  host.struct_size = static_cast<uint32_t>(offsetof(mh_host, evaluate_mechanics));
-  EXPECT_FALSE(MONOHYDRA_HAS_FIELD(mh_host, &host, evaluate_mechanics));
-  EXPECT_TRUE(MONOHYDRA_HAS_FIELD(mh_host, &host, add_unknown));
+  mh_mechanism_service mech{};
+  mech.struct_size = sizeof(mh_mechanism_service);
+  EXPECT_TRUE(MONOHYDRA_HAS_FIELD(mh_mechanism_service, &mech, mech_derivatives));
+  // A table that ends before its last field (as a 3.0 table would before a
+  // field a later 3.x appends).
+  mech.struct_size = static_cast<uint32_t>(offsetof(mh_mechanism_service, mech_derivatives));
+  EXPECT_FALSE(MONOHYDRA_HAS_FIELD(mh_mechanism_service, &mech, mech_derivatives));
+  EXPECT_TRUE(MONOHYDRA_HAS_FIELD(mh_mechanism_service, &mech, evaluate_mechanics));
 }
 
 TEST(SdkSpecs, FillStructSizeAndLeaveRoleAndRangeEmpty) {

@@ -502,7 +502,41 @@ mh_status host_add_time_event(const mh_host* host, double t) {
   return MH_OK;
 }
 
-const void* host_get_extension(const mh_host*, const char*) {
+// The service tables, one per role's need (host.h): the functions are the
+// same for every instance (each takes its mh_host), so the tables are too.
+constexpr mh_options_service kOptions{sizeof(mh_options_service), host_option_number,
+                                      host_option_string, host_option_table, host_option_error};
+constexpr mh_mechanism_service kFormulationMechanism{
+    sizeof(mh_mechanism_service), host_mech_info, host_evaluate_mechanics, host_mech_derivatives};
+constexpr mh_mechanism_service kSubsystemMechanism{sizeof(mh_mechanism_service), host_mech_info,
+                                                   nullptr, nullptr};
+constexpr mh_outputs_service kOutputs{sizeof(mh_outputs_service), host_add_output};
+constexpr mh_subsystem_setup_service kSubsystemSetup{sizeof(mh_subsystem_setup_service),
+                                                     host_add_state,
+                                                     host_find_state,
+                                                     host_add_point,
+                                                     host_add_port,
+                                                     host_point_position,
+                                                     host_add_time_event};
+constexpr mh_unknowns_service kUnknowns{sizeof(mh_unknowns_service), host_add_unknown};
+
+// What each role is given: integrators their options; formulations options,
+// the mechanics, outputs and unknowns; subsystems options, mech_info,
+// outputs and their place in the model.
+const void* host_get_service(const mh_host* host, const char* id) {
+  InstanceHost* hp = live(host, "get_service");
+  if (hp == nullptr || id == nullptr) return nullptr;
+  const InstanceHost::Role role = hp->role;
+  const bool formulation = role == InstanceHost::Role::formulation;
+  const bool subsystem = role == InstanceHost::Role::subsystem;
+  if (std::strcmp(id, MH_SERVICE_OPTIONS) == 0) return &kOptions;
+  if (std::strcmp(id, MH_SERVICE_MECHANISM) == 0)
+    return formulation ? &kFormulationMechanism : subsystem ? &kSubsystemMechanism : nullptr;
+  if (std::strcmp(id, MH_SERVICE_OUTPUTS) == 0)
+    return formulation || subsystem ? &kOutputs : nullptr;
+  if (std::strcmp(id, MH_SERVICE_SUBSYSTEM_SETUP) == 0)
+    return subsystem ? &kSubsystemSetup : nullptr;
+  if (std::strcmp(id, MH_SERVICE_UNKNOWNS) == 0) return formulation ? &kUnknowns : nullptr;
   return nullptr;
 }
 
@@ -527,22 +561,7 @@ void Simulation::Engine::make_host(InstanceHost& h, const std::string& source,
   h.table.abi_version = MH_ABI_VERSION_INIT;
   h.table.host_data = &h;
   h.table.log = host_log;
-  h.table.option_number = host_option_number;
-  h.table.option_string = host_option_string;
-  h.table.option_table = host_option_table;
-  h.table.option_error = host_option_error;
-  h.table.mech_info = host_mech_info;
-  h.table.get_extension = host_get_extension;
-  h.table.add_output = host_add_output;
-  h.table.add_state = host_add_state;
-  h.table.find_state = host_find_state;
-  h.table.add_point = host_add_point;
-  h.table.add_port = host_add_port;
-  h.table.point_position = host_point_position;
-  h.table.add_time_event = host_add_time_event;
-  h.table.add_unknown = host_add_unknown;
-  h.table.evaluate_mechanics = host_evaluate_mechanics;
-  h.table.mech_derivatives = host_mech_derivatives;
+  h.table.get_service = host_get_service;
   const std::lock_guard<std::mutex> lock(live_mutex());
   live_hosts().insert(&h.table);
 }

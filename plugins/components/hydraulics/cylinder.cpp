@@ -20,6 +20,7 @@
 #include "example_models.hpp"
 #include "gas_release.hpp"
 #include "host_services.hpp"
+#include "monohydra/cpp/services.hpp"
 #include "touched_states.hpp"
 
 namespace hyd {
@@ -46,30 +47,32 @@ class Cylinder {
                         "a positive bulk modulus of the cylinder (Pa)", &chamber) != MH_OK ||
         positive_option(h, "fluid_bulk_modulus", 1, 0.0,
                         "a positive bulk modulus of the fluid (Pa)", &fluid) != MH_OK ||
-        h->option_number(h, "efficiency", 1, 0.0, &efficiency_) != MH_OK ||
+        monohydra::options(h).option_number(h, "efficiency", 1, 0.0, &efficiency_) != MH_OK ||
         positive_option(h, "friction_velocity", 0, 0.01, "a positive friction velocity (m/s)",
                         &v_s_) != MH_OK)
       return MH_ERROR;
     if (!(d3 < d2))
-      return h->option_error(
+      return monohydra::options(h).option_error(
           h, "rod_diameter",
           ("a rod diameter below the piston diameter " + short_number(d2) + " m").c_str());
     if (!(efficiency_ > 0.0 && efficiency_ <= 1.0))
-      return h->option_error(h, "efficiency", "an efficiency in (0, 1]");
+      return monohydra::options(h).option_error(h, "efficiency", "an efficiency in (0, 1]");
     a2_ = 0.25 * kPi * d2 * d2;
     a3_ = 0.25 * kPi * (d2 * d2 - d3 * d3);
     compliance_ = 1.0 / fluid + 1.0 / chamber;
 
     double xa[3], xb[3];
-    if (h->add_point(h, "a", &point_a_) != MH_OK || h->add_point(h, "b", &point_b_) != MH_OK ||
-        h->point_position(h, point_a_, xa) != MH_OK || h->point_position(h, point_b_, xb) != MH_OK)
+    if (monohydra::subsystem_setup(h).add_point(h, "a", &point_a_) != MH_OK ||
+        monohydra::subsystem_setup(h).add_point(h, "b", &point_b_) != MH_OK ||
+        monohydra::subsystem_setup(h).point_position(h, point_a_, xa) != MH_OK ||
+        monohydra::subsystem_setup(h).point_position(h, point_b_, xb) != MH_OK)
       return MH_ERROR;
     s0_ = std::sqrt((xb[0] - xa[0]) * (xb[0] - xa[0]) + (xb[1] - xa[1]) * (xb[1] - xa[1]) +
                     (xb[2] - xa[2]) * (xb[2] - xa[2]));
     l2_0_ = s0_ - length_;
     l3_0_ = length_ - l2_0_;
     if (l2_0_ < 0.0 || l3_0_ < 0.0)
-      return h->option_error(
+      return monohydra::options(h).option_error(
           h, "length",
           ("a cylinder length l with s0/2 <= l <= s0, where s0 = " + short_number(s0_) +
            " m is the initial distance between points a and b (the chambers l2_0 = s0 - l = " +
@@ -84,8 +87,9 @@ class Cylinder {
     const mh_output_spec s = monohydra::output_spec("s", "m");
     const mh_output_spec sdot = monohydra::output_spec("sdot", "m/s");
     const mh_output_spec force = monohydra::output_spec("Fs", "N");
-    if (h->add_output(h, &s, &s_out_) != MH_OK || h->add_output(h, &sdot, &sdot_out_) != MH_OK ||
-        h->add_output(h, &force, &force_out_) != MH_OK)
+    if (monohydra::outputs(h).add_output(h, &s, &s_out_) != MH_OK ||
+        monohydra::outputs(h).add_output(h, &sdot, &sdot_out_) != MH_OK ||
+        monohydra::outputs(h).add_output(h, &force, &force_out_) != MH_OK)
       return MH_ERROR;
     if (setup_end_stop() != MH_OK) return MH_ERROR;
     return setup_gas_release();
@@ -261,30 +265,33 @@ class Cylinder {
   mh_status setup_end_stop() {
     const mh_host* h = host_;
     double k = kNaN, c = kNaN, depth = kNaN;
-    if (h->option_number(h, "end_stop_stiffness", 0, kNaN, &k) != MH_OK ||
-        h->option_number(h, "end_stop_damping", 0, kNaN, &c) != MH_OK ||
-        h->option_number(h, "end_stop_depth", 0, kNaN, &depth) != MH_OK)
+    if (monohydra::options(h).option_number(h, "end_stop_stiffness", 0, kNaN, &k) != MH_OK ||
+        monohydra::options(h).option_number(h, "end_stop_damping", 0, kNaN, &c) != MH_OK ||
+        monohydra::options(h).option_number(h, "end_stop_depth", 0, kNaN, &depth) != MH_OK)
       return MH_ERROR;
     if (std::isnan(k)) {
       if (!std::isnan(c))
-        return h->option_error(h, "end_stop_damping",
-                               "end_stop_stiffness beside it (the stops are off without it)");
+        return monohydra::options(h).option_error(
+            h, "end_stop_damping", "end_stop_stiffness beside it (the stops are off without it)");
       if (!std::isnan(depth))
-        return h->option_error(h, "end_stop_depth",
-                               "end_stop_stiffness beside it (the stops are off without it)");
+        return monohydra::options(h).option_error(
+            h, "end_stop_depth", "end_stop_stiffness beside it (the stops are off without it)");
       return MH_OK;
     }
-    if (!(k > 0.0)) return h->option_error(h, "end_stop_stiffness", "a positive stiffness (N/m)");
+    if (!(k > 0.0))
+      return monohydra::options(h).option_error(h, "end_stop_stiffness",
+                                                "a positive stiffness (N/m)");
     if (std::isnan(c)) c = 0.0;
     if (!(c >= 0.0))
-      return h->option_error(h, "end_stop_damping", "a non-negative damping (N s/m)");
+      return monohydra::options(h).option_error(h, "end_stop_damping",
+                                                "a non-negative damping (N s/m)");
     if (std::isnan(depth)) depth = 1e-3;
     if (!(depth > 0.0))
-      return h->option_error(h, "end_stop_depth",
-                             "a positive depth (m) over which the stop's damping comes in");
+      return monohydra::options(h).option_error(
+          h, "end_stop_depth", "a positive depth (m) over which the stop's damping comes in");
     end_stop_ = EndStop(s0_ - l2_0_, s0_ + l3_0_, k, c, depth);
     const mh_output_spec f = monohydra::output_spec("F_stop", "N");
-    return h->add_output(h, &f, &stop_out_);
+    return monohydra::outputs(h).add_output(h, &f, &stop_out_);
   }
   // The chambers' minimum-pressure limit (gas_release.hpp), its gas fraction
   // taken of each chamber's full-stroke volume, A2 l and A3 l.

@@ -12,6 +12,7 @@
 #include "components.hpp"
 #include "example_models.hpp"
 #include "host_services.hpp"
+#include "monohydra/cpp/services.hpp"
 
 namespace hyd {
 namespace {
@@ -27,13 +28,14 @@ class FlowSource {
 
   mh_status setup() {
     const mh_host* h = host_;
-    if (h->option_number(h, "flow", 1, 0.0, &flow_) != MH_OK) return MH_ERROR;
+    if (monohydra::options(h).option_number(h, "flow", 1, 0.0, &flow_) != MH_OK) return MH_ERROR;
     if (!(std::isfinite(flow_) && flow_ >= 0.0))
-      return h->option_error(h, "flow", "a non-negative, finite flow (m^3/s)");
+      return monohydra::options(h).option_error(h, "flow", "a non-negative, finite flow (m^3/s)");
     if (add_hydraulic_port(h, "p", MH_PORT_FLOW, kNaN, kNaN, &p_) != MH_OK) return MH_ERROR;
     const mh_output_spec q = monohydra::output_spec("q", "m^3/s");
     const mh_output_spec power = monohydra::output_spec("P", "W");
-    if (h->add_output(h, &q, &q_out_) != MH_OK || h->add_output(h, &power, &power_out_) != MH_OK)
+    if (monohydra::outputs(h).add_output(h, &q, &q_out_) != MH_OK ||
+        monohydra::outputs(h).add_output(h, &power, &power_out_) != MH_OK)
       return MH_ERROR;
     return MH_OK;
   }

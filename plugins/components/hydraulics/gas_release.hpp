@@ -20,6 +20,7 @@
 #include <string>
 
 #include "host_services.hpp"
+#include "monohydra/cpp/services.hpp"
 #include "monohydra/host.h"
 
 namespace hyd {
@@ -61,23 +62,24 @@ class GasRelease {
   mh_status read(const mh_host* h) {
     constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
     double p_min = kNaN, alpha = kNaN, p_ref = kNaN;
-    if (h->option_number(h, "minimum_pressure", 0, kNaN, &p_min) != MH_OK ||
-        h->option_number(h, "gas_fraction", 0, kNaN, &alpha) != MH_OK ||
-        h->option_number(h, "gas_reference_pressure", 0, kNaN, &p_ref) != MH_OK)
+    if (monohydra::options(h).option_number(h, "minimum_pressure", 0, kNaN, &p_min) != MH_OK ||
+        monohydra::options(h).option_number(h, "gas_fraction", 0, kNaN, &alpha) != MH_OK ||
+        monohydra::options(h).option_number(h, "gas_reference_pressure", 0, kNaN, &p_ref) != MH_OK)
       return MH_ERROR;
     if (std::isnan(p_min)) {
       const char* alone = "minimum_pressure beside it (the cavitation limit is off without it)";
-      if (!std::isnan(alpha)) return h->option_error(h, "gas_fraction", alone);
-      if (!std::isnan(p_ref)) return h->option_error(h, "gas_reference_pressure", alone);
+      if (!std::isnan(alpha)) return monohydra::options(h).option_error(h, "gas_fraction", alone);
+      if (!std::isnan(p_ref))
+        return monohydra::options(h).option_error(h, "gas_reference_pressure", alone);
       return MH_OK;
     }
     if (std::isnan(alpha)) alpha = 1e-3;
     if (std::isnan(p_ref)) p_ref = 1e5;
     if (!(alpha > 0.0 && alpha < 1.0))
-      return h->option_error(h, "gas_fraction",
-                             "a free-gas volume fraction in (0, 1) at gas_reference_pressure");
+      return monohydra::options(h).option_error(
+          h, "gas_fraction", "a free-gas volume fraction in (0, 1) at gas_reference_pressure");
     if (!(p_ref > p_min))
-      return h->option_error(
+      return monohydra::options(h).option_error(
           h, "gas_reference_pressure",
           ("a reference pressure above minimum_pressure = " + short_number(p_min) + " Pa").c_str());
     on_ = true;

@@ -3,14 +3,17 @@
 #include <cmath>
 #include <cstdio>
 
+#include "monohydra/cpp/services.hpp"
 #include "monohydra/host.h"
 
 namespace hyd {
 
 mh_status positive_option(const mh_host* host, const char* key, int required, double fallback,
                           const char* expected, double* out) {
-  if (host->option_number(host, key, required, fallback, out) != MH_OK) return MH_ERROR;
-  if (!(std::isfinite(*out) && *out > 0.0)) return host->option_error(host, key, expected);
+  if (monohydra::options(host).option_number(host, key, required, fallback, out) != MH_OK)
+    return MH_ERROR;
+  if (!(std::isfinite(*out) && *out > 0.0))
+    return monohydra::options(host).option_error(host, key, expected);
   return MH_OK;
 }
 
@@ -24,7 +27,7 @@ mh_status add_hydraulic_port(const mh_host* host, const char* key, uint32_t role
   spec.role = role;
   spec.initial = initial;
   spec.abs_tolerance = abs_tolerance;
-  return host->add_port(host, &spec, index);
+  return monohydra::subsystem_setup(host).add_port(host, &spec, index);
 }
 
 void log_error(const mh_host* host, const std::string& message) {

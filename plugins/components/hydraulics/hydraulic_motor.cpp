@@ -25,6 +25,7 @@
 #include "components.hpp"
 #include "example_models.hpp"
 #include "host_services.hpp"
+#include "monohydra/cpp/services.hpp"
 #include "touched_states.hpp"
 
 namespace hyd {
@@ -78,7 +79,8 @@ class HydraulicMotor {
     double x[kPoints][3];
     for (int i = 0; i < kPoints; ++i) {
       int32_t index = -1;
-      if (h->add_point(h, keys[i], &index) != MH_OK || h->point_position(h, index, x[i]) != MH_OK)
+      if (monohydra::subsystem_setup(h).add_point(h, keys[i], &index) != MH_OK ||
+          monohydra::subsystem_setup(h).point_position(h, index, x[i]) != MH_OK)
         return MH_ERROR;
       if (index != i) {
         log_error(h, "hydraulic-motor: unexpected point numbering from the host");
@@ -93,8 +95,9 @@ class HydraulicMotor {
     const mh_output_spec omega = monohydra::output_spec("omega", "rad/s");
     const mh_output_spec torque = monohydra::output_spec("torque", "N m");
     const mh_output_spec q = monohydra::output_spec("q", "m^3/s");
-    if (h->add_output(h, &omega, &omega_out_) != MH_OK ||
-        h->add_output(h, &torque, &torque_out_) != MH_OK || h->add_output(h, &q, &q_out_) != MH_OK)
+    if (monohydra::outputs(h).add_output(h, &omega, &omega_out_) != MH_OK ||
+        monohydra::outputs(h).add_output(h, &torque, &torque_out_) != MH_OK ||
+        monohydra::outputs(h).add_output(h, &q, &q_out_) != MH_OK)
       return MH_ERROR;
     return MH_OK;
   }
@@ -169,8 +172,9 @@ class HydraulicMotor {
  private:
   static mh_status non_negative(const mh_host* h, const char* key, const char* expected,
                                 double* out) {
-    if (h->option_number(h, key, 0, 0.0, out) != MH_OK) return MH_ERROR;
-    if (!(std::isfinite(*out) && *out >= 0.0)) return h->option_error(h, key, expected);
+    if (monohydra::options(h).option_number(h, key, 0, 0.0, out) != MH_OK) return MH_ERROR;
+    if (!(std::isfinite(*out) && *out >= 0.0))
+      return monohydra::options(h).option_error(h, key, expected);
     return MH_OK;
   }
 

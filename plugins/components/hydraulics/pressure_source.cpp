@@ -9,6 +9,7 @@
 #include "components.hpp"
 #include "example_models.hpp"
 #include "host_services.hpp"
+#include "monohydra/cpp/services.hpp"
 #include "touched_states.hpp"
 
 namespace hyd {
@@ -24,9 +25,10 @@ class PressureSource {
   mh_status setup() {
     const mh_host* h = host_;
     double tolerance = 0.0, flow_tolerance = 0.0;
-    if (h->option_number(h, "pressure", 1, 0.0, &pressure_) != MH_OK) return MH_ERROR;
+    if (monohydra::options(h).option_number(h, "pressure", 1, 0.0, &pressure_) != MH_OK)
+      return MH_ERROR;
     if (!(std::isfinite(pressure_) && pressure_ >= 0.0))
-      return h->option_error(h, "pressure", "a non-negative pressure (Pa)");
+      return monohydra::options(h).option_error(h, "pressure", "a non-negative pressure (Pa)");
     if (positive_option(h, "tolerance", 0, 1e-2, "a positive pressure tolerance (Pa)",
                         &tolerance) != MH_OK ||
         positive_option(h, "flow_tolerance", 0, 1e-10, "a positive flow tolerance (m^3/s)",
@@ -36,7 +38,7 @@ class PressureSource {
       return MH_ERROR;
     states_.add(p_);
     const mh_state_spec q = monohydra::state_spec("q", "m^3/s", 0.0, flow_tolerance);
-    if (h->add_state(h, &q, &q_) != MH_OK) return MH_ERROR;
+    if (monohydra::subsystem_setup(h).add_state(h, &q, &q_) != MH_OK) return MH_ERROR;
     states_.add(q_);
     return MH_OK;
   }

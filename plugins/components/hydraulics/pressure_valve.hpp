@@ -24,6 +24,7 @@
 #include <string>
 
 #include "host_services.hpp"
+#include "monohydra/cpp/services.hpp"
 #include "monohydra/cpp/subsystem_component.hpp"
 #include "touched_states.hpp"
 
@@ -90,9 +91,10 @@ class PressureValve {
     const mh_host* h = host_;
     constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
     double cracking = 0.0, override_pressure = 0.0, q_nom = 0.0, smoothing = 0.0, p_tr = 0.0;
-    if (h->option_number(h, "cracking_pressure", 1, 0.0, &cracking) != MH_OK) return MH_ERROR;
+    if (monohydra::options(h).option_number(h, "cracking_pressure", 1, 0.0, &cracking) != MH_OK)
+      return MH_ERROR;
     if (!(cracking >= Traits::kMinCracking))
-      return h->option_error(h, "cracking_pressure", Traits::kCrackingExpected);
+      return monohydra::options(h).option_error(h, "cracking_pressure", Traits::kCrackingExpected);
     if (positive_option(h, "override_pressure", 1, 0.0,
                         "a positive override (Pa): the pressure rise from cracking to fully open",
                         &override_pressure) != MH_OK ||
@@ -105,12 +107,14 @@ class PressureValve {
                         "a positive laminar-turbulent transition pressure (Pa)", &p_tr) != MH_OK)
       return MH_ERROR;
     if (smoothing > 1.0)
-      return h->option_error(h, "smoothing", "a smoothing in (0, 1] (a fraction of the override)");
+      return monohydra::options(h).option_error(
+          h, "smoothing", "a smoothing in (0, 1] (a fraction of the override)");
     const double full = cracking + override_pressure;
     double p_nom = full;
-    if (h->option_number(h, "nominal_pressure", 0, full, &p_nom) != MH_OK) return MH_ERROR;
+    if (monohydra::options(h).option_number(h, "nominal_pressure", 0, full, &p_nom) != MH_OK)
+      return MH_ERROR;
     if (!(p_nom >= full))
-      return h->option_error(
+      return monohydra::options(h).option_error(
           h, "nominal_pressure",
           ("a pressure drop at or above cracking_pressure + override_pressure = " +
            short_number(full) + " Pa (where the valve is open and passes nominal_flow)")
@@ -124,7 +128,7 @@ class PressureValve {
       return MH_ERROR;
     states_.add(out_);
     const mh_output_spec q = monohydra::output_spec("q", "m^3/s");
-    return h->add_output(h, &q, &q_out_);
+    return monohydra::outputs(h).add_output(h, &q, &q_out_);
   }
 
   mh_status evaluate(const mh_subsystem_eval& eval) const {

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "host_services.hpp"
+#include "monohydra/cpp/services.hpp"
 #include "monohydra/cpp/specs.hpp"
 #include "time_table.hpp"
 #include "touched_states.hpp"
@@ -27,27 +28,27 @@ class Spool {
     uint32_t rows = 0;
     if (positive_option(h, "time_constant", 1, 0.0, "a positive spool time constant tau (s)",
                         &tau_) != MH_OK ||
-        h->option_table(h, "reference", 1, 2, &table, &rows) != MH_OK ||
-        h->option_number(h, "initial_spool", 0, 0.0, &u0) != MH_OK ||
+        monohydra::options(h).option_table(h, "reference", 1, 2, &table, &rows) != MH_OK ||
+        monohydra::options(h).option_number(h, "initial_spool", 0, 0.0, &u0) != MH_OK ||
         positive_option(h, "tolerance", 0, 1e-7, "a positive spool tolerance (V)", &tolerance) !=
             MH_OK ||
         positive_option(h, "spool_limit", 0, 10.0, "a positive spool limit (V)", &limit_) != MH_OK)
       return MH_ERROR;
     std::string error;
     if (!reference_.assign(table, rows, error))
-      return h->option_error(h, "reference", error.c_str());
+      return monohydra::options(h).option_error(h, "reference", error.c_str());
     if (!std::isfinite(u0))
-      return h->option_error(h, "initial_spool", "a finite spool position (V)");
+      return monohydra::options(h).option_error(h, "initial_spool", "a finite spool position (V)");
     mh_state_spec spool = monohydra::state_spec("U", "V", u0, tolerance);
     spool.role = MH_ROLE_CONTROL_SIGNAL;
     spool.range_min = -limit_;
     spool.range_max = limit_;
-    if (h->add_state(h, &spool, &u_) != MH_OK) return MH_ERROR;
+    if (monohydra::subsystem_setup(h).add_state(h, &spool, &u_) != MH_OK) return MH_ERROR;
     states.add(u_);
     const mh_output_spec u_ref = monohydra::output_spec("U_ref", "V");
-    if (h->add_output(h, &u_ref, &u_ref_out_) != MH_OK) return MH_ERROR;
+    if (monohydra::outputs(h).add_output(h, &u_ref, &u_ref_out_) != MH_OK) return MH_ERROR;
     for (double t : reference_.jump_times())
-      if (h->add_time_event(h, t) != MH_OK) return MH_ERROR;
+      if (monohydra::subsystem_setup(h).add_time_event(h, t) != MH_OK) return MH_ERROR;
     return MH_OK;
   }
 

@@ -7,6 +7,7 @@
 #include "components.hpp"
 #include "example_models.hpp"
 #include "host_services.hpp"
+#include "monohydra/cpp/services.hpp"
 #include "orifice_flow.hpp"
 #include "touched_states.hpp"
 
@@ -39,7 +40,7 @@ class Throttle {
     if (add_hydraulic_port(h, "b", MH_PORT_FLOW, kNaN, kNaN, &b_) != MH_OK) return MH_ERROR;
     states_.add(b_);
     const mh_output_spec q = monohydra::output_spec("q", "m^3/s");
-    if (h->add_output(h, &q, &q_out_) != MH_OK) return MH_ERROR;
+    if (monohydra::outputs(h).add_output(h, &q, &q_out_) != MH_OK) return MH_ERROR;
     return MH_OK;
   }
 

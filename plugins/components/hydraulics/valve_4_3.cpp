@@ -14,6 +14,7 @@
 #include "components.hpp"
 #include "example_models.hpp"
 #include "host_services.hpp"
+#include "monohydra/cpp/services.hpp"
 #include "orifice_flow.hpp"
 #include "time_table.hpp"
 #include "touched_states.hpp"
@@ -39,19 +40,19 @@ class Valve43 {
                         "a positive flow coefficient C_vd (m^3/(s sqrt(Pa) V))", &c_vd_) != MH_OK ||
         positive_option(h, "time_constant", 1, 0.0, "a positive spool time constant tau (s)",
                         &tau_) != MH_OK ||
-        h->option_table(h, "reference", 1, 2, &table, &rows) != MH_OK ||
+        monohydra::options(h).option_table(h, "reference", 1, 2, &table, &rows) != MH_OK ||
         positive_option(h, "transition_pressure", 0, 2e5,
                         "a positive laminar-turbulent transition pressure (Pa)", &p_tr) != MH_OK ||
-        h->option_number(h, "initial_spool", 0, 0.0, &u0) != MH_OK ||
+        monohydra::options(h).option_number(h, "initial_spool", 0, 0.0, &u0) != MH_OK ||
         positive_option(h, "tolerance", 0, 1e-7, "a positive spool tolerance (V)", &tolerance) !=
             MH_OK ||
         positive_option(h, "spool_limit", 0, 10.0, "a positive spool limit (V)", &limit_) != MH_OK)
       return MH_ERROR;
     std::string error;
     if (!reference_.assign(table, rows, error))
-      return h->option_error(h, "reference", error.c_str());
+      return monohydra::options(h).option_error(h, "reference", error.c_str());
     if (!std::isfinite(u0))
-      return h->option_error(h, "initial_spool", "a finite spool position (V)");
+      return monohydra::options(h).option_error(h, "initial_spool", "a finite spool position (V)");
     law_ = OrificeFlow(p_tr);
     if (add_hydraulic_port(h, "P", MH_PORT_FLOW, kNaN, kNaN, &p_) != MH_OK) return MH_ERROR;
     states_.add(p_);
@@ -67,14 +68,14 @@ class Valve43 {
     spool.role = MH_ROLE_CONTROL_SIGNAL;
     spool.range_min = -limit_;
     spool.range_max = limit_;
-    if (h->add_state(h, &spool, &u_) != MH_OK) return MH_ERROR;
+    if (monohydra::subsystem_setup(h).add_state(h, &spool, &u_) != MH_OK) return MH_ERROR;
     states_.add(u_);
     const mh_output_spec u_ref = monohydra::output_spec("U_ref", "V");
-    if (h->add_output(h, &u_ref, &u_ref_out_) != MH_OK) return MH_ERROR;
+    if (monohydra::outputs(h).add_output(h, &u_ref, &u_ref_out_) != MH_OK) return MH_ERROR;
     // The reference's steps: the host lands a step end on each and restarts the
     // integrator there.
     for (double t : reference_.jump_times())
-      if (h->add_time_event(h, t) != MH_OK) return MH_ERROR;
+      if (monohydra::subsystem_setup(h).add_time_event(h, t) != MH_OK) return MH_ERROR;
     return MH_OK;
   }
 

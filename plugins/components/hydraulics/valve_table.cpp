@@ -15,6 +15,7 @@
 #include "example_models.hpp"
 #include "flow_map.hpp"
 #include "host_services.hpp"
+#include "monohydra/cpp/services.hpp"
 #include "orifice_flow.hpp"
 #include "spool.hpp"
 #include "touched_states.hpp"
@@ -36,13 +37,13 @@ class ValveTable {
     double p_tr = 0.0;
     const double* table = nullptr;
     uint32_t rows = 0;
-    if (h->option_table(h, "flow_table", 1, 3, &table, &rows) != MH_OK ||
+    if (monohydra::options(h).option_table(h, "flow_table", 1, 3, &table, &rows) != MH_OK ||
         positive_option(h, "transition_pressure", 0, 2e5,
                         "a positive laminar-turbulent transition pressure (Pa)", &p_tr) != MH_OK)
       return MH_ERROR;
     std::string error;
     if (!map_.assign(table, rows, OrificeFlow(p_tr), error))
-      return h->option_error(h, "flow_table", error.c_str());
+      return monohydra::options(h).option_error(h, "flow_table", error.c_str());
     if (add_hydraulic_port(h, "P", MH_PORT_FLOW, kNaN, kNaN, &p_) != MH_OK) return MH_ERROR;
     states_.add(p_);
     if (add_hydraulic_port(h, "T", MH_PORT_FLOW, kNaN, kNaN, &t_) != MH_OK) return MH_ERROR;

@@ -12,6 +12,7 @@
 #include "example_models.hpp"
 #include "gas_release.hpp"
 #include "host_services.hpp"
+#include "monohydra/cpp/services.hpp"
 #include "touched_states.hpp"
 
 namespace hyd {
@@ -35,7 +36,7 @@ class Volume {
                         "a positive bulk modulus of the fluid (Pa)", &fluid) != MH_OK ||
         positive_option(h, "tolerance", 0, 1e-2, "a positive pressure tolerance (Pa)",
                         &tolerance) != MH_OK ||
-        h->option_number(h, "initial_pressure", 0, initial, &initial) != MH_OK)
+        monohydra::options(h).option_number(h, "initial_pressure", 0, initial, &initial) != MH_OK)
       return MH_ERROR;
     if (gas_.read(h) != MH_OK) return MH_ERROR;
     gas_ = gas_.for_volume(volume);

@@ -5,6 +5,7 @@
 //   residual  c ddelta/dt - k (l - l0 - delta) = 0   (row of delta)
 #include "components.hpp"
 #include "example_models.hpp"
+#include "monohydra/cpp/services.hpp"
 #include "point_pair.hpp"
 
 namespace mech {
@@ -22,22 +23,27 @@ class Maxwell {
     double delta0 = 0.0;
     mh_mech_info info{};
     info.struct_size = sizeof(info);
-    if (h->mech_info(h, &info) != MH_OK) return MH_ERROR;
+    if (monohydra::mechanism(h).mech_info(h, &info) != MH_OK) return MH_ERROR;
     double tol = info.position_tolerance;
-    if (h->option_number(h, "stiffness", 1, 0.0, &k_) != MH_OK ||
-        h->option_number(h, "damping", 1, 0.0, &c_) != MH_OK ||
-        h->option_number(h, "free_length", 1, 0.0, &l0_) != MH_OK ||
-        h->option_number(h, "initial_elongation", 0, 0.0, &delta0) != MH_OK ||
-        h->option_number(h, "tolerance", 0, tol, &tol) != MH_OK)
+    if (monohydra::options(h).option_number(h, "stiffness", 1, 0.0, &k_) != MH_OK ||
+        monohydra::options(h).option_number(h, "damping", 1, 0.0, &c_) != MH_OK ||
+        monohydra::options(h).option_number(h, "free_length", 1, 0.0, &l0_) != MH_OK ||
+        monohydra::options(h).option_number(h, "initial_elongation", 0, 0.0, &delta0) != MH_OK ||
+        monohydra::options(h).option_number(h, "tolerance", 0, tol, &tol) != MH_OK)
       return MH_ERROR;
-    if (!(k_ > 0.0)) return h->option_error(h, "stiffness", "a positive stiffness (N/m)");
-    if (!(c_ > 0.0)) return h->option_error(h, "damping", "a positive damping (N s/m)");
-    if (l0_ < 0.0) return h->option_error(h, "free_length", "a non-negative length (m)");
-    if (!(tol > 0.0)) return h->option_error(h, "tolerance", "a positive tolerance (m)");
+    if (!(k_ > 0.0))
+      return monohydra::options(h).option_error(h, "stiffness", "a positive stiffness (N/m)");
+    if (!(c_ > 0.0))
+      return monohydra::options(h).option_error(h, "damping", "a positive damping (N s/m)");
+    if (l0_ < 0.0)
+      return monohydra::options(h).option_error(h, "free_length", "a non-negative length (m)");
+    if (!(tol > 0.0))
+      return monohydra::options(h).option_error(h, "tolerance", "a positive tolerance (m)");
     int32_t a = -1, b = -1;
     const mh_state_spec delta = monohydra::state_spec("delta", "m", delta0, tol);
-    if (h->add_point(h, "a", &a) != MH_OK || h->add_point(h, "b", &b) != MH_OK ||
-        h->add_state(h, &delta, &delta_) != MH_OK)
+    if (monohydra::subsystem_setup(h).add_point(h, "a", &a) != MH_OK ||
+        monohydra::subsystem_setup(h).add_point(h, "b", &b) != MH_OK ||
+        monohydra::subsystem_setup(h).add_state(h, &delta, &delta_) != MH_OK)
       return MH_ERROR;
     return MH_OK;
   }

@@ -3,6 +3,7 @@
 // step is the force it applies to the bodies.
 #include "components.hpp"
 #include "example_models.hpp"
+#include "monohydra/cpp/services.hpp"
 #include "point_pair.hpp"
 
 namespace mech {
@@ -17,15 +18,20 @@ class SpringDamper {
 
   mh_status setup() {
     const mh_host* h = host_;
-    if (h->option_number(h, "stiffness", 1, 0.0, &k_) != MH_OK ||
-        h->option_number(h, "damping", 0, 0.0, &c_) != MH_OK ||
-        h->option_number(h, "free_length", 1, 0.0, &l0_) != MH_OK)
+    if (monohydra::options(h).option_number(h, "stiffness", 1, 0.0, &k_) != MH_OK ||
+        monohydra::options(h).option_number(h, "damping", 0, 0.0, &c_) != MH_OK ||
+        monohydra::options(h).option_number(h, "free_length", 1, 0.0, &l0_) != MH_OK)
       return MH_ERROR;
-    if (k_ < 0.0) return h->option_error(h, "stiffness", "a non-negative stiffness (N/m)");
-    if (c_ < 0.0) return h->option_error(h, "damping", "a non-negative damping (N s/m)");
-    if (l0_ < 0.0) return h->option_error(h, "free_length", "a non-negative length (m)");
+    if (k_ < 0.0)
+      return monohydra::options(h).option_error(h, "stiffness", "a non-negative stiffness (N/m)");
+    if (c_ < 0.0)
+      return monohydra::options(h).option_error(h, "damping", "a non-negative damping (N s/m)");
+    if (l0_ < 0.0)
+      return monohydra::options(h).option_error(h, "free_length", "a non-negative length (m)");
     int32_t a = -1, b = -1;
-    if (h->add_point(h, "a", &a) != MH_OK || h->add_point(h, "b", &b) != MH_OK) return MH_ERROR;
+    if (monohydra::subsystem_setup(h).add_point(h, "a", &a) != MH_OK ||
+        monohydra::subsystem_setup(h).add_point(h, "b", &b) != MH_OK)
+      return MH_ERROR;
     return MH_OK;
   }
 

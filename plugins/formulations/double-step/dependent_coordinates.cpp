@@ -55,17 +55,19 @@ bool DependentCoordinates::factor(double* ratio) {
   return *ratio > kRankThreshold;
 }
 
-DependentSolveResult DependentCoordinates::solve(const mh_host* host, double t, const Partition& p,
-                                                 double tolerance, int max_iterations,
-                                                 Eigen::VectorXd& z, const Eigen::VectorXd& zd) {
+DependentSolveResult DependentCoordinates::solve(const mh_host* host,
+                                                 const mh_mechanism_service& mech, double t,
+                                                 const Partition& p, double tolerance,
+                                                 int max_iterations, Eigen::VectorXd& z,
+                                                 const Eigen::VectorXd& zd) {
   DependentSolveResult out;
   const int r = static_cast<int>(p.rows.size());
   bool converged = false;
   for (;;) {
     mh_mech_result rs{};
     // Phi and Phi_z only: the velocity term is of no use until z converges.
-    out.host_status =
-        evaluate(host, MH_EVAL_CONSTRAINTS | MH_EVAL_POSITIONS_ONLY, t, z.data(), zd.data(), rs);
+    out.host_status = evaluate(host, mech, MH_EVAL_CONSTRAINTS | MH_EVAL_POSITIONS_ONLY, t,
+                               z.data(), zd.data(), rs);
     if (out.host_status >= MH_DISCARD) {
       out.outcome = DependentSolveResult::Outcome::host_failed;
       return out;

@@ -34,8 +34,9 @@ class DependentCoordinates {
   // z is then returned exactly as evaluated. On convergence the
   // last evaluation was at the returned z, and phi_z_d(), phi_z_i() and lu()
   // hold Phi_z^d, Phi_z^i and the LU of Phi_z^d there.
-  DependentSolveResult solve(const mh_host* host, double t, const Partition& p, double tolerance,
-                             int max_iterations, Eigen::VectorXd& z, const Eigen::VectorXd& zd);
+  DependentSolveResult solve(const mh_host* host, const mh_mechanism_service& mech, double t,
+                             const Partition& p, double tolerance, int max_iterations,
+                             Eigen::VectorXd& z, const Eigen::VectorXd& zd);
 
   const Eigen::MatrixXd& phi_z_d() const { return phi_z_d_; }
   const Eigen::MatrixXd& phi_z_i() const { return phi_z_i_; }

@@ -26,6 +26,7 @@
 #include "host_calls.hpp"
 #include "lu_substitution.hpp"
 #include "monohydra/cpp/formulation_plugin.hpp"
+#include "monohydra/cpp/services.hpp"
 #include "monohydra/monohydra.h"
 #include "velocity_transformation.hpp"
 
@@ -106,9 +107,10 @@ struct DoubleStepOutputs {
 
 struct DoubleStep {
   const mh_host* host = nullptr;
-  int N = 0;         // coordinates
-  int m = 0;         // constraint rows
-  int r = 0;         // rank of Phi_z: rows kept, dependent coordinates
+  const mh_mechanism_service* mech = nullptr;  // found once, at create
+  int N = 0;                                   // coordinates
+  int m = 0;                                   // constraint rows
+  int r = 0;                                   // rank of Phi_z: rows kept, dependent coordinates
   int f = 0;         // degrees of freedom: independent coordinates, Newton unknowns
   double t0 = 0.0;   // the initial time (mech_info)
   double t_k = 0.0;  // the last accepted time (start, accept)
@@ -145,27 +147,34 @@ mh_status guarded(const DoubleStep& s, const char* what, Op&& op) noexcept {
 mh_status read_options(DoubleStep& s) {
   const mh_host* h = s.host;
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  if (h->option_number(h, "tolerance", 0, nan, &s.settings.tolerance) != MH_OK) return MH_ERROR;
+  if (monohydra::options(h).option_number(h, "tolerance", 0, nan, &s.settings.tolerance) != MH_OK)
+    return MH_ERROR;
   if (!std::isnan(s.settings.tolerance) && !(s.settings.tolerance > 0.0))
-    return h->option_error(h, "tolerance", "a positive number (rad or m)");
-  if (h->option_number(h, "position_tolerance", 0, kDefaultPositionTolerance,
-                       &s.settings.position_tolerance) != MH_OK)
+    return monohydra::options(h).option_error(h, "tolerance", "a positive number (rad or m)");
+  if (monohydra::options(h).option_number(h, "position_tolerance", 0, kDefaultPositionTolerance,
+                                          &s.settings.position_tolerance) != MH_OK)
     return MH_ERROR;
   if (!(s.settings.position_tolerance > 0.0))
-    return h->option_error(h, "position_tolerance", "a positive number (rad or m)");
+    return monohydra::options(h).option_error(h, "position_tolerance",
+                                              "a positive number (rad or m)");
   double iterations = kDefaultMaxPositionIterations;
-  if (h->option_number(h, "max_position_iterations", 0, iterations, &iterations) != MH_OK)
+  if (monohydra::options(h).option_number(h, "max_position_iterations", 0, iterations,
+                                          &iterations) != MH_OK)
     return MH_ERROR;
   if (!(iterations >= 1.0 && iterations <= 1000.0 && iterations == std::floor(iterations)))
-    return h->option_error(h, "max_position_iterations", "an integer from 1 to 1000");
+    return monohydra::options(h).option_error(h, "max_position_iterations",
+                                              "an integer from 1 to 1000");
   s.settings.max_position_iterations = static_cast<int>(iterations);
-  if (h->option_number(h, "repartition_rcond", 0, kDefaultRepartitionRcond,
-                       &s.settings.repartition_rcond) != MH_OK)
+  if (monohydra::options(h).option_number(h, "repartition_rcond", 0, kDefaultRepartitionRcond,
+                                          &s.settings.repartition_rcond) != MH_OK)
     return MH_ERROR;
   if (!(s.settings.repartition_rcond > kRankThreshold && s.settings.repartition_rcond < 1.0))
-    return h->option_error(h, "repartition_rcond", "a number between 1e-8 and 1");
+    return monohydra::options(h).option_error(h, "repartition_rcond",
+                                              "a number between 1e-8 and 1");
   const char* independent = "";
-  if (h->option_string(h, "independent_coordinates", 0, "", &independent) != MH_OK) return MH_ERROR;
+  if (monohydra::options(h).option_string(h, "independent_coordinates", 0, "", &independent) !=
+      MH_OK)
+    return MH_ERROR;
   s.settings.independent_option = independent != nullptr ? independent : "";
   return MH_OK;
 }
@@ -191,14 +200,14 @@ bool parse_independent(DoubleStep& s, std::vector<int>& out) {
     const auto it = std::find(s.names.begin(), s.names.end(), token);
     if (it == s.names.end() ||
         std::find(out.begin(), out.end(), static_cast<int>(it - s.names.begin())) != out.end()) {
-      s.host->option_error(s.host, key, expected.c_str());
+      monohydra::options(s.host).option_error(s.host, key, expected.c_str());
       return false;
     }
     out.push_back(static_cast<int>(it - s.names.begin()));
     token.clear();
   }
   if (static_cast<int>(out.size()) != s.f) {
-    s.host->option_error(s.host, key, expected.c_str());
+    monohydra::options(s.host).option_error(s.host, key, expected.c_str());
     return false;
   }
   return true;
@@ -245,7 +254,7 @@ mh_status declare(DoubleStep& s) {
         monohydra::unknown_spec(s.names[i].c_str(), s.is_angle[i] ? "rad" : "m",
                                 MH_UNKNOWN_SECOND_ORDER, s.settings.tolerance);
     int32_t index = -1;
-    if (s.host->add_unknown(s.host, &spec, &index) != MH_OK) return MH_ERROR;
+    if (monohydra::unknowns(s.host).add_unknown(s.host, &spec, &index) != MH_OK) return MH_ERROR;
   }
   s.outputs.output_names.clear();
   for (int k = 1; k <= s.f; ++k)
@@ -254,10 +263,12 @@ mh_status declare(DoubleStep& s) {
   for (size_t k = 0; k < s.outputs.independent_out.size(); ++k) {
     const mh_output_spec spec =
         monohydra::output_spec(s.outputs.output_names[k].c_str(), "", MH_OUTPUT_COORDINATE);
-    if (s.host->add_output(s.host, &spec, &s.outputs.independent_out[k]) != MH_OK) return MH_ERROR;
+    if (monohydra::outputs(s.host).add_output(s.host, &spec, &s.outputs.independent_out[k]) !=
+        MH_OK)
+      return MH_ERROR;
   }
   const mh_output_spec spec = monohydra::output_spec("repartitions", "", MH_OUTPUT_COUNTER);
-  return s.host->add_output(s.host, &spec, &s.outputs.repartitions_out);
+  return monohydra::outputs(s.host).add_output(s.host, &spec, &s.outputs.repartitions_out);
 }
 
 mh_status setup(const mh_formulation* fo) noexcept {
@@ -265,7 +276,7 @@ mh_status setup(const mh_formulation* fo) noexcept {
   return guarded(s, "setup", [&]() -> mh_status {
     mh_mech_info info{};
     info.struct_size = sizeof(info);
-    if (s.host->mech_info(s.host, &info) != MH_OK) {
+    if (monohydra::mechanism(s.host).mech_info(s.host, &info) != MH_OK) {
       log_error(s, "the host did not describe the mechanism (mech_info failed)");
       return MH_ERROR;
     }
@@ -295,7 +306,8 @@ mh_status setup(const mh_formulation* fo) noexcept {
 
     // Full pivoting on Phi_z(z0) chooses z^d and z^i (Sect. 2.2).
     mh_mech_result rs{};
-    const mh_status st = evaluate(s.host, MH_EVAL_CONSTRAINTS, s.t0, info.z0, info.zd0, rs);
+    const mh_status st =
+        evaluate(s.host, *s.mech, MH_EVAL_CONSTRAINTS, s.t0, info.z0, info.zd0, rs);
     if (st >= MH_DISCARD) return st;
     s.partitioning.full_lu = Eigen::FullPivLU<Eigen::MatrixXd>(s.m, s.N);
     s.r = factor_full_pivoting(Eigen::Map<const Eigen::MatrixXd>(rs.phi_z, s.m, s.N),
@@ -324,7 +336,7 @@ mh_status setup(const mh_formulation* fo) noexcept {
       const double ratio = partition_with_independent(
           Eigen::Map<const Eigen::MatrixXd>(rs.phi_z, s.m, s.N), chosen, s.partitioning.partition);
       if (!(ratio > kRankThreshold))
-        return s.host->option_error(
+        return monohydra::options(s.host).option_error(
             s.host, "independent_coordinates",
             ("coordinates whose complement makes Phi_z^d invertible at the initial "
              "configuration (with these, Phi_z^d is singular; full pivoting picks " +
@@ -367,7 +379,7 @@ std::string dependent_failure(const DoubleStep& s, const DependentSolveResult& r
 // added, Rdot_z zd^i (Eq. 15) and M'', Q'' (Eq. 17).
 mh_status two_steps(DoubleStep& s, double t, uint32_t flags) {
   const DependentSolveResult res =
-      s.dependent.solve(s.host, t, s.partitioning.partition, s.settings.position_tolerance,
+      s.dependent.solve(s.host, *s.mech, t, s.partitioning.partition, s.settings.position_tolerance,
                         s.settings.max_position_iterations, s.iterate.z_it, s.iterate.zd_it);
   if (res.outcome == DependentSolveResult::Outcome::host_failed) return res.host_status;
   if (res.outcome != DependentSolveResult::Outcome::converged) {
@@ -390,7 +402,7 @@ mh_status two_steps(DoubleStep& s, double t, uint32_t flags) {
   s.transform.rates(s.dependent.lu(), s.dependent.phi_z_i(), s.partitioning.partition,
                     s.iterate.zd_it);
   mh_mech_result rs{};
-  const mh_status st = evaluate(s.host, MH_EVAL_DYNAMICS | MH_EVAL_CONSTRAINTS | flags, t,
+  const mh_status st = evaluate(s.host, *s.mech, MH_EVAL_DYNAMICS | MH_EVAL_CONSTRAINTS | flags, t,
                                 s.iterate.z_it.data(), s.iterate.zd_it.data(), rs);
   if (st >= MH_DISCARD) return st;
   // The velocity-product term at the full zd just completed.
@@ -539,13 +551,6 @@ mh_status residual(const mh_formulation* fo, const mh_unknown_values* at, double
   });
 }
 
-// Whether the host offers mech_derivatives: its table reaches the field.
-bool has_mech_derivatives(const mh_host* host) {
-  return host->struct_size >=
-             offsetof(mh_host, mech_derivatives) + sizeof(host->mech_derivatives) &&
-         host->mech_derivatives != nullptr;
-}
-
 // -dep rows of (Phi_z^d)^{-1} rhs (r x f) into the dependent rows of out (N x f).
 void solve_dependent_rows(DoubleStep& s, const Eigen::MatrixXd& rhs, Eigen::MatrixXd& out) {
   for (int c = 0; c < s.f; ++c) {
@@ -592,7 +597,7 @@ mh_status derivatives(DoubleStep& s) {
   rq.v = s.derivs.lambda_m.data();
   mh_mech_derivatives d{};
   d.struct_size = sizeof(d);
-  const mh_status st = s.host->mech_derivatives(s.host, &rq, &d);
+  const mh_status st = s.mech->mech_derivatives(s.host, &rq, &d);
   if (st >= MH_DISCARD) return st;
   using ConstMap = Eigen::Map<const Eigen::MatrixXd>;
   const ConstMap K(d.K, s.N, s.N), C(d.C, s.N, s.N), S(d.dPhizT_v_dz, s.N, s.N);
@@ -650,7 +655,7 @@ mh_status tangent(const mh_formulation* fo, const mh_unknown_values* at,
   DoubleStep& s = self(fo);
   return guarded(s, "tangent", [&]() -> mh_status {
     const NoHeapScope no_heap;
-    if (!has_mech_derivatives(s.host)) return MH_OK;
+    if (!monohydra::has_mech_derivatives(*s.mech)) return MH_OK;
     if (!is_last_iterate(s, x, xd, xdd)) {
       const mh_status st = evaluate_iterate(s, t, x, xd, xdd, 0u);
       if (st >= MH_DISCARD) return st;
@@ -687,7 +692,7 @@ mh_status mechanics_map(const mh_formulation* fo, const mh_mechanics_map* map) n
     for (int k = 0; k < s.f; ++k)
       for (int j = 0; j < s.N; ++j) Q_map(k, j) = -R(j, k);
     if (dz_dx == nullptr || dzd_dx == nullptr || dzd_dxd == nullptr) return MH_OK;  // not needed
-    if (!has_mech_derivatives(s.host)) {
+    if (!monohydra::has_mech_derivatives(*s.mech)) {
       log_error(s, "mechanics_map: the host has no mech_derivatives");
       return MH_ERROR;
     }
@@ -711,7 +716,8 @@ mh_status check_partition(DoubleStep& s, double t, bool* changed) {
   if (ratio >= s.settings.repartition_rcond) return MH_OK;
 
   mh_mech_result rs{};
-  const mh_status st = evaluate(s.host, MH_EVAL_CONSTRAINTS, t, s.z.data(), s.zd.data(), rs);
+  const mh_status st =
+      evaluate(s.host, *s.mech, MH_EVAL_CONSTRAINTS, t, s.z.data(), s.zd.data(), rs);
   if (st >= MH_DISCARD) return st;
   const int rank = factor_full_pivoting(Eigen::Map<const Eigen::MatrixXd>(rs.phi_z, s.m, s.N),
                                         s.partitioning.full_lu);

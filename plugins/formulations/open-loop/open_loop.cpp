@@ -13,6 +13,7 @@
 #include <string>
 
 #include "monohydra/cpp/formulation_plugin.hpp"
+#include "monohydra/cpp/services.hpp"
 #include "monohydra/monohydra.h"
 
 namespace {
@@ -22,19 +23,13 @@ using VectorMap = Eigen::Map<Eigen::VectorXd>;
 
 struct OpenLoop {
   const mh_host* host = nullptr;
+  const mh_mechanism_service* mech = nullptr;  // found once, at create
   int N = 0;
   double t0 = 0.0;
   double tol = 1e-7;
   Eigen::VectorXd z, zd, zdd;  // accepted (z0, zd0 and their accelerations after start)
   Eigen::MatrixXd M_last;      // M' of the last residual call: the tangent's dr/dzdd
 };
-
-// Whether the host offers mech_derivatives: its table reaches the field.
-bool has_mech_derivatives(const mh_host* host) {
-  return host->struct_size >=
-             offsetof(mh_host, mech_derivatives) + sizeof(host->mech_derivatives) &&
-         host->mech_derivatives != nullptr;
-}
 
 void log_error(const OpenLoop& s, const std::string& msg) {
   s.host->log(s.host, MH_LOG_ERROR, msg.c_str());
@@ -44,7 +39,7 @@ mh_status setup(const mh_formulation* f) noexcept {
   return monohydra::guarded_op<OpenLoop>(f, "setup", [&](OpenLoop& s) {
     mh_mech_info info{};
     info.struct_size = sizeof(info);
-    if (s.host->mech_info(s.host, &info) != MH_OK) return MH_ERROR;
+    if (monohydra::mechanism(s.host).mech_info(s.host, &info) != MH_OK) return MH_ERROR;
     if (info.num_constraints != 0) {
       log_error(s, "the model has cut joints (" + std::to_string(info.num_constraints) +
                        " constraint rows); open-loop handles trees only: choose double-step or "
@@ -59,8 +54,10 @@ mh_status setup(const mh_formulation* f) noexcept {
     s.N = static_cast<int>(info.num_coordinates);
     s.t0 = info.t0;
     s.tol = info.position_tolerance;
-    if (s.host->option_number(s.host, "tolerance", 0, s.tol, &s.tol) != MH_OK) return MH_ERROR;
-    if (!(s.tol > 0.0)) return s.host->option_error(s.host, "tolerance", "a positive number");
+    if (monohydra::options(s.host).option_number(s.host, "tolerance", 0, s.tol, &s.tol) != MH_OK)
+      return MH_ERROR;
+    if (!(s.tol > 0.0))
+      return monohydra::options(s.host).option_error(s.host, "tolerance", "a positive number");
     s.z = ConstVectorMap(info.z0, s.N);
     s.zd = ConstVectorMap(info.zd0, s.N);
     s.zdd.setZero(s.N);
@@ -71,7 +68,7 @@ mh_status setup(const mh_formulation* f) noexcept {
           info.coordinate_names[i], info.coordinate_is_angle[i] != 0 ? "rad" : "m",
           MH_UNKNOWN_SECOND_ORDER, s.tol);
       int32_t index = -1;
-      if (s.host->add_unknown(s.host, &spec, &index) != MH_OK) return MH_ERROR;
+      if (monohydra::unknowns(s.host).add_unknown(s.host, &spec, &index) != MH_OK) return MH_ERROR;
     }
     return MH_OK;
   });
@@ -86,7 +83,7 @@ mh_status start(const mh_formulation* f, const mh_unknown_buffers* out) noexcept
     const mh_mech_request rq{sizeof(rq), MH_EVAL_DYNAMICS, s.t0, s.z.data(), s.zd.data()};
     mh_mech_result rs{};
     rs.struct_size = sizeof(rs);
-    if (s.host->evaluate_mechanics(s.host, &rq, &rs) >= MH_DISCARD) return MH_ERROR;
+    if (s.mech->evaluate_mechanics(s.host, &rq, &rs) >= MH_DISCARD) return MH_ERROR;
     const Eigen::Map<const Eigen::MatrixXd> M(rs.M, s.N, s.N);
     const ConstVectorMap Q(rs.Q, s.N);
     // LDLT (pivoted), as the penalty formulation's start: without cut joints
@@ -114,7 +111,7 @@ mh_status residual(const mh_formulation* f, const mh_unknown_values* at, double*
     const mh_mech_request rq{sizeof(rq), MH_EVAL_DYNAMICS | MH_EVAL_SUBSYSTEMS, t, x, xd};
     mh_mech_result rs{};
     rs.struct_size = sizeof(rs);
-    const mh_status st = s.host->evaluate_mechanics(s.host, &rq, &rs);
+    const mh_status st = s.mech->evaluate_mechanics(s.host, &rq, &rs);
     if (st >= MH_DISCARD) return st;
     const Eigen::Map<const Eigen::MatrixXd> M(rs.M, s.N, s.N);
     VectorMap rows(r, s.N);
@@ -139,7 +136,7 @@ mh_status tangent(const mh_formulation* f, const mh_unknown_values* at,
   double* dr_dxdd = blocks->dr_dxdd;
   uint8_t* column_given = blocks->column_given;
   return monohydra::guarded_op<OpenLoop>(f, "tangent", [&](OpenLoop& s) {
-    if (!has_mech_derivatives(s.host)) return MH_OK;
+    if (!monohydra::has_mech_derivatives(*s.mech)) return MH_OK;
     mh_mech_derivatives_request rq{};
     rq.struct_size = sizeof(rq);
     rq.flags = MH_DERIV_DYNAMICS;
@@ -149,7 +146,7 @@ mh_status tangent(const mh_formulation* f, const mh_unknown_values* at,
     rq.zdd = xdd;
     mh_mech_derivatives d{};
     d.struct_size = sizeof(d);
-    const mh_status st = s.host->mech_derivatives(s.host, &rq, &d);
+    const mh_status st = s.mech->mech_derivatives(s.host, &rq, &d);
     if (st >= MH_DISCARD) return st;
     using MatrixMap = Eigen::Map<Eigen::MatrixXd>;
     using ConstMatrixMap = Eigen::Map<const Eigen::MatrixXd>;

@@ -24,6 +24,7 @@
 #include "constraint_terms.hpp"
 #include "initial_accelerations.hpp"
 #include "monohydra/cpp/formulation_plugin.hpp"
+#include "monohydra/cpp/services.hpp"
 #include "monohydra/monohydra.h"
 #include "projections.hpp"
 
@@ -34,6 +35,7 @@ using VectorMap = Eigen::Map<Eigen::VectorXd>;
 
 struct Penalty {
   const mh_host* host = nullptr;
+  const mh_mechanism_service* mech = nullptr;  // found once, at create
   // Options (setup).
   double alpha = 1e11;      // penalty factor, one for every constraint (Eq. 18)
   double tol = 1e-7;        // Newton tolerance on every z_i (rad or m)
@@ -71,13 +73,6 @@ struct Penalty {
   double phi_dot_norm = 0.0;
 };
 
-// Whether the host offers mech_derivatives: its table reaches the field.
-bool has_mech_derivatives(const mh_host* host) {
-  return host->struct_size >=
-             offsetof(mh_host, mech_derivatives) + sizeof(host->mech_derivatives) &&
-         host->mech_derivatives != nullptr;
-}
-
 void log(const Penalty& s, mh_log_level level, const std::string& msg) {
   s.host->log(s.host, level, msg.c_str());
 }
@@ -109,7 +104,7 @@ mh_status evaluate(Penalty& s, uint32_t flags, double t, const double* z, const 
   const mh_mech_request rq{sizeof(mh_mech_request), flags, t, z, zd};
   out = mh_mech_result{};
   out.struct_size = sizeof(mh_mech_result);
-  return s.host->evaluate_mechanics(s.host, &rq, &out);
+  return s.mech->evaluate_mechanics(s.host, &rq, &out);
 }
 
 // phi_dot_norm = ||Phi_z zd|| (Phi_z at the accepted z, m x N).
@@ -126,19 +121,20 @@ mh_status declare_outputs(Penalty& s) {
     // Generalized constraint forces (N or N m, by the row's constraint).
     const mh_output_spec spec =
         monohydra::output_spec(s.output_names[static_cast<size_t>(i)].c_str(), "");
-    if (s.host->add_output(s.host, &spec, &s.lambda_out[static_cast<size_t>(i)]) != MH_OK)
+    if (monohydra::outputs(s.host).add_output(s.host, &spec,
+                                              &s.lambda_out[static_cast<size_t>(i)]) != MH_OK)
       return MH_ERROR;
   }
   // The constraint velocity violation (rad/s or m/s by the row).
   const mh_output_spec spec = monohydra::output_spec("phi_dot_norm", "1/s");
-  return s.host->add_output(s.host, &spec, &s.phi_dot_out);
+  return monohydra::outputs(s.host).add_output(s.host, &spec, &s.phi_dot_out);
 }
 
 mh_status setup(const mh_formulation* f) noexcept {
   return guarded(f, "setup", [&](Penalty& s) {
     mh_mech_info info{};
     info.struct_size = sizeof(info);
-    if (s.host->mech_info(s.host, &info) != MH_OK) {
+    if (monohydra::mechanism(s.host).mech_info(s.host, &info) != MH_OK) {
       log(s, MH_LOG_ERROR, "setup: the host gave no mechanism information");
       return MH_ERROR;
     }
@@ -151,26 +147,33 @@ mh_status setup(const mh_formulation* f) noexcept {
     s.m = static_cast<int>(info.num_constraints);
     s.t0 = info.t0;
     s.tol = info.position_tolerance;
-    if (s.host->option_number(s.host, "alpha", 0, s.alpha, &s.alpha) != MH_OK) return MH_ERROR;
-    if (!(s.alpha > 0.0)) return s.host->option_error(s.host, "alpha", "a positive number");
-    if (s.host->option_number(s.host, "tolerance", 0, s.tol, &s.tol) != MH_OK) return MH_ERROR;
-    if (!(s.tol > 0.0)) return s.host->option_error(s.host, "tolerance", "a positive number");
+    if (monohydra::options(s.host).option_number(s.host, "alpha", 0, s.alpha, &s.alpha) != MH_OK)
+      return MH_ERROR;
+    if (!(s.alpha > 0.0))
+      return monohydra::options(s.host).option_error(s.host, "alpha", "a positive number");
+    if (monohydra::options(s.host).option_number(s.host, "tolerance", 0, s.tol, &s.tol) != MH_OK)
+      return MH_ERROR;
+    if (!(s.tol > 0.0))
+      return monohydra::options(s.host).option_error(s.host, "tolerance", "a positive number");
     double projections = 1.0;
-    if (s.host->option_number(s.host, "projections", 0, projections, &projections) != MH_OK)
+    if (monohydra::options(s.host).option_number(s.host, "projections", 0, projections,
+                                                 &projections) != MH_OK)
       return MH_ERROR;
     if (projections != 0.0 && projections != 1.0)
-      return s.host->option_error(s.host, "projections", "1 (on) or 0 (off)");
+      return monohydra::options(s.host).option_error(s.host, "projections", "1 (on) or 0 (off)");
     s.projections = projections == 1.0;
     const char* matrix = "tangent";
-    if (s.host->option_string(s.host, "projection_matrix", 0, matrix, &matrix) != MH_OK)
+    if (monohydra::options(s.host).option_string(s.host, "projection_matrix", 0, matrix, &matrix) !=
+        MH_OK)
       return MH_ERROR;
     const std::string matrix_name = matrix != nullptr ? matrix : "";
     if (matrix_name != "tangent" && matrix_name != "mass")
-      return s.host->option_error(s.host, "projection_matrix",
-                                  "tangent (W = M' + dt/2 C + dt^2/4 K, Eqs. 20-21) or mass "
-                                  "(W = M')");
+      return monohydra::options(s.host).option_error(
+          s.host, "projection_matrix",
+          "tangent (W = M' + dt/2 C + dt^2/4 K, Eqs. 20-21) or mass "
+          "(W = M')");
     s.tangent_projection_matrix = matrix_name == "tangent";
-    if (s.tangent_projection_matrix && !has_mech_derivatives(s.host)) {
+    if (s.tangent_projection_matrix && !monohydra::has_mech_derivatives(*s.mech)) {
       log(s, MH_LOG_ERROR,
           "setup: projection_matrix: tangent needs the host service mech_derivatives, which "
           "this host does not give: use projection_matrix: mass");
@@ -194,7 +197,7 @@ mh_status setup(const mh_formulation* f) noexcept {
           info.coordinate_names[i], info.coordinate_is_angle[i] != 0 ? "rad" : "m",
           MH_UNKNOWN_SECOND_ORDER, s.tol);
       int32_t index = -1;
-      if (s.host->add_unknown(s.host, &spec, &index) != MH_OK) return MH_ERROR;
+      if (monohydra::unknowns(s.host).add_unknown(s.host, &spec, &index) != MH_OK) return MH_ERROR;
     }
     return declare_outputs(s);
   });
@@ -317,7 +320,7 @@ mh_status tangent(const mh_formulation* f, const mh_unknown_values* at,
   uint8_t* column_given = blocks->column_given;
   return guarded(f, "tangent", [&](Penalty& s) {
     [[maybe_unused]] const NoMalloc no_malloc;
-    if (!has_mech_derivatives(s.host)) return MH_OK;
+    if (!monohydra::has_mech_derivatives(*s.mech)) return MH_OK;
     if (!s.last_valid || s.x_last != ConstVectorMap(x, s.N)) {
       mh_mech_result rs;
       const mh_status st = evaluate(s, MH_EVAL_DYNAMICS | MH_EVAL_CONSTRAINTS, t, x, xd, rs);
@@ -338,7 +341,7 @@ mh_status tangent(const mh_formulation* f, const mh_unknown_values* at,
     rq.v = s.multiplier_force.data();
     mh_mech_derivatives d{};
     d.struct_size = sizeof(d);
-    const mh_status st = s.host->mech_derivatives(s.host, &rq, &d);
+    const mh_status st = s.mech->mech_derivatives(s.host, &rq, &d);
     if (st >= MH_DISCARD) return st;
     Eigen::Map<Eigen::MatrixXd> Kt(dr_dx, s.N, s.N);
     Kt = ConstMatrixMap(d.K, s.N, s.N);
@@ -429,7 +432,7 @@ mh_status accept(const mh_formulation* f, double t, const mh_step_coefficients* 
         rq.zdd = xdd;
         mh_mech_derivatives d{};
         d.struct_size = sizeof(d);
-        const mh_status st = s.host->mech_derivatives(s.host, &rq, &d);
+        const mh_status st = s.mech->mech_derivatives(s.host, &rq, &d);
         if (st >= MH_DISCARD) return st;
         s.W += (c->dxd_dx_second / c->dxdd_dx_second) * ConstMatrixMap(d.C, s.N, s.N);
         s.W += (1.0 / c->dxdd_dx_second) * ConstMatrixMap(d.K, s.N, s.N);

@@ -20,13 +20,22 @@ static point_load* self(const mh_subsystem* s) {
 static mh_status setup(const mh_subsystem* s) {
   point_load* d = self(s);
   const mh_host* h = d->host;
+  /* The services a subsystem's setup needs, found by id (host.h). */
+  const mh_options_service* options =
+      (const mh_options_service*)h->get_service(h, MH_SERVICE_OPTIONS);
+  const mh_subsystem_setup_service* place =
+      (const mh_subsystem_setup_service*)h->get_service(h, MH_SERVICE_SUBSYSTEM_SETUP);
   const double* f = NULL;
   uint32_t rows = 0;
+  if (options == NULL || place == NULL) {
+    h->log(h, MH_LOG_ERROR, "point-load: the host gives no options or subsystem-setup service");
+    return MH_ERROR;
+  }
   /* force: [Fx, Fy, Fz] is a table of one row and three columns. */
-  if (h->option_table(h, "force", 1, 3, &f, &rows) != MH_OK) return MH_ERROR;
-  if (rows != 1) return h->option_error(h, "force", "one vector [Fx, Fy, Fz] in N");
+  if (options->option_table(h, "force", 1, 3, &f, &rows) != MH_OK) return MH_ERROR;
+  if (rows != 1) return options->option_error(h, "force", "one vector [Fx, Fy, Fz] in N");
   memcpy(d->force, f, sizeof d->force);
-  return h->add_point(h, "at", &d->point);
+  return place->add_point(h, "at", &d->point);
 }
 
 static mh_status evaluate(const mh_subsystem* s, const mh_subsystem_eval* eval) {

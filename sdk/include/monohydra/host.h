@@ -1,7 +1,8 @@
 /* monohydra SDK: the services the host hands to every component instance.
  *
  * The host creates one mh_host per component instance, so every call below
- * speaks for that instance (its options, its log lines, its states). The table
+ * speaks for that instance (its options, its log lines, its states). The
+ * services are tables found by id (get_service), one per role's need. The table
  * and everything it points to stay valid until the instance is destroyed.
  * Calls are made from the thread that called the plugin; a host never calls one
  * instance from two threads at once. Strings and arrays the host returns are
@@ -165,22 +166,24 @@ typedef struct mh_mech_derivatives {
   const double* dA_dzd;      /* m x N */
 } mh_mech_derivatives;
 
-typedef struct mh_host {
-  uint32_t struct_size;   /* sizeof(mh_host) of the host's SDK: check before using
-                             fields added by a later minor version */
-  mh_version abi_version; /* the host's ABI version */
-  void* host_data;        /* opaque: pass back unchanged */
+/* The host's services, each a table of its own found by id with
+ * mh_host.get_service, so that what an instance may call is what its role was
+ * given: a service its role has no use for reads as NULL. Every function
+ * takes the instance's mh_host first; tables live as long as the instance. A
+ * later minor appends services (new ids) and fields (at the end of a table,
+ * read up to its struct_size). */
 
-  /* -- any time ------------------------------------------------------------ */
-  /* Logs a message for the user. A plugin logs the reason before returning
-   * MH_DISCARD, MH_ERROR or MH_FATAL. */
-  void (*log)(const struct mh_host* host, mh_log_level level, const char* message);
+struct mh_host;
 
-  /* Options of this instance from the model file, by key. With required = 0 a
-   * missing key yields `fallback` and MH_OK. A present key of the wrong type, or
-   * a missing required one, is reported by the host (file, line, field, what was
-   * expected) and yields MH_ERROR. Keys that no call asked for are reported as
-   * unknown after setup. Numbers are SI. */
+/* Options of the instance from the model file (every role). */
+#define MH_SERVICE_OPTIONS "monohydra.options/3"
+typedef struct mh_options_service {
+  uint32_t struct_size;
+  /* The option `key`. With required = 0 a missing key yields `fallback` and
+   * MH_OK. A present key of the wrong type, or a missing required one, is
+   * reported by the host (file, line, field, what was expected) and yields
+   * MH_ERROR. Keys that no call asked for are reported as unknown after
+   * setup. Numbers are SI. */
   mh_status (*option_number)(const struct mh_host* host, const char* key, int required,
                              double fallback, double* out);
   mh_status (*option_string)(const struct mh_host* host, const char* key, int required,
@@ -190,23 +193,52 @@ typedef struct mh_host {
    * number of rows, so data has rows x columns entries. */
   mh_status (*option_table)(const struct mh_host* host, const char* key, int required,
                             uint32_t columns, const double** data, uint32_t* rows);
-  /* Reports an invalid option value with the file and line it came from. Returns
-   * MH_ERROR so a plugin can write `return host->option_error(host, "k", "> 0");`. */
+  /* Reports an invalid option value with the file and line it came from.
+   * Returns MH_ERROR so a plugin can write `return options->option_error(host,
+   * "k", "> 0");`. */
   mh_status (*option_error)(const struct mh_host* host, const char* key, const char* expected);
+} mh_options_service;
 
-  /* The mechanism's sizes, names and initial state (formulations and subsystems). */
+/* The mechanism (formulations; subsystems get mech_info alone, the other two
+ * NULL). */
+#define MH_SERVICE_MECHANISM "monohydra.mechanism/3"
+typedef struct mh_mechanism_service {
+  uint32_t struct_size;
+  /* The mechanism's sizes, names and initial state. */
   mh_status (*mech_info)(const struct mh_host* host, mh_mech_info* out);
+  /* Evaluates the core's semirecursive kinematics and dynamics at (t, z, zd),
+   * from the formulation's setup on. Inside mh_formulation.residual the
+   * formulation calls it with MH_EVAL_SUBSYSTEMS exactly once, at the
+   * coordinates of the Newton iterate (which also fills the subsystem residual
+   * rows); other calls (also during setup, e.g. to partition Phi_z(z0)) may
+   * come as often as needed and leave the subsystems' rows untouched. */
+  mh_status (*evaluate_mechanics)(const struct mh_host* host, const mh_mech_request* request,
+                                  mh_mech_result* result);
+  /* Analytic derivatives of the semirecursive dynamics and of the constraint
+   * terms (computed recursively in the core, not by differences of the
+   * dynamics), after the formulation's setup: e.g. the projections' W = M' +
+   * C dxd_dx/dxdd_dx + K/dxdd_dx (Eqs. 20-21), or an analytic tangent.
+   * Leaves the subsystems' rows and outputs untouched. */
+  mh_status (*mech_derivatives)(const struct mh_host* host,
+                                const mh_mech_derivatives_request* request,
+                                mh_mech_derivatives* result);
+} mh_mechanism_service;
 
-  /* Host extensions by string id ("name/rev"); NULL when not supported. */
-  const void* (*get_extension)(const struct mh_host* host, const char* id);
-
-  /* -- setup only (formulations and subsystems) ------------------------------ */
+/* Outputs (formulations and subsystems, during setup). */
+#define MH_SERVICE_OUTPUTS "monohydra.outputs/3"
+typedef struct mh_outputs_service {
+  uint32_t struct_size;
   /* Declares an output of this instance. *index receives its index in the
    * run's output vector: a subsystem writes it in mh_subsystem_eval.outputs, a
    * formulation in mh_formulation.write_outputs. */
   mh_status (*add_output)(const struct mh_host* host, const mh_output_spec* spec, int32_t* index);
+} mh_outputs_service;
 
-  /* -- subsystem setup only -------------------------------------------------- */
+/* A subsystem's place in the model: its states, ports, points and time
+ * events (subsystems, during setup). */
+#define MH_SERVICE_SUBSYSTEM_SETUP "monohydra.subsystem-setup/3"
+typedef struct mh_subsystem_setup_service {
+  uint32_t struct_size;
   /* Declares a state of this instance. *index receives its index in the global
    * state vector. States are first-order unknowns, or algebraic when no row
    * involves their rate (the host finds out at t0). */
@@ -229,31 +261,31 @@ typedef struct mh_host {
    * after it (the right limit), which keeps the step's order. Evaluate signals
    * right-continuously: a table row at t_i holds from t_i. */
   mh_status (*add_time_event)(const struct mh_host* host, double t);
+} mh_subsystem_setup_service;
 
-  /* -- formulation setup only ------------------------------------------------ */
+/* A formulation's Newton unknowns (formulations, during setup). */
+#define MH_SERVICE_UNKNOWNS "monohydra.unknowns/3"
+typedef struct mh_unknowns_service {
+  uint32_t struct_size;
   /* Declares the formulation's next Newton unknown (indices 0, 1, ... in call
    * order). The host's integrator ties its rates to it by its kind. */
   mh_status (*add_unknown)(const struct mh_host* host, const mh_unknown_spec* spec, int32_t* index);
+} mh_unknowns_service;
 
-  /* -- formulation, from its setup on --------------------------------------- */
-  /* Evaluates the core's semirecursive kinematics and dynamics at (t, z, zd).
-   * Inside mh_formulation.residual the formulation calls it with
-   * MH_EVAL_SUBSYSTEMS exactly once, at the coordinates of the Newton iterate
-   * (which also fills the subsystem residual rows); other calls (also during
-   * setup, e.g. to partition Phi_z(z0)) may come as often as needed and leave
-   * the subsystems' rows untouched. */
-  mh_status (*evaluate_mechanics)(const struct mh_host* host, const mh_mech_request* request,
-                                  mh_mech_result* result);
+typedef struct mh_host {
+  uint32_t struct_size;   /* sizeof(mh_host) of the host's SDK: check before using
+                             fields added by a later minor version */
+  mh_version abi_version; /* the host's ABI version */
+  void* host_data;        /* opaque: pass back unchanged */
 
-  /* -- formulation, after setup -------------------------------------------- */
-  /* Analytic derivatives of the semirecursive dynamics and of the constraint
-   * terms (computed recursively in the core, not by differences of the
-   * dynamics): e.g. the projections' W = M' + C dxd_dx/dxdd_dx + K/dxdd_dx
-   * (Eqs. 20-21), or an analytic tangent. Leaves the subsystems' rows and
-   * outputs untouched. */
-  mh_status (*mech_derivatives)(const struct mh_host* host,
-                                const mh_mech_derivatives_request* request,
-                                mh_mech_derivatives* result);
+  /* Logs a message for the user, any time. A plugin logs the reason before
+   * returning MH_DISCARD, MH_ERROR or MH_FATAL. */
+  void (*log)(const struct mh_host* host, mh_log_level level, const char* message);
+
+  /* The service `id` (MH_SERVICE_*, or another host's "name/rev"), or NULL
+   * when this instance's role has none of that id. A lookup by name: call it
+   * at create or setup and keep the table, not in the time step. */
+  const void* (*get_service)(const struct mh_host* host, const char* id);
 } mh_host;
 
 #ifdef __cplusplus

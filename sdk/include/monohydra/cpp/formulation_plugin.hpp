@@ -1,8 +1,8 @@
 // monohydra SDK, optional C++17 helper: the part of a formulation plugin that
 // is the same in every one. A formulation writes its operations as free
 // functions over its own state type T (which has a `const mh_host* host`
-// member), each body inside monohydra::guarded_op so that no exception crosses
-// into the host,
+// member, and may have a `const mh_mechanism_service* mech` one), each body inside
+// monohydra::guarded_op so that no exception crosses into the host,
 //
 //   mh_status residual(const mh_formulation* f, const mh_unknown_values* at,
 //                      double* r) noexcept {
@@ -25,13 +25,23 @@
 
 #include <cstring>
 #include <new>
+#include <type_traits>
+#include <utility>
 
 #include "monohydra/cpp/guarded.hpp"
+#include "monohydra/cpp/services.hpp"
 #include "monohydra/cpp/specs.hpp"
 #include "monohydra/entry.h"
 #include "monohydra/formulation.h"
 
 namespace monohydra {
+
+namespace formulation_detail {
+template <class T, class = void>
+struct HasMech : std::false_type {};
+template <class T>
+struct HasMech<T, std::void_t<decltype(std::declval<T&>().mech)>> : std::true_type {};
+}  // namespace formulation_detail
 
 // Runs `op(T&)` on the instance `f` made by create_formulation<T>; an escaping
 // exception is logged through the instance's host as "<what>: <text>" and
@@ -59,6 +69,9 @@ const mh_formulation* create_formulation(const mh_host* host, const mh_formulati
     return nullptr;
   }
   data->host = host;
+  // A member `const mh_mechanism_service* mech` gets the mechanism service,
+  // found once here (its calls are made in the time step).
+  if constexpr (formulation_detail::HasMech<T>::value) data->mech = &mechanism(host);
   f->plugin_data = data;
   return f;
 }

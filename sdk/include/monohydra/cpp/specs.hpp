@@ -3,7 +3,7 @@
 // and every field a plugin does not name zero (no role, no range):
 //
 //   const mh_state_spec spec = monohydra::state_spec("p", "Pa", 1e5, 1e-2);
-//   if (host->add_state(host, &spec, &p_) != MH_OK) return MH_ERROR;
+//   if (monohydra::subsystem_setup(host).add_state(host, &spec, &p_) != MH_OK) return MH_ERROR;
 #pragma once
 
 #include <cstdint>

@@ -59,7 +59,7 @@
 // True when the table `table` of C type `type` (e.g. a host's mh_host) is
 // large enough to hold `field`: fields a later minor ABI appended are only
 // there when the other side was built against that minor version or newer.
-//   if (MONOHYDRA_HAS_FIELD(mh_host, host, some_2_1_service)) ...
+//   if (MONOHYDRA_HAS_FIELD(mh_options_service, options, some_3_1_field)) ...
 #define MONOHYDRA_HAS_FIELD(type, table, field) \
   ((table)->struct_size >= offsetof(type, field) + sizeof(type::field))
 
