@@ -18,6 +18,7 @@ namespace {
 
 std::atomic<double> g_limit{0.0};
 std::atomic<pid_t> g_watched_pid{0};  // the process whose thread is running
+std::atomic<pid_t> g_running_pid{0};  // the process whose thread has entered watch()
 
 [[noreturn]] void stop_hung(const PluginCallSite& site, double seconds) {
   const PluginCallInFlight& record = plugin_call_in_flight();
@@ -43,6 +44,7 @@ void watch() {
   const PluginCallSite* last_site = nullptr;
   unsigned long last_entered = 0;
   double stuck = 0.0;
+  g_running_pid.store(::getpid(), std::memory_order_release);
   for (;;) {
     std::this_thread::sleep_for(kPeriod);
     const double limit = g_limit.load(std::memory_order_relaxed);
@@ -71,6 +73,11 @@ void start_call_watchdog(double seconds) {
     return;
   }
   std::thread(watch).detach();
+  // Wait until the thread runs its loop. A thread still starting may hold a
+  // lock of the C library's or of a sanitizer's runtime; a fork made then
+  // (run forks at once) gives a child in which that lock is never released,
+  // and the child hangs at its first thread or allocation.
+  while (g_running_pid.load(std::memory_order_acquire) != self) std::this_thread::yield();
 }
 
 }  // namespace mh::cli

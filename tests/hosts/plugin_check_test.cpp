@@ -313,10 +313,18 @@ TEST(HostBoundary, AnEvaluateThatNeverReturnsStopsTheRunKeepingEveryRowBefore) {
   EXPECT_EQ(last.substr(0, last.find(',')), "0.5") << last;
 }
 
-TEST(HostBoundary, ACallTimeoutThatIsNotATimeIsRefused) {
-  const CliResult r = run_cli("run " + spring_model() + " --call-timeout soon");
-  EXPECT_EQ(r.code, 2) << r.output;
-  EXPECT_NE(r.output.find("--call-timeout"), std::string::npos) << r.output;
+TEST(HostBoundary, ACallTimeoutThatIsNotATimeIsRefusedNamingTheFlagAndTheValue) {
+  const CliResult word = run_cli("run " + spring_model() + " --call-timeout soon");
+  EXPECT_EQ(word.code, 2) << word.output;
+  EXPECT_NE(word.output.find("monohydra: --call-timeout expects a number, got 'soon'"),
+            std::string::npos)
+      << word.output;
+  const CliResult negative = run_cli("run " + spring_model() + " --call-timeout -1");
+  EXPECT_EQ(negative.code, 2) << negative.output;
+  EXPECT_NE(
+      negative.output.find("monohydra: --call-timeout expects a time in s (0 or more), got '-1'"),
+      std::string::npos)
+      << negative.output;
 }
 
 TEST(PluginCheck, AFailingCreateFailsWithThePluginsReason) {
