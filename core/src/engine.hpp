@@ -26,13 +26,14 @@
 #include "monohydra/core/linear_solver.hpp"
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/plugin_call.hpp"
+#include "monohydra/core/run_state.hpp"
 #include "monohydra/core/simulation.hpp"
 #include "monohydra/core/sparse_pattern.hpp"
+#include "monohydra/core/tangent_reuse.hpp"
 #include "monohydra/cpp/number_text.hpp"
 #include "monohydra/cpp/unknowns.hpp"
 #include "monohydra/monohydra.h"
 #include "plugins/plugin_instance.hpp"
-#include "solver/tangent_reuse.hpp"
 
 namespace mh {
 
@@ -83,6 +84,9 @@ struct InstanceHost {
     start,
     tangent,
     write_outputs,
+    get_extension,
+    save_state,
+    load_state,
     count
   };
   std::array<PluginCallSite, static_cast<size_t>(Op::count)> sites{};
@@ -106,7 +110,10 @@ struct InstanceHost {
                                              "stage_state",
                                              "start",
                                              "tangent",
-                                             "write_outputs"};
+                                             "write_outputs",
+                                             "get_extension",
+                                             "save_state",
+                                             "load_state"};
     library = path;
     const std::string name = path.substr(path.find_last_of('/') + 1);
     label = name.empty() ? source : source + " of " + name;
@@ -309,23 +316,13 @@ struct CouplingWorkspace {
   Eigen::VectorXd dQ_dy;                                              // N
 };
 
-// The energy balance (energy_balance.cpp): relative to t = 0.
-struct EnergyBalance {
-  double ke0 = 0.0, pe0 = 0.0, ke = 0.0, pe = 0.0;
-  double work = 0.0, power_k = 0.0;
-  double stored0 = 0.0, stored = 0.0, dissipated = 0.0, dissipation_k = 0.0;
-  double phi_norm = 0.0;
-};
-
-// Where the run stands (time_step.cpp): the accepted time, step and
-// coordinates, and the step being attempted (named by failures).
-struct AcceptedPoint {
-  double t = 0.0;
-  long step = 0;
-  double attempt_t = 0.0;
-  long attempt_step = 0;
-  Eigen::VectorXd z, zd, zdd;
-  bool started = false;
+// An instance's part of a snapshot (run_state.cpp), found after setup.
+struct StatePart {
+  const void* self = nullptr;  // the instance table
+  mh_state_extension ext{};    // its MH_EXT_STATE; NULL ops: none
+  InstanceHost* host = nullptr;
+  bool keeps_state = false;  // a formulation, an integrator, a subsystem with accept
+  uint64_t size = 0;         // bytes, fixed after setup
 };
 
 struct Simulation::Engine {
@@ -375,6 +372,9 @@ struct Simulation::Engine {
   CouplingWorkspace coupling;
   EnergyBalance energy;
   AcceptedPoint accepted;
+  std::vector<StatePart> state_parts;  // found at the first snapshot (run_state.cpp)
+  bool state_parts_found = false;
+  std::string state_key;  // run_key(), made with the parts
 
   // host_services.cpp
   void make_host(InstanceHost& h, const std::string& source, const OptionMap* options,
@@ -461,6 +461,10 @@ struct Simulation::Engine {
   // time_step.cpp
   void start();
   void step_once();
+  void find_state_parts();
+  std::string run_key() const;
+  void save_state(RunState& into);
+  void restore_state(const RunState& from);
   void advance(double t_to, int halvings_left);
   void attempt(double t_next);
   void prepare_step(double t_next, double h);

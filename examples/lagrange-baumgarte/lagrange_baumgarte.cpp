@@ -26,11 +26,13 @@
 #include <Eigen/LU>
 #include <cstddef>
 #include <cstdio>
+#include <cstring>
 #include <string>
 #include <vector>
 
 #include "monohydra/cpp/formulation_plugin.hpp"
 #include "monohydra/cpp/services.hpp"
+#include "monohydra/cpp/state.hpp"
 #include "monohydra/monohydra.h"
 
 namespace lagrange_baumgarte {
@@ -59,6 +61,18 @@ struct State {
   int32_t phi_dot_out = -1;
   Eigen::VectorXd phi_dot;  // m: Phi_z zd at the accepted state
   double phi_dot_norm = 0.0;
+
+  // What the next step reads (MH_EXT_STATE, monohydra/cpp/state.hpp): the
+  // accepted state and what its outputs show.
+  template <class Archive>
+  void state(Archive& a) {
+    a(z);
+    a(zd);
+    a(zdd);
+    a(lambda);
+    a(phi_dot);
+    a(phi_dot_norm);
+  }
 };
 
 void log(const State& s, mh_log_level level, const std::string& msg) {
@@ -344,7 +358,10 @@ mh_status write_outputs(const mh_formulation* f, double* outputs, uint32_t num_o
   });
 }
 
-const void* get_extension(const mh_formulation*, const char*) noexcept {
+// Its state saves and loads, so that a run can be snapshotted (state.h).
+const void* get_extension(const mh_formulation*, const char* id) noexcept {
+  if (id != nullptr && std::strcmp(id, MH_EXT_STATE) == 0)
+    return monohydra::state_extension<mh_formulation, State>();
   return nullptr;
 }
 

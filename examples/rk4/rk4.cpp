@@ -12,10 +12,12 @@
 // rule.
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 
 #include "monohydra/cpp/integrator_plugin.hpp"
+#include "monohydra/cpp/state.hpp"
 #include "monohydra/integrator.h"
 
 namespace rk4 {
@@ -34,6 +36,17 @@ struct Rk4 {
   std::vector<double> x, xd;      // n: the accepted state
   std::vector<double> algebraic;  // n: the host's last solution of algebraic unknowns
   std::vector<double> kx, kv;     // kStages x n: the stages' rates of x and of xd
+
+  // What the next step reads (MH_EXT_STATE, monohydra/cpp/state.hpp): the
+  // stages' rates are the step's own, not state.
+  template <class Archive>
+  void state(Archive& a) {
+    a(t);
+    a(restarted);
+    a(x);
+    a(xd);
+    a(algebraic);
+  }
 };
 
 Rk4& self(const mh_integrator* s) {
@@ -202,7 +215,11 @@ mh_integrator make_ops() {
   f.begin_step = nullptr;  // explicit: the host never asks for a map
   f.accept = accept;
   f.destroy = monohydra::destroy_integrator<Rk4>;
-  f.get_extension = [](const mh_integrator*, const char*) -> const void* { return nullptr; };
+  f.get_extension = [](const mh_integrator*, const char* id) -> const void* {
+    if (id != nullptr && std::strcmp(id, MH_EXT_STATE) == 0)
+      return monohydra::state_extension<mh_integrator, Rk4>();  // snapshots of the run
+    return nullptr;
+  };
   f.explicit_method = &kStagesOps;
   return f;
 }

@@ -15,6 +15,18 @@ struct Bdf2 : Common {
   std::vector<double> x1, xd1;     // n: at t_{n-1}
   double h_prev = 0.0;             // t_n - t_{n-1}
   bool two_points = false;         // t_{n-1} is in the history (false right after a restart)
+
+  template <class Archive>
+  void state(Archive& a) {
+    common_state(a);
+    a(x);
+    a(xd);
+    a(xdd);
+    a(x1);
+    a(xd1);
+    a(h_prev);
+    a(two_points);
+  }
 };
 
 Bdf2& self(const mh_integrator* s) {

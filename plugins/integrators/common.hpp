@@ -5,9 +5,12 @@
 #pragma once
 
 #include <cstdint>
+#include <cstring>
+#include <string>
 #include <vector>
 
 #include "monohydra/cpp/integrator_plugin.hpp"
+#include "monohydra/cpp/state.hpp"
 #include "monohydra/integrator.h"
 
 namespace integ {
@@ -22,6 +25,18 @@ struct Common {
   bool step_open = false;      // begin_step called since the last restart or accept
   double t = 0.0;              // the time of the history (last restart or accept)
   double h = 0.0;              // the open step's h
+
+  // The protocol's part of the state (MH_EXT_STATE): saved between steps,
+  // so no step is open after a load.
+  template <class Archive>
+  void common_state(Archive& a) {
+    a(t);
+    a(restarted);
+  }
+  std::string state_loaded() {
+    step_open = false;
+    return "";
+  }
 };
 
 // Logs "<id> <op>: <reason>" at error level; returns MH_ERROR.
@@ -60,7 +75,12 @@ mh_integrator implicit_ops(const mh_component_descriptor& descriptor,
   f.begin_step = begin_step;
   f.accept = accept;
   f.destroy = monohydra::destroy_integrator<T>;
-  f.get_extension = [](const mh_integrator*, const char*) -> const void* { return nullptr; };
+  // Every integrator here saves and loads its history (T::state).
+  f.get_extension = [](const mh_integrator*, const char* id) -> const void* {
+    if (id != nullptr && std::strcmp(id, MH_EXT_STATE) == 0)
+      return monohydra::state_extension<mh_integrator, T>();
+    return nullptr;
+  };
   return f;
 }
 

@@ -21,6 +21,15 @@ struct GeneralizedAlpha : Common {
   double am1 = 0.0, af1 = 0.0, gamma1 = 0.5;
   std::vector<double> x, xd, xdd, a;  // n: the history at t_n (a: acceleration-like,
                                       // or the rate-like variable of first-order unknowns)
+
+  template <class Archive>
+  void state(Archive& ar) {
+    common_state(ar);
+    ar(x);
+    ar(xd);
+    ar(xdd);
+    ar(a);
+  }
 };
 
 GeneralizedAlpha& self(const mh_integrator* s) {

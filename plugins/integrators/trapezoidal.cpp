@@ -12,6 +12,14 @@ namespace {
 
 struct Trapezoidal : Common {
   std::vector<double> x, xd, xdd;  // n: the history at t_k
+
+  template <class Archive>
+  void state(Archive& a) {
+    common_state(a);
+    a(x);
+    a(xd);
+    a(xdd);
+  }
 };
 
 Trapezoidal& self(const mh_integrator* s) {

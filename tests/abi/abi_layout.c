@@ -56,6 +56,7 @@ const abi_layout mh_c_layouts[] = {
     LAYOUT(mh_outputs_service),
     LAYOUT(mh_subsystem_setup_service),
     LAYOUT(mh_unknowns_service),
+    LAYOUT(mh_state_extension),
 };
 const size_t mh_c_layout_count = sizeof(mh_c_layouts) / sizeof(mh_c_layouts[0]);
 const size_t mh_c_offset_host_get_service = offsetof(mh_host, get_service);

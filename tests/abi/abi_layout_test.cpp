@@ -59,6 +59,7 @@ TEST(AbiLayout, CAndCxxSeeTheSameSizesAndAlignments) {
       CXX_LAYOUT(mh_outputs_service),
       CXX_LAYOUT(mh_subsystem_setup_service),
       CXX_LAYOUT(mh_unknowns_service),
+      CXX_LAYOUT(mh_state_extension),
   };
   ASSERT_EQ(mh_c_layout_count, sizeof(cxx) / sizeof(cxx[0]));
   for (size_t i = 0; i < mh_c_layout_count; ++i) {

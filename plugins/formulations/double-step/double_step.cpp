@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstring>
 #include <limits>
 #include <new>
 #include <string>
@@ -27,6 +28,7 @@
 #include "lu_substitution.hpp"
 #include "monohydra/cpp/formulation_plugin.hpp"
 #include "monohydra/cpp/services.hpp"
+#include "monohydra/cpp/state.hpp"
 #include "monohydra/monohydra.h"
 #include "velocity_transformation.hpp"
 
@@ -126,7 +128,54 @@ struct DoubleStep {
   DoubleStepIterate iterate;
   DoubleStepDerivatives derivs;
   DoubleStepOutputs outputs;
+
+  // What a step reads of the last one (MH_EXT_STATE, monohydra/cpp/state.hpp):
+  // the accepted coordinates and the partition in use, with its history.
+  template <class Archive>
+  void state(Archive& a) {
+    a(t_k);
+    a(z);
+    a(zd);
+    a(zdd);
+    a(partitioning.partition.rows);
+    a(partitioning.partition.dependent);
+    a(partitioning.partition.independent);
+    a(partitioning.det_sign);
+    a(partitioning.repartitions);
+    a(partitioning.ill_conditioned_reported);
+  }
+  std::string state_loaded();
 };
+
+// A loaded partition must split 0..N-1 into r dependent and f independent
+// coordinates, each list ascending, and keep r distinct rows of 0..m-1.
+std::string DoubleStep::state_loaded() {
+  const Partition& p = partitioning.partition;
+  const auto ascending_in = [](const std::vector<int>& v, int end) {
+    for (size_t k = 0; k < v.size(); ++k)
+      if (v[k] < 0 || v[k] >= end || (k > 0 && v[k] <= v[k - 1])) return false;
+    return true;
+  };
+  std::vector<char> seen(static_cast<size_t>(N), 0);
+  for (const int i : p.dependent)
+    if (i >= 0 && i < N) seen[static_cast<size_t>(i)] = 1;
+  bool disjoint = true;
+  for (const int i : p.independent)
+    disjoint = disjoint && i >= 0 && i < N && seen[static_cast<size_t>(i)] == 0;
+  if (!ascending_in(p.rows, m) || !ascending_in(p.dependent, N) ||
+      !ascending_in(p.independent, N) || !disjoint)
+    return "its coordinate partition is not one of this mechanism's " + std::to_string(N) +
+           " coordinates and " + std::to_string(m) + " constraint rows";
+  transform.set_partition(p);
+  // At a step's end the last iterate is the accepted state (accept): the
+  // next step's positions-only evaluations pass its rates.
+  iterate.z_it = z;
+  iterate.zd_it = zd;
+  iterate.zdd_it = zdd;
+  iterate.iterate_valid = false;
+  derivs.derivatives_valid = false;
+  return "";
+}
 
 DoubleStep& self(const mh_formulation* f) {
   return *static_cast<DoubleStep*>(f->plugin_data);
@@ -836,7 +885,10 @@ mh_status write_outputs(const mh_formulation* fo, double* outputs, uint32_t num_
   });
 }
 
-const void* get_extension(const mh_formulation*, const char*) noexcept {
+// Its state saves and loads (MH_EXT_STATE).
+const void* get_extension(const mh_formulation*, const char* id) noexcept {
+  if (id != nullptr && std::strcmp(id, MH_EXT_STATE) == 0)
+    return monohydra::state_extension<mh_formulation, DoubleStep>();
   return nullptr;
 }
 

@@ -14,6 +14,7 @@
 
 #include "monohydra/cpp/formulation_plugin.hpp"
 #include "monohydra/cpp/services.hpp"
+#include "monohydra/cpp/state.hpp"
 #include "monohydra/monohydra.h"
 
 namespace {
@@ -29,6 +30,14 @@ struct OpenLoop {
   double tol = 1e-7;
   Eigen::VectorXd z, zd, zdd;  // accepted (z0, zd0 and their accelerations after start)
   Eigen::MatrixXd M_last;      // M' of the last residual call: the tangent's dr/dzdd
+
+  // What a step reads of the last one (MH_EXT_STATE, monohydra/cpp/state.hpp).
+  template <class Archive>
+  void state(Archive& a) {
+    a(z);
+    a(zd);
+    a(zdd);
+  }
 };
 
 void log_error(const OpenLoop& s, const std::string& msg) {
@@ -202,11 +211,15 @@ mh_status coordinates(const mh_formulation* f, const mh_coordinate_buffers* out)
 }
 
 // The unknowns are the coordinates, coupled as the mechanics couple them
-// (MH_EXT_COORDINATE_UNKNOWNS): the host's tangent is sparse for trees.
+// (MH_EXT_COORDINATE_UNKNOWNS): the host's tangent is sparse for trees. Its
+// state saves and loads (MH_EXT_STATE).
 const char kCoordinateUnknowns = 1;
 const void* get_extension(const mh_formulation*, const char* id) noexcept {
-  return id != nullptr && std::strcmp(id, MH_EXT_COORDINATE_UNKNOWNS) == 0 ? &kCoordinateUnknowns
-                                                                           : nullptr;
+  if (id == nullptr) return nullptr;
+  if (std::strcmp(id, MH_EXT_COORDINATE_UNKNOWNS) == 0) return &kCoordinateUnknowns;
+  if (std::strcmp(id, MH_EXT_STATE) == 0)
+    return monohydra::state_extension<mh_formulation, OpenLoop>();
+  return nullptr;
 }
 
 const mh_component_descriptor kDescriptor{

@@ -25,6 +25,7 @@
 #include "initial_accelerations.hpp"
 #include "monohydra/cpp/formulation_plugin.hpp"
 #include "monohydra/cpp/services.hpp"
+#include "monohydra/cpp/state.hpp"
 #include "monohydra/monohydra.h"
 #include "projections.hpp"
 
@@ -71,6 +72,21 @@ struct Penalty {
   int32_t phi_dot_out = -1;
   Eigen::VectorXd phi_dot;  // m: Phi_z zd at the accepted state
   double phi_dot_norm = 0.0;
+
+  // What a step reads of the last one (MH_EXT_STATE, monohydra/cpp/state.hpp).
+  template <class Archive>
+  void state(Archive& a) {
+    a(z);
+    a(zd);
+    a(zdd);
+    a(lambda_k);
+    a(phi_dot);
+    a(phi_dot_norm);
+  }
+  std::string state_loaded() {
+    last_valid = false;  // M' and Phi_z of the last residual are another run's
+    return "";
+  }
 };
 
 void log(const Penalty& s, mh_log_level level, const std::string& msg) {
@@ -497,11 +513,15 @@ mh_status write_outputs(const mh_formulation* f, double* outputs, uint32_t num_o
 }
 
 // The unknowns are the coordinates, coupled as the mechanics couple them
-// (MH_EXT_COORDINATE_UNKNOWNS): the host's tangent is sparse for trees.
+// (MH_EXT_COORDINATE_UNKNOWNS): the host's tangent is sparse for trees. Its
+// state saves and loads (MH_EXT_STATE).
 const char kCoordinateUnknowns = 1;
 const void* get_extension(const mh_formulation*, const char* id) noexcept {
-  return id != nullptr && std::strcmp(id, MH_EXT_COORDINATE_UNKNOWNS) == 0 ? &kCoordinateUnknowns
-                                                                           : nullptr;
+  if (id == nullptr) return nullptr;
+  if (std::strcmp(id, MH_EXT_COORDINATE_UNKNOWNS) == 0) return &kCoordinateUnknowns;
+  if (std::strcmp(id, MH_EXT_STATE) == 0)
+    return monohydra::state_extension<mh_formulation, Penalty>();
+  return nullptr;
 }
 
 const mh_component_descriptor kDescriptor{

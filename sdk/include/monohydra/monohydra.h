@@ -5,6 +5,7 @@
 #include "monohydra/formulation.h"
 #include "monohydra/host.h"
 #include "monohydra/integrator.h"
+#include "monohydra/state.h"
 #include "monohydra/subsystem.h"
 #include "monohydra/types.h"
 #endif

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "monohydra/core/model_file.hpp"
+#include "monohydra/core/run_state.hpp"
 #include "monohydra/core/simulation.hpp"
 #include "test_support.hpp"
 
@@ -147,6 +148,29 @@ void expect_no_allocation(const Case& c) {
   }
   EXPECT_EQ(worst, 0) << name(c) << ": step " << 21 + first_allocating << " allocated " << worst
                       << " blocks (the most of " << kSteps << " steps)";
+}
+
+// A snapshot saved again into the same RunState reuses its storage: a
+// controller that saves at every step allocates nothing either.
+TEST(TimeStepAllocationFree, SavingTheRunStateAgainIntoTheSameValueAllocatesNothing) {
+  const ModelFile file = load_model_file(test::source_path("models/fourbar.yaml"));
+  ModelFile modified = file;
+  modified.solver.newton = NewtonKind::modified;
+  for (const ModelFile* f : {&file, static_cast<const ModelFile*>(&modified)}) {
+    Simulation sim(*f, test::build_plugins(), RunChoices{"double-step", "", {}, {}});
+    sim.start();
+    for (int k = 0; k < 20; ++k) sim.step();
+    RunState state;
+    sim.save_state(state);
+    long worst = 0;
+    for (int k = 0; k < 100; ++k) {
+      sim.step();
+      const long before = allocations();
+      sim.save_state(state);
+      worst = std::max(worst, allocations() - before);
+    }
+    EXPECT_EQ(worst, 0) << to_string(f->solver.newton);
+  }
 }
 
 class TimeStepAllocationFreeCase : public ::testing::TestWithParam<Case> {};

@@ -19,6 +19,8 @@
 
 namespace mh {
 
+struct RunState;  // run_state.hpp
+
 // A run that cannot go on: names the time, the step and the reason.
 class SimulationError : public std::runtime_error {
  public:
@@ -90,6 +92,17 @@ class Simulation {
 
   void start();  // consistent initial state at t = 0
   void step();   // one step of dt; throws SimulationError, leaving the last accepted state
+  // The run's state between two steps (after start()), as one copyable value
+  // (run_state.hpp); the second form reuses `into`'s storage, so that saving
+  // again allocates nothing. restore_state puts a saved state back, into this
+  // run or another made from the same model and choices: the steps after it
+  // are those that followed the save, to the bit (modified Newton's kept
+  // factorization and the work counters included). Both throw
+  // RunStateError naming the reason: an instance that keeps state between
+  // steps and cannot save it (no MH_EXT_STATE), a state of another run.
+  RunState save_state() const;
+  void save_state(RunState& into) const;
+  void restore_state(const RunState& from);
 
   // Real-time mode (`monohydra run --real-time`), the one mode whose results
   // depend on the machine: Newton stops after `iteration_cap` iterations or

@@ -91,6 +91,8 @@ class TangentReuse {
     rate_ = 0.0;
   }
   long factorizations() const { return factorizations_; }
+  // A factorization is kept for the next step (run_state.cpp saves it).
+  bool keeps_factorization() const { return modified_ && valid_; }
 
  private:
   // The step h = t_{k+1} - t_k carries round-off from step to step (t = k

@@ -1,0 +1,81 @@
+// The state of a run between two steps as one value that can be copied: what
+// the host keeps (time, step, unknowns, subsystem states, outputs, the energy
+// balance, the counters) and every plugin instance's own bytes (state.h). A
+// run restored from it goes on exactly as the run it was saved from went on:
+// the same steps to the last bit, and the same work counted: what snapshots,
+// a controller's branches and an FMU's get and set state stand on.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "monohydra/core/explicit_stability.hpp"
+#include "monohydra/core/simulation.hpp"
+#include "monohydra/core/tangent_reuse.hpp"
+
+namespace mh {
+
+// A snapshot that cannot be taken or put back: names why (the instance that
+// keeps state it cannot save, the run a snapshot is not of).
+class RunStateError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// The energy balance's sums, all relative to t = 0 (Simulation::drift).
+struct EnergyBalance {
+  double ke0 = 0.0, pe0 = 0.0, ke = 0.0, pe = 0.0;
+  double work = 0.0, power_k = 0.0;
+  double stored0 = 0.0, stored = 0.0, dissipated = 0.0, dissipation_k = 0.0;
+  double phi_norm = 0.0;
+};
+
+// The last accepted point of the run, and the step being attempted.
+struct AcceptedPoint {
+  double t = 0.0;
+  long step = 0;
+  double attempt_t = 0.0;
+  long attempt_step = 0;
+  Eigen::VectorXd z, zd, zdd;
+  bool started = false;
+};
+
+struct RunState {
+  // The run it is of (formulation, integrator, dt, every coordinate's, state's
+  // and output's name): restore refuses another.
+  std::string run_key;
+  AcceptedPoint accepted;
+  EnergyBalance energy;
+  Eigen::VectorXd x, xd, xdd;  // every unknown at the accepted time
+  Eigen::VectorXd y, ydot;     // the subsystem states and rates
+  Eigen::VectorXd outputs;
+  size_t next_event = 0;  // the first time event after the accepted time
+  // An explicit integrator's stability checks.
+  bool stability_due = false;
+  long stability_next_step = 0;
+  double stability_worst_excess = 0.0;
+  ExplicitStability stability;
+  Simulation::WorkCounters counters;
+  StepStats last_step;
+  // Where the host's constraint cache stands (Phi at constraint_z, its rates
+  // at constraint_zd), so that a restored run's passes, as the counters count
+  // them, are the saved run's.
+  Eigen::VectorXd constraint_z, constraint_zd;
+  bool constraint_positions_valid = false, constraint_rates_valid = false;
+  // What the Newton loops keep from step to step: modified Newton's
+  // factorization (as the tangent's values it was made from, refactored on
+  // restore: the same factors) and an explicit integrator's rates Jacobian.
+  TangentReuse reuse;
+  std::vector<double> kept_tangent;  // empty: no factorization kept
+  bool rates_jacobian_valid = false;
+  Eigen::MatrixXd rates_jacobian;
+  // The instances' own states (state.h), one after the other in the run's
+  // order (formulation, integrator, subsystems), and each one's length.
+  std::vector<uint64_t> part_sizes;
+  std::vector<unsigned char> part_bytes;
+};
+
+}  // namespace mh

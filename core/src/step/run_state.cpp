@@ -1,0 +1,239 @@
+// Snapshots of a run between two steps (run_state.hpp): the host's part
+// copied, each plugin instance's part through its MH_EXT_STATE (state.h).
+// Everything else the engine holds is either fixed by the model (sizes,
+// patterns, names) or recomputed by the next step from what is saved here
+// (kinematics, tangents, the integrator's map), so it is not state.
+#include <algorithm>
+#include <cstring>
+
+#include "engine.hpp"
+#include "plugins/abi_struct.hpp"
+
+namespace mh {
+
+namespace {
+
+// The instance's MH_EXT_STATE, read as this host's struct (abi_struct.hpp).
+template <class Table>
+mh_state_extension state_extension_of(const Table* self, const Table& ops, InstanceHost& host) {
+  if (ops.get_extension == nullptr) return {};
+  const void* ext = in_flight(host, InstanceHost::Op::get_extension,
+                              [&] { return ops.get_extension(self, MH_EXT_STATE); });
+  return read_struct(static_cast<const mh_state_extension*>(ext));
+}
+
+}  // namespace
+
+void Simulation::Engine::find_state_parts() {
+  if (state_parts_found) return;
+  state_parts.clear();
+  const auto add = [&](const void* self, mh_state_extension ext, InstanceHost& host,
+                       bool keeps_state) {
+    StatePart part;
+    part.self = self;
+    part.host = &host;
+    part.keeps_state = keeps_state;
+    const bool complete = ext.size != nullptr && ext.save != nullptr && ext.load != nullptr;
+    if (complete) {
+      part.ext = ext;
+      part.size = in_flight(host, InstanceHost::Op::get_extension, [&] { return ext.size(self); });
+    }
+    if (!complete && !keeps_state) return;  // nothing of its own
+    state_parts.push_back(part);
+  };
+  add(formulation.self, state_extension_of(formulation.self, formulation.ops, *formulation_host),
+      *formulation_host, true);
+  add(integrator.self, state_extension_of(integrator.self, integrator.ops, *integrator_host),
+      *integrator_host, true);
+  for (SubsystemInstance& s : subsystems)
+    add(s.api.self, state_extension_of(s.api.self, s.api.ops, *s.host), *s.host,
+        s.api.ops.accept != nullptr);
+  state_key = run_key();
+  state_parts_found = true;
+}
+
+// What makes a state of this run one of another: the plugins, the step, the
+// Newton variant and the names of everything the state holds.
+std::string Simulation::Engine::run_key() const {
+  std::string key = formulation_name + '|' + integrator_name + '|' + short_number(settings.dt) +
+                    (settings.newton == NewtonKind::modified ? "|modified" : "|full");
+  for (const auto& name : registry.coordinate_names) key += '|' + name;
+  for (const auto& name : registry.unknown_names) key += '|' + name;
+  for (const auto& v : states.state_info) key += '|' + v.qualified;
+  for (const auto& v : registry.output_info) key += '|' + v.qualified;
+  return key;
+}
+
+void Simulation::Engine::save_state(RunState& into) {
+  if (!accepted.started)
+    throw RunStateError(
+        "a run's state is saved between steps, after start(): this run has not "
+        "started");
+  find_state_parts();
+  uint64_t total = 0;
+  for (const StatePart& part : state_parts) {
+    if (part.ext.save == nullptr)
+      throw RunStateError(part.host->label +
+                          " keeps state between steps and cannot save it (it offers no " +
+                          MH_EXT_STATE + " extension, docs/sdk.md): this run cannot be saved");
+    total += part.size;
+  }
+  into.run_key = state_key;
+  into.accepted = accepted;
+  into.energy = energy;
+  into.x = x;
+  into.xd = xd;
+  into.xdd = xdd;
+  into.y = states.y_k;
+  into.ydot = states.ydot_k;
+  into.outputs = registry.outputs_k;
+  into.next_event = states.next_event;
+  into.stability_due = stages.stability_due;
+  into.stability_next_step = stages.stability_next_step;
+  into.stability_worst_excess = stages.stability_worst_excess;
+  into.stability = stages.stability;
+  into.counters = eval.counters;
+  into.last_step = solver.stats;
+  into.constraint_z = cons.con_z;
+  into.constraint_zd = cons.con_zd;
+  into.constraint_positions_valid = cons.constraints_valid;
+  into.constraint_rates_valid = cons.constraint_rates_valid;
+  into.reuse = solver.reuse;
+  if (solver.reuse.keeps_factorization())
+    into.kept_tangent.assign(tangent_ws.values.begin(), tangent_ws.values.end());
+  else
+    into.kept_tangent.clear();
+  into.rates_jacobian_valid = stages.rates_jacobian_valid;
+  if (stages.rates_jacobian_valid) into.rates_jacobian = stages.rates_jacobian;
+  into.part_sizes.resize(state_parts.size());
+  into.part_bytes.resize(static_cast<size_t>(total));
+  size_t at = 0;
+  for (size_t k = 0; k < state_parts.size(); ++k) {
+    const StatePart& part = state_parts[k];
+    into.part_sizes[k] = part.size;
+    last_plugin_error.clear();
+    const mh_status st = in_flight(*part.host, InstanceHost::Op::save_state, [&] {
+      return part.ext.save(part.self, into.part_bytes.data() + at, part.size);
+    });
+    if (!status_ok(normalized(st)))
+      throw RunStateError(status_reason(st, part.host->label + " save_state"));
+    at += static_cast<size_t>(part.size);
+  }
+}
+
+void Simulation::Engine::restore_state(const RunState& from) {
+  find_state_parts();
+  if (from.run_key != state_key)
+    throw RunStateError(
+        "the state is not one of this run: it was saved from another model, formulation, "
+        "integrator or step (formulation '" +
+        from.run_key.substr(0, from.run_key.find('|')) + "', this run's '" + formulation_name +
+        "')");
+  bool sizes_match = from.part_sizes.size() == state_parts.size();
+  uint64_t total = 0;
+  for (size_t k = 0; sizes_match && k < state_parts.size(); ++k) {
+    sizes_match = from.part_sizes[k] == state_parts[k].size;
+    total += from.part_sizes[k];
+  }
+  if (!sizes_match || total != from.part_bytes.size())
+    throw RunStateError(
+        "the state's plugin parts are not this run's (another build of a plugin, or bytes "
+        "changed): it cannot be restored");
+  for (const StatePart& part : state_parts)
+    if (part.ext.load == nullptr)
+      throw RunStateError(part.host->label +
+                          " keeps state between steps and cannot load it (it offers no " +
+                          MH_EXT_STATE + " extension, docs/sdk.md): no state can be restored");
+  // A run restored before it started: start() sizes what the steps use; the
+  // state then overwrites what start computed.
+  if (!accepted.started) start();
+  // All parts or none: should one instance refuse its bytes, those loaded
+  // before it take back what they had.
+  RunState before;
+  save_state(before);
+  size_t at = 0;
+  for (size_t k = 0; k < state_parts.size(); ++k) {
+    const StatePart& part = state_parts[k];
+    last_plugin_error.clear();
+    const mh_status st = in_flight(*part.host, InstanceHost::Op::load_state, [&] {
+      return part.ext.load(part.self, from.part_bytes.data() + at, part.size);
+    });
+    if (!status_ok(normalized(st))) {
+      const std::string reason = status_reason(st, part.host->label + " load_state");
+      size_t back = 0;
+      for (size_t j = 0; j < k; ++j) {
+        const StatePart& done = state_parts[j];
+        (void)in_flight(*done.host, InstanceHost::Op::load_state, [&] {
+          return done.ext.load(done.self, before.part_bytes.data() + back, done.size);
+        });
+        back += static_cast<size_t>(done.size);
+      }
+      throw RunStateError(reason + "; the run is as it was");
+    }
+    at += static_cast<size_t>(part.size);
+  }
+  accepted = from.accepted;
+  x = from.x;
+  xd = from.xd;
+  xdd = from.xdd;
+  states.y = from.y;
+  states.ydot = from.ydot;
+  states.y_k = from.y;
+  states.ydot_k = from.ydot;
+  registry.outputs = from.outputs;
+  registry.outputs_k = from.outputs;
+  states.next_event = from.next_event;
+  stages.stability_due = from.stability_due;
+  stages.stability_next_step = from.stability_next_step;
+  stages.stability_worst_excess = from.stability_worst_excess;
+  stages.stability = from.stability;
+  stages.rates_jacobian_valid = from.rates_jacobian_valid;
+  if (from.rates_jacobian_valid) {
+    stages.rates_jacobian = from.rates_jacobian;
+    stages.rates_lu.compute(stages.rates_jacobian);  // the factors the saved run kept
+  }
+  // The host's caches as the saved run left them: the constraints at their
+  // point, then the kinematics at the accepted state (accept_step's), and
+  // the saved counters (these passes are not the run's work).
+  eval.kinematics_valid = false;
+  eval.iterate_evaluated = false;
+  cons.constraints_valid = false;
+  cons.constraint_rates_valid = false;
+  if (m > 0 && from.constraint_positions_valid) {
+    kinematics_at(from.constraint_z.data(),
+                  (from.constraint_rates_valid ? from.constraint_zd : accepted.zd).data());
+    constraints_at_kinematics(from.constraint_rates_valid);
+    eval.kinematics_valid = false;
+  }
+  kinematics_at(accepted.z.data(), accepted.zd.data());
+  energy = from.energy;
+  eval.counters = from.counters;
+  solver.stats = from.last_step;
+  solver.reuse = from.reuse;
+  if (from.reuse.keeps_factorization()) {
+    // The factors modified Newton kept, made again from the same values.
+    bool factored = from.kept_tangent.size() == tangent_ws.values.size();
+    if (factored) {
+      std::copy(from.kept_tangent.begin(), from.kept_tangent.end(), tangent_ws.values.begin());
+      factored = solver.linear_solver->factor(tangent_ws.values.data());
+    }
+    if (!factored) solver.reuse.invalidate();  // the next step factors anew
+  }
+  last_plugin_error.clear();
+}
+
+RunState Simulation::save_state() const {
+  RunState state;
+  save_state(state);
+  return state;
+}
+
+void Simulation::save_state(RunState& into) const {
+  engine_->save_state(into);
+}
+
+void Simulation::restore_state(const RunState& from) {
+  engine_->restore_state(from);
+}
+
+}  // namespace mh
