@@ -20,7 +20,8 @@ int check(const std::vector<std::string>& args) {
       "(default: the component's declared example model, else the shipped four-bar, or the "
       "smallest shipped model using a subsystem): load and version, descriptors, "
       "create/destroy cycles, bad options refused, analytic tangent against differences, "
-      "bit-identical reruns; each check in a child process. Exit 0 when every check passed, "
+      "bit-identical reruns, snapshots restored; each check in a child process. Exit 0 when "
+      "every check passed, "
       "1 when one failed.");
   CLI::App& app = *app_holder;
   std::vector<std::string> files;

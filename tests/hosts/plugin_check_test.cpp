@@ -68,6 +68,41 @@ TEST(PluginCheck, ASoundSubsystemPassesOnTheModelGiven) {
       << r.output;
 }
 
+// The snapshot check (state.h): a run saved at half the check's steps and
+// restored into a fresh run must repeat the rest to the last bit.
+TEST(PluginCheck, AFormulationWhoseSavedStateForgetsWhatItsNextStepReadsFails) {
+  const CliResult r = run_cli("check " + fixture("forgetful_state"));
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("FAIL  formulation forgetful-formulation: a snapshot restored into a "
+                          "fresh run repeats its steps: the run restored from a snapshot at t = "
+                          "0.01 s differs from the run it was saved from at t = 0.011 s"),
+            std::string::npos)
+      << r.output;
+}
+
+TEST(PluginCheck, AFormulationThatCannotSaveItsStateIsSkippedSayingWhy) {
+  const CliResult r =
+      run_cli("check " + std::string(MH_FAULTY_PLUGIN_DIR) + "/crashing_formulation.so");
+  EXPECT_NE(r.output.find("skip  formulation crashing-formulation: a snapshot restored into a "
+                          "fresh run repeats its steps: formulation 'crashing-formulation' of "
+                          "crashing_formulation.so keeps state between steps and cannot save it "
+                          "(it offers no monohydra.state/3 extension"),
+            std::string::npos)
+      << r.output;
+}
+
+TEST(PluginCheck, EveryShippedFormulationAndIntegratorPassesTheSnapshotCheck) {
+  for (const char* library : {"monohydra-open-loop", "monohydra-double-step", "monohydra-penalty",
+                              "monohydra-integrators"}) {
+    const CliResult r = run_cli("check " + std::string(MH_PLUGIN_DIR) + "/" + library + ".so");
+    EXPECT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("a snapshot restored into a fresh run repeats its steps"),
+              std::string::npos)
+        << r.output;
+    EXPECT_EQ(r.output.find("skip  "), std::string::npos) << r.output;
+  }
+}
+
 TEST(PluginCheck, ATangentBlockThatDisagreesWithItsResidualFails) {
   const CliResult r = run_cli("check " + fixture("wrong_jacobian") + " " + spring_model());
   EXPECT_EQ(r.code, 1) << r.output;

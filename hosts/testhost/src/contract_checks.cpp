@@ -8,6 +8,7 @@
 
 #include "isolated_check.hpp"
 #include "monohydra/core/input_error.hpp"
+#include "monohydra/core/run_state.hpp"
 
 namespace mh::testhost {
 namespace {
@@ -183,6 +184,51 @@ std::string fingerprint(const Setup& s, const PluginRegistry& registry) {
     bytes.append(reinterpret_cast<const char*>(v->data()),
                  static_cast<size_t>(v->size()) * sizeof(double));
   return bytes;
+}
+
+constexpr const char* kNoState = "no state extension: ";
+
+// Half the run, saved; the rest of it, then again in a fresh run the state
+// is restored into: the two must agree to the last bit, step by step.
+std::string state_check(const Setup& s, const PluginRegistry& registry) {
+  Simulation run(s.file, registry, s.choices);
+  run.start();
+  const int total =
+      static_cast<int>(std::lround((run.settings().t_end - run.time()) / run.settings().dt));
+  const int half = total / 2;
+  for (int k = 0; k < half; ++k) run.step();
+  RunState saved;
+  try {
+    run.save_state(saved);
+  } catch (const RunStateError& err) {
+    return std::string(kNoState) + err.what();
+  }
+  const auto shown = [](const Simulation& sim) {
+    std::string bytes;
+    for (const Eigen::VectorXd* v :
+         {&sim.z(), &sim.zd(), &sim.zdd(), &sim.states(), &sim.outputs()})
+      bytes.append(reinterpret_cast<const char*>(v->data()),
+                   static_cast<size_t>(v->size()) * sizeof(double));
+    return bytes;
+  };
+  std::vector<std::string> after;
+  for (int k = half; k < total; ++k) {
+    run.step();
+    after.push_back(shown(run));
+  }
+  Simulation fresh(s.file, registry, s.choices);
+  fresh.restore_state(saved);
+  for (size_t k = 0; k < after.size(); ++k) {
+    fresh.step();
+    if (shown(fresh) != after[k]) {
+      std::ostringstream msg;
+      msg << "the run restored from a snapshot at t = " << saved.accepted.t
+          << " s differs from the run it was saved from at t = " << fresh.time()
+          << " s: some state between steps is not in the instance's saved bytes";
+      return msg.str();
+    }
+  }
+  return "";
 }
 
 // The options of the subject in the model, or null (an integrator's, or a
@@ -396,6 +442,16 @@ void check_subject(const Subject& who, const std::vector<Setup>& candidates,
            const std::string b = fingerprint(*setup, registry);
            return a == b ? std::string() : std::string("two runs of the same model differ");
          }));
+  // What a snapshot needs (state.h): a component that keeps state between
+  // steps and offers no MH_EXT_STATE is skipped with the reason, one whose
+  // saved bytes miss some of it fails.
+  const std::string restored = isolated([&] { return state_check(*setup, registry); });
+  const std::string state_what = "a snapshot restored into a fresh run repeats its steps";
+  if (restored.rfind(kNoState, 0) == 0)
+    emit(Check{Check::Verdict::skipped, name + ": " + state_what,
+               restored.substr(std::strlen(kNoState))});
+  else
+    report(state_what, restored);
 }
 
 }  // namespace mh::testhost
