@@ -1,6 +1,6 @@
 // A directional valve's spool U (V) following its reference U_ref(t) with
-// first-order dynamics (Eq. 27), as valve-4-3 has it (valve_4_3.cpp), for the
-// valves that share it (valve_table.cpp):
+// first-order dynamics (Eq. 27), the one law of every valve with a spool
+// (valve_4_3.cpp, valve_table.cpp):
 //   U's row += tau dU/dt - (U_ref(t) - U)
 // Options time_constant, reference, initial_spool, tolerance, spool_limit;
 // state U (role MH_ROLE_CONTROL_SIGNAL, range [-spool_limit, spool_limit]),

@@ -5,18 +5,16 @@
 // the row of the node it leaves and -Q to the row of the node it enters:
 //   U >= 0:  P -> A  (Q_PA = Q_d1 of the case study)  and  B -> T (Q_BT = Q_3d)
 //   U <  0:  A -> T  (Q_AT = -Q_d1)                     and  P -> B (Q_PB = -Q_3d)
-#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
-#include <string>
 
 #include "components.hpp"
 #include "example_models.hpp"
 #include "host_services.hpp"
 #include "monohydra/cpp/services.hpp"
 #include "orifice_flow.hpp"
-#include "time_table.hpp"
+#include "spool.hpp"
 #include "touched_states.hpp"
 
 namespace hyd {
@@ -33,26 +31,12 @@ class Valve43 {
 
   mh_status setup() {
     const mh_host* h = host_;
-    double p_tr = 0.0, u0 = 0.0, tolerance = 0.0;
-    const double* table = nullptr;
-    uint32_t rows = 0;
+    double p_tr = 0.0;
     if (positive_option(h, "flow_coefficient", 1, 0.0,
                         "a positive flow coefficient C_vd (m^3/(s sqrt(Pa) V))", &c_vd_) != MH_OK ||
-        positive_option(h, "time_constant", 1, 0.0, "a positive spool time constant tau (s)",
-                        &tau_) != MH_OK ||
-        monohydra::options(h).option_table(h, "reference", 1, 2, &table, &rows) != MH_OK ||
         positive_option(h, "transition_pressure", 0, 2e5,
-                        "a positive laminar-turbulent transition pressure (Pa)", &p_tr) != MH_OK ||
-        monohydra::options(h).option_number(h, "initial_spool", 0, 0.0, &u0) != MH_OK ||
-        positive_option(h, "tolerance", 0, 1e-7, "a positive spool tolerance (V)", &tolerance) !=
-            MH_OK ||
-        positive_option(h, "spool_limit", 0, 10.0, "a positive spool limit (V)", &limit_) != MH_OK)
+                        "a positive laminar-turbulent transition pressure (Pa)", &p_tr) != MH_OK)
       return MH_ERROR;
-    std::string error;
-    if (!reference_.assign(table, rows, error))
-      return monohydra::options(h).option_error(h, "reference", error.c_str());
-    if (!std::isfinite(u0))
-      return monohydra::options(h).option_error(h, "initial_spool", "a finite spool position (V)");
     law_ = OrificeFlow(p_tr);
     if (add_hydraulic_port(h, "P", MH_PORT_FLOW, kNaN, kNaN, &p_) != MH_OK) return MH_ERROR;
     states_.add(p_);
@@ -62,28 +46,13 @@ class Valve43 {
     states_.add(a_);
     if (add_hydraulic_port(h, "B", MH_PORT_FLOW, kNaN, kNaN, &b_) != MH_OK) return MH_ERROR;
     states_.add(b_);
-    // The spool is the control signal the reference drives: its range is the
-    // reference's, [-U_max, U_max] with U_max = spool_limit (10 V by default).
-    mh_state_spec spool = monohydra::state_spec("U", "V", u0, tolerance);
-    spool.role = MH_ROLE_CONTROL_SIGNAL;
-    spool.range_min = -limit_;
-    spool.range_max = limit_;
-    if (monohydra::subsystem_setup(h).add_state(h, &spool, &u_) != MH_OK) return MH_ERROR;
-    states_.add(u_);
-    const mh_output_spec u_ref = monohydra::output_spec("U_ref", "V");
-    if (monohydra::outputs(h).add_output(h, &u_ref, &u_ref_out_) != MH_OK) return MH_ERROR;
-    // The reference's steps: the host lands a step end on each and restarts the
-    // integrator there.
-    for (double t : reference_.jump_times())
-      if (monohydra::subsystem_setup(h).add_time_event(h, t) != MH_OK) return MH_ERROR;
-    return MH_OK;
+    // The spool U, its reference's options, output and time events (spool.hpp).
+    return spool_.setup(h, states_);
   }
 
   mh_status evaluate(const mh_subsystem_eval& eval) const {
-    const double u = eval.y[u_];
-    const double u_ref = reference(eval.t);
-    eval.residual[u_] += tau_ * eval.ydot[u_] - (u_ref - u);  // Eq. 27
-    eval.outputs[u_ref_out_] = u_ref;
+    spool_.evaluate(eval);  // Eq. 27
+    const double u = eval.y[spool_.state()];
     for (const Path& path : paths(u)) {
       const double q = flow(path, eval.y);
       eval.residual[path.from] += q;
@@ -93,10 +62,10 @@ class Valve43 {
   }
 
   mh_status jacobian(const mh_subsystem_eval& eval, double* d_dy, double* d_dydot) const {
+    spool_.jacobian(states_, d_dy, d_dydot);
     JacobianBlock dy(states_, d_dy);
-    dy.add(u_, u_, 1.0);
-    JacobianBlock(states_, d_dydot).add(u_, u_, tau_);
-    const double u = eval.y[u_];
+    const int32_t us = spool_.state();
+    const double u = eval.y[us];
     for (const Path& path : paths(u)) {
       const double dp = eval.y[path.from] - eval.y[path.to];
       const double dq_dp = c_vd_ * std::abs(u) * law_.slope(dp);  // d/dp_from = -d/dp_to
@@ -104,10 +73,10 @@ class Valve43 {
       // Row `from` gets +Q, row `to` gets -Q.
       dy.add(path.from, path.from, dq_dp);
       dy.add(path.from, path.to, -dq_dp);
-      dy.add(path.from, u_, dq_du);
+      dy.add(path.from, us, dq_du);
       dy.add(path.to, path.from, -dq_dp);
       dy.add(path.to, path.to, dq_dp);
-      dy.add(path.to, u_, -dq_du);
+      dy.add(path.to, us, -dq_du);
     }
     return MH_OK;
   }
@@ -124,17 +93,14 @@ class Valve43 {
     return {Path{a_, t_}, Path{p_, b_}};
   }
   double flow(const Path& path, const double* y) const {
-    return c_vd_ * std::abs(y[u_]) * law_.g(y[path.from] - y[path.to]);  // Eq. 26
+    return c_vd_ * std::abs(y[spool_.state()]) * law_.g(y[path.from] - y[path.to]);  // Eq. 26
   }
-  double reference(double t) const { return std::clamp(reference_.value(t), -limit_, limit_); }
 
   const mh_host* host_;
-  double c_vd_ = 0.0;    // m^3/(s sqrt(Pa) V)
-  double tau_ = 0.0;     // s
-  double limit_ = 10.0;  // V
+  double c_vd_ = 0.0;  // m^3/(s sqrt(Pa) V)
   OrificeFlow law_;
-  TimeTable reference_;
-  int32_t p_ = -1, t_ = -1, a_ = -1, b_ = -1, u_ = -1, u_ref_out_ = -1;
+  Spool spool_;
+  int32_t p_ = -1, t_ = -1, a_ = -1, b_ = -1;
   TouchedStates states_;
 };
 
