@@ -27,6 +27,7 @@
 #include "result_sidecar.hpp"
 #include "run_setup.hpp"
 #include "stability_text.hpp"
+#include "step_overrides.hpp"
 #include "stop_signals.hpp"
 #include "subcommand_parser.hpp"
 
@@ -110,13 +111,12 @@ std::optional<int> parse_run_args(const std::vector<std::string>& args, const ch
                      "(exit 0 or 1).");
   CLI::App& app = *app_holder;
   std::vector<std::string> models;
-  std::string dt, t_end, interval, cap, max_steps, max_bytes, call_timeout;
+  std::string interval, cap, call_timeout;
   bool real_time = false;
   app.add_option("MODEL.yaml", models, "the model file");
   app.add_option("--formulation", request.formulation, "replaces the model file's formulation");
   app.add_option("--integrator", request.integrator, "replaces the model file's integrator");
-  auto* dt_opt = app.add_option("--dt", dt, "time step (s), replaces solver: dt");
-  auto* t_end_opt = app.add_option("--t-end", t_end, "end time (s), replaces solver: t_end");
+  const StepOverrideOptions overrides(app, true, true);
   if (out != nullptr) app.add_option("--out", *out, "write the results to FILE.csv");
   auto* interval_opt =
       app.add_option("--output-interval", interval, "write rows at multiples of S (s) only");
@@ -124,22 +124,11 @@ std::optional<int> parse_run_args(const std::vector<std::string>& args, const ch
                "pace the steps to the wall clock; adds the columns late and unconverged");
   auto* cap_opt =
       app.add_option("--newton-cap", cap, "real time: Newton iterations per step (default 4)");
-  auto* steps_opt = app.add_option("--max-steps", max_steps, "refuse runs of more steps (1e8)");
-  auto* bytes_opt =
-      app.add_option("--max-output-bytes", max_bytes, "refuse larger CSVs (1e10 bytes)");
   auto* timeout_opt = app.add_option(
       "--call-timeout", call_timeout,
       "stop when one plugin call has not returned within S s, naming it (default 60; 0: never)");
-  std::string stability;
-  auto* stability_opt = app.add_option(
-      "--explicit-stability", stability,
-      "error|warn|off: an explicit step beyond its stability bound stops the run, is reported "
-      "(default, or solver: explicit_stability) or is not checked");
   if (const auto code = parse_subcommand(app, args)) return code;
-  if (stability_opt->count() > 0) {
-    request.explicit_stability = parse_stability_option(stability);
-    if (!request.explicit_stability) return 2;
-  }
+  if (!overrides.read(request.overrides)) return 2;
 
   if (models.size() > 1) {
     std::cerr << "monohydra: one model file at a time (got '" << models[0] << "' and '" << models[1]
@@ -162,14 +151,6 @@ std::optional<int> parse_run_args(const std::vector<std::string>& args, const ch
     }
     request.call_timeout = *value;
   }
-  if (dt_opt->count() > 0) {
-    request.dt = parse_number("--dt", dt);
-    if (!request.dt) return 2;
-  }
-  if (t_end_opt->count() > 0) {
-    request.t_end = parse_number("--t-end", t_end);
-    if (!request.t_end) return 2;
-  }
   if (interval_opt->count() > 0) {
     request.output_interval = parse_number("--output-interval", interval);
     if (!request.output_interval) return 2;
@@ -190,9 +171,6 @@ std::optional<int> parse_run_args(const std::vector<std::string>& args, const ch
     }
     newton_cap = static_cast<int>(*value);
   }
-  if (steps_opt->count() > 0 && !parse_limit("--max-steps", max_steps, request.limits)) return 2;
-  if (bytes_opt->count() > 0 && !parse_limit("--max-output-bytes", max_bytes, request.limits))
-    return 2;
   if (newton_cap > 0 && !real_time) {
     std::cerr << "monohydra: --newton-cap applies to --real-time runs only\n";
     return 2;

@@ -103,16 +103,9 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
     std::cerr << "monohydra: " << err.what() << '\n';
     return 2;
   }
-  if ((job.dt && !(*job.dt > 0.0)) || (job.t_end && !(*job.t_end >= 0.0))) {
-    std::cerr << "monohydra: --dt must be positive and --t-end non-negative\n";
-    return 2;
-  }
+  const StepOverrides& o = job.overrides;
   try {  // steps and limits before any formulation runs (rows are kept in memory)
-    SolverSettings settings = file.solver;
-    if (job.dt) settings.dt = *job.dt;
-    if (job.t_end) settings.t_end = *job.t_end;
-    check_run_settings(file, settings, job.limits, 0,
-                       SettingOrigins{job.dt.has_value(), job.t_end.has_value()});
+    check_run_settings(file, o.applied_to(file.solver), o.limits, 0, o.origins());
   } catch (const InputError& err) {
     std::cerr << "monohydra: " << err.what() << '\n';
     return 2;
@@ -126,7 +119,7 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
     }
   }
   // --explicit-stability over the file's solver.explicit_stability.
-  if (job.explicit_stability) file.solver.explicit_stability = *job.explicit_stability;
+  if (o.explicit_stability) file.solver.explicit_stability = *o.explicit_stability;
   PluginRegistry registry;
   try {
     load_model_plugins(file, registry);
@@ -147,9 +140,7 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
       const std::string label =
           run_label(formulation, integrator, formulations.size() > 1, integrators.size() > 1);
       RecordOptions options;
-      options.dt = job.dt;
-      options.t_end = job.t_end;
-      options.limits = job.limits;
+      options.overrides = o;
       options.stop = install_stop_handlers();
       options.log = [&label](mh_log_level level, const std::string& source,
                              const std::string& msg) {
@@ -182,9 +173,9 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
         provenance.integrator = integrator;
         provenance.solver = file.solver;
         provenance.solver.dt =
-            runs.back().dt > 0.0 ? runs.back().dt : job.dt.value_or(file.solver.dt);
+            runs.back().dt > 0.0 ? runs.back().dt : o.dt.value_or(file.solver.dt);
         provenance.solver.t_end =
-            runs.back().dt > 0.0 ? runs.back().t_end : job.t_end.value_or(file.solver.t_end);
+            runs.back().dt > 0.0 ? runs.back().t_end : o.t_end.value_or(file.solver.t_end);
         provenance.plugins = used;
         provenance.stability = &runs.back().stability;
         if (!write_sidecar(csv, provenance)) return 2;
@@ -273,28 +264,16 @@ int compare(const std::vector<std::string>& args) {
   CLI::App& app = *app_holder;
   CompareJob job;
   std::vector<std::string> models;
-  std::string formulations, integrators, dt, t_end, max_steps, max_bytes;
+  std::string formulations, integrators;
   app.add_option("MODEL.yaml", models, "the model file");
   auto* f_opt = app.add_option("--formulations", formulations, "A,B,...: the formulations run");
   auto* i_opt = app.add_option("--integrators", integrators, "C,D,...: the integrators run");
   app.add_option("--report", job.report_dir,
                  "write DIR/report.html with the paper's figures and each run's CSV (with its "
                  "NAME.meta.json), named after what varies");
-  auto* dt_opt = app.add_option("--dt", dt, "time step (s), replaces solver: dt");
-  auto* t_end_opt = app.add_option("--t-end", t_end, "end time (s), replaces solver: t_end");
-  auto* steps_opt = app.add_option("--max-steps", max_steps, "refuse runs of more steps (1e8)");
-  auto* bytes_opt =
-      app.add_option("--max-output-bytes", max_bytes, "refuse larger outputs (1e10 bytes)");
-  std::string stability;
-  auto* stability_opt = app.add_option(
-      "--explicit-stability", stability,
-      "error|warn|off: an explicit step beyond its stability bound stops the run, is reported "
-      "(default, or solver: explicit_stability) or is not checked");
+  const StepOverrideOptions overrides(app, true, true);
   if (const auto code = parse_subcommand(app, args)) return *code;
-  if (stability_opt->count() > 0) {
-    job.explicit_stability = parse_stability_option(stability);
-    if (!job.explicit_stability) return 2;
-  }
+  if (!overrides.read(job.overrides)) return 2;
   if (models.size() > 1) {
     std::cerr << "monohydra: compare takes one model file (got '" << models[0] << "' and '"
               << models[1] << "')\n";
@@ -315,16 +294,6 @@ int compare(const std::vector<std::string>& args) {
     if (!names) return 2;
     job.integrators = *names;
   }
-  if (dt_opt->count() > 0) {
-    job.dt = parse_number("--dt", dt);
-    if (!job.dt) return 2;
-  }
-  if (t_end_opt->count() > 0) {
-    job.t_end = parse_number("--t-end", t_end);
-    if (!job.t_end) return 2;
-  }
-  if (steps_opt->count() > 0 && !parse_limit("--max-steps", max_steps, job.limits)) return 2;
-  if (bytes_opt->count() > 0 && !parse_limit("--max-output-bytes", max_bytes, job.limits)) return 2;
   // The paper's numbers go beside ours when the model is one of its case studies.
   std::vector<CaseStudy> studies;
   try {

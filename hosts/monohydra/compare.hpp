@@ -10,6 +10,7 @@
 
 #include "case_studies.hpp"
 #include "monohydra/core/run_limits.hpp"
+#include "step_overrides.hpp"
 
 namespace mh::cli {
 
@@ -19,11 +20,8 @@ struct CompareJob {
   // the reference. Empty: the model file's compare defaults, else its own choice.
   std::vector<std::string> formulations;
   std::vector<std::string> integrators;
-  std::string report_dir;    // "" for no report and no CSVs
-  std::optional<double> dt;  // override the model file's solver settings
-  std::optional<double> t_end;
-  RunLimits limits;                                           // --max-steps, --max-output-bytes
-  std::optional<ExplicitStabilityPolicy> explicit_stability;  // unset: the model file's
+  std::string report_dir;            // "" for no report and no CSVs
+  StepOverrides overrides;           // of the model file's solver settings
   const CaseStudy* study = nullptr;  // the paper's numbers beside ours, when set
 };
 

@@ -103,13 +103,11 @@ RunRecord record_run(const ModelFile& file, const PluginRegistry& registry,
   try {
     // The settings are checked before any plugin reads them (the output's
     // size once the columns are known, below).
-    SolverSettings planned = file.solver;
-    if (options.dt) planned.dt = *options.dt;
-    if (options.t_end) planned.t_end = *options.t_end;
-    check_run_settings(file, planned, options.limits, 0,
-                       SettingOrigins{options.dt.has_value(), options.t_end.has_value()});
+    const StepOverrides& o = options.overrides;
+    check_run_settings(file, o.applied_to(file.solver), o.limits, 0, o.origins());
     sim = std::make_unique<Simulation>(
-        file, registry, RunChoices{formulation, integrator, options.dt, options.t_end},
+        file, registry,
+        RunChoices{formulation, integrator, options.overrides.dt, options.overrides.t_end},
         options.log);
   } catch (const std::exception& err) {
     rec.failed = true;
@@ -128,9 +126,8 @@ RunRecord record_run(const ModelFile& file, const PluginRegistry& registry,
     // column: the table is computed from them).
     layout = std::make_unique<CsvLayout>(*sim, file.output, std::nullopt);
     // Every row kept is in memory too: count it like a CSV.
-    total = check_run_settings(file, sim->settings(), options.limits, rec.names.size(),
-                               SettingOrigins{options.dt.has_value(), options.t_end.has_value()},
-                               layout->every_steps());
+    total = check_run_settings(file, sim->settings(), options.overrides.limits, rec.names.size(),
+                               options.overrides.origins(), layout->every_steps());
   } catch (const InputError& err) {
     rec.failed = true;
     rec.failure = err.what();

@@ -13,6 +13,7 @@
 #include "monohydra/core/plugin_registry.hpp"
 #include "monohydra/core/run_limits.hpp"
 #include "monohydra/core/simulation.hpp"
+#include "step_overrides.hpp"
 
 namespace mh::cli {
 
@@ -52,12 +53,12 @@ struct RunRecord {
 };
 
 struct RecordOptions {
-  std::optional<double> dt;     // override the model file's solver settings
-  std::optional<double> t_end;  // s
-  std::string csv_path;         // write the CSV here when not empty
+  StepOverrides overrides;  // of the model file's solver settings (dt, t_end, limits)
+  std::string csv_path;     // write the CSV here when not empty
   LogSink log;
   std::function<void(double)> progress;  // fraction done, about 100 calls
-  RunLimits limits;  // checked before the first step; the CSV counts towards max_output_bytes
+  // overrides.limits are checked before the first step; the CSV counts
+  // towards max_output_bytes.
   // Non-zero (a signal number, see stop_signals.hpp): stop after the current row.
   const volatile std::sig_atomic_t* stop = nullptr;
   // Called with the record after each row it keeps (isolated_run.hpp streams

@@ -23,23 +23,20 @@ std::unique_ptr<PreparedRun> prepare_run(const RunRequest& request) {
     return nullptr;
   }
   // --explicit-stability over the file's solver.explicit_stability.
-  if (request.explicit_stability) p->file.solver.explicit_stability = *request.explicit_stability;
-  const SettingOrigins origins{request.dt.has_value(), request.t_end.has_value()};
+  const StepOverrides& o = request.overrides;
+  if (o.explicit_stability) p->file.solver.explicit_stability = *o.explicit_stability;
+  const SettingOrigins origins = o.origins();
   try {
     // The settings are checked before any plugin reads them (the output's
     // size once the columns are known, below).
-    SolverSettings planned = p->file.solver;
-    if (request.dt) planned.dt = *request.dt;
-    if (request.t_end) planned.t_end = *request.t_end;
-    check_run_settings(p->file, planned, request.limits, 0, origins);
+    check_run_settings(p->file, o.applied_to(p->file.solver), o.limits, 0, origins);
   } catch (const InputError& err) {
     std::cerr << "monohydra: " << err.what() << '\n';
     return nullptr;
   }
   try {
     p->sim = std::make_unique<Simulation>(
-        p->file, p->registry,
-        RunChoices{request.formulation, request.integrator, request.dt, request.t_end},
+        p->file, p->registry, RunChoices{request.formulation, request.integrator, o.dt, o.t_end},
         log_to_stderr);
   } catch (const std::exception& err) {
     std::cerr << "monohydra: " << err.what() << '\n';
@@ -52,7 +49,7 @@ std::unique_ptr<PreparedRun> prepare_run(const RunRequest& request) {
     p->columns = p->layout->names().size();
     check_column_names(p->file, *p->sim);
     p->used = used_components(p->file, p->registry, request.formulation, request.integrator);
-    p->steps = check_run_settings(p->file, p->sim->settings(), request.limits,
+    p->steps = check_run_settings(p->file, p->sim->settings(), o.limits,
                                   request.csv ? p->columns : 0, origins, p->layout->every_steps());
   } catch (const InputError& err) {
     std::cerr << "monohydra: " << err.what() << '\n';

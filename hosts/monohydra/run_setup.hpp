@@ -16,21 +16,19 @@
 #include "monohydra/core/plugin_registry.hpp"
 #include "monohydra/core/run_limits.hpp"
 #include "monohydra/core/simulation.hpp"
+#include "step_overrides.hpp"
 
 namespace mh::cli {
 
 struct RunRequest {
   std::string model_path;
-  std::string formulation;  // "" for the model file's
-  std::string integrator;   // "" for the model file's
-  std::optional<double> dt;
-  std::optional<double> t_end;
+  std::string formulation;                // "" for the model file's
+  std::string integrator;                 // "" for the model file's
+  StepOverrides overrides;                // --dt, --t-end, the limits, --explicit-stability
   bool csv = false;                       // the run writes a CSV (counted in the output limit)
   std::optional<double> output_interval;  // --output-interval: overrides output.interval
   int real_time_cap = 0;                  // --real-time: Newton iterations per step (0: off)
-  RunLimits limits;
-  std::optional<ExplicitStabilityPolicy> explicit_stability;  // unset: the model file's
-  double call_timeout = 0.0;  // --call-timeout: s a plugin call may take (0: no limit)
+  double call_timeout = 0.0;              // --call-timeout: s a plugin call may take (0: no limit)
 };
 
 struct PreparedRun {

@@ -15,6 +15,7 @@
 #include "local_pool.hpp"
 #include "mpi_transport.hpp"
 #include "progress.hpp"
+#include "step_overrides.hpp"
 #include "stop_signals.hpp"
 #include "subcommand_parser.hpp"
 #include "sweep_report.hpp"
@@ -42,13 +43,11 @@ std::optional<int> parse(const std::vector<std::string>& args, SweepArgs& a,
       "only the cases left.");
   CLI::App& app = *app_holder;
   std::vector<std::string> studies;
-  std::string jobs, dt, t_end;
+  std::string jobs;
   app.add_option("STUDY.yaml", studies, "the study file");
   app.add_option("--out", a.out, "the folder for results.csv, references/ and the report");
   auto* jobs_opt = app.add_option("--jobs", jobs, "local workers, 1 to 4096 (default: every core)");
-  auto* dt_opt = app.add_option("--dt", dt, "time step (s) of every case, replaces solver: dt");
-  auto* t_end_opt =
-      app.add_option("--t-end", t_end, "end time (s) of every case, replaces solver: t_end");
+  const StepOverrideOptions overrides(app, false, false, "of every case");
   app.add_flag("--report", a.report, "write DIR/report.html with the study's plots");
   app.add_flag("--keep-csv", ctx.keep_csv, "keep each case's CSV in DIR/cases/");
   if (const auto code = parse_subcommand(app, args)) return code;
@@ -67,19 +66,10 @@ std::optional<int> parse(const std::vector<std::string>& args, SweepArgs& a,
     }
     a.jobs = static_cast<int>(*n);
   }
-  for (const auto& [opt, name, text, target] :
-       {std::tuple{dt_opt, "--dt", &dt, &ctx.dt},
-        std::tuple{t_end_opt, "--t-end", &t_end, &ctx.t_end}}) {
-    if (opt->count() == 0) continue;
-    const auto v = parse_number(name, *text);
-    if (!v) return 2;
-    if (!std::isfinite(*v) || !(*v > 0)) {
-      std::cerr << "monohydra: " << name << " expects a positive number of seconds, got '" << *text
-                << "'\n";
-      return 2;
-    }
-    *target = *v;
-  }
+  StepOverrides given;
+  if (!overrides.read(given, true)) return 2;
+  ctx.dt = given.dt;  // each case's model file gets them (case_run.cpp)
+  ctx.t_end = given.t_end;
   if (studies.empty() || a.out.empty()) {
     std::cerr << "monohydra: sweep needs a study file and --out DIR (sweep --help lists its "
                  "options)\n";
