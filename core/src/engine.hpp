@@ -87,6 +87,7 @@ struct InstanceHost {
     get_extension,
     save_state,
     load_state,
+    destroy,
     count
   };
   std::array<PluginCallSite, static_cast<size_t>(Op::count)> sites{};
@@ -113,7 +114,8 @@ struct InstanceHost {
                                              "write_outputs",
                                              "get_extension",
                                              "save_state",
-                                             "load_state"};
+                                             "load_state",
+                                             "destroy"};
     library = path;
     const std::string name = path.substr(path.find_last_of('/') + 1);
     label = name.empty() ? source : source + " of " + name;
@@ -130,6 +132,12 @@ struct InstanceHost {
 
 // Calls f() (one call into a plugin) with that call marked in flight, for
 // a crash handler to name (plugin_call.hpp).
+// Where a proxy's destroy is marked in flight (plugin_instance.hpp).
+template <class Proxy>
+void mark_destroy(Proxy& proxy, const InstanceHost& h) {
+  proxy.destroy_site = &h.sites[static_cast<size_t>(InstanceHost::Op::destroy)];
+}
+
 template <class F>
 auto in_flight(const InstanceHost& h, InstanceHost::Op op, F&& f) {
   const PluginCallScope scope(h.sites[static_cast<size_t>(op)]);

@@ -108,6 +108,7 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
                                             &s.host->table, spec.type.c_str());
     }));
     if (!s.api) throw_setup_failure(e, spec.mark, who);
+    mark_destroy(s.api, *s.host);
     require_op(
         s.api.ops.setup != nullptr && s.api.ops.evaluate != nullptr && s.api.ops.destroy != nullptr,
         who, "setup/evaluate/destroy");
@@ -163,6 +164,7 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
         e.formulation_name.c_str());
   }));
   if (!e.formulation) throw_setup_failure(e, file.formulation.mark, fwho);
+  mark_destroy(e.formulation, *e.formulation_host);
   const mh_formulation& f = e.formulation.ops;
   require_op(f.setup && f.start && f.residual && f.accept && f.coordinates && f.destroy, fwho,
              "setup/start/residual/accept/coordinates/destroy");
@@ -205,6 +207,7 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
         e.integrator_name.c_str());
   }));
   if (!e.integrator) throw_setup_failure(e, file.integrator.mark, iwho);
+  mark_destroy(e.integrator, *e.integrator_host);
   const mh_integrator& in = e.integrator.ops;
   if (in.explicit_method != nullptr) {
     // An explicit method's own operations, read as this host's (abi_struct.hpp).

@@ -307,6 +307,22 @@ TEST(HostBoundary, ACrashInSetupEndsTheRunsChildAndTheCommandNamesTheInstanceAnd
       << r.output;
 }
 
+// destroy is a plugin call like the others: a crash in it is named.
+TEST(HostBoundary, ACrashInDestroyIsNamedWithTheInstanceAndTheCall) {
+  const auto model = mh::test::scratch_dir("crash-destroy") / "spring.yaml";
+  {
+    std::ifstream in(spring_model());
+    std::ofstream out(model);
+    out << in.rdbuf() << "plugins: {faulty-spring: " << fixture("crash_destroy") << "}\n";
+  }
+  const CliResult r = run_cli("validate " + model.string());  // sets up and destroys here
+  EXPECT_NE(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("monohydra: crashed (SIGSEGV) in subsystem 'spring' (faulty-spring) of "
+                          "crash_destroy.so, in its destroy"),
+            std::string::npos)
+      << r.output;
+}
+
 // A plugin call that never returns: the host's watchdog stops the command
 // once the call has been in flight for --call-timeout, naming it.
 TEST(HostBoundary, ACreateThatNeverReturnsIsStoppedNamingTheInstanceAndTheCall) {

@@ -7,6 +7,7 @@
 
 #include <utility>
 
+#include "monohydra/core/plugin_call.hpp"
 #include "monohydra/monohydra.h"
 #include "plugins/abi_struct.hpp"
 
@@ -32,23 +33,37 @@ class PluginInstance {
   ~PluginInstance() { reset(); }
   PluginInstance(const PluginInstance&) = delete;
   PluginInstance& operator=(const PluginInstance&) = delete;
-  PluginInstance(PluginInstance&& o) noexcept : self(o.self), ops(o.ops) { o.self = nullptr; }
+  PluginInstance(PluginInstance&& o) noexcept
+      : self(o.self), ops(o.ops), destroy_site(o.destroy_site) {
+    o.self = nullptr;
+  }
   PluginInstance& operator=(PluginInstance&& o) noexcept {
     if (this != &o) {
       reset();
       self = std::exchange(o.self, nullptr);
       ops = o.ops;
+      destroy_site = o.destroy_site;
     }
     return *this;
   }
+  // Destroys the instance, its destroy marked as in flight (plugin_call.hpp)
+  // when a site is set: a crash there is named like any other call's.
   void reset() {
-    if (self != nullptr && ops.destroy != nullptr) ops.destroy(self);
+    if (self != nullptr && ops.destroy != nullptr) {
+      if (destroy_site != nullptr) {
+        const PluginCallScope scope(*destroy_site);
+        ops.destroy(self);
+      } else {
+        ops.destroy(self);
+      }
+    }
     self = nullptr;
   }
   explicit operator bool() const { return self != nullptr; }
 
   const Table* self = nullptr;  // the plugin's pointer: passed back as every call's first argument
   Table ops{};                  // its operations, up to the plugin's struct_size
+  const PluginCallSite* destroy_site = nullptr;  // owned by the instance's host, which outlives it
 };
 
 using FormulationProxy = PluginInstance<mh_formulation>;
