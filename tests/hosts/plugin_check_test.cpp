@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "cli_runner.hpp"
@@ -305,6 +306,43 @@ TEST(HostBoundary, ACrashInSetupEndsTheRunsChildAndTheCommandNamesTheInstanceAnd
                           "(faulty-spring) of crash_setup.so, in its setup"),
             std::string::npos)
       << r.output;
+}
+
+// A formulation's start and accept write x, xd, xdd that the integrator's
+// history takes: a NaN there is named with its writer, the call and the
+// entry, and every row before stays.
+TEST(HostBoundary, NanInAFormulationsStartOrAcceptIsNamedWithTheCallAndTheEntry) {
+  for (const auto& [name, message, last_row] :
+       {std::tuple<std::string, std::string, std::string>{
+            "nan_start",
+            "simulation failed at t = 0 s, step 0: formulation 'nan-formulation' of "
+            "nan_start.so wrote a non-finite value (nan) in start: x entry 0",
+            ""},
+        std::tuple<std::string, std::string, std::string>{
+            "nan_accept",
+            "simulation failed at t = 0.006 s, step 6: formulation 'nan-formulation' of "
+            "nan_accept.so wrote a non-finite value (nan) in accept: xd entry 0",
+            "0.005"}}) {
+    const auto dir = mh::test::scratch_dir("nan-formulation-" + name);
+    const auto model = dir / "pendulum.yaml";
+    {
+      std::ifstream in(mh::test::shipped_model("double-pendulum.yaml"));
+      std::ofstream out(model);
+      out << in.rdbuf() << "plugins: {nan-formulation: " << fixture(name) << "}\n";
+    }
+    const auto csv = dir / "out.csv";
+    const CliResult r =
+        run_cli("run " + model.string() + " --formulation nan-formulation --t-end 0.02 --out " +
+                csv.string());
+    EXPECT_EQ(r.code, 1) << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << r.output;
+    if (last_row.empty()) continue;
+    std::ifstream rows(csv);
+    std::string line, last;
+    while (std::getline(rows, line))
+      if (!line.empty()) last = line;
+    EXPECT_EQ(last.substr(0, last.find(',')), last_row) << last;
+  }
 }
 
 // destroy is a plugin call like the others: a crash in it is named.

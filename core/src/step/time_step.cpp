@@ -122,9 +122,9 @@ void Simulation::Engine::start() {
                   }),
         "formulation start");
   const auto mech = static_cast<size_t>(n_m);
-  check_finite(x.data(), mech, *formulation_host, "accept", "x", false);
-  check_finite(xd.data(), mech, *formulation_host, "accept", "xd", false);
-  check_finite(xdd.data(), mech, *formulation_host, "accept", "xdd", false);
+  check_finite(x.data(), mech, *formulation_host, "start", "x", false);
+  check_finite(xd.data(), mech, *formulation_host, "start", "xd", false);
+  check_finite(xdd.data(), mech, *formulation_host, "start", "xdd", false);
   check(in_flight(*formulation_host, InstanceHost::Op::coordinates,
                   [&] {
                     const mh_coordinate_buffers out{sizeof(mh_coordinate_buffers),
@@ -279,6 +279,12 @@ void Simulation::Engine::accept_step(double t_next, bool event, double h) {
                                                   &map_ws.map.coefficients, &values, &flags);
                   }),
         "formulation accept");
+  // What accept left in x, xd, xdd (its corrections, a redefinition) is the
+  // integrator's history: a non-finite value is named here, with its writer.
+  const auto mech = static_cast<size_t>(n_m);
+  check_finite(x.data(), mech, *formulation_host, "accept", "x", false);
+  check_finite(xd.data(), mech, *formulation_host, "accept", "xd", false);
+  check_finite(xdd.data(), mech, *formulation_host, "accept", "xdd", false);
   check(in_flight(*formulation_host, InstanceHost::Op::coordinates,
                   [&] {
                     const mh_coordinate_buffers out{sizeof(mh_coordinate_buffers),
@@ -287,6 +293,10 @@ void Simulation::Engine::accept_step(double t_next, bool event, double h) {
                     return formulation.ops.coordinates(formulation.self, &out);
                   }),
         "formulation coordinates");
+  const auto coords = static_cast<size_t>(N);
+  check_finite(accepted.z.data(), coords, *formulation_host, "coordinates", "z", false);
+  check_finite(accepted.zd.data(), coords, *formulation_host, "coordinates", "zd", false);
+  check_finite(accepted.zdd.data(), coords, *formulation_host, "coordinates", "zdd", false);
   states.y = x.tail(n_s);
   states.ydot = xd.tail(n_s);
   if (formulation.ops.write_outputs != nullptr)
