@@ -15,7 +15,8 @@
  * the same head on every instance table (setup, destroy, get_extension), the
  * same factory in every role (example_model included), the step's
  * coefficients at a formulation's begin_step, explicit integrators with
- * operations of their own. A 2.x plugin is refused, naming both versions and
+ * operations of their own, an instance's own state saved and loaded
+ * (state.h) for snapshots of a run. A 2.x plugin is refused, naming both versions and
  * the migration section of docs/sdk.md ("Migrating a 2.x plugin"). */
 #ifndef MONOHYDRA_TYPES_H
 #define MONOHYDRA_TYPES_H
