@@ -333,6 +333,17 @@ struct StatePart {
   uint64_t size = 0;         // bytes, fixed after setup
 };
 
+// The instances' parts of a snapshot, found at the first one, and the copy
+// restore_state takes to undo a load that an instance refuses halfway: kept
+// here so that a restore between two steps allocates nothing once sized
+// (run_state.cpp).
+struct SnapshotParts {
+  bool found = false;
+  std::vector<StatePart> parts;
+  std::string key;  // run_key(), made with the parts
+  RunState before;  // the run as it was, while restore_state loads
+};
+
 struct Simulation::Engine {
   explicit Engine(const Model& source) : model(source), data(model) {}
   const ModelFile* file = nullptr;
@@ -380,9 +391,7 @@ struct Simulation::Engine {
   CouplingWorkspace coupling;
   EnergyBalance energy;
   AcceptedPoint accepted;
-  std::vector<StatePart> state_parts;  // found at the first snapshot (run_state.cpp)
-  bool state_parts_found = false;
-  std::string state_key;  // run_key(), made with the parts
+  SnapshotParts snapshot;
 
   // host_services.cpp
   void make_host(InstanceHost& h, const std::string& source, const OptionMap* options,

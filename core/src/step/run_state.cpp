@@ -25,8 +25,8 @@ mh_state_extension state_extension_of(const Table* self, const Table& ops, Insta
 }  // namespace
 
 void Simulation::Engine::find_state_parts() {
-  if (state_parts_found) return;
-  state_parts.clear();
+  if (snapshot.found) return;
+  snapshot.parts.clear();
   const auto add = [&](const void* self, mh_state_extension ext, InstanceHost& host,
                        bool keeps_state) {
     StatePart part;
@@ -39,7 +39,7 @@ void Simulation::Engine::find_state_parts() {
       part.size = in_flight(host, InstanceHost::Op::get_extension, [&] { return ext.size(self); });
     }
     if (!complete && !keeps_state) return;  // nothing of its own
-    state_parts.push_back(part);
+    snapshot.parts.push_back(part);
   };
   add(formulation.self, state_extension_of(formulation.self, formulation.ops, *formulation_host),
       *formulation_host, true);
@@ -48,8 +48,8 @@ void Simulation::Engine::find_state_parts() {
   for (SubsystemInstance& s : subsystems)
     add(s.api.self, state_extension_of(s.api.self, s.api.ops, *s.host), *s.host,
         s.api.ops.accept != nullptr);
-  state_key = run_key();
-  state_parts_found = true;
+  snapshot.key = run_key();
+  snapshot.found = true;
 }
 
 // What makes a state of this run one of another: the plugins, the step, the
@@ -71,14 +71,14 @@ void Simulation::Engine::save_state(RunState& into) {
         "started");
   find_state_parts();
   uint64_t total = 0;
-  for (const StatePart& part : state_parts) {
+  for (const StatePart& part : snapshot.parts) {
     if (part.ext.save == nullptr)
       throw RunStateError(part.host->label +
                           " keeps state between steps and cannot save it (it offers no " +
                           MH_EXT_STATE + " extension, docs/sdk.md): this run cannot be saved");
     total += part.size;
   }
-  into.run_key = state_key;
+  into.run_key = snapshot.key;
   into.accepted = accepted;
   into.energy = energy;
   into.x = x;
@@ -105,11 +105,11 @@ void Simulation::Engine::save_state(RunState& into) {
     into.kept_tangent.clear();
   into.rates_jacobian_valid = stages.rates_jacobian_valid;
   if (stages.rates_jacobian_valid) into.rates_jacobian = stages.rates_jacobian;
-  into.part_sizes.resize(state_parts.size());
+  into.part_sizes.resize(snapshot.parts.size());
   into.part_bytes.resize(static_cast<size_t>(total));
   size_t at = 0;
-  for (size_t k = 0; k < state_parts.size(); ++k) {
-    const StatePart& part = state_parts[k];
+  for (size_t k = 0; k < snapshot.parts.size(); ++k) {
+    const StatePart& part = snapshot.parts[k];
     into.part_sizes[k] = part.size;
     last_plugin_error.clear();
     const mh_status st = in_flight(*part.host, InstanceHost::Op::save_state, [&] {
@@ -123,23 +123,23 @@ void Simulation::Engine::save_state(RunState& into) {
 
 void Simulation::Engine::restore_state(const RunState& from) {
   find_state_parts();
-  if (from.run_key != state_key)
+  if (from.run_key != snapshot.key)
     throw RunStateError(
         "the state is not one of this run: it was saved from another model, formulation, "
         "integrator or step (formulation '" +
         from.run_key.substr(0, from.run_key.find('|')) + "', this run's '" + formulation_name +
         "')");
-  bool sizes_match = from.part_sizes.size() == state_parts.size();
+  bool sizes_match = from.part_sizes.size() == snapshot.parts.size();
   uint64_t total = 0;
-  for (size_t k = 0; sizes_match && k < state_parts.size(); ++k) {
-    sizes_match = from.part_sizes[k] == state_parts[k].size;
+  for (size_t k = 0; sizes_match && k < snapshot.parts.size(); ++k) {
+    sizes_match = from.part_sizes[k] == snapshot.parts[k].size;
     total += from.part_sizes[k];
   }
   if (!sizes_match || total != from.part_bytes.size())
     throw RunStateError(
         "the state's plugin parts are not this run's (another build of a plugin, or bytes "
         "changed): it cannot be restored");
-  for (const StatePart& part : state_parts)
+  for (const StatePart& part : snapshot.parts)
     if (part.ext.load == nullptr)
       throw RunStateError(part.host->label +
                           " keeps state between steps and cannot load it (it offers no " +
@@ -149,11 +149,11 @@ void Simulation::Engine::restore_state(const RunState& from) {
   if (!accepted.started) start();
   // All parts or none: should one instance refuse its bytes, those loaded
   // before it take back what they had.
-  RunState before;
+  RunState& before = snapshot.before;
   save_state(before);
   size_t at = 0;
-  for (size_t k = 0; k < state_parts.size(); ++k) {
-    const StatePart& part = state_parts[k];
+  for (size_t k = 0; k < snapshot.parts.size(); ++k) {
+    const StatePart& part = snapshot.parts[k];
     last_plugin_error.clear();
     const mh_status st = in_flight(*part.host, InstanceHost::Op::load_state, [&] {
       return part.ext.load(part.self, from.part_bytes.data() + at, part.size);
@@ -162,7 +162,7 @@ void Simulation::Engine::restore_state(const RunState& from) {
       const std::string reason = status_reason(st, part.host->label + " load_state");
       size_t back = 0;
       for (size_t j = 0; j < k; ++j) {
-        const StatePart& done = state_parts[j];
+        const StatePart& done = snapshot.parts[j];
         (void)in_flight(*done.host, InstanceHost::Op::load_state, [&] {
           return done.ext.load(done.self, before.part_bytes.data() + back, done.size);
         });
