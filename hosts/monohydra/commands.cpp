@@ -278,7 +278,7 @@ int run_prepared(PreparedRun& prepared, const RunRequest& request, const std::st
               << prepared.layout->names().size() << " columns, every "
               << prepared.layout->every_steps() << " steps)\n"
               << "provenance:   " << sidecar_path(out_path) << "\n";
-  print_used_components(std::cout, prepared.used);
+  host::print_used_components(std::cout, prepared.used);
   if (sim.explicit_stability().unstable && s.end != RunEnd::simulation_failed)
     std::cerr << "monohydra: warning: the explicit integrator '" << sim.integrator_name()
               << "' is unstable at this dt (" << stability_text(sim.explicit_stability())
@@ -416,14 +416,14 @@ int plugins(const std::vector<std::string>& args) {
   PluginRegistry registry;
   try {
     if (!model_path.empty()) file = load_model_file(model_path);
-    load_model_plugins(file, registry);
+    host::load_model_plugins(file, registry);
   } catch (const InputError& err) {
     std::cerr << "monohydra: " << err.what() << '\n';
     return 2;
   }
   std::cout << "host ABI " << MH_ABI_VERSION_MAJOR << "." << MH_ABI_VERSION_MINOR << "."
             << MH_ABI_VERSION_PATCH << "; search path:";
-  for (const auto& p : model_search_path(file)) std::cout << ' ' << p;
+  for (const auto& p : host::model_search_path(file)) std::cout << ' ' << p;
   std::cout << '\n';
   for (const auto& [id, library] : file.plugin_libraries)
     std::cout << "chosen by " << model_path << ": " << id << " from " << library << '\n';

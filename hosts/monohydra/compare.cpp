@@ -122,7 +122,7 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
   if (o.explicit_stability) file.solver.explicit_stability = *o.explicit_stability;
   PluginRegistry registry;
   try {
-    load_model_plugins(file, registry);
+    host::load_model_plugins(file, registry);
   } catch (const InputError& err) {
     std::cerr << "monohydra: " << err.what() << '\n';
     return 2;
@@ -134,7 +134,7 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
   const auto integrators =
       or_defaults(job.integrators, file.compare_integrators, file.integrator.name);
   std::vector<RunRecord> runs;
-  std::vector<UsedComponent> loaded;  // every component of every run, once
+  std::vector<host::UsedComponent> loaded;  // every component of every run, once
   for (const auto& formulation : formulations) {
     for (const auto& integrator : integrators) {
       const std::string label =
@@ -159,9 +159,9 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
       runs.push_back(
           record_run_isolated(file, registry, formulation, integrator, std::move(options)));
       runs.back().label = label;
-      const auto used = used_components(file, registry, formulation, integrator);
+      const auto used = host::used_components(file, registry, formulation, integrator);
       for (const auto& u : used)
-        if (std::find_if(loaded.begin(), loaded.end(), [&u](const UsedComponent& l) {
+        if (std::find_if(loaded.begin(), loaded.end(), [&u](const host::UsedComponent& l) {
               return l.kind == u.kind && l.id == u.id;
             }) == loaded.end())
           loaded.push_back(u);
@@ -201,7 +201,7 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
     if (r.stability.checks > 0)
       stability_lines.push_back(r.label + " " + stability_text(r.stability));
   for (const auto& line : stability_lines) out << "explicit step: " << line << '\n';
-  print_used_components(out, loaded);
+  host::print_used_components(out, loaded);
 
   if (!job.report_dir.empty()) {
     std::vector<ControlColumn> controls;

@@ -121,7 +121,7 @@ bool write_sidecar(const std::string& result, const ResultProvenance& p) {
   }
   j << "  \"plugins\": [";
   for (size_t i = 0; i < p.plugins.size(); ++i) {
-    const UsedComponent& u = p.plugins[i];
+    const host::UsedComponent& u = p.plugins[i];
     j << (i == 0 ? "\n" : ",\n") << "    {\"kind\": " << json_string(to_string(u.kind))
       << ", \"id\": " << json_string(u.id) << ", \"version\": " << json_string(u.version)
       << ", \"library\": " << json_string(u.library)

@@ -19,7 +19,7 @@ struct ResultProvenance {
   SolverSettings solver;                  // with the dt and t_end the run used
   std::optional<double> output_interval;  // --output-interval, when given
   int real_time_cap = 0;                  // --real-time's Newton cap (0: off)
-  std::vector<UsedComponent> plugins;
+  std::vector<host::UsedComponent> plugins;
   // An explicit integrator's stability check, once the run has made it
   // (null, or no checks: "explicit_stability": null).
   const ExplicitStability* stability = nullptr;

@@ -17,7 +17,7 @@ std::unique_ptr<PreparedRun> prepare_run(const RunRequest& request) {
     return nullptr;
   }
   try {
-    load_model_plugins(p->file, p->registry);
+    host::load_model_plugins(p->file, p->registry);
   } catch (const InputError& err) {
     std::cerr << "monohydra: " << err.what() << '\n';
     return nullptr;
@@ -48,7 +48,7 @@ std::unique_ptr<PreparedRun> prepare_run(const RunRequest& request) {
                                             request.real_time_cap > 0);
     p->columns = p->layout->names().size();
     check_column_names(p->file, *p->sim);
-    p->used = used_components(p->file, p->registry, request.formulation, request.integrator);
+    p->used = host::used_components(p->file, p->registry, request.formulation, request.integrator);
     p->steps = check_run_settings(p->file, p->sim->settings(), o.limits,
                                   request.csv ? p->columns : 0, origins, p->layout->every_steps());
   } catch (const InputError& err) {

@@ -34,11 +34,11 @@ struct RunRequest {
 struct PreparedRun {
   ModelFile file;
   PluginRegistry registry;
-  std::unique_ptr<Simulation> sim;    // refers to file and registry: keep them together
-  std::unique_ptr<CsvLayout> layout;  // the rows' columns and interval (output:)
-  long steps = 0;                     // the steps the run will ask for
-  std::size_t columns = 0;            // of the CSV
-  std::vector<UsedComponent> used;    // the libraries its components come from
+  std::unique_ptr<Simulation> sim;        // refers to file and registry: keep them together
+  std::unique_ptr<CsvLayout> layout;      // the rows' columns and interval (output:)
+  long steps = 0;                         // the steps the run will ask for
+  std::size_t columns = 0;                // of the CSV
+  std::vector<host::UsedComponent> used;  // the libraries its components come from
 };
 
 // The prepared run, or null after telling the user why on stderr.

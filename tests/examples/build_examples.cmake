@@ -49,7 +49,8 @@ file(GLOB_RECURSE libraries RELATIVE ${OUT}/full ${OUT}/full/*.so)
 foreach(library ${libraries})
   if(NOT library MATCHES "^lib/monohydra/plugins/monohydra-[a-z-]+\\.so$" AND
      NOT library STREQUAL "lib/monohydra/libmonohydra_sweep_mpi.so" AND
-     NOT library STREQUAL "lib/libmonohydra_testhost.so")
+     NOT library STREQUAL "lib/libmonohydra_testhost.so" AND
+     NOT library STREQUAL "lib/libmonohydra_simulation.so")
     message(FATAL_ERROR "cmake --install installs ${library}, which is not a shipped plugin")
   endif()
 endforeach()
@@ -76,3 +77,13 @@ foreach(example accumulator:gas-accumulator lagrange-baumgarte:lagrange-baumgart
         --no-tests=error)
   endif()
 endforeach()
+
+# The embedding example (a C program on monohydra::simulation) against the
+# full install: the library finds the plugins installed beside it, with no
+# environment variable (tests/examples/embedding_test.cpp runs it).
+run(${CMAKE_COMMAND} -S ${OUT}/full/share/doc/monohydra/examples/embedding -B ${OUT}/build/embedding
+    -DCMAKE_PREFIX_PATH=${OUT}/full -DCMAKE_BUILD_TYPE=Release ${sanitize_flags})
+run(${CMAKE_COMMAND} --build ${OUT}/build/embedding)
+if(NOT EXISTS ${OUT}/build/embedding/fourbar_embedded)
+  message(FATAL_ERROR "the example embedding did not build fourbar_embedded")
+endif()

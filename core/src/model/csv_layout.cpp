@@ -89,51 +89,51 @@ void CsvLayout::header(std::ostream& out) const {
   out << '\n';
 }
 
+double CsvLayout::value(const Column& c, const Simulation& sim, const RealTimeRow& rt) {
+  switch (c.source) {
+    case Source::time:
+      return sim.time();
+    case Source::coordinate:
+      return sim.z()[c.index];
+    case Source::state:
+      return sim.states()[c.index];
+    case Source::output:
+      return sim.outputs()[c.index];
+    case Source::ke:
+      return sim.kinetic_energy();
+    case Source::pe:
+      return sim.potential_energy();
+    case Source::work:
+      return sim.work();
+    case Source::drift:
+      return sim.drift();
+    case Source::phi:
+      return sim.phi_norm();
+    case Source::iters:
+      return sim.last_step().iterations;
+    case Source::late:
+      return rt.late;
+    case Source::unc:
+      return rt.unconverged;
+  }
+  return 0.0;
+}
+
 void CsvLayout::row(std::ostream& out, const Simulation& sim, const RealTimeRow& rt) const {
   bool first = true;
   for (const Column& c : columns_) {
     if (!first) out << ',';
     first = false;
-    switch (c.source) {
-      case Source::time:
-        put_exact_number(out, sim.time());
-        break;
-      case Source::coordinate:
-        put_exact_number(out, sim.z()[c.index]);
-        break;
-      case Source::state:
-        put_exact_number(out, sim.states()[c.index]);
-        break;
-      case Source::output:
-        put_exact_number(out, sim.outputs()[c.index]);
-        break;
-      case Source::ke:
-        put_exact_number(out, sim.kinetic_energy());
-        break;
-      case Source::pe:
-        put_exact_number(out, sim.potential_energy());
-        break;
-      case Source::work:
-        put_exact_number(out, sim.work());
-        break;
-      case Source::drift:
-        put_exact_number(out, sim.drift());
-        break;
-      case Source::phi:
-        put_exact_number(out, sim.phi_norm());
-        break;
-      case Source::iters:
-        out << sim.last_step().iterations;
-        break;
-      case Source::late:
-        put_exact_number(out, rt.late);
-        break;
-      case Source::unc:
-        put_exact_number(out, rt.unconverged);
-        break;
-    }
+    if (c.source == Source::iters)
+      out << sim.last_step().iterations;  // a count, written as one
+    else
+      put_exact_number(out, value(c, sim, rt));
   }
   out << '\n';
+}
+
+void CsvLayout::values(const Simulation& sim, double* out, const RealTimeRow& rt) const {
+  for (const Column& c : columns_) *out++ = value(c, sim, rt);
 }
 
 }  // namespace mh

@@ -208,8 +208,17 @@ std::vector<std::string> PluginRegistry::default_search_path() {
       if (!item.empty()) path.push_back(item);
   }
   std::error_code ec;
-  const fs::path exe_dir = boost::dll::program_location(ec).parent_path();
-  if (!ec) path.push_back((exe_dir / ".." / "lib" / "monohydra" / "plugins").lexically_normal());
+  // The engine in a shared library (the embedding API's, in <prefix>/lib):
+  // the plugins installed beside it come first, found from the library's own
+  // location, so a program that embeds it needs no environment.
+  const fs::path program = boost::dll::program_location(ec);
+  std::error_code lib_ec;
+  const fs::path engine = boost::dll::this_line_location(lib_ec);
+  if (!lib_ec && (ec || engine != program))
+    path.push_back((engine.parent_path() / "monohydra" / "plugins").lexically_normal());
+  if (!ec)
+    path.push_back(
+        (program.parent_path() / ".." / "lib" / "monohydra" / "plugins").lexically_normal());
   path.emplace_back(MONOHYDRA_PLUGIN_INSTALL_DIR);
   return path;
 }

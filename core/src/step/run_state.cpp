@@ -147,6 +147,23 @@ void Simulation::Engine::restore_state(const RunState& from) {
   // A run restored before it started: start() sizes what the steps use; the
   // state then overwrites what start computed.
   if (!accepted.started) start();
+  // A state read from bytes (run_state_bytes.hpp) has the right key but its
+  // lengths come from the bytes: each is this run's, or nothing is restored.
+  const auto sized = [](const Eigen::VectorXd& v, Eigen::Index len) { return v.size() == len; };
+  const Eigen::Index nz = accepted.z.size(), nx = x.size();
+  const bool lengths_match =
+      from.accepted.started && sized(from.accepted.z, nz) && sized(from.accepted.zd, nz) &&
+      sized(from.accepted.zdd, nz) && sized(from.x, nx) && sized(from.xd, nx) &&
+      sized(from.xdd, nx) && sized(from.y, states.y_k.size()) &&
+      sized(from.ydot, states.ydot_k.size()) && sized(from.outputs, registry.outputs_k.size()) &&
+      from.next_event <= states.time_events.size() &&
+      (!from.constraint_positions_valid || sized(from.constraint_z, nz)) &&
+      (!from.constraint_rates_valid || sized(from.constraint_zd, nz)) &&
+      (!from.rates_jacobian_valid ||
+       (from.rates_jacobian.rows() == nx && from.rates_jacobian.cols() == nx));
+  if (!lengths_match)
+    throw RunStateError(
+        "the state's lengths are not this run's (its bytes were changed): it cannot be restored");
   // All parts or none: should one instance refuse its bytes, those loaded
   // before it take back what they had.
   RunState& before = snapshot.before;

@@ -208,11 +208,11 @@ void prepare_context(SweepContext& ctx) {
 ModelFile case_model(const SweepContext& ctx, int model, const Overrides& values) {
   const BaseModel& base = ctx.study.models[static_cast<std::size_t>(model)];
   YAML::Node tree = YAML::Clone(base.tree);
-  for (const auto& [path, value] : ctx.study.set) set_path(tree, path, value);
-  if (ctx.dt) set_path(tree, "solver/dt", YAML::Node(number_text(*ctx.dt)));
-  if (ctx.t_end) set_path(tree, "solver/t_end", YAML::Node(number_text(*ctx.t_end)));
+  for (const auto& [path, value] : ctx.study.set) host::set_path(tree, path, value);
+  if (ctx.dt) host::set_path(tree, "solver/dt", YAML::Node(number_text(*ctx.dt)));
+  if (ctx.t_end) host::set_path(tree, "solver/t_end", YAML::Node(number_text(*ctx.t_end)));
   for (const auto& [path, value] : values)
-    if (value.IsScalar()) set_path(tree, path, value);  // a listed case may leave a path out
+    if (value.IsScalar()) host::set_path(tree, path, value);  // a listed case may leave a path out
   YAML::Emitter out;
   out << tree;
   std::string dir = fs::path(base.path).parent_path().string();

@@ -71,7 +71,7 @@ Overrides read_overrides(const Reader& r, const YAML::Node& map, const std::stri
     const std::string path = kv.first.Scalar();
     const std::string f = field + "/" + path;
     for (const auto& m : study.models) {
-      const std::string why = check_path(m.tree, path);
+      const std::string why = host::check_path(m.tree, path);
       if (!why.empty()) r.fail(kv.first, f, "not a value of model " + m.name + ": " + why);
     }
     out.emplace_back(path, r.scalar_value(kv.second, f));
@@ -190,7 +190,7 @@ Study load_study(const std::string& path) {
       p.mark = r.mark(kv.first);
       p.values = kv.second;
       for (const auto& m : study.models) {
-        const std::string why = check_path(m.tree, p.path);
+        const std::string why = host::check_path(m.tree, p.path);
         if (!why.empty())
           r.fail(kv.first, "parameters/" + p.path, "not a value of model " + m.name + ": " + why);
       }

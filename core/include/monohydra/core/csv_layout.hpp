@@ -39,6 +39,8 @@ class CsvLayout {
   const std::vector<std::string>& names() const { return names_; }
   void header(std::ostream& out) const;
   void row(std::ostream& out, const Simulation& sim, const RealTimeRow& rt = {}) const;
+  // The same row as numbers, names().size() of them (the embedding API's rows).
+  void values(const Simulation& sim, double* out, const RealTimeRow& rt = {}) const;
 
  private:
   enum class Source { time, coordinate, state, output, ke, pe, work, drift, phi, iters, late, unc };
@@ -46,6 +48,7 @@ class CsvLayout {
     Source source;
     int index;
   };
+  static double value(const Column& c, const Simulation& sim, const RealTimeRow& rt);
   static void all_columns(const Simulation& sim, bool real_time, std::vector<Column>& columns,
                           std::vector<std::string>& names);
   std::vector<Column> columns_;

@@ -46,8 +46,9 @@ class PluginRegistry {
   PluginRegistry& operator=(const PluginRegistry&) = delete;
 
   // The default search path, in order: $MONOHYDRA_PLUGIN_PATH (':'-separated),
-  // the plugin folder beside the running executable (../lib/monohydra/plugins),
-  // and the install prefix's plugin folder.
+  // when the engine is a shared library (the embedding API) the plugin
+  // folder beside it (monohydra/plugins), the plugin folder beside the
+  // running executable (../lib/monohydra/plugins), and the install prefix's.
   static std::vector<std::string> default_search_path();
 
   // Loads one library. It is first probed in a forked child (plugin_probe.hpp;

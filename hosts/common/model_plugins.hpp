@@ -10,7 +10,7 @@
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/plugin_registry.hpp"
 
-namespace mh::cli {
+namespace mh::host {
 
 struct UsedComponent {
   ComponentKind kind;
@@ -37,4 +37,4 @@ std::vector<UsedComponent> used_components(const ModelFile& file, const PluginRe
 // "plugins:" then a line per component: kind, id, version and library.
 void print_used_components(std::ostream& out, const std::vector<UsedComponent>& used);
 
-}  // namespace mh::cli
+}  // namespace mh::host

@@ -5,7 +5,7 @@
 
 #include "monohydra/core/input_error.hpp"
 
-namespace mh::cli {
+namespace mh::host {
 
 std::vector<std::string> model_search_path(const ModelFile& file) {
   auto search = file.plugin_paths;
@@ -57,4 +57,4 @@ void print_used_components(std::ostream& out, const std::vector<UsedComponent>& 
   }
 }
 
-}  // namespace mh::cli
+}  // namespace mh::host

@@ -5,7 +5,7 @@
 
 #include "monohydra/core/model_file.hpp"
 
-namespace mh::cli::sweep {
+namespace mh::host {
 namespace {
 
 const std::vector<std::string> kSolverKeys = {"dt", "t_end", "max_iterations", "max_step_halvings",
@@ -154,4 +154,4 @@ void set_path(YAML::Node& root, const std::string& path, const YAML::Node& value
   if (!reason.empty()) throw std::invalid_argument(path + ": " + reason);
 }
 
-}  // namespace mh::cli::sweep
+}  // namespace mh::host

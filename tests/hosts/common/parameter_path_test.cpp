@@ -1,12 +1,12 @@
 // Model paths in normalized form: named list items, formulation and
 // integrator whether written as a name or a mapping, solver settings the file
 // leaves out; a path that is not there is refused with what is there.
+#include "parameter_path.hpp"
+
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
-#include "parameter_path.hpp"
-
-namespace mh::cli::sweep {
+namespace mh::host {
 namespace {
 
 const char* kModel = R"(
@@ -69,4 +69,4 @@ TEST(SweepParameterPath, AMissingSegmentIsRefusedWithWhatIsThere) {
 }
 
 }  // namespace
-}  // namespace mh::cli::sweep
+}  // namespace mh::host

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-namespace mh::cli::sweep {
+namespace mh::host {
 
 // "a/b/c" into {"a", "b", "c"}; empty segments are refused by check_path.
 std::vector<std::string> split_path(const std::string& path);
@@ -27,4 +27,4 @@ std::string check_path(const YAML::Node& root, const std::string& path);
 // first). Throws std::invalid_argument with check_path's reason.
 void set_path(YAML::Node& root, const std::string& path, const YAML::Node& value);
 
-}  // namespace mh::cli::sweep
+}  // namespace mh::host

@@ -1,0 +1,167 @@
+/* monohydra's embedding API: a run of the engine as an object another
+ * program drives, one step at a time: open a model, read any value between
+ * two steps, save the whole state of the run and put it back (in this
+ * process or, as bytes, in another), write the rows `monohydra run` writes.
+ * docs/embedding.md shows a whole program.
+ *
+ * The rules, as FMI 3.0's C API keeps them:
+ * - Every call returns a status (MHS_OK ... MHS_FATAL) and never throws,
+ *   aborts or exits; mhs_message() says why a call did not return MHS_OK.
+ * - Every array travels with its length; strings are UTF-8, NUL-terminated,
+ *   owned by the library and valid until the next call on the same handle.
+ * - Instances are independent: several may run at once, in several threads,
+ *   each used by one thread at a time. Opening a model is serialized inside
+ *   the library (its plugins are loaded once per process).
+ * - Units are SI, as the model's components declare them.
+ *
+ * Versioning is the SDK's: within one major version the API only grows
+ * (functions and enum values appended, structs grown at their end behind
+ * their struct_size), so a program built against 1.0 runs on every 1.x. */
+#ifndef MONOHYDRA_SIMULATION_H
+#define MONOHYDRA_SIMULATION_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define MHS_API_VERSION_MAJOR 1u
+#define MHS_API_VERSION_MINOR 0u
+
+#if defined(__GNUC__) || defined(__clang__)
+#define MHS_API __attribute__((visibility("default")))
+#else
+#define MHS_API
+#endif
+
+/* What a call did. */
+typedef int32_t mhs_status;
+enum {
+  MHS_OK = 0,      /* done */
+  MHS_WARNING = 1, /* done, and a plugin warned: mhs_message() has its words */
+  MHS_DISCARD = 2, /* reserved (1.0 returns none) */
+  MHS_ERROR = 3,   /* not done: a bad argument (nothing changed) or a failed step
+                      (the run keeps its last accepted state and takes no step
+                      until a snapshot is restored) */
+  MHS_FATAL = 4    /* the instance cannot go on (out of memory, a model that did not
+                      open): only mhs_message and mhs_free remain */
+};
+
+typedef struct mhs_simulation mhs_simulation; /* one run */
+typedef struct mhs_snapshot mhs_snapshot;     /* the whole state of a run between two steps */
+
+/* (major << 16) | minor of the library loaded: compare with MHS_API_VERSION_*. */
+MHS_API uint32_t mhs_api_version(void);
+
+/* A value chosen over the model file's, by its path in the model as
+ * `monohydra sweep` addresses it (docs/sweeps.md): "subsystems/valve/flow_coefficient",
+ * "bodies/body1/mass", "formulation/alpha". Four paths choose as the command
+ * line's flags do: "formulation", "integrator" (an id), "dt" and "t_end" (s). */
+typedef struct mhs_setting {
+  const char* path;
+  const char* value; /* as the model file would write it */
+} mhs_setting;
+
+/* Opens the model file at `model_path` with `count` settings over it, loads
+ * its plugins (the model's plugins: and plugin_paths, $MONOHYDRA_PLUGIN_PATH,
+ * then the plugins installed beside this library) and sets every instance
+ * up. `*out` receives a handle whenever `out` is not NULL, also when the
+ * model did not open (status MHS_FATAL): its mhs_message() says why (file,
+ * line, field, what was expected); free it with mhs_free either way. */
+MHS_API mhs_status mhs_open_file(const char* model_path, const mhs_setting* settings, size_t count,
+                                 mhs_simulation** out);
+/* The same from the model's text: `label` names it in messages, `base_dir`
+ * resolves its relative paths (NULL: the working directory). */
+MHS_API mhs_status mhs_open_text(const char* yaml_text, const char* label, const char* base_dir,
+                                 const mhs_setting* settings, size_t count, mhs_simulation** out);
+/* Destroys the run and every plugin instance of it. NULL is ignored. */
+MHS_API void mhs_free(mhs_simulation* sim);
+
+/* Why the last call on `sim` returned what it did ("" after MHS_OK). Valid
+ * until the next call on `sim`; for a NULL handle, a text saying so. */
+MHS_API const char* mhs_message(const mhs_simulation* sim);
+
+/* The consistent state at t = 0 (the paper's initial conditions). The first
+ * mhs_step, mhs_advance or mhs_restore starts the run when this was not called. */
+MHS_API mhs_status mhs_start(mhs_simulation* sim);
+/* One step of the model's dt. */
+MHS_API mhs_status mhs_step(mhs_simulation* sim);
+/* Steps until the run's time reaches `t` (s, within a millionth of a step):
+ * a time before the current one is refused; the model's t_end is no limit. */
+MHS_API mhs_status mhs_advance(mhs_simulation* sim, double t);
+/* The time (s) and the number of steps of the last accepted state, and the
+ * model's dt and t_end (s). Any pointer may be NULL. */
+MHS_API mhs_status mhs_time(const mhs_simulation* sim, double* t, int64_t* steps, double* dt,
+                            double* t_end);
+
+/* What a value is. */
+typedef int32_t mhs_kind;
+enum {
+  MHS_COORDINATE = 0,      /* a joint coordinate z_i (rad or m) */
+  MHS_COORDINATE_RATE = 1, /* its rate zd_i (rad/s or m/s) */
+  MHS_STATE = 2,           /* a component's state (a pressure, a spool position) */
+  MHS_OUTPUT = 3           /* a component's or the formulation's output (a stroke, a force) */
+};
+
+typedef struct mhs_variable_info {
+  uint32_t struct_size; /* set by the caller to sizeof(mhs_variable_info) */
+  mhs_kind kind;
+  const char* name;      /* "z1", "z1_dot", a CSV column ("p1"), else "instance.state" */
+  const char* qualified; /* "instance.state", "formulation.output", a node's name, "z1" */
+  const char* unit;      /* SI, as declared ("" when none) */
+  double min, max;       /* the declared range (min > max: none declared) */
+} mhs_variable_info;
+
+/* Values are numbered 0 .. count-1: coordinates, their rates, the states,
+ * then the outputs; the numbers are fixed once the model is open. */
+MHS_API mhs_status mhs_variable_count(const mhs_simulation* sim, uint32_t* count);
+MHS_API mhs_status mhs_variable(const mhs_simulation* sim, uint32_t index, mhs_variable_info* info);
+/* The number of the value called `name` (its name or its qualified name). */
+MHS_API mhs_status mhs_find(const mhs_simulation* sim, const char* name, uint32_t* index);
+/* The values numbered `indices[0..count-1]` at the last accepted state. */
+MHS_API mhs_status mhs_get(const mhs_simulation* sim, const uint32_t* indices, size_t count,
+                           double* values);
+
+/* The rows `monohydra run` writes for this model (its output: columns and
+ * interval; every column at every step when it has none). */
+MHS_API mhs_status mhs_row_size(const mhs_simulation* sim, uint32_t* columns);
+MHS_API mhs_status mhs_row_name(const mhs_simulation* sim, uint32_t column, const char** name);
+/* Whether the last accepted step is one the run writes a row at (t = 0 and
+ * every output interval). */
+MHS_API mhs_status mhs_row_due(const mhs_simulation* sim, int32_t* due);
+/* The row at the last accepted state, as numbers (`capacity` at least the
+ * row's size) or as the CSV text `monohydra run` writes, newline included,
+ * NUL-terminated (header != 0: the header line). `*length` receives the
+ * text's length without the NUL, also when `capacity` is too small (then
+ * MHS_ERROR and nothing written). */
+MHS_API mhs_status mhs_row(const mhs_simulation* sim, double* values, size_t capacity);
+MHS_API mhs_status mhs_row_text(const mhs_simulation* sim, int32_t header, char* text,
+                                size_t capacity, size_t* length);
+
+/* Snapshots: the whole state of a run between two steps (every unknown,
+ * every plugin's own state, the energy balance, the work counters). A run
+ * restored from one goes on as the run it was saved from went on, to the
+ * bit. A snapshot restores into any run opened from the same model with the
+ * same settings, in this process or (as bytes) in another of the same build. */
+MHS_API mhs_status mhs_snapshot_new(mhs_simulation* sim, mhs_snapshot** out);
+MHS_API void mhs_snapshot_free(mhs_snapshot* snapshot);
+/* Saves the run's state into `snapshot` (its storage reused: saving again
+ * into the same snapshot allocates nothing for the host's part). */
+MHS_API mhs_status mhs_save(mhs_simulation* sim, mhs_snapshot* snapshot);
+/* Puts a saved state back: all of it or, when refused (another model or
+ * settings, damaged bytes), nothing. A run whose step failed steps again. */
+MHS_API mhs_status mhs_restore(mhs_simulation* sim, const mhs_snapshot* snapshot);
+/* The snapshot as bytes (owned by the snapshot, valid until it changes) and
+ * a snapshot read back from such bytes; messages go to `sim`. */
+MHS_API mhs_status mhs_snapshot_bytes(mhs_simulation* sim, mhs_snapshot* snapshot,
+                                      const void** bytes, size_t* size);
+MHS_API mhs_status mhs_snapshot_read(mhs_simulation* sim, mhs_snapshot* snapshot, const void* bytes,
+                                     size_t size);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* MONOHYDRA_SIMULATION_H */

@@ -1,0 +1,175 @@
+#include "instance.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <stdexcept>
+
+#include "model_plugins.hpp"
+#include "monohydra/core/input_error.hpp"
+#include "monohydra/core/run_limits.hpp"
+#include "parameter_path.hpp"
+
+namespace mh::embed {
+
+namespace {
+
+// Loading plugins probes each new library in a forked child and writes the
+// probe cache: one open at a time in a process, so that no fork happens
+// while another thread of ours holds a lock the child would need.
+std::mutex& open_mutex() {
+  static std::mutex m;
+  return m;
+}
+
+double seconds(const std::string& path, const std::string& text) {
+  double v = 0.0;
+  const char* end = text.data() + text.size();
+  const auto r = std::from_chars(text.data(), end, v);
+  if (r.ec != std::errc() || r.ptr != end || !std::isfinite(v) || !(v > 0.0))
+    throw std::invalid_argument("setting '" + path + "': '" + text +
+                                "' is not a positive number of seconds");
+  return v;
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::invalid_argument("cannot read the model file '" + path + "'");
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+}  // namespace
+
+Instance::Instance(const OpenRequest& request) {
+  RunChoices choices;
+  std::vector<std::pair<std::string, std::string>> paths;
+  for (const auto& [path, value] : request.settings) {
+    if (path == "formulation")
+      choices.formulation = value;
+    else if (path == "integrator")
+      choices.integrator = value;
+    else if (path == "dt")
+      choices.dt = seconds(path, value);
+    else if (path == "t_end")
+      choices.t_end = seconds(path, value);
+    else
+      paths.emplace_back(path, value);
+  }
+  const bool from_file = !request.path.empty();
+  const std::string label = from_file ? request.path : request.label;
+  const std::string base_dir =
+      from_file ? std::filesystem::path(request.path).parent_path().string() : request.base_dir;
+  if (paths.empty()) {
+    file_ = from_file ? load_model_file(request.path)
+                      : parse_model_text(request.text, label, base_dir.empty() ? "." : base_dir);
+  } else {
+    // Values by path are set in the model's tree before the parser reads it,
+    // as sweep sets them, so a bad value gets the parser's own checks.
+    YAML::Node root;
+    try {
+      root = YAML::Load(from_file ? read_text(request.path) : request.text);
+    } catch (const YAML::Exception& err) {
+      throw std::invalid_argument(label + ": not YAML: " + err.what());
+    }
+    for (const auto& [path, value] : paths) {
+      try {
+        host::set_path(root, path, YAML::Load(value));
+      } catch (const std::exception& err) {
+        throw std::invalid_argument("setting '" + path + "': " + err.what());
+      }
+    }
+    YAML::Emitter out;
+    out << root;
+    file_ = parse_model_text(out.c_str(), label + " (with the settings)",
+                             base_dir.empty() ? "." : base_dir);
+  }
+  {
+    const std::lock_guard<std::mutex> lock(open_mutex());
+    host::load_model_plugins(file_, registry_);
+  }
+  SolverSettings planned = file_.solver;
+  if (choices.dt) planned.dt = *choices.dt;
+  if (choices.t_end) planned.t_end = *choices.t_end;
+  check_run_settings(file_, planned, RunLimits{}, 0);
+  // Plugins' warnings reach the caller as the call's MHS_WARNING.
+  const LogSink log = [this](mh_log_level level, const std::string& source,
+                             const std::string& text) {
+    if (level < MH_LOG_WARNING) return;
+    if (!warnings.empty()) warnings += '\n';
+    warnings += source + ": " + text;
+  };
+  sim_ = std::make_unique<Simulation>(file_, registry_, choices, log);
+  layout_ = std::make_unique<CsvLayout>(*sim_, file_.output, std::nullopt);
+  check_column_names(file_, *sim_);
+  make_variables();
+}
+
+void Instance::make_variables() {
+  const auto& names = sim_->coordinate_names();
+  for (size_t i = 0; i < names.size(); ++i) {
+    const bool angle = file_.model.bodies[i].joint == JointType::revolute;
+    variables_.push_back(
+        {MHS_COORDINATE, static_cast<int>(i), names[i], names[i], angle ? "rad" : "m"});
+    variables_.push_back({MHS_COORDINATE_RATE, static_cast<int>(i), names[i] + "_dot",
+                          names[i] + "_dot", angle ? "rad/s" : "m/s"});
+  }
+  // Coordinates and their rates side by side above; the documented order
+  // is all coordinates, then all rates.
+  std::stable_partition(variables_.begin(), variables_.end(),
+                        [](const Variable& v) { return v.kind == MHS_COORDINATE; });
+  const auto add = [&](mhs_kind kind, const std::vector<VariableInfo>& infos) {
+    for (size_t i = 0; i < infos.size(); ++i) {
+      const VariableInfo& info = infos[i];
+      Variable v{kind, static_cast<int>(i), info.name.empty() ? info.qualified : info.name,
+                 info.qualified, info.unit};
+      if (info.range_min < info.range_max) {
+        v.min = info.range_min;
+        v.max = info.range_max;
+      }
+      variables_.push_back(v);
+    }
+  };
+  add(MHS_STATE, sim_->state_info());
+  add(MHS_OUTPUT, sim_->output_info());
+  for (size_t k = 0; k < variables_.size(); ++k) {
+    by_name_.emplace(variables_[k].qualified, static_cast<int>(k));
+    by_name_.emplace(variables_[k].name, static_cast<int>(k));
+  }
+}
+
+int Instance::find(const std::string& name) const {
+  const auto it = by_name_.find(name);
+  return it == by_name_.end() ? -1 : it->second;
+}
+
+double Instance::value(const Variable& v) const {
+  switch (v.kind) {
+    case MHS_COORDINATE:
+      return sim_->z()[v.index];
+    case MHS_COORDINATE_RATE:
+      return sim_->zd()[v.index];
+    case MHS_STATE:
+      return sim_->states()[v.index];
+    default:
+      return sim_->outputs()[v.index];
+  }
+}
+
+const std::string& Instance::row_text(bool header) const {
+  row_stream_.str("");
+  if (header)
+    layout_->header(row_stream_);
+  else
+    layout_->row(row_stream_, *sim_);
+  row_ = row_stream_.str();
+  return row_;
+}
+
+}  // namespace mh::embed

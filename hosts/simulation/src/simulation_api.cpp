@@ -1,0 +1,412 @@
+// The C API (simulation.h) over an Instance: each call checks its
+// arguments, runs inside one guard that turns every exception into a status
+// and a message, and keeps the rule that a failed step leaves the run at its
+// last accepted state until a snapshot is restored.
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <new>
+#include <string>
+
+#include "instance.hpp"
+#include "monohydra/core/input_error.hpp"
+#include "monohydra/core/run_state_bytes.hpp"
+#include "monohydra/cpp/number_text.hpp"
+#include "monohydra/simulation.h"
+
+using mh::embed::Instance;
+
+struct mhs_simulation {
+  std::unique_ptr<Instance> instance;  // null: the model did not open
+  std::string message;
+  bool started = false;
+  std::string failure;  // why the last step failed ("" : it did not)
+};
+
+struct mhs_snapshot {
+  mh::RunState state;
+  bool saved = false;  // holds a state (saved or read)
+  std::vector<unsigned char> bytes;
+  bool bytes_current = false;  // bytes are state's
+};
+
+namespace {
+
+using monohydra::short_number;
+
+constexpr const char* kNullHandle = "the simulation handle is NULL";
+
+// Runs `body` on an open run: NULL and unopened handles, exceptions and the
+// plugins' warnings become the call's status and message.
+template <class Body>
+mhs_status guarded(mhs_simulation* sim, Body&& body) {
+  if (sim == nullptr) return MHS_ERROR;
+  sim->message.clear();
+  if (!sim->instance) {
+    sim->message = "the model did not open; free this handle (mhs_free)";
+    return MHS_FATAL;
+  }
+  sim->instance->warnings.clear();
+  mhs_status status = MHS_OK;
+  try {
+    status = body(*sim->instance);
+  } catch (const std::bad_alloc&) {
+    sim->message = "out of memory";
+    return MHS_FATAL;
+  } catch (const std::exception& err) {
+    sim->message = err.what();
+    return MHS_ERROR;
+  } catch (...) {
+    sim->message = "an unknown exception reached the API";
+    return MHS_ERROR;
+  }
+  if (status == MHS_OK && !sim->instance->warnings.empty()) {
+    sim->message = sim->instance->warnings;
+    return MHS_WARNING;
+  }
+  return status;
+}
+
+mhs_status refuse(mhs_simulation* sim, const std::string& why) {
+  sim->message = why;
+  return MHS_ERROR;
+}
+
+// Starts the run when the caller did not.
+void ensure_started(mhs_simulation* sim, Instance& in) {
+  if (sim->started) return;
+  in.sim().start();
+  sim->started = true;
+}
+
+mhs_status open(const mh::embed::OpenRequest& request, mhs_simulation** out) {
+  if (out == nullptr) return MHS_ERROR;
+  *out = nullptr;
+  auto* sim = new (std::nothrow) mhs_simulation;
+  if (sim == nullptr) return MHS_FATAL;
+  *out = sim;
+  try {
+    sim->instance = std::make_unique<Instance>(request);
+    return MHS_OK;
+  } catch (const std::bad_alloc&) {
+    sim->message = "out of memory while opening the model";
+  } catch (const std::exception& err) {
+    sim->message = err.what();
+  } catch (...) {
+    sim->message = "an unknown exception while opening the model";
+  }
+  return MHS_FATAL;
+}
+
+// The settings as pairs, or why not.
+std::string read_settings(const mhs_setting* settings, size_t count,
+                          mh::embed::OpenRequest& request) {
+  if (count > 0 && settings == nullptr)
+    return "settings is NULL with a count of " + std::to_string(count);
+  for (size_t i = 0; i < count; ++i) {
+    if (settings[i].path == nullptr || settings[i].value == nullptr)
+      return "setting " + std::to_string(i) + " has a NULL path or value";
+    request.settings.emplace_back(settings[i].path, settings[i].value);
+  }
+  return "";
+}
+
+mhs_status refused_open(const std::string& why, mhs_simulation** out) {
+  if (out == nullptr) return MHS_ERROR;
+  *out = new (std::nothrow) mhs_simulation;
+  if (*out != nullptr) (*out)->message = why;
+  return MHS_FATAL;
+}
+
+}  // namespace
+
+extern "C" {
+
+MHS_API uint32_t mhs_api_version(void) {
+  return MHS_API_VERSION_MAJOR << 16 | MHS_API_VERSION_MINOR;
+}
+
+MHS_API mhs_status mhs_open_file(const char* model_path, const mhs_setting* settings, size_t count,
+                                 mhs_simulation** out) {
+  mh::embed::OpenRequest request;
+  if (model_path == nullptr) return refused_open("the model path is NULL", out);
+  request.path = model_path;
+  if (request.path.empty()) return refused_open("the model path is empty", out);
+  const std::string why = read_settings(settings, count, request);
+  if (!why.empty()) return refused_open(why, out);
+  return open(request, out);
+}
+
+MHS_API mhs_status mhs_open_text(const char* yaml_text, const char* label, const char* base_dir,
+                                 const mhs_setting* settings, size_t count, mhs_simulation** out) {
+  mh::embed::OpenRequest request;
+  if (yaml_text == nullptr) return refused_open("the model text is NULL", out);
+  request.text = yaml_text;
+  request.label = label != nullptr ? label : "(model text)";
+  request.base_dir = base_dir != nullptr ? base_dir : "";
+  const std::string why = read_settings(settings, count, request);
+  if (!why.empty()) return refused_open(why, out);
+  return open(request, out);
+}
+
+MHS_API void mhs_free(mhs_simulation* sim) {
+  delete sim;  // the simulation destroys every plugin instance of the run
+}
+
+MHS_API const char* mhs_message(const mhs_simulation* sim) {
+  return sim == nullptr ? kNullHandle : sim->message.c_str();
+}
+
+MHS_API mhs_status mhs_start(mhs_simulation* sim) {
+  return guarded(sim, [&](Instance& in) -> mhs_status {
+    if (sim->started) return refuse(sim, "the run has started already");
+    ensure_started(sim, in);
+    return MHS_OK;
+  });
+}
+
+MHS_API mhs_status mhs_step(mhs_simulation* sim) {
+  return guarded(sim, [&](Instance& in) -> mhs_status {
+    if (!sim->failure.empty())
+      return refuse(sim, "the run takes no step after a failed one (" + sim->failure +
+                             "); restore a snapshot (mhs_restore) to go on");
+    ensure_started(sim, in);
+    try {
+      in.sim().step();
+    } catch (const mh::SimulationError& err) {
+      sim->failure = err.what();
+      return refuse(sim, sim->failure);
+    }
+    return MHS_OK;
+  });
+}
+
+MHS_API mhs_status mhs_advance(mhs_simulation* sim, double t) {
+  return guarded(sim, [&](Instance& in) -> mhs_status {
+    if (!sim->failure.empty())
+      return refuse(sim, "the run takes no step after a failed one (" + sim->failure +
+                             "); restore a snapshot (mhs_restore) to go on");
+    if (!std::isfinite(t))
+      return refuse(sim, "mhs_advance: t = " + short_number(t) + " is not a finite time");
+    ensure_started(sim, in);
+    mh::Simulation& s = in.sim();
+    const double dt = s.settings().dt;
+    if (t < s.time() - 1e-6 * dt)
+      return refuse(sim, "mhs_advance: t = " + short_number(t) + " s is before the run's time " +
+                             short_number(s.time()) + " s");
+    while (s.time() < t - 1e-6 * dt) {
+      try {
+        s.step();
+      } catch (const mh::SimulationError& err) {
+        sim->failure = err.what();
+        return refuse(sim, sim->failure);
+      }
+    }
+    return MHS_OK;
+  });
+}
+
+MHS_API mhs_status mhs_time(const mhs_simulation* csim, double* t, int64_t* steps, double* dt,
+                            double* t_end) {
+  auto* sim = const_cast<mhs_simulation*>(csim);  // the message is the handle's own
+  return guarded(sim, [&](Instance& in) -> mhs_status {
+    const mh::Simulation& s = in.sim();
+    if (t != nullptr) *t = s.time();
+    if (steps != nullptr) *steps = s.step_index();
+    if (dt != nullptr) *dt = s.settings().dt;
+    if (t_end != nullptr) *t_end = s.settings().t_end;
+    return MHS_OK;
+  });
+}
+
+MHS_API mhs_status mhs_variable_count(const mhs_simulation* csim, uint32_t* count) {
+  auto* sim = const_cast<mhs_simulation*>(csim);
+  return guarded(sim, [&](Instance& in) -> mhs_status {
+    if (count == nullptr) return refuse(sim, "mhs_variable_count: count is NULL");
+    *count = static_cast<uint32_t>(in.variables().size());
+    return MHS_OK;
+  });
+}
+
+MHS_API mhs_status mhs_variable(const mhs_simulation* csim, uint32_t index,
+                                mhs_variable_info* info) {
+  auto* sim = const_cast<mhs_simulation*>(csim);
+  return guarded(sim, [&](Instance& in) -> mhs_status {
+    if (info == nullptr) return refuse(sim, "mhs_variable: info is NULL");
+    if (info->struct_size < sizeof(mhs_variable_info))
+      return refuse(sim, "mhs_variable: info->struct_size is " + std::to_string(info->struct_size) +
+                             ", at least " + std::to_string(sizeof(mhs_variable_info)) +
+                             " expected");
+    if (index >= in.variables().size())
+      return refuse(sim, "mhs_variable: index " + std::to_string(index) + " is not below " +
+                             std::to_string(in.variables().size()));
+    const mh::embed::Variable& v = in.variables()[index];
+    info->kind = v.kind;
+    info->name = v.name.c_str();
+    info->qualified = v.qualified.c_str();
+    info->unit = v.unit.c_str();
+    info->min = v.min;
+    info->max = v.max;
+    return MHS_OK;
+  });
+}
+
+MHS_API mhs_status mhs_find(const mhs_simulation* csim, const char* name, uint32_t* index) {
+  auto* sim = const_cast<mhs_simulation*>(csim);
+  return guarded(sim, [&](Instance& in) -> mhs_status {
+    if (name == nullptr || index == nullptr) return refuse(sim, "mhs_find: name or index is NULL");
+    const int k = in.find(name);
+    if (k < 0)
+      return refuse(sim, std::string("mhs_find: no value is called '") + name +
+                             "' (mhs_variable lists them)");
+    *index = static_cast<uint32_t>(k);
+    return MHS_OK;
+  });
+}
+
+MHS_API mhs_status mhs_get(const mhs_simulation* csim, const uint32_t* indices, size_t count,
+                           double* values) {
+  auto* sim = const_cast<mhs_simulation*>(csim);
+  return guarded(sim, [&](Instance& in) -> mhs_status {
+    if (count > 0 && (indices == nullptr || values == nullptr))
+      return refuse(sim, "mhs_get: indices or values is NULL");
+    if (!sim->started) return refuse(sim, "mhs_get: the run has not started (mhs_start)");
+    const auto& vars = in.variables();
+    for (size_t i = 0; i < count; ++i)
+      if (indices[i] >= vars.size())
+        return refuse(sim, "mhs_get: indices[" + std::to_string(i) +
+                               "] = " + std::to_string(indices[i]) + " is not below " +
+                               std::to_string(vars.size()));
+    for (size_t i = 0; i < count; ++i) values[i] = in.value(vars[indices[i]]);
+    return MHS_OK;
+  });
+}
+
+MHS_API mhs_status mhs_row_size(const mhs_simulation* csim, uint32_t* columns) {
+  auto* sim = const_cast<mhs_simulation*>(csim);
+  return guarded(sim, [&](Instance& in) -> mhs_status {
+    if (columns == nullptr) return refuse(sim, "mhs_row_size: columns is NULL");
+    *columns = static_cast<uint32_t>(in.layout().names().size());
+    return MHS_OK;
+  });
+}
+
+MHS_API mhs_status mhs_row_name(const mhs_simulation* csim, uint32_t column, const char** name) {
+  auto* sim = const_cast<mhs_simulation*>(csim);
+  return guarded(sim, [&](Instance& in) -> mhs_status {
+    if (name == nullptr) return refuse(sim, "mhs_row_name: name is NULL");
+    const auto& names = in.layout().names();
+    if (column >= names.size())
+      return refuse(sim, "mhs_row_name: column " + std::to_string(column) + " is not below " +
+                             std::to_string(names.size()));
+    *name = names[column].c_str();
+    return MHS_OK;
+  });
+}
+
+MHS_API mhs_status mhs_row_due(const mhs_simulation* csim, int32_t* due) {
+  auto* sim = const_cast<mhs_simulation*>(csim);
+  return guarded(sim, [&](Instance& in) -> mhs_status {
+    if (due == nullptr) return refuse(sim, "mhs_row_due: due is NULL");
+    *due = sim->started && in.sim().step_index() % in.layout().every_steps() == 0 ? 1 : 0;
+    return MHS_OK;
+  });
+}
+
+MHS_API mhs_status mhs_row(const mhs_simulation* csim, double* values, size_t capacity) {
+  auto* sim = const_cast<mhs_simulation*>(csim);
+  return guarded(sim, [&](Instance& in) -> mhs_status {
+    const size_t n = in.layout().names().size();
+    if (values == nullptr || capacity < n)
+      return refuse(sim, "mhs_row: the row has " + std::to_string(n) + " values, the buffer " +
+                             (values == nullptr ? std::string("is NULL")
+                                                : "holds " + std::to_string(capacity)));
+    if (!sim->started) return refuse(sim, "mhs_row: the run has not started (mhs_start)");
+    in.layout().values(in.sim(), values);
+    return MHS_OK;
+  });
+}
+
+MHS_API mhs_status mhs_row_text(const mhs_simulation* csim, int32_t header, char* text,
+                                size_t capacity, size_t* length) {
+  auto* sim = const_cast<mhs_simulation*>(csim);
+  return guarded(sim, [&](Instance& in) -> mhs_status {
+    if (header == 0 && !sim->started)
+      return refuse(sim, "mhs_row_text: the run has not started (mhs_start)");
+    const std::string& row = in.row_text(header != 0);
+    if (length != nullptr) *length = row.size();
+    if (text == nullptr || capacity < row.size() + 1)
+      return refuse(
+          sim,
+          "mhs_row_text: the text needs " + std::to_string(row.size() + 1) + " bytes, the buffer " +
+              (text == nullptr ? std::string("is NULL") : "holds " + std::to_string(capacity)));
+    std::memcpy(text, row.c_str(), row.size() + 1);
+    return MHS_OK;
+  });
+}
+
+MHS_API mhs_status mhs_snapshot_new(mhs_simulation* sim, mhs_snapshot** out) {
+  return guarded(sim, [&](Instance&) -> mhs_status {
+    if (out == nullptr) return refuse(sim, "mhs_snapshot_new: out is NULL");
+    *out = new mhs_snapshot;
+    return MHS_OK;
+  });
+}
+
+MHS_API void mhs_snapshot_free(mhs_snapshot* snapshot) {
+  delete snapshot;
+}
+
+MHS_API mhs_status mhs_save(mhs_simulation* sim, mhs_snapshot* snapshot) {
+  return guarded(sim, [&](Instance& in) -> mhs_status {
+    if (snapshot == nullptr) return refuse(sim, "mhs_save: the snapshot is NULL");
+    if (!sim->started) return refuse(sim, "mhs_save: the run has not started (mhs_start)");
+    snapshot->bytes_current = false;
+    snapshot->saved = false;
+    in.sim().save_state(snapshot->state);
+    snapshot->saved = true;
+    return MHS_OK;
+  });
+}
+
+MHS_API mhs_status mhs_restore(mhs_simulation* sim, const mhs_snapshot* snapshot) {
+  return guarded(sim, [&](Instance& in) -> mhs_status {
+    if (snapshot == nullptr) return refuse(sim, "mhs_restore: the snapshot is NULL");
+    if (!snapshot->saved) return refuse(sim, "mhs_restore: the snapshot holds no state yet");
+    in.sim().restore_state(snapshot->state);
+    sim->started = true;
+    sim->failure.clear();
+    return MHS_OK;
+  });
+}
+
+MHS_API mhs_status mhs_snapshot_bytes(mhs_simulation* sim, mhs_snapshot* snapshot,
+                                      const void** bytes, size_t* size) {
+  return guarded(sim, [&](Instance&) -> mhs_status {
+    if (snapshot == nullptr || bytes == nullptr || size == nullptr)
+      return refuse(sim, "mhs_snapshot_bytes: the snapshot, bytes or size is NULL");
+    if (!snapshot->saved) return refuse(sim, "mhs_snapshot_bytes: the snapshot holds no state yet");
+    if (!snapshot->bytes_current) {
+      mh::write_run_state_bytes(snapshot->state, snapshot->bytes);
+      snapshot->bytes_current = true;
+    }
+    *bytes = snapshot->bytes.data();
+    *size = snapshot->bytes.size();
+    return MHS_OK;
+  });
+}
+
+MHS_API mhs_status mhs_snapshot_read(mhs_simulation* sim, mhs_snapshot* snapshot, const void* bytes,
+                                     size_t size) {
+  return guarded(sim, [&](Instance&) -> mhs_status {
+    if (snapshot == nullptr || (bytes == nullptr && size > 0))
+      return refuse(sim, "mhs_snapshot_read: the snapshot or bytes is NULL");
+    snapshot->saved = false;
+    snapshot->bytes_current = false;
+    mh::read_run_state_bytes(static_cast<const unsigned char*>(bytes), size, snapshot->state);
+    snapshot->saved = true;
+    return MHS_OK;
+  });
+}
+
+}  // extern "C"
