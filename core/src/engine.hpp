@@ -34,6 +34,7 @@
 #include "monohydra/cpp/unknowns.hpp"
 #include "monohydra/monohydra.h"
 #include "plugins/plugin_instance.hpp"
+#include "step/signals.hpp"
 
 namespace mh {
 
@@ -160,6 +161,7 @@ struct SubsystemInstance {
   // Its rows' derivatives in its points' motion (k x 3P, row-major) and its
   // point forces' in its states (3P x k, column-major): subsystem_coupling.cpp.
   std::vector<double> dR_dp, dR_dv, dF_dy, dF_dydot;
+  size_t signals_begin = 0, signals_end = 0;  // its signals in Signals::list (option_signal)
 };
 
 // A node of a network (e.g. a hydraulic node): the ports the model joined under
@@ -217,7 +219,10 @@ struct StateSet {
   std::vector<int> rate_states, rate_rows;  // the others, and the rows that involve rates
   RatesWorkspace rates_ws;
   std::vector<double> time_events;  // sorted, unique (constructor)
-  size_t next_event = 0;            // the first event after the accepted time
+  // Per event: -1, or the input whose table jumps there (an event only while
+  // the input follows its table).
+  std::vector<int> time_event_inputs;
+  size_t next_event = 0;  // the first event after the accepted time
 };
 
 // The integrator's map of the step (integrator_map.cpp).
@@ -381,6 +386,7 @@ struct Simulation::Engine {
 
   UnknownRegistry registry;
   StateSet states;
+  Signals signals;  // components' time signals and the model's inputs (signals.hpp)
   StepMapState map_ws;
   ExplicitStages stages;
   EvaluationState eval;
@@ -431,6 +437,13 @@ struct Simulation::Engine {
                               const Eigen::VectorXd& xddq);
   void rates_of(const Eigen::VectorXd& xq, Eigen::VectorXd& xdq, Eigen::VectorXd& xddq) const;
   void restart_integrator();  // from x, xd, xdd at t
+  // The state rates at the right limit of the accepted time, after a jump of
+  // a signal there (a time event, an input set between steps).
+  void rates_after_jump();
+  // An input set between steps changed: the next step starts as after a time
+  // event at the accepted time (rates at the right limit, the integrator
+  // restarted).
+  void apply_input_jump();
 
   // explicit_stability.cpp
   void check_explicit_stability(double h);
@@ -551,5 +564,9 @@ struct Simulation::Engine {
   // The plugin that made state row `row` non-finite at the kinematics in data.
   std::string nonfinite_source(int row);
 };
+
+// One subsystem's evaluate at ev.t, its signals written first: every evaluate
+// the host makes goes through here (host_services.cpp).
+mh_status evaluate_instance(SubsystemInstance& s, const mh_subsystem_eval& ev);
 
 }  // namespace mh

@@ -85,6 +85,8 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
   // Instances read their points' initial positions during setup.
   forward_kinematics(e.model, e.data, e.cons.z0, e.cons.zd0);
 
+  // The model's inputs, before the subsystems whose options read them.
+  e.signals.make_inputs(file.inputs);
   // Subsystems, in model order (find_state sees the instances before it).
   e.subsystems.resize(file.subsystems.size());
   for (size_t i = 0; i < file.subsystems.size(); ++i) {
@@ -129,9 +131,24 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
   }
 
   e.check_network();
-  std::sort(e.states.time_events.begin(), e.states.time_events.end());
-  e.states.time_events.erase(std::unique(e.states.time_events.begin(), e.states.time_events.end()),
-                             e.states.time_events.end());
+  // The components' time events and their signals' jumps (owner -1: always)
+  // with the jumps of inputs' tables (owner: the input, an event while it
+  // follows its table), sorted; one event per time, always when any
+  // unconditional one is there.
+  std::vector<std::pair<double, int>> events = e.signals.input_events;
+  for (double t : e.states.time_events) events.emplace_back(t, -1);
+  std::sort(events.begin(), events.end());
+  e.states.time_events.clear();
+  e.states.time_event_inputs.clear();
+  for (const auto& [t, owner] : events) {
+    if (!e.states.time_events.empty() && e.states.time_events.back() == t) {
+      int& kept = e.states.time_event_inputs.back();
+      if (kept != owner) kept = -1;
+      continue;
+    }
+    e.states.time_events.push_back(t);
+    e.states.time_event_inputs.push_back(owner);
+  }
   e.states.y.conservativeResize(e.n_s);
   e.states.state_tol.conservativeResize(e.n_s);
   e.eval.scratch_rows.setZero(e.n_s);
@@ -288,6 +305,38 @@ void Simulation::set_real_time(int iteration_cap) {
 }
 void Simulation::set_step_deadline(std::chrono::steady_clock::time_point deadline) {
   engine_->solver.step_deadline = deadline;
+}
+const std::vector<InputSpec>& Simulation::inputs() const {
+  return engine_->file->inputs;
+}
+int Simulation::input_index(const std::string& name) const {
+  return engine_->signals.find_input(name);
+}
+double Simulation::input(int k) const {
+  return engine_->signals.input_value(k, engine_->accepted.t);
+}
+double Simulation::set_input(int k, double value) {
+  Signals& signals = engine_->signals;
+  if (k < 0 || static_cast<size_t>(k) >= signals.inputs.size())
+    throw std::invalid_argument("no input " + std::to_string(k) + " (the model declares " +
+                                std::to_string(signals.inputs.size()) + ")");
+  InputSignal& in = signals.inputs[static_cast<size_t>(k)];
+  const InputSpec& spec = *in.spec;
+  if (!std::isfinite(value))
+    throw std::invalid_argument("input '" + spec.name + "': " + short_number(value) +
+                                " is not a finite value");
+  if (spec.min < spec.max && !(value >= spec.min && value <= spec.max)) {
+    if (!spec.clamp)
+      throw std::invalid_argument("input '" + spec.name + "': " + short_number(value) + " " +
+                                  spec.unit + " is outside its range [" + short_number(spec.min) +
+                                  ", " + short_number(spec.max) + "] (out_of_range: refuse)");
+    value = std::clamp(value, spec.min, spec.max);
+  }
+  const double before = signals.input_value(k, engine_->accepted.t);
+  in.value = value;
+  in.follows_table = false;
+  if (engine_->accepted.started && value != before) signals.jump_pending = true;
+  return value;
 }
 double Simulation::time() const {
   return engine_->accepted.t;

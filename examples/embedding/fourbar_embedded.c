@@ -1,7 +1,10 @@
 /* The hydraulic four-bar driven step by step from this program: open the
- * model, write the header and the rows `monohydra run` writes, and halfway
- * save the run's state, step on, put it back and check that the steps after
- * it come out the same to the bit. Exits 0 when every call succeeded. */
+ * model, set the valve's command (the model's input valve_command) from this
+ * program's own function before every step, the paper's cycle that the model
+ * file's table holds too, write the header and the rows `monohydra run`
+ * writes, and halfway save the run's state, step on, put it back and check
+ * that the steps after it come out the same to the bit. Exits 0 when every
+ * call succeeded. */
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -13,6 +16,16 @@
 static int failed(mhs_simulation* sim, const char* call, mhs_status status) {
   fprintf(stderr, "fourbar_embedded: %s returned %d: %s\n", call, (int)status, mhs_message(sim));
   return 1;
+}
+
+/* The paper's valve command (V) from step k on (t = k dt, dt = 1 ms): 10 V
+ * from 1 s, 0 from 2.5 s, -10 V from 5 s, 0 from 8 s. */
+static double valve_command(int64_t k) {
+  if (k >= 8000) return 0.0;
+  if (k >= 5000) return -10.0;
+  if (k >= 2500) return 0.0;
+  if (k >= 1000) return 10.0;
+  return 0.0;
 }
 
 /* Writes the row of the last accepted step to `out` when the run writes one there. */
@@ -52,10 +65,15 @@ int main(void) {
   char text[65536];
   size_t length = 0;
   double t = 0.0, dt = 0.0, t_end = 0.0;
+  int64_t k = 0;
   int rc = 0;
-  if ((st = mhs_row_text(sim, 1, text, sizeof text, &length)) != MHS_OK)
+  uint32_t command = 0;
+  double u = valve_command(0);
+  if ((st = mhs_find(sim, "valve_command", &command)) != MHS_OK) rc = failed(sim, "mhs_find", st);
+  if (rc == 0 && (st = mhs_set(sim, &command, 1, &u)) != MHS_OK) rc = failed(sim, "mhs_set", st);
+  if (rc == 0 && (st = mhs_row_text(sim, 1, text, sizeof text, &length)) != MHS_OK)
     rc = failed(sim, "mhs_row_text", st);
-  else
+  else if (rc == 0)
     fwrite(text, 1, length, out);
   if (rc == 0 && (st = mhs_start(sim)) > MHS_WARNING) rc = failed(sim, "mhs_start", st);
   if (rc == 0 && (st = mhs_time(sim, &t, NULL, &dt, &t_end)) != MHS_OK)
@@ -70,7 +88,10 @@ int main(void) {
   if (rc == 0 && (st = mhs_snapshot_new(sim, &snapshot)) != MHS_OK)
     rc = failed(sim, "mhs_snapshot_new", st);
   while (rc == 0 && t < t_end - 0.5 * dt) {
-    if (t >= 0.5 * t_end - 0.5 * dt && t < 0.5 * t_end + 0.5 * dt) {
+    /* The command for the step from t_k: held over it (a change is a jump at t_k). */
+    u = valve_command(k);
+    if ((st = mhs_set(sim, &command, 1, &u)) != MHS_OK) rc = failed(sim, "mhs_set", st);
+    if (rc == 0 && t >= 0.5 * t_end - 0.5 * dt && t < 0.5 * t_end + 0.5 * dt) {
       double first = 0.0, second = 0.0;
       if ((st = mhs_save(sim, snapshot)) != MHS_OK) rc = failed(sim, "mhs_save", st);
       if (rc == 0 && (st = mhs_advance(sim, t + 100 * dt)) > MHS_WARNING)
@@ -93,7 +114,7 @@ int main(void) {
       if (rc == 0) printf("snapshot at t = %g s: 100 steps after it repeat to the bit\n", t);
     }
     if (rc == 0 && (st = mhs_step(sim)) > MHS_WARNING) rc = failed(sim, "mhs_step", st);
-    if (rc == 0 && (st = mhs_time(sim, &t, NULL, NULL, NULL)) != MHS_OK)
+    if (rc == 0 && (st = mhs_time(sim, &t, &k, NULL, NULL)) != MHS_OK)
       rc = failed(sim, "mhs_time", st);
     if (rc == 0) rc = write_row(sim, out, text, sizeof text);
   }

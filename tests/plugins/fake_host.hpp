@@ -11,22 +11,33 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <deque>
 #include <map>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "../../core/src/model/time_table.hpp"
 #include "monohydra/core/plugin_registry.hpp"
 #include "monohydra/subsystem.h"
 #include "test_support.hpp"
 
 namespace mh::test {
 
+// A signal the fake host keeps for an instance (host.h mh_signal): its time
+// table, written at the evaluation's time before each Evaluation::run, as
+// the core's host does.
+struct FakeSignal {
+  TimeTable table;
+  double value = 0.0;
+};
+
 // The global numbering of states and outputs that several instances share.
 struct FakeNetwork {
-  std::vector<std::string> state_names;  // "node:X" for a node, "<instance>.<state>" otherwise
-  std::vector<double> initial;           // NaN where nobody gave one
-  std::map<std::string, int32_t> nodes;  // node name -> its pressure state
+  mutable std::deque<FakeSignal> signals;  // a deque: instances keep the values' addresses
+  std::vector<std::string> state_names;    // "node:X" for a node, "<instance>.<state>" otherwise
+  std::vector<double> initial;             // NaN where nobody gave one
+  std::map<std::string, int32_t> nodes;    // node name -> its pressure state
   int32_t num_outputs = 0;
 
   int32_t new_state(const std::string& name, double value) {
@@ -74,6 +85,7 @@ class FakeHost {
     options_ = {sizeof(mh_options_service), option_number, option_string, option_table,
                 option_error};
     mechanism_ = {sizeof(mh_mechanism_service), mech_info, nullptr, nullptr};  // a subsystem's
+    signals_ = {sizeof(mh_signals_service), option_signal};
     outputs_ = {sizeof(mh_outputs_service), add_output};
     setup_ = {sizeof(mh_subsystem_setup_service),
               add_state,
@@ -214,8 +226,34 @@ class FakeHost {
     if (which == MH_SERVICE_MECHANISM) return &self.mechanism_;
     if (which == MH_SERVICE_OUTPUTS) return &self.outputs_;
     if (which == MH_SERVICE_SUBSYSTEM_SETUP) return &self.setup_;
+    if (which == MH_SERVICE_SIGNALS) return &self.signals_;
     return nullptr;
   }
+  // A signal from `tables` (2 columns; its jumps recorded as time events) or
+  // the constant fallback.
+  static mh_status option_signal(const mh_host* h, const char* key, int required, double fallback,
+                                 mh_signal* out) {
+    FakeHost& f = self(h);
+    FakeSignal signal;
+    std::string error;
+    auto it = f.tables.find(key);
+    if (it == f.tables.end()) {
+      if (required != 0) return MH_ERROR;
+      const double constant[2] = {0.0, fallback};
+      signal.table.assign(constant, 1, error);
+    } else {
+      if (it->second.first != 2) return MH_ERROR;
+      if (!signal.table.assign(it->second.second.data(),
+                               static_cast<uint32_t>(it->second.second.size() / 2), error))
+        return option_error(h, key, error.c_str());
+      for (double t : signal.table.jump_times()) f.time_events.push_back(t);
+    }
+    f.network_->signals.push_back(std::move(signal));
+    out->value = &f.network_->signals.back().value;
+    out->state = -1;
+    return MH_OK;
+  }
+  mh_signals_service signals_{};
   mh_options_service options_{};
   mh_mechanism_service mechanism_{};
   mh_outputs_service outputs_{};
@@ -301,7 +339,8 @@ struct Evaluation {
         ydot(network.num_states(), 0.0),
         point_p(3 * num_points, 0.0),
         point_v(3 * num_points, 0.0),
-        num_outputs_(static_cast<size_t>(network.num_outputs)) {}
+        num_outputs_(static_cast<size_t>(network.num_outputs)),
+        network_(&network) {}
 
   mh_subsystem_eval record() {
     residual.assign(y.size(), 0.0);
@@ -325,6 +364,7 @@ struct Evaluation {
   }
   // Runs the instance's evaluate; the results land in residual, point_f, outputs.
   mh_status run(const mh_subsystem* api) {
+    for (FakeSignal& signal : network_->signals) signal.value = signal.table.value(t);
     const mh_subsystem_eval e = record();
     status = api->evaluate(api, &e);
     return status;
@@ -333,6 +373,7 @@ struct Evaluation {
 
  private:
   size_t num_outputs_;
+  const FakeNetwork* network_;
 };
 
 // The largest relative difference between the instance's analytic jacobian

@@ -502,6 +502,66 @@ mh_status host_add_time_event(const mh_host* host, double t) {
   return MH_OK;
 }
 
+// option_signal (3.1): a table of rows [t, value] or an input's name. The
+// value it hands out lives in the engine's Signals, written before each of
+// the instance's evaluations (evaluate_instance).
+mh_status host_option_signal(const mh_host* host, const char* key, int required, double fallback,
+                             mh_signal* out) {
+  InstanceHost* hp = live(host, "option_signal");
+  if (hp == nullptr) return MH_ERROR;
+  if (out == nullptr || out->struct_size < offsetof(mh_signal, value) + sizeof(out->value))
+    return no_place(host, "option_signal", key);
+  InstanceHost& h = *hp;
+  if (setup_only(h, "option_signal", true, false) != MH_OK) return MH_ERROR;
+  Signals& signals = h.engine->signals;
+  SubsystemInstance& s = h.engine->subsystems[static_cast<size_t>(h.subsystem)];
+  const OptionValue* v = lookup(h, key);
+  Signal signal;
+  if (v == nullptr) {
+    if (required != 0) return missing(h, key, "a table of rows [t (s), value] or an input's name");
+    const double constant[2] = {0.0, fallback};
+    std::string unused;
+    signal.table.assign(constant, 1, unused);
+  } else if (v->kind == OptionValue::Kind::string) {
+    signal.input = signals.find_input(v->text);
+    if (signal.input < 0) {
+      std::string known;
+      for (const InputSignal& in : signals.inputs)
+        known += (known.empty() ? "" : ", ") + in.spec->name;
+      return report(h, v->mark, key,
+                    "a table of rows [t (s), value] or one of the model's inputs (" +
+                        (known.empty() ? std::string("it declares none") : known) + "), got '" +
+                        v->text + "'");
+    }
+    // The input's table jumps are events while the input follows it.
+    const InputSignal& in = signals.inputs[static_cast<size_t>(signal.input)];
+    bool read_before = false;
+    for (const Signal& other : signals.list)
+      read_before = read_before || other.input == signal.input;
+    if (!read_before)
+      for (double t : in.table.jump_times()) signals.input_events.emplace_back(t, signal.input);
+  } else {
+    std::string error;
+    if (v->kind != OptionValue::Kind::table || v->columns != 2 ||
+        !signal.table.assign(v->table.data(), static_cast<uint32_t>(v->rows), error))
+      return report(h, v->mark, key,
+                    "expected " +
+                        (error.empty() ? std::string("a table of rows [t (s), value] or an "
+                                                     "input's name")
+                                       : error) +
+                        ", got '" + v->text + "'");
+    for (double t : signal.table.jump_times()) h.engine->states.time_events.push_back(t);
+  }
+  if (s.signals_end == 0) s.signals_begin = signals.list.size();
+  signals.list.push_back(std::move(signal));
+  s.signals_end = signals.list.size();
+  Signal& kept = signals.list.back();
+  kept.value = kept.input < 0 ? kept.table.value(0.0) : signals.input_value(kept.input, 0.0);
+  out->value = &kept.value;
+  if (out->struct_size >= offsetof(mh_signal, state) + sizeof(out->state)) out->state = -1;
+  return MH_OK;
+}
+
 // The service tables, one per role's need (host.h): the functions are the
 // same for every instance (each takes its mh_host), so the tables are too.
 constexpr mh_options_service kOptions{sizeof(mh_options_service), host_option_number,
@@ -519,6 +579,7 @@ constexpr mh_subsystem_setup_service kSubsystemSetup{sizeof(mh_subsystem_setup_s
                                                      host_point_position,
                                                      host_add_time_event};
 constexpr mh_unknowns_service kUnknowns{sizeof(mh_unknowns_service), host_add_unknown};
+constexpr mh_signals_service kSignals{sizeof(mh_signals_service), host_option_signal};
 
 // What each role is given: integrators their options; formulations options,
 // the mechanics, outputs and unknowns; subsystems options, mech_info,
@@ -537,6 +598,7 @@ const void* host_get_service(const mh_host* host, const char* id) {
   if (std::strcmp(id, MH_SERVICE_SUBSYSTEM_SETUP) == 0)
     return subsystem ? &kSubsystemSetup : nullptr;
   if (std::strcmp(id, MH_SERVICE_UNKNOWNS) == 0) return formulation ? &kUnknowns : nullptr;
+  if (std::strcmp(id, MH_SERVICE_SIGNALS) == 0) return subsystem ? &kSignals : nullptr;
   return nullptr;
 }
 
@@ -609,6 +671,12 @@ void Simulation::Engine::point_at(mh_subsystem_eval& ev, SubsystemInstance& s) {
   ev.point_f = s.f.data();
 }
 
+mh_status evaluate_instance(SubsystemInstance& s, const mh_subsystem_eval& ev) {
+  s.host->engine->signals.refresh(s.signals_begin, s.signals_end, ev.t);
+  return in_flight(*s.host, InstanceHost::Op::evaluate,
+                   [&] { return s.api.ops.evaluate(s.api.self, &ev); });
+}
+
 mh_status Simulation::Engine::evaluate_subsystems(double t_eval, double* rows) {
   std::fill(rows, rows + n_s, 0.0);
   mh_subsystem_eval ev = subsystem_eval(t_eval, rows);
@@ -625,8 +693,7 @@ mh_status Simulation::Engine::evaluate_subsystems(double t_eval, double* rows) {
       }
     }
     point_at(ev, s);
-    const mh_status st = normalized(in_flight(*s.host, InstanceHost::Op::evaluate,
-                                              [&] { return s.api.ops.evaluate(s.api.self, &ev); }));
+    const mh_status st = normalized(evaluate_instance(s, ev));
     if (!status_ok(st)) return st;
     s.power = 0.0;
     for (size_t k = 0; k < np; ++k) {

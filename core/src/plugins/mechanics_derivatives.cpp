@@ -67,9 +67,7 @@ mh_status differenced_point_forces(SubsystemInstance& s, mh_subsystem_eval ev) {
       for (int side = 0; side < 2; ++side) {
         x[c] = side == 0 ? x0 + h : x0 - h;
         std::fill(s.f.begin(), s.f.end(), 0.0);
-        const mh_status st = normalized(in_flight(*s.host, InstanceHost::Op::evaluate, [&] {
-          return s.api.ops.evaluate(s.api.self, &ev);
-        }));
+        const mh_status st = normalized(evaluate_instance(s, ev));
         if (!status_ok(st)) {
           x[c] = x0;
           return st;

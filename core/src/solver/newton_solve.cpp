@@ -132,8 +132,7 @@ std::string Simulation::Engine::nonfinite_source(int row) {
   for (auto& s : subsystems) {
     eval.scratch_rows.setZero();
     point_at(ev, s);
-    const mh_status st = normalized(in_flight(*s.host, InstanceHost::Op::evaluate,
-                                              [&] { return s.api.ops.evaluate(s.api.self, &ev); }));
+    const mh_status st = normalized(evaluate_instance(s, ev));
     if (status_ok(st) && !std::isfinite(eval.scratch_rows[row]))
       return "subsystem '" + s.spec->name + "' (" + s.spec->type + ")";
   }

@@ -61,6 +61,7 @@ std::string Simulation::Engine::run_key() const {
   for (const auto& name : registry.unknown_names) key += '|' + name;
   for (const auto& v : states.state_info) key += '|' + v.qualified;
   for (const auto& v : registry.output_info) key += '|' + v.qualified;
+  for (const InputSignal& in : signals.inputs) key += "|input " + in.spec->name;
   return key;
 }
 
@@ -103,6 +104,13 @@ void Simulation::Engine::save_state(RunState& into) {
     into.kept_tangent.assign(tangent_ws.values.begin(), tangent_ws.values.end());
   else
     into.kept_tangent.clear();
+  into.input_values.resize(signals.inputs.size());
+  into.input_follows_table.resize(signals.inputs.size());
+  for (size_t k = 0; k < signals.inputs.size(); ++k) {
+    into.input_values[k] = signals.inputs[k].value;
+    into.input_follows_table[k] = signals.inputs[k].follows_table ? 1 : 0;
+  }
+  into.input_jump_pending = signals.jump_pending;
   into.rates_jacobian_valid = stages.rates_jacobian_valid;
   if (stages.rates_jacobian_valid) into.rates_jacobian = stages.rates_jacobian;
   into.part_sizes.resize(snapshot.parts.size());
@@ -160,7 +168,9 @@ void Simulation::Engine::restore_state(const RunState& from) {
       (!from.constraint_positions_valid || sized(from.constraint_z, nz)) &&
       (!from.constraint_rates_valid || sized(from.constraint_zd, nz)) &&
       (!from.rates_jacobian_valid ||
-       (from.rates_jacobian.rows() == nx && from.rates_jacobian.cols() == nx));
+       (from.rates_jacobian.rows() == nx && from.rates_jacobian.cols() == nx)) &&
+      from.input_values.size() == signals.inputs.size() &&
+      from.input_follows_table.size() == signals.inputs.size();
   if (!lengths_match)
     throw RunStateError(
         "the state's lengths are not this run's (its bytes were changed): it cannot be restored");
@@ -200,6 +210,11 @@ void Simulation::Engine::restore_state(const RunState& from) {
   registry.outputs = from.outputs;
   registry.outputs_k = from.outputs;
   states.next_event = from.next_event;
+  for (size_t k = 0; k < signals.inputs.size(); ++k) {
+    signals.inputs[k].value = from.input_values[k];
+    signals.inputs[k].follows_table = from.input_follows_table[k] != 0;
+  }
+  signals.jump_pending = from.input_jump_pending;
   stages.stability_due = from.stability_due;
   stages.stability_next_step = from.stability_next_step;
   stages.stability_worst_excess = from.stability_worst_excess;

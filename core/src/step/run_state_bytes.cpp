@@ -189,6 +189,9 @@ void write_run_state_bytes(const RunState& s, std::vector<unsigned char>& out) {
   w.list(s.kept_tangent);
   w.flag(s.rates_jacobian_valid);
   w.mat(s.rates_jacobian);
+  w.list(s.input_values);
+  w.list(s.input_follows_table);
+  w.flag(s.input_jump_pending);
   w.list(s.part_sizes);
   w.list(s.part_bytes);
   const uint64_t payload = w.size() - kHeader;
@@ -272,6 +275,12 @@ void read_run_state_bytes(const unsigned char* data, std::size_t size, RunState&
   r.list(s.kept_tangent);
   s.rates_jacobian_valid = r.flag();
   r.mat(s.rates_jacobian);
+  r.list(s.input_values);
+  r.list(s.input_follows_table);
+  for (uint8_t f : s.input_follows_table)
+    if (f > 1)
+      throw RunStateError("the state's bytes are damaged (a flag reads " + std::to_string(f) + ")");
+  s.input_jump_pending = r.flag();
   r.list(s.part_sizes);
   r.list(s.part_bytes);
   if (r.left() != 0)

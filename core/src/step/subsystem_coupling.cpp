@@ -71,8 +71,7 @@ mh_status difference_instance(SubsystemInstance& s, mh_subsystem_eval ev, Eigen:
   const auto run = [&]() {
     rows.setZero();
     std::fill(s.f.begin(), s.f.end(), 0.0);
-    return normalized(in_flight(*s.host, InstanceHost::Op::evaluate,
-                                [&] { return s.api.ops.evaluate(s.api.self, &ev); }));
+    return normalized(evaluate_instance(s, ev));
   };
   // The points' motion: columns of dR/dp and dR/dv.
   for (int level = 0; level < 2; ++level) {

@@ -160,6 +160,7 @@ void Simulation::Engine::start() {
 
 void Simulation::Engine::step_once() {
   if (!accepted.started) fail("step() before start()");
+  if (signals.jump_pending) apply_input_jump();
   // t from the step count, not by summing dt: no round-off creep over 1e4 steps.
   const double t_next = static_cast<double>(accepted.step + 1) * settings.dt;
   accepted.attempt_step = accepted.step + 1;
@@ -216,9 +217,13 @@ void Simulation::Engine::attempt(double t_next) {
   double t_eval = t_next;
   while (states.next_event < states.time_events.size() &&
          states.time_events[states.next_event] <= t_next + 1e-9 * h) {
-    event = true;
-    if (std::abs(states.time_events[states.next_event] - t_next) <= 1e-9 * h)
-      t_eval = std::nextafter(states.time_events[states.next_event], -HUGE_VAL);
+    // An input's table jump is an event only while the input follows it.
+    const int input = states.time_event_inputs[states.next_event];
+    if (input < 0 || signals.inputs[static_cast<size_t>(input)].follows_table) {
+      event = true;
+      if (std::abs(states.time_events[states.next_event] - t_next) <= 1e-9 * h)
+        t_eval = std::nextafter(states.time_events[states.next_event], -HUGE_VAL);
+    }
     ++states.next_event;
   }
 
@@ -319,11 +324,7 @@ void Simulation::Engine::accept_step(double t_next, bool event, double h) {
   }
   accepted.t = t_next;
   kinematics_at(accepted.z.data(), accepted.zd.data());
-  if (event) {
-    solve_initial_rates(std::nextafter(accepted.t, HUGE_VAL));
-    kinematics_at(accepted.z.data(), accepted.zd.data());
-    xd.tail(n_s) = states.ydot;
-  }
+  if (event) rates_after_jump();
   states.y_k = states.y;
   states.ydot_k = states.ydot;
   if (event || (flags & MH_ACCEPT_REDEFINED) != 0) {
@@ -339,6 +340,23 @@ void Simulation::Engine::accept_step(double t_next, bool event, double h) {
           "integrator", integrator_name, "accept");
   }
   measure_mechanism();
+}
+
+void Simulation::Engine::rates_after_jump() {
+  solve_initial_rates(std::nextafter(accepted.t, HUGE_VAL));
+  kinematics_at(accepted.z.data(), accepted.zd.data());
+  xd.tail(n_s) = states.ydot;
+}
+
+// What accept_step does after a time event, for a jump between two steps:
+// the accepted state keeps its coordinates and states, its rates are the
+// right limit's, and the integrator starts again from there.
+void Simulation::Engine::apply_input_jump() {
+  signals.jump_pending = false;
+  rates_after_jump();
+  states.ydot_k = states.ydot;
+  solver.reuse.invalidate();
+  restart_integrator();
 }
 
 }  // namespace mh

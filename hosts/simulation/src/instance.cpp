@@ -138,6 +138,11 @@ void Instance::make_variables() {
   };
   add(MHS_STATE, sim_->state_info());
   add(MHS_OUTPUT, sim_->output_info());
+  const std::vector<InputSpec>& inputs = sim_->inputs();
+  for (size_t k = 0; k < inputs.size(); ++k)
+    variables_.push_back({MHS_INPUT, static_cast<int>(k), inputs[k].name,
+                          "inputs." + inputs[k].name, inputs[k].unit, inputs[k].min,
+                          inputs[k].max});
   for (size_t k = 0; k < variables_.size(); ++k) {
     by_name_.emplace(variables_[k].qualified, static_cast<int>(k));
     by_name_.emplace(variables_[k].name, static_cast<int>(k));
@@ -157,6 +162,8 @@ double Instance::value(const Variable& v) const {
       return sim_->zd()[v.index];
     case MHS_STATE:
       return sim_->states()[v.index];
+    case MHS_INPUT:
+      return sim_->input(v.index);
     default:
       return sim_->outputs()[v.index];
   }

@@ -282,6 +282,50 @@ MHS_API mhs_status mhs_get(const mhs_simulation* csim, const uint32_t* indices, 
   });
 }
 
+MHS_API mhs_status mhs_set(mhs_simulation* sim, const uint32_t* indices, size_t count,
+                           const double* values) {
+  return guarded(sim, [&](Instance& in) -> mhs_status {
+    if (count > 0 && (indices == nullptr || values == nullptr))
+      return refuse(sim, "mhs_set: indices or values is NULL");
+    const auto& vars = in.variables();
+    // Everything checked before anything is set: all or nothing.
+    for (size_t i = 0; i < count; ++i) {
+      if (indices[i] >= vars.size())
+        return refuse(sim, "mhs_set: indices[" + std::to_string(i) +
+                               "] = " + std::to_string(indices[i]) + " is not below " +
+                               std::to_string(vars.size()));
+      const mh::embed::Variable& v = vars[indices[i]];
+      if (v.kind != MHS_INPUT)
+        return refuse(sim, "mhs_set: '" + v.name +
+                               "' is not an input (only the model's inputs: "
+                               "are set)");
+      const mh::InputSpec& spec = in.sim().inputs()[static_cast<size_t>(v.index)];
+      const double x = values[i];
+      if (!std::isfinite(x))
+        return refuse(sim, "mhs_set: input '" + spec.name + "': " + short_number(x) +
+                               " is not a finite value");
+      if (spec.min < spec.max && !spec.clamp && !(x >= spec.min && x <= spec.max))
+        return refuse(sim, "mhs_set: input '" + spec.name + "': " + short_number(x) + " " +
+                               spec.unit + " is outside its range [" + short_number(spec.min) +
+                               ", " + short_number(spec.max) + "] (out_of_range: refuse)");
+    }
+    std::string clamped;
+    for (size_t i = 0; i < count; ++i) {
+      const mh::embed::Variable& v = vars[indices[i]];
+      const double took = in.sim().set_input(v.index, values[i]);
+      if (took != values[i])
+        clamped +=
+            (clamped.empty() ? "" : "; ") + ("input '" + v.name + "': " + short_number(values[i]) +
+                                             " clamped to " + short_number(took));
+    }
+    if (!clamped.empty()) {
+      sim->message = "mhs_set: " + clamped + " (out_of_range: clamp)";
+      return MHS_WARNING;
+    }
+    return MHS_OK;
+  });
+}
+
 MHS_API mhs_status mhs_row_size(const mhs_simulation* csim, uint32_t* columns) {
   auto* sim = const_cast<mhs_simulation*>(csim);
   return guarded(sim, [&](Instance& in) -> mhs_status {

@@ -2,9 +2,10 @@
 // first-order dynamics (Eq. 27), the one law of every valve with a spool
 // (valve_4_3.cpp, valve_table.cpp):
 //   U's row += tau dU/dt - (U_ref(t) - U)
-// Options time_constant, reference, initial_spool, tolerance, spool_limit;
-// state U (role MH_ROLE_CONTROL_SIGNAL, range [-spool_limit, spool_limit]),
-// output U_ref, and every step of the reference a time event.
+// Options time_constant, reference (a signal: a time table or one of the
+// model's inputs, which the host evaluates and whose jumps are its time
+// events), initial_spool, tolerance, spool_limit; state U (role
+// MH_ROLE_CONTROL_SIGNAL, range [-spool_limit, spool_limit]), output U_ref.
 #pragma once
 
 #include <algorithm>
@@ -14,7 +15,6 @@
 #include "host_services.hpp"
 #include "monohydra/cpp/services.hpp"
 #include "monohydra/cpp/specs.hpp"
-#include "time_table.hpp"
 #include "touched_states.hpp"
 
 namespace hyd {
@@ -24,19 +24,17 @@ class Spool {
   // Reads the options, declares U and U_ref, adds U to `states`.
   mh_status setup(const mh_host* h, TouchedStates& states) {
     double u0 = 0.0, tolerance = 0.0;
-    const double* table = nullptr;
-    uint32_t rows = 0;
+    mh_signal reference{};
+    reference.struct_size = sizeof reference;
     if (positive_option(h, "time_constant", 1, 0.0, "a positive spool time constant tau (s)",
                         &tau_) != MH_OK ||
-        monohydra::options(h).option_table(h, "reference", 1, 2, &table, &rows) != MH_OK ||
+        monohydra::signals(h).option_signal(h, "reference", 1, 0.0, &reference) != MH_OK ||
         monohydra::options(h).option_number(h, "initial_spool", 0, 0.0, &u0) != MH_OK ||
         positive_option(h, "tolerance", 0, 1e-7, "a positive spool tolerance (V)", &tolerance) !=
             MH_OK ||
         positive_option(h, "spool_limit", 0, 10.0, "a positive spool limit (V)", &limit_) != MH_OK)
       return MH_ERROR;
-    std::string error;
-    if (!reference_.assign(table, rows, error))
-      return monohydra::options(h).option_error(h, "reference", error.c_str());
+    reference_ = reference.value;
     if (!std::isfinite(u0))
       return monohydra::options(h).option_error(h, "initial_spool", "a finite spool position (V)");
     mh_state_spec spool = monohydra::state_spec("U", "V", u0, tolerance);
@@ -46,17 +44,14 @@ class Spool {
     if (monohydra::subsystem_setup(h).add_state(h, &spool, &u_) != MH_OK) return MH_ERROR;
     states.add(u_);
     const mh_output_spec u_ref = monohydra::output_spec("U_ref", "V");
-    if (monohydra::outputs(h).add_output(h, &u_ref, &u_ref_out_) != MH_OK) return MH_ERROR;
-    for (double t : reference_.jump_times())
-      if (monohydra::subsystem_setup(h).add_time_event(h, t) != MH_OK) return MH_ERROR;
-    return MH_OK;
+    return monohydra::outputs(h).add_output(h, &u_ref, &u_ref_out_);
   }
 
   int32_t state() const { return u_; }
   double limit() const { return limit_; }
 
   void evaluate(const mh_subsystem_eval& eval) const {
-    const double u_ref = std::clamp(reference_.value(eval.t), -limit_, limit_);
+    const double u_ref = std::clamp(*reference_, -limit_, limit_);     // the host's, at eval.t
     eval.residual[u_] += tau_ * eval.ydot[u_] - (u_ref - eval.y[u_]);  // Eq. 27
     eval.outputs[u_ref_out_] = u_ref;
   }
@@ -67,7 +62,7 @@ class Spool {
 
  private:
   double tau_ = 0.0, limit_ = 10.0;
-  TimeTable reference_;
+  const double* reference_ = nullptr;  // the signal's value (mh_signal), owned by the host
   int32_t u_ = -1, u_ref_out_ = -1;
 };
 

@@ -46,7 +46,7 @@ class Valve43 {
     states_.add(a_);
     if (add_hydraulic_port(h, "B", MH_PORT_FLOW, kNaN, kNaN, &b_) != MH_OK) return MH_ERROR;
     states_.add(b_);
-    // The spool U, its reference's options, output and time events (spool.hpp).
+    // The spool U, its reference signal's options and output (spool.hpp).
     return spool_.setup(h, states_);
   }
 
@@ -113,7 +113,8 @@ const mh_component_descriptor Valve43::kDescriptor{
     "Ports P, T, A, B; state U (V), the spool, follows the reference with tau dU/dt = U_ref - U "
     "(Eq. 27); flows C_vd |U| sgn(dp) sqrt|dp| P->A and B->T for U >= 0, A->T and P->B for "
     "U < 0 (Eq. 26). Options: flow_coefficient (m^3/(s sqrt(Pa) V)), time_constant (s), "
-    "reference (rows [t (s), U_ref (V)], linear between rows, a repeated time is a step), "
+    "reference (a signal: rows [t (s), U_ref (V)], linear between rows, a repeated time is a "
+    "step, or the name of one of the model's inputs), "
     "transition_pressure (Pa, default 2e5), initial_spool (V, default 0), tolerance (V, default "
     "1e-7), spool_limit (V, default 10). Output U_ref (V). U is a control signal of range "
     "[-spool_limit, spool_limit]."};

@@ -124,7 +124,8 @@ const mh_component_descriptor ValveTable::kDescriptor{
     "U >= 0, A->T, P->B for U < 0); each edge's flow from flow_table, rows [spool (V), pressure "
     "drop (Pa), flow (m^3/s)] on a full grid, bilinear in the flow coefficient Q/sqrt(dp), "
     "sqrt(dp) beyond the measured drops. Options: flow_table, time_constant (s), reference (rows "
-    "[t (s), U_ref (V)]), transition_pressure (Pa, default 2e5), initial_spool (V, default 0), "
+    "[t (s), U_ref (V)] or an input's name), transition_pressure (Pa, default 2e5), initial_spool "
+    "(V, default 0), "
     "tolerance (V, default 1e-7), spool_limit (V, default 10). Output U_ref (V)."};
 
 }  // namespace

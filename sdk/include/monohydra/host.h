@@ -272,6 +272,36 @@ typedef struct mh_unknowns_service {
   mh_status (*add_unknown)(const struct mh_host* host, const mh_unknown_spec* spec, int32_t* index);
 } mh_unknowns_service;
 
+/* A signal: a value of time the host keeps for a component (option_signal).
+ * The host writes *value before each call of the instance that evaluates it
+ * (evaluate), with the signal's value at that call's time: a time table's
+ * (linear between rows, right-continuous at a repeated time, every such jump
+ * a time event, so a step ending at a jump is evaluated at its left limit),
+ * or an input's (held from the time it was set: a change between two steps
+ * is a jump there). Within one call it is a constant of the unknowns, with no
+ * derivative to give. */
+typedef struct mh_signal {
+  uint32_t struct_size;
+  const double* value; /* host-owned, valid as long as the instance */
+  int32_t state;       /* -1: the signal depends on time alone (3.1's only kind). Room for a
+                          later minor's signals that are states of the run: then
+                          eval.y[state], with its derivatives in the jacobian */
+} mh_signal;
+
+/* Signals (subsystems, during setup; 3.1). */
+#define MH_SERVICE_SIGNALS "monohydra.signals/3"
+typedef struct mh_signals_service {
+  uint32_t struct_size;
+  /* The option `key` as a signal: in the model file a table of rows [t (s),
+   * value] (non-decreasing times, finite numbers) or the name of one of the
+   * model's inputs (inputs:). A missing key with required = 0 yields the
+   * constant `fallback`. A bad value is reported by the host (file, line,
+   * field, what was expected) and yields MH_ERROR. `out->struct_size` is the
+   * plugin's sizeof(mh_signal). */
+  mh_status (*option_signal)(const struct mh_host* host, const char* key, int required,
+                             double fallback, mh_signal* out);
+} mh_signals_service;
+
 typedef struct mh_host {
   uint32_t struct_size;   /* sizeof(mh_host) of the host's SDK: check before using
                              fields added by a later minor version */

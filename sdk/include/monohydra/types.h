@@ -17,7 +17,10 @@
  * coefficients at a formulation's begin_step, explicit integrators with
  * operations of their own, an instance's own state saved and loaded
  * (state.h) for snapshots of a run. A 2.x plugin is refused, naming both versions and
- * the migration section of docs/sdk.md ("Migrating a 2.x plugin"). */
+ * the migration section of docs/sdk.md ("Migrating a 2.x plugin").
+ *
+ * 3.1 appends the signals service (host.h, MH_SERVICE_SIGNALS): a command
+ * option read as a signal, a time table or one of the model's inputs. */
 #ifndef MONOHYDRA_TYPES_H
 #define MONOHYDRA_TYPES_H
 
@@ -29,7 +32,7 @@ extern "C" {
 #endif
 
 #define MH_ABI_VERSION_MAJOR 3u
-#define MH_ABI_VERSION_MINOR 0u
+#define MH_ABI_VERSION_MINOR 1u
 #define MH_ABI_VERSION_PATCH 0u
 
 typedef struct mh_version {

@@ -548,10 +548,11 @@ TEST(ModelFileErrors, NonSiUnits) {
 }
 
 TEST(ModelFileErrors, UnknownTopLevelKey) {
-  expect_message(valid_body("solvr: {dt: 0.01}\n"),
-                 "model.yaml:8:1: solvr: unknown key 'solvr' (expected one of: units, name, "
-                 "gravity, plugin_paths, plugins, bodies, cut_joints, subsystems, formulation, "
-                 "integrator, compare, solver, planar, assembly, nodes, equilibrium, output)");
+  expect_message(
+      valid_body("solvr: {dt: 0.01}\n"),
+      "model.yaml:8:1: solvr: unknown key 'solvr' (expected one of: units, name, "
+      "gravity, plugin_paths, plugins, bodies, cut_joints, subsystems, formulation, "
+      "integrator, compare, solver, planar, assembly, nodes, equilibrium, output, inputs)");
 }
 
 TEST(ModelFileErrors, UnknownBodyKey) {
@@ -1041,6 +1042,56 @@ TEST(ModelFileLimits, DeeplyNestedInputIsAnErrorNotAStackOverflow) {
   ASSERT_TRUE(e.has_value());
   EXPECT_NE(std::string(e->what()).find("model.yaml:2:1: malformed YAML: "), std::string::npos)
       << e->what();
+}
+
+}  // namespace
+}  // namespace mh
+
+// --- inputs ------------------------------------------------------------------
+
+namespace mh {
+namespace {
+
+TEST(ModelFileInputs, AnInputWithATableStartsAtItsValueAtZero) {
+  const ModelFile file = parse_model_text(
+      valid_body("inputs:\n"                                                                // 8
+                 "  - {name: lever, unit: V, range: [-10, 10], table: [[0, 2], [1, 5]]}\n"  // 9
+                 "  - {name: load, unit: N, initial: 300, out_of_range: clamp}\n"),         // 10
+      kLabel);
+  ASSERT_EQ(file.inputs.size(), 2u);
+  EXPECT_EQ(file.inputs[0].name, "lever");
+  EXPECT_EQ(file.inputs[0].unit, "V");
+  EXPECT_EQ(file.inputs[0].min, -10.0);
+  EXPECT_EQ(file.inputs[0].max, 10.0);
+  EXPECT_EQ(file.inputs[0].initial, 2.0);
+  EXPECT_EQ(file.inputs[0].table, (std::vector<double>{0, 2, 1, 5}));
+  EXPECT_FALSE(file.inputs[0].clamp);
+  EXPECT_EQ(file.inputs[1].initial, 300.0);
+  EXPECT_TRUE(file.inputs[1].clamp);
+  EXPECT_GT(file.inputs[1].min, file.inputs[1].max);  // no range declared
+}
+
+TEST(ModelFileInputs, EachMistakeNamesItsLineAndField) {
+  expect_error(valid_body("inputs: {name: x}\n"), 8, "inputs", "expected a list of inputs");
+  expect_error(valid_body("inputs:\n  - {unit: V}\n"), 9, "inputs[0].name",
+               "missing required key 'name'");
+  expect_error(valid_body("inputs:\n  - {name: a}\n  - {name: a}\n"), 10, "inputs[1].name",
+               "duplicate input name 'a'");
+  expect_error(valid_body("inputs:\n  - {name: a, range: [5, 1]}\n"), 9, "inputs[0].range",
+               "expected min < max, got [5, 1]");
+  expect_error(valid_body("inputs:\n  - {name: a, out_of_range: wrap}\n"), 9,
+               "inputs[0].out_of_range", "expected refuse or clamp");
+  expect_error(valid_body("inputs:\n  - {name: a, initial: 1, table: [[0, 1]]}\n"), 9,
+               "inputs[0].initial", "expected initial or table, not both");
+  expect_error(valid_body("inputs:\n  - {name: a, table: [[1, 0], [0, 1]]}\n"), 9,
+               "inputs[0].table", "row 2 goes back in time");
+  expect_error(valid_body("inputs:\n  - {name: a, range: [0, 1], initial: 2}\n"), 9,
+               "inputs[0].initial", "expected an initial value within the range [0, 1], got 2");
+  expect_error(valid_body("inputs:\n  - {name: a, range: [0, 1], table: [[0, 0], [1, 3]]}\n"), 9,
+               "inputs[0].table[1]", "within the range [0, 1] (out_of_range: refuse), got 3");
+  expect_error(valid_body("inputs:\n  - {name: a, colour: red}\n"), 9, "inputs[0].colour",
+               "unknown key 'colour' (expected one of: name, unit, range, out_of_range, initial, "
+               "table)");
 }
 
 }  // namespace

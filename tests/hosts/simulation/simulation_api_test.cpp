@@ -286,6 +286,180 @@ TEST(EmbeddingThreads, FourInstancesInFourThreadsGiveTheSerialRowsToTheBit) {
   for (size_t k = 0; k < runs.size(); ++k) EXPECT_EQ(threaded[k], serial[k]) << "run " << k;
 }
 
+// The paper's valve cycle (V) from step k on: what models/fourbar.yaml's
+// input table holds.
+double paper_cycle(int64_t k) {
+  return k >= 8000 ? 0.0 : k >= 5000 ? -10.0 : k >= 2500 ? 0.0 : k >= 1000 ? 10.0 : 0.0;
+}
+// Another: 5 V from 0.5 s, -5 V from 1.5 s.
+double other_cycle(int64_t k) {
+  return k >= 1500 ? -5.0 : k >= 500 ? 5.0 : 0.0;
+}
+
+// The CSV of a run whose valve_command the caller sets before every step.
+std::string driven_csv(mhs_simulation* sim, double (*command)(int64_t)) {
+  uint32_t input = 0;
+  EXPECT_EQ(mhs_find(sim, "valve_command", &input), MHS_OK) << mhs_message(sim);
+  double u = command(0);
+  EXPECT_EQ(mhs_set(sim, &input, 1, &u), MHS_OK) << mhs_message(sim);
+  std::string csv = row_text(sim, true);
+  EXPECT_TRUE(ok(mhs_start(sim))) << mhs_message(sim);
+  csv += row_text(sim);
+  double t = 0.0, dt = 0.0, t_end = 0.0;
+  int64_t k = 0;
+  EXPECT_EQ(mhs_time(sim, &t, &k, &dt, &t_end), MHS_OK);
+  while (t < t_end - 0.5 * dt) {
+    u = command(k);
+    EXPECT_EQ(mhs_set(sim, &input, 1, &u), MHS_OK) << mhs_message(sim);
+    if (!ok(mhs_step(sim))) {
+      ADD_FAILURE() << mhs_message(sim);
+      break;
+    }
+    csv += row_text(sim);
+    EXPECT_EQ(mhs_time(sim, &t, &k, nullptr, nullptr), MHS_OK);
+  }
+  return csv;
+}
+
+TEST(EmbeddingInputs, TheValveCommandSetFromCodeIsTheTableItReplacesToTheByte) {
+  // Each change of the command is a jump at the step's start, restarting the
+  // integrator there as the table's time event did at the same time.
+  const std::vector<std::pair<std::string, std::string>> runs = {{"double-step", "trapezoidal"},
+                                                                 {"penalty", "trapezoidal"},
+                                                                 {"double-step", "bdf2"},
+                                                                 {"penalty", "generalized-alpha"}};
+  for (const auto& [formulation, integrator] : runs) {
+    Sim sim = open(
+        "fourbar.yaml",
+        {{"formulation", formulation.c_str()}, {"integrator", integrator.c_str()}, {"t_end", "6"}});
+    EXPECT_EQ(driven_csv(sim.get(), paper_cycle),
+              cli_csv("fourbar.yaml",
+                      "--formulation " + formulation + " --integrator " + integrator + " --t-end 6",
+                      formulation + "-" + integrator))
+        << formulation << " + " << integrator;
+  }
+}
+
+TEST(EmbeddingInputs, AnotherCycleSetFromCodeIsTheModelWithThatTable) {
+  std::string text = read_file(model("fourbar.yaml"));
+  const std::string paper =
+      "table: [[0, 0], [1, 0], [1, 10], [2.5, 10], [2.5, 0], [5, 0], [5, -10], [8, -10], [8, 0]]";
+  ASSERT_NE(text.find(paper), std::string::npos);
+  text.replace(text.find(paper), paper.size(),
+               "table: [[0, 0], [0.5, 0], [0.5, 5], [1.5, 5], [1.5, -5]]");
+  mhs_simulation* raw = nullptr;
+  const mhs_setting two_s = {"t_end", "2"};
+  ASSERT_LE(mhs_open_text(text.c_str(), "other-cycle.yaml",
+                          (std::string(MH_SOURCE_DIR) + "/models").c_str(), &two_s, 1, &raw),
+            MHS_WARNING)
+      << mhs_message(raw);
+  Sim tabled(raw);
+  Sim driven = open("fourbar.yaml", {{"t_end", "2"}});
+  const std::string by_code = driven_csv(driven.get(), other_cycle);
+  EXPECT_EQ(by_code, api_csv(tabled.get()));
+  Sim paper_run = open("fourbar.yaml", {{"t_end", "2"}});
+  EXPECT_NE(by_code, api_csv(paper_run.get()));
+}
+
+TEST(EmbeddingInputs, AnInputIsListedWithItsUnitAndRangeAndReadsItsTableUntilSet) {
+  Sim sim = open("fourbar.yaml");
+  uint32_t input = 0;
+  ASSERT_EQ(mhs_find(sim.get(), "valve_command", &input), MHS_OK);
+  mhs_variable_info info{};
+  info.struct_size = sizeof info;
+  ASSERT_EQ(mhs_variable(sim.get(), input, &info), MHS_OK);
+  EXPECT_EQ(info.kind, MHS_INPUT);
+  EXPECT_STREQ(info.unit, "V");
+  EXPECT_STREQ(info.qualified, "inputs.valve_command");
+  EXPECT_EQ(info.min, -10.0);
+  EXPECT_EQ(info.max, 10.0);
+  uint32_t count = 0;
+  ASSERT_EQ(mhs_variable_count(sim.get(), &count), MHS_OK);
+  EXPECT_EQ(input, count - 1);  // the inputs come last
+  ASSERT_TRUE(ok(mhs_advance(sim.get(), 1.5)));
+  double u = 0.0;
+  ASSERT_EQ(mhs_get(sim.get(), &input, 1, &u), MHS_OK);
+  EXPECT_EQ(u, 10.0);  // its table's
+  const double seven = 7.0;
+  ASSERT_EQ(mhs_set(sim.get(), &input, 1, &seven), MHS_OK);
+  ASSERT_TRUE(ok(mhs_advance(sim.get(), 3.0)));
+  ASSERT_EQ(mhs_get(sim.get(), &input, 1, &u), MHS_OK);
+  EXPECT_EQ(u, 7.0);  // held, where the table went to 0 at 2.5 s
+  // The spool follows it: U -> 7 V with tau = 4.5 ms, settled after 1.5 s.
+  uint32_t spool = 0;
+  ASSERT_EQ(mhs_find(sim.get(), "U", &spool), MHS_OK);
+  double U = 0.0;
+  ASSERT_EQ(mhs_get(sim.get(), &spool, 1, &U), MHS_OK);
+  EXPECT_NEAR(U, 7.0, 1e-6);
+}
+
+TEST(EmbeddingSnapshot, ASnapshotKeepsTheInputsAndAJumpNotYetStepped) {
+  Sim sim = open("fourbar.yaml");
+  uint32_t input = 0;
+  ASSERT_EQ(mhs_find(sim.get(), "valve_command", &input), MHS_OK);
+  ASSERT_TRUE(ok(mhs_advance(sim.get(), 1.2)));
+  const double u = -4.0;
+  ASSERT_EQ(mhs_set(sim.get(), &input, 1, &u), MHS_OK);  // a jump the next step starts with
+  mhs_snapshot* raw = nullptr;
+  ASSERT_EQ(mhs_snapshot_new(sim.get(), &raw), MHS_OK);
+  Snapshot snap(raw);
+  ASSERT_EQ(mhs_save(sim.get(), snap.get()), MHS_OK);
+  const std::string first = rows_until(sim.get(), 2.0);
+  ASSERT_TRUE(ok(mhs_restore(sim.get(), snap.get())));
+  EXPECT_EQ(rows_until(sim.get(), 2.0), first);
+  Sim fresh = open("fourbar.yaml");  // its input still follows the table
+  ASSERT_TRUE(ok(mhs_restore(fresh.get(), snap.get())));
+  EXPECT_EQ(rows_until(fresh.get(), 2.0), first);
+  Sim unset = open("fourbar.yaml");
+  ASSERT_TRUE(ok(mhs_advance(unset.get(), 1.2)));
+  EXPECT_NE(rows_until(unset.get(), 2.0), first);  // the set value mattered
+}
+
+TEST(EmbeddingBadCalls, InputsRefuseOtherValuesNaNAndOutOfRangeSettingNone) {
+  Sim sim = open("fourbar.yaml");
+  uint32_t input = 0, z1 = 0;
+  ASSERT_EQ(mhs_find(sim.get(), "valve_command", &input), MHS_OK);
+  ASSERT_EQ(mhs_find(sim.get(), "z1", &z1), MHS_OK);
+  double v = 1.0;
+  EXPECT_EQ(mhs_set(sim.get(), &z1, 1, &v), MHS_ERROR);
+  EXPECT_STREQ(mhs_message(sim.get()),
+               "mhs_set: 'z1' is not an input (only the model's inputs: are set)");
+  v = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(mhs_set(sim.get(), &input, 1, &v), MHS_ERROR);
+  EXPECT_STREQ(mhs_message(sim.get()), "mhs_set: input 'valve_command': nan is not a finite value");
+  v = 11.0;
+  EXPECT_EQ(mhs_set(sim.get(), &input, 1, &v), MHS_ERROR);
+  EXPECT_STREQ(mhs_message(sim.get()),
+               "mhs_set: input 'valve_command': 11 V is outside its range [-10, 10] "
+               "(out_of_range: refuse)");
+  const uint32_t both[] = {input, z1};
+  const double values[] = {3.0, 0.0};
+  EXPECT_EQ(mhs_set(sim.get(), both, 2, values), MHS_ERROR);  // all or nothing
+  ASSERT_TRUE(ok(mhs_start(sim.get())));
+  double u = 1.0;
+  ASSERT_EQ(mhs_get(sim.get(), &input, 1, &u), MHS_OK);
+  EXPECT_EQ(u, 0.0);  // still its table's
+
+  // An input that clamps: set to 12 V, it takes 10 V and says so.
+  std::string text = read_file(model("fourbar.yaml"));
+  const std::string range = "range: [-10, 10]";
+  ASSERT_NE(text.find(range), std::string::npos);
+  text.replace(text.find(range), range.size(), range + "\n    out_of_range: clamp");
+  mhs_simulation* raw = nullptr;
+  ASSERT_LE(mhs_open_text(text.c_str(), "clamp.yaml", (std::string(MH_SOURCE_DIR) + "/models").c_str(),
+                          nullptr, 0, &raw),
+            MHS_WARNING)
+      << mhs_message(raw);
+  Sim clamps(raw);
+  ASSERT_TRUE(ok(mhs_start(clamps.get())));
+  v = 12.0;
+  EXPECT_EQ(mhs_set(clamps.get(), &input, 1, &v), MHS_WARNING);
+  EXPECT_STREQ(mhs_message(clamps.get()),
+               "mhs_set: input 'valve_command': 12 clamped to 10 (out_of_range: clamp)");
+  ASSERT_EQ(mhs_get(clamps.get(), &input, 1, &u), MHS_OK);
+  EXPECT_EQ(u, 10.0);
+}
+
 // Every call with a NULL handle: MHS_ERROR, and mhs_message(NULL) says so.
 TEST(EmbeddingBadCalls, ANullHandleIsRefusedByEveryCall) {
   double d = 0.0;
@@ -353,6 +527,20 @@ TEST(EmbeddingBadCalls, AModelThatDoesNotOpenIsFatalAndSaysWhy) {
   EXPECT_EQ(mhs_open_file(model("fourbar.yaml").c_str(), &no_value, 1, &raw), MHS_FATAL);
   Sim null_value(raw);
   EXPECT_STREQ(mhs_message(null_value.get()), "setting 0 has a NULL path or value");
+
+  std::string text_model = read_file(model("fourbar.yaml"));
+  const std::string reference = "reference: valve_command";
+  ASSERT_NE(text_model.find(reference), std::string::npos);
+  text_model.replace(text_model.find(reference), reference.size(), "reference: valve_comand");
+  EXPECT_EQ(mhs_open_text(text_model.c_str(), "typo.yaml",
+                          (std::string(MH_SOURCE_DIR) + "/models").c_str(), nullptr, 0, &raw),
+            MHS_FATAL);
+  Sim typo(raw);
+  EXPECT_NE(std::string(mhs_message(typo.get()))
+                .find("option 'reference': a table of rows [t (s), value] or one of the model's "
+                      "inputs (valve_command), got 'valve_comand'"),
+            std::string::npos)
+      << mhs_message(typo.get());
 
   const mhs_setting formulation = {"formulation", "no-such-formulation"};
   EXPECT_EQ(mhs_open_file(model("fourbar.yaml").c_str(), &formulation, 1, &raw), MHS_FATAL);

@@ -59,6 +59,20 @@ struct ComponentChoice {
   SourceMark mark;
 };
 
+// inputs/<i>: a named signal set from outside the run (the embedding API,
+// a co-simulation master) that component options take in place of a time
+// table (a valve's reference: NAME). Until something sets it, it follows its
+// table, or holds its initial value.
+struct InputSpec {
+  std::string name;
+  std::string unit;             // as declared (informative; the value is SI)
+  double min = 1.0, max = 0.0;  // range: [min, max]; min > max: none declared
+  bool clamp = false;           // out_of_range: clamp (true) or refuse
+  double initial = 0.0;         // the value at t = 0 (its table's, when it has one)
+  std::vector<double> table;    // rows [t, value], row-major; empty: none
+  SourceMark mark;
+};
+
 // How Newton treats its tangent: `full` assembles and factors it at every
 // iteration; `modified` keeps the factorization across iterations and steps
 // while the iteration contracts fast enough (newton_solve.cpp).
@@ -121,6 +135,7 @@ struct ModelFile {
   // host solves at t = 0 so that the system starts at rest.
   std::vector<std::string> equilibrium_free;
   std::vector<SourceMark> equilibrium_marks;
+  std::vector<InputSpec> inputs;  // inputs:, in file order
 };
 
 // Reads and validates a model file. Throws InputError.

@@ -72,6 +72,11 @@ struct RunState {
   std::vector<double> kept_tangent;  // empty: no factorization kept
   bool rates_jacobian_valid = false;
   Eigen::MatrixXd rates_jacobian;
+  // The model's inputs: their values, which still follow their tables, and
+  // whether a change waits for the next step (Simulation::set_input).
+  std::vector<double> input_values;
+  std::vector<uint8_t> input_follows_table;
+  bool input_jump_pending = false;
   // The instances' own states (state.h), one after the other in the run's
   // order (formulation, integrator, subsystems), and each one's length.
   std::vector<uint64_t> part_sizes;

@@ -135,6 +135,19 @@ class Simulation {
   int output_index(const std::string& name) const;       // -1 if absent
   const std::vector<std::string>& output_units() const;  // as declared, e.g. "m", "N"
 
+  // The model's inputs (its inputs:, in file order) and their values at the
+  // accepted time.
+  const std::vector<InputSpec>& inputs() const;
+  int input_index(const std::string& name) const;  // -1 if absent
+  double input(int k) const;
+  // Sets input k from the accepted time on (before start(): from t = 0), in
+  // place of its table. A value outside the input's range is refused
+  // (std::invalid_argument naming the input, the value and the range) or,
+  // with out_of_range: clamp, clamped; returns the value it took. A change
+  // after start is a jump at the accepted time: the next step starts from
+  // the rates at its right limit, as after a time event.
+  double set_input(int k, double value);
+
   // Energy balance, all relative to t = 0: kinetic and potential energy of the
   // bodies, work W done on them by subsystem forces (trapezoidal integral of
   // the power), drift = KE + PE - W.

@@ -179,6 +179,8 @@ class Parser {
 
   // output.cpp
   OutputSettings output(const YAML::Node& node) const;
+  // inputs.cpp
+  std::vector<InputSpec> inputs(const YAML::Node& node) const;
 
   // values.cpp
   void check_unique(std::map<std::string, SourceMark>& seen, const std::string& value,

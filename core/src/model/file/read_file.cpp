@@ -29,7 +29,7 @@ ModelFile Parser::parse(const YAML::Node& root, const std::string& base_dir) {
   const MapView top(*this, root, "",
                     {"units", "name", "gravity", "plugin_paths", "plugins", "bodies", "cut_joints",
                      "subsystems", "formulation", "integrator", "compare", "solver", "planar",
-                     "assembly", "nodes", "equilibrium", "output"});
+                     "assembly", "nodes", "equilibrium", "output", "inputs"});
   ModelFile file;
   file.path = file_;
 
@@ -57,6 +57,7 @@ ModelFile Parser::parse(const YAML::Node& root, const std::string& base_dir) {
   }
   if (auto cuts = top.get("cut_joints")) file.model.cut_joints = cut_joints(*cuts);
   if (auto assembly_node = top.get("assembly")) parse_assembly(*assembly_node, file);
+  if (auto inputs_node = top.get("inputs")) file.inputs = inputs(*inputs_node);
   std::map<std::string, SourceMark> columns;
   if (auto subsystems_node = top.get("subsystems"))
     file.subsystems = subsystems(*subsystems_node, columns);

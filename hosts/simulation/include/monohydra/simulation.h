@@ -102,7 +102,8 @@ enum {
   MHS_COORDINATE = 0,      /* a joint coordinate z_i (rad or m) */
   MHS_COORDINATE_RATE = 1, /* its rate zd_i (rad/s or m/s) */
   MHS_STATE = 2,           /* a component's state (a pressure, a spool position) */
-  MHS_OUTPUT = 3           /* a component's or the formulation's output (a stroke, a force) */
+  MHS_OUTPUT = 3,          /* a component's or the formulation's output (a stroke, a force) */
+  MHS_INPUT = 4            /* one of the model's inputs (inputs:): set with mhs_set */
 };
 
 typedef struct mhs_variable_info {
@@ -115,7 +116,7 @@ typedef struct mhs_variable_info {
 } mhs_variable_info;
 
 /* Values are numbered 0 .. count-1: coordinates, their rates, the states,
- * then the outputs; the numbers are fixed once the model is open. */
+ * the outputs, then the inputs; the numbers are fixed once the model is open. */
 MHS_API mhs_status mhs_variable_count(const mhs_simulation* sim, uint32_t* count);
 MHS_API mhs_status mhs_variable(const mhs_simulation* sim, uint32_t index, mhs_variable_info* info);
 /* The number of the value called `name` (its name or its qualified name). */
@@ -123,6 +124,17 @@ MHS_API mhs_status mhs_find(const mhs_simulation* sim, const char* name, uint32_
 /* The values numbered `indices[0..count-1]` at the last accepted state. */
 MHS_API mhs_status mhs_get(const mhs_simulation* sim, const uint32_t* indices, size_t count,
                            double* values);
+
+/* Sets inputs (values numbered `indices`, each an MHS_INPUT) from the run's
+ * time on, in place of their tables: before mhs_start, from t = 0; after, a
+ * value that changes an input is a jump at the current time (the next step
+ * starts from the rates at its right limit, as after a time event of a
+ * table). All or nothing: a value that is not finite, not an input, or
+ * outside a range its input refuses to leave (out_of_range: refuse) sets
+ * none (MHS_ERROR); a value its input clamps is clamped (MHS_WARNING, the
+ * message names it). */
+MHS_API mhs_status mhs_set(mhs_simulation* sim, const uint32_t* indices, size_t count,
+                           const double* values);
 
 /* The rows `monohydra run` writes for this model (its output: columns and
  * interval; every column at every step when it has none). */

@@ -113,6 +113,18 @@ inline const mh_subsystem_setup_service& subsystem_setup(const mh_host* host) no
   return s != nullptr ? *s : kMissing;
 }
 
+// The signals service (3.1): a host of 3.0 has none, and the table found
+// missing says so ("this host has no signals service (SDK 3.1)").
+inline const mh_signals_service& signals(const mh_host* host) noexcept {
+  static const mh_signals_service kMissing{
+      sizeof(mh_signals_service), [](const mh_host* h, const char*, int, double, mh_signal*) {
+        return services_detail::missing(
+            h, "this host has no signals service (SDK 3.1): a subsystem reads signals from 3.1 on");
+      }};
+  const auto* s = services_detail::find<mh_signals_service>(host, MH_SERVICE_SIGNALS);
+  return s != nullptr ? *s : kMissing;
+}
+
 inline const mh_unknowns_service& unknowns(const mh_host* host) noexcept {
   static const mh_unknowns_service kMissing{
       sizeof(mh_unknowns_service), [](const mh_host* h, const mh_unknown_spec*, int32_t*) {

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace hyd {
+namespace mh {
 
 bool TimeTable::assign(const double* data, uint32_t rows, std::string& error) {
   rows_.clear();
@@ -48,4 +48,4 @@ std::vector<double> TimeTable::jump_times() const {
   return times;
 }
 
-}  // namespace hyd
+}  // namespace mh

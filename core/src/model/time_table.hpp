@@ -1,12 +1,13 @@
-// A piecewise-linear signal of time from a table of rows [t (s), value]: the
-// directional control valve's reference voltage U_ref(t) (Eqs. 46-47).
+// A piecewise-linear signal of time from a table of rows [t (s), value]: a
+// signal option of a component (a valve's reference voltage U_ref(t), Eqs.
+// 46-47) or an input's table, evaluated by the host (signals.hpp).
 #pragma once
 
 #include <cstdint>
 #include <string>
 #include <vector>
 
-namespace hyd {
+namespace mh {
 
 class TimeTable {
  public:
@@ -35,4 +36,4 @@ class TimeTable {
   std::vector<Row> rows_;
 };
 
-}  // namespace hyd
+}  // namespace mh

@@ -1,0 +1,58 @@
+// The signals the host keeps for its components (host.h mh_signal): a
+// component's command option read as a time table or as one of the model's
+// inputs, each written before every evaluation of its instance at that
+// evaluation's time. The inputs hold what the embedding API set; until then
+// they follow their table (or hold their initial value). A set value that
+// changes the input is a jump at the accepted time: the next step starts
+// from the rates at its right limit, as after a time event (time_step.cpp).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "model/time_table.hpp"
+#include "monohydra/core/model_file.hpp"
+
+namespace mh {
+
+struct InputSignal {
+  const InputSpec* spec = nullptr;
+  TimeTable table;             // its own (empty: none)
+  double value = 0.0;          // held, once set (or its initial value)
+  bool follows_table = false;  // nothing has set it and it has a table
+};
+
+struct Signal {
+  TimeTable table;     // a table option's (input < 0)
+  int input = -1;      // or the model's input it reads
+  double value = 0.0;  // what the component reads (mh_signal.value points here)
+};
+
+struct Signals {
+  std::vector<InputSignal> inputs;
+  std::deque<Signal> list;    // a deque: the components keep the values' addresses
+  bool jump_pending = false;  // an input changed between steps (Simulation::set_input)
+  // The jumps of inputs' tables that components read (time, input): events
+  // while the input follows its table (merged into the run's at setup).
+  std::vector<std::pair<double, int>> input_events;
+
+  void make_inputs(const std::vector<InputSpec>& specs);
+  int find_input(const std::string& name) const;  // -1 when absent
+  double input_value(int k, double t) const {
+    const InputSignal& in = inputs[static_cast<size_t>(k)];
+    return in.follows_table ? in.table.value(t) : in.value;
+  }
+  // Writes the signals [begin, end) (one instance's) at time t.
+  void refresh(size_t begin, size_t end, double t) {
+    for (size_t k = begin; k < end; ++k) {
+      Signal& s = list[k];
+      s.value = s.input < 0 ? s.table.value(t) : input_value(s.input, t);
+    }
+  }
+};
+
+}  // namespace mh
