@@ -566,7 +566,13 @@ struct Simulation::Engine {
 };
 
 // One subsystem's evaluate at ev.t, its signals written first: every evaluate
-// the host makes goes through here (host_services.cpp).
-mh_status evaluate_instance(SubsystemInstance& s, const mh_subsystem_eval& ev);
+// the host makes goes through here. Inline: it runs for every instance at
+// every evaluation of the step, most of them with no signal.
+inline mh_status evaluate_instance(SubsystemInstance& s, const mh_subsystem_eval& ev) {
+  if (s.signals_begin != s.signals_end)
+    s.host->engine->signals.refresh(s.signals_begin, s.signals_end, ev.t);
+  return in_flight(*s.host, InstanceHost::Op::evaluate,
+                   [&] { return s.api.ops.evaluate(s.api.self, &ev); });
+}
 
 }  // namespace mh

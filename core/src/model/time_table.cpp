@@ -7,6 +7,7 @@ namespace mh {
 
 bool TimeTable::assign(const double* data, uint32_t rows, std::string& error) {
   rows_.clear();
+  memo_t_ = std::numeric_limits<double>::quiet_NaN();
   if (data == nullptr || rows == 0) {
     error = "a table of at least one row [t (s), value]";
     return false;
@@ -27,7 +28,7 @@ bool TimeTable::assign(const double* data, uint32_t rows, std::string& error) {
   return true;
 }
 
-double TimeTable::value(double t) const {
+double TimeTable::lookup(double t) const {
   if (rows_.empty()) return 0.0;
   // The first row later than t: every row before it holds a time <= t, so at
   // a repeated time the later row wins (right-continuity).

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -24,7 +25,15 @@ class TimeTable {
   // The value at t: the first value before the first row, the last after the
   // last row, linear between rows. At a jump (rows i and i+1 at the same time)
   // the later row holds from that time on (right-continuous).
-  double value(double t) const;
+  // The last time asked and its value are kept: a step evaluates its
+  // components many times at one time (Newton's iterations, differences),
+  // and the same t gives the same value without the search.
+  double value(double t) const {
+    if (t == memo_t_) return memo_value_;
+    memo_value_ = lookup(t);
+    memo_t_ = t;
+    return memo_value_;
+  }
 
   // The times at which the signal jumps (each time that appears more than
   // once), ascending, without repeats.
@@ -33,7 +42,10 @@ class TimeTable {
   const std::vector<Row>& rows() const { return rows_; }
 
  private:
+  double lookup(double t) const;
   std::vector<Row> rows_;
+  mutable double memo_t_ = std::numeric_limits<double>::quiet_NaN();  // NaN: nothing kept
+  mutable double memo_value_ = 0.0;
 };
 
 }  // namespace mh

@@ -553,11 +553,12 @@ mh_status host_option_signal(const mh_host* host, const char* key, int required,
     for (double t : signal.table.jump_times()) h.engine->states.time_events.push_back(t);
   }
   if (s.signals_end == 0) s.signals_begin = signals.list.size();
+  signals.values.push_back(signal.input < 0 ? signal.table.value(0.0)
+                                            : signals.input_value(signal.input, 0.0));
+  signal.value = &signals.values.back();
   signals.list.push_back(std::move(signal));
   s.signals_end = signals.list.size();
-  Signal& kept = signals.list.back();
-  kept.value = kept.input < 0 ? kept.table.value(0.0) : signals.input_value(kept.input, 0.0);
-  out->value = &kept.value;
+  out->value = signals.list.back().value;
   if (out->struct_size >= offsetof(mh_signal, state) + sizeof(out->state)) out->state = -1;
   return MH_OK;
 }
@@ -669,12 +670,6 @@ void Simulation::Engine::point_at(mh_subsystem_eval& ev, SubsystemInstance& s) {
   ev.point_p = s.p.data();
   ev.point_v = s.v.data();
   ev.point_f = s.f.data();
-}
-
-mh_status evaluate_instance(SubsystemInstance& s, const mh_subsystem_eval& ev) {
-  s.host->engine->signals.refresh(s.signals_begin, s.signals_end, ev.t);
-  return in_flight(*s.host, InstanceHost::Op::evaluate,
-                   [&] { return s.api.ops.evaluate(s.api.self, &ev); });
 }
 
 mh_status Simulation::Engine::evaluate_subsystems(double t_eval, double* rows) {

@@ -27,14 +27,15 @@ struct InputSignal {
 };
 
 struct Signal {
-  TimeTable table;     // a table option's (input < 0)
-  int input = -1;      // or the model's input it reads
-  double value = 0.0;  // what the component reads (mh_signal.value points here)
+  TimeTable table;          // a table option's (input < 0)
+  int input = -1;           // or the model's input it reads
+  double* value = nullptr;  // what the component reads (mh_signal.value), in Signals::values
 };
 
 struct Signals {
   std::vector<InputSignal> inputs;
-  std::deque<Signal> list;    // a deque: the components keep the values' addresses
+  std::vector<Signal> list;
+  std::deque<double> values;  // a deque: the components keep the values' addresses
   bool jump_pending = false;  // an input changed between steps (Simulation::set_input)
   // The jumps of inputs' tables that components read (time, input): events
   // while the input follows its table (merged into the run's at setup).
@@ -49,8 +50,8 @@ struct Signals {
   // Writes the signals [begin, end) (one instance's) at time t.
   void refresh(size_t begin, size_t end, double t) {
     for (size_t k = begin; k < end; ++k) {
-      Signal& s = list[k];
-      s.value = s.input < 0 ? s.table.value(t) : input_value(s.input, t);
+      const Signal& s = list[k];
+      *s.value = s.input < 0 ? s.table.value(t) : input_value(s.input, t);
     }
   }
 };
