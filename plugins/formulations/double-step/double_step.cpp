@@ -571,7 +571,6 @@ mh_status begin_step(const mh_formulation* fo, const mh_step_begin* step) noexce
   const double t_next = step->predicted.t;
   DoubleStep& s = self(fo);
   return guarded(s, "begin_step", [&]() -> mh_status {
-    const NoHeapScope no_heap;
     const double h = t_next - s.t_k;
     s.iterate.z_pred = s.z + h * s.zd + (0.5 * h * h) * s.zdd;
     s.iterate.iterate_valid = false;
@@ -586,7 +585,6 @@ mh_status residual(const mh_formulation* fo, const mh_unknown_values* at, double
   const double* xdd = at->xdd;
   DoubleStep& s = self(fo);
   return guarded(s, "residual", [&]() -> mh_status {
-    const NoHeapScope no_heap;
     const mh_status st = evaluate_iterate(s, t, x, xd, xdd, MH_EVAL_SUBSYSTEMS);
     if (st >= MH_DISCARD) return st;
     for (int k = 0; k < s.f; ++k)
@@ -703,7 +701,6 @@ mh_status tangent(const mh_formulation* fo, const mh_unknown_values* at,
   uint8_t* column_given = blocks->column_given;
   DoubleStep& s = self(fo);
   return guarded(s, "tangent", [&]() -> mh_status {
-    const NoHeapScope no_heap;
     if (!monohydra::has_mech_derivatives(*s.mech)) return MH_OK;
     if (!is_last_iterate(s, x, xd, xdd)) {
       const mh_status st = evaluate_iterate(s, t, x, xd, xdd, 0u);
@@ -731,7 +728,6 @@ mh_status mechanics_map(const mh_formulation* fo, const mh_mechanics_map* map) n
   double* dr_dQ = map->dr_dQ;
   DoubleStep& s = self(fo);
   return guarded(s, "mechanics_map", [&]() -> mh_status {
-    const NoHeapScope no_heap;
     if (!s.iterate.iterate_valid) {
       log_error(s, "mechanics_map: no residual was evaluated in this step");
       return MH_ERROR;
@@ -834,7 +830,6 @@ mh_status accept(const mh_formulation* fo, double t, const mh_step_coefficients*
   double* xdd = values->xdd;
   DoubleStep& s = self(fo);
   return guarded(s, "accept", [&]() -> mh_status {
-    const NoHeapScope no_heap;
     // The host's last residual call was at the converged iterate; should it not
     // have been, evaluate it again (without the subsystems' rows: they are recorded).
     if (!is_last_iterate(s, x, xd, xdd)) {

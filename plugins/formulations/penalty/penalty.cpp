@@ -104,16 +104,6 @@ mh_status guarded(const mh_formulation* f, const char* op, Body&& body) noexcept
   return monohydra::guarded_op<Penalty>(f, op, std::forward<Body>(body));
 }
 
-#ifdef EIGEN_RUNTIME_NO_MALLOC
-// Debug aid: in a build with -DEIGEN_RUNTIME_NO_MALLOC, an Eigen heap
-// allocation inside the time step's ops fails an assertion.
-struct NoMalloc {
-  NoMalloc() { Eigen::internal::set_is_malloc_allowed(false); }
-  ~NoMalloc() { Eigen::internal::set_is_malloc_allowed(true); }
-};
-#else
-struct NoMalloc {};
-#endif
 
 mh_status evaluate(Penalty& s, uint32_t flags, double t, const double* z, const double* zd,
                    mh_mech_result& out) {
@@ -280,7 +270,6 @@ mh_status start(const mh_formulation* f, const mh_unknown_buffers* out) noexcept
 // A step begins from the accepted state: lambda_{k+1}^(0) = lambda_k (Eq. 19's start).
 mh_status begin_step(const mh_formulation* f, const mh_step_begin*) noexcept {
   return guarded(f, "begin_step", [&](Penalty& s) {
-    [[maybe_unused]] const NoMalloc no_malloc;
     s.lambda = s.lambda_k;
     s.last_valid = false;
     return MH_OK;
@@ -293,7 +282,6 @@ mh_status residual(const mh_formulation* f, const mh_unknown_values* at, double*
   const double* xd = at->xd;
   const double* xdd = at->xdd;
   return guarded(f, "residual", [&](Penalty& s) {
-    [[maybe_unused]] const NoMalloc no_malloc;
     mh_mech_result rs;
     s.last_valid = false;
     const mh_status st =
@@ -335,7 +323,6 @@ mh_status tangent(const mh_formulation* f, const mh_unknown_values* at,
   double* dr_dxdd = blocks->dr_dxdd;
   uint8_t* column_given = blocks->column_given;
   return guarded(f, "tangent", [&](Penalty& s) {
-    [[maybe_unused]] const NoMalloc no_malloc;
     if (!monohydra::has_mech_derivatives(*s.mech)) return MH_OK;
     if (!s.last_valid || s.x_last != ConstVectorMap(x, s.N)) {
       mh_mech_result rs;
@@ -394,7 +381,6 @@ mh_status iteration_done(const mh_formulation* f, const mh_unknown_values* at) n
   const double* x = at->x;
   const double* xd = at->xd;
   return guarded(f, "iteration_done", [&](Penalty& s) {
-    [[maybe_unused]] const NoMalloc no_malloc;
     mh_mech_result rs;
     const mh_status st = evaluate(s, MH_EVAL_CONSTRAINTS, t, x, xd, rs);  // Phi: of z only
     if (st >= MH_DISCARD) return st;
@@ -416,7 +402,6 @@ mh_status accept(const mh_formulation* f, double t, const mh_step_coefficients* 
   double* xd = values->xd;
   double* xdd = values->xdd;
   return guarded(f, "accept", [&](Penalty& s) {
-    [[maybe_unused]] const NoMalloc no_malloc;
     const ConstVectorMap xz(x, s.N);
     if (s.m > 0 && (!s.last_valid || s.x_last != xz)) {
       // M' and Phi_z depend on z only: from the last residual call when it was at x.
