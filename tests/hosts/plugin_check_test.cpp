@@ -491,7 +491,9 @@ TEST(PluginCheck, ABrokenDeclaredExampleModelFailsNamingItsFieldAndLine) {
 TEST(PluginCheck, ASubsystemThatDeclaresNoExampleModelIsSkippedWithTheReason) {
   const CliResult r = run_cli("check " + fixture("short_factory_spring"));
   EXPECT_EQ(r.code, 0) << r.output;
-  EXPECT_NE(r.output.find("ok    load: ABI 3." + std::to_string(MH_ABI_VERSION_MINOR) + ".0"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("ok    load: ABI 3." + std::to_string(MH_ABI_VERSION_MINOR) + ".0"),
+            std::string::npos)
+      << r.output;
   EXPECT_NE(r.output.find("skip  subsystem faulty-spring: no shipped model uses it and it "
                           "declares no example model"),
             std::string::npos)

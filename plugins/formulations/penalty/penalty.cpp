@@ -104,7 +104,6 @@ mh_status guarded(const mh_formulation* f, const char* op, Body&& body) noexcept
   return monohydra::guarded_op<Penalty>(f, op, std::forward<Body>(body));
 }
 
-
 mh_status evaluate(Penalty& s, uint32_t flags, double t, const double* z, const double* zd,
                    mh_mech_result& out) {
   const mh_mech_request rq{sizeof(mh_mech_request), flags, t, z, zd};

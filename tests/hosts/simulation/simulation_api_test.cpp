@@ -446,8 +446,8 @@ TEST(EmbeddingBadCalls, InputsRefuseOtherValuesNaNAndOutOfRangeSettingNone) {
   ASSERT_NE(text.find(range), std::string::npos);
   text.replace(text.find(range), range.size(), range + "\n    out_of_range: clamp");
   mhs_simulation* raw = nullptr;
-  ASSERT_LE(mhs_open_text(text.c_str(), "clamp.yaml", (std::string(MH_SOURCE_DIR) + "/models").c_str(),
-                          nullptr, 0, &raw),
+  ASSERT_LE(mhs_open_text(text.c_str(), "clamp.yaml",
+                          (std::string(MH_SOURCE_DIR) + "/models").c_str(), nullptr, 0, &raw),
             MHS_WARNING)
       << mhs_message(raw);
   Sim clamps(raw);
