@@ -315,23 +315,27 @@ int Simulation::input_index(const std::string& name) const {
 double Simulation::input(int k) const {
   return engine_->signals.input_value(k, engine_->accepted.t);
 }
-double Simulation::set_input(int k, double value) {
-  Signals& signals = engine_->signals;
+std::string Simulation::input_refusal(int k, double value) const {
+  const Signals& signals = engine_->signals;
   if (k < 0 || static_cast<size_t>(k) >= signals.inputs.size())
-    throw std::invalid_argument("no input " + std::to_string(k) + " (the model declares " +
-                                std::to_string(signals.inputs.size()) + ")");
+    return "no input " + std::to_string(k) + " (the model declares " +
+           std::to_string(signals.inputs.size()) + ")";
+  const InputSpec& spec = *signals.inputs[static_cast<size_t>(k)].spec;
+  if (!std::isfinite(value))
+    return "input '" + spec.name + "': " + short_number(value) + " is not a finite value";
+  if (spec.min < spec.max && !spec.clamp && !(value >= spec.min && value <= spec.max))
+    return "input '" + spec.name + "': " + short_number(value) + " " + spec.unit +
+           " is outside its range [" + short_number(spec.min) + ", " + short_number(spec.max) +
+           "] (out_of_range: refuse)";
+  return "";
+}
+double Simulation::set_input(int k, double value) {
+  const std::string refused = input_refusal(k, value);
+  if (!refused.empty()) throw std::invalid_argument(refused);
+  Signals& signals = engine_->signals;
   InputSignal& in = signals.inputs[static_cast<size_t>(k)];
   const InputSpec& spec = *in.spec;
-  if (!std::isfinite(value))
-    throw std::invalid_argument("input '" + spec.name + "': " + short_number(value) +
-                                " is not a finite value");
-  if (spec.min < spec.max && !(value >= spec.min && value <= spec.max)) {
-    if (!spec.clamp)
-      throw std::invalid_argument("input '" + spec.name + "': " + short_number(value) + " " +
-                                  spec.unit + " is outside its range [" + short_number(spec.min) +
-                                  ", " + short_number(spec.max) + "] (out_of_range: refuse)");
-    value = std::clamp(value, spec.min, spec.max);
-  }
+  if (spec.min < spec.max) value = std::clamp(value, spec.min, spec.max);  // out_of_range: clamp
   const double before = signals.input_value(k, engine_->accepted.t);
   in.value = value;
   in.follows_table = false;

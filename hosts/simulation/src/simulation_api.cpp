@@ -299,15 +299,8 @@ MHS_API mhs_status mhs_set(mhs_simulation* sim, const uint32_t* indices, size_t 
         return refuse(sim, "mhs_set: '" + v.name +
                                "' is not an input (only the model's inputs: "
                                "are set)");
-      const mh::InputSpec& spec = in.sim().inputs()[static_cast<size_t>(v.index)];
-      const double x = values[i];
-      if (!std::isfinite(x))
-        return refuse(sim, "mhs_set: input '" + spec.name + "': " + short_number(x) +
-                               " is not a finite value");
-      if (spec.min < spec.max && !spec.clamp && !(x >= spec.min && x <= spec.max))
-        return refuse(sim, "mhs_set: input '" + spec.name + "': " + short_number(x) + " " +
-                               spec.unit + " is outside its range [" + short_number(spec.min) +
-                               ", " + short_number(spec.max) + "] (out_of_range: refuse)");
+      const std::string refused = in.sim().input_refusal(v.index, values[i]);
+      if (!refused.empty()) return refuse(sim, "mhs_set: " + refused);
     }
     std::string clamped;
     for (size_t i = 0; i < count; ++i) {

@@ -147,6 +147,8 @@ class Simulation {
   // after start is a jump at the accepted time: the next step starts from
   // the rates at its right limit, as after a time event.
   double set_input(int k, double value);
+  // Why set_input(k, value) would refuse the value ("" when it would not).
+  std::string input_refusal(int k, double value) const;
 
   // Energy balance, all relative to t = 0: kinetic and potential energy of the
   // bodies, work W done on them by subsystem forces (trapezoidal integral of
