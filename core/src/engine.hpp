@@ -568,9 +568,16 @@ struct Simulation::Engine {
 // One subsystem's evaluate at ev.t, its signals written first: every evaluate
 // the host makes goes through here. Inline: it runs for every instance at
 // every evaluation of the step, most of them with no signal.
-inline mh_status evaluate_instance(SubsystemInstance& s, const mh_subsystem_eval& ev) {
+// Writes the instance's signals (option_signal, option_signal_port) at `ev`:
+// before every call that reads them (evaluate, jacobian, coupling_jacobian,
+// energy, accept), so each sees the values of its own time and states.
+inline void refresh_signals(SubsystemInstance& s, const mh_subsystem_eval& ev) {
   if (s.signals_begin != s.signals_end)
-    s.host->engine->signals.refresh(s.signals_begin, s.signals_end, ev.t);
+    s.host->engine->signals.refresh(s.signals_begin, s.signals_end, ev.t, ev.y);
+}
+
+inline mh_status evaluate_instance(SubsystemInstance& s, const mh_subsystem_eval& ev) {
+  refresh_signals(s, ev);
   return in_flight(*s.host, InstanceHost::Op::evaluate,
                    [&] { return s.api.ops.evaluate(s.api.self, &ev); });
 }

@@ -85,7 +85,10 @@ class FakeHost {
     options_ = {sizeof(mh_options_service), option_number, option_string, option_table,
                 option_error};
     mechanism_ = {sizeof(mh_mechanism_service), mech_info, nullptr, nullptr};  // a subsystem's
-    signals_ = {sizeof(mh_signals_service), option_signal};
+    // A 3.1 host's table (no option_signal_port): signal_port falls back to
+    // option_signal, so the components read tables as before.
+    signals_ = {static_cast<uint32_t>(offsetof(mh_signals_service, option_signal_port)),
+                option_signal, nullptr};
     outputs_ = {sizeof(mh_outputs_service), add_output};
     setup_ = {sizeof(mh_subsystem_setup_service),
               add_state,

@@ -289,6 +289,13 @@ mh_status host_add_state(const mh_host* host, const mh_state_spec* spec_in, int3
   return MH_OK;
 }
 
+// The index of the state named `q` ("instance.state"), or -1.
+int state_named(const Simulation::Engine& e, const std::string& q) {
+  for (int i = 0; i < e.n_s; ++i)
+    if (e.states.state_info[static_cast<size_t>(i)].qualified == q) return i;
+  return -1;
+}
+
 mh_status host_find_state(const mh_host* host, const char* qualified_name, int32_t* index) {
   InstanceHost* hp = live(host, "find_state");
   if (hp == nullptr) return MH_ERROR;
@@ -297,12 +304,11 @@ mh_status host_find_state(const mh_host* host, const char* qualified_name, int32
   if (setup_only(h, "find_state", true, false) != MH_OK) return MH_ERROR;
   Simulation::Engine& e = *h.engine;
   const std::string q = text(qualified_name);
-  for (int i = 0; i < e.n_s; ++i) {
-    if (e.states.state_info[static_cast<size_t>(i)].qualified == q) {
-      touch(e.subsystems[static_cast<size_t>(h.subsystem)], i);
-      *index = i;
-      return MH_OK;
-    }
+  const int i = state_named(e, q);
+  if (i >= 0) {
+    touch(e.subsystems[static_cast<size_t>(h.subsystem)], i);
+    *index = i;
+    return MH_OK;
   }
   host_log(
       host, MH_LOG_ERROR,
@@ -502,65 +508,96 @@ mh_status host_add_time_event(const mh_host* host, double t) {
   return MH_OK;
 }
 
-// option_signal (3.1): a table of rows [t, value] or an input's name. The
-// value it hands out lives in the engine's Signals, written before each of
-// the instance's evaluations (evaluate_instance).
-mh_status host_option_signal(const mh_host* host, const char* key, int required, double fallback,
-                             mh_signal* out) {
-  InstanceHost* hp = live(host, "option_signal");
+// option_signal (3.1) and option_signal_port (3.2): a table of rows [t,
+// value], an input's name or, at a port, a state of the run. The value it
+// hands out lives in the engine's Signals, written before each of the
+// instance's calls (refresh_signals).
+mh_status read_signal(const mh_host* host, const char* what, bool port, const char* key,
+                      int required, double fallback, mh_signal* out) {
+  InstanceHost* hp = live(host, what);
   if (hp == nullptr) return MH_ERROR;
   if (out == nullptr || out->struct_size < offsetof(mh_signal, value) + sizeof(out->value))
-    return no_place(host, "option_signal", key);
+    return no_place(host, what, key);
   InstanceHost& h = *hp;
-  if (setup_only(h, "option_signal", true, false) != MH_OK) return MH_ERROR;
-  Signals& signals = h.engine->signals;
-  SubsystemInstance& s = h.engine->subsystems[static_cast<size_t>(h.subsystem)];
+  if (setup_only(h, what, true, false) != MH_OK) return MH_ERROR;
+  Simulation::Engine& e = *h.engine;
+  Signals& signals = e.signals;
+  SubsystemInstance& s = e.subsystems[static_cast<size_t>(h.subsystem)];
   const OptionValue* v = lookup(h, key);
+  const std::string kinds = port ? "a table of rows [t (s), value], an input's name or a state "
+                                   "'instance.state' of an instance above"
+                                 : "a table of rows [t (s), value] or an input's name";
   Signal signal;
   if (v == nullptr) {
-    if (required != 0) return missing(h, key, "a table of rows [t (s), value] or an input's name");
+    if (required != 0) return missing(h, key, kinds.c_str());
     const double constant[2] = {0.0, fallback};
     std::string unused;
     signal.table.assign(constant, 1, unused);
   } else if (v->kind == OptionValue::Kind::string) {
     signal.input = signals.find_input(v->text);
-    if (signal.input < 0) {
+    const int state = signal.input < 0 ? state_named(e, v->text) : -1;
+    if (state >= 0 && !port)
+      return report(h, v->mark, key,
+                    "a table of rows [t (s), value] or one of the model's inputs, got '" + v->text +
+                        "', a state of the run: this component reads the option with "
+                        "option_signal (SDK 3.1), which takes no states (a signal port, "
+                        "option_signal_port of SDK 3.2, does)");
+    if (state >= 0) {
+      signal.state = state;
+      touch(s, state);
+    } else if (signal.input < 0) {
       std::string known;
       for (const InputSignal& in : signals.inputs)
         known += (known.empty() ? "" : ", ") + in.spec->name;
-      return report(h, v->mark, key,
-                    "a table of rows [t (s), value] or one of the model's inputs (" +
-                        (known.empty() ? std::string("it declares none") : known) + "), got '" +
-                        v->text + "'");
+      return report(
+          h, v->mark, key,
+          std::string(port ? "a table of rows [t (s), value], one of the model's "
+                             "inputs (" +
+                                 (known.empty() ? std::string("it declares none") : known) +
+                                 ") or a state 'instance.state' of an instance "
+                                 "listed above this one"
+                           : "a table of rows [t (s), value] or one of the model's "
+                             "inputs (" +
+                                 (known.empty() ? std::string("it declares none") : known) + ")") +
+              ", got '" + v->text + "'");
+    } else {
+      // The input's table jumps are events while the input follows it.
+      const InputSignal& in = signals.inputs[static_cast<size_t>(signal.input)];
+      bool read_before = false;
+      for (const Signal& other : signals.list)
+        read_before = read_before || other.input == signal.input;
+      if (!read_before)
+        for (double t : in.table.jump_times()) signals.input_events.emplace_back(t, signal.input);
     }
-    // The input's table jumps are events while the input follows it.
-    const InputSignal& in = signals.inputs[static_cast<size_t>(signal.input)];
-    bool read_before = false;
-    for (const Signal& other : signals.list)
-      read_before = read_before || other.input == signal.input;
-    if (!read_before)
-      for (double t : in.table.jump_times()) signals.input_events.emplace_back(t, signal.input);
   } else {
     std::string error;
     if (v->kind != OptionValue::Kind::table || v->columns != 2 ||
         !signal.table.assign(v->table.data(), static_cast<uint32_t>(v->rows), error))
       return report(h, v->mark, key,
-                    "expected " +
-                        (error.empty() ? std::string("a table of rows [t (s), value] or an "
-                                                     "input's name")
-                                       : error) +
-                        ", got '" + v->text + "'");
-    for (double t : signal.table.jump_times()) h.engine->states.time_events.push_back(t);
+                    "expected " + (error.empty() ? kinds : error) + ", got '" + v->text + "'");
+    for (double t : signal.table.jump_times()) e.states.time_events.push_back(t);
   }
   if (s.signals_end == 0) s.signals_begin = signals.list.size();
-  signals.values.push_back(signal.input < 0 ? signal.table.value(0.0)
-                                            : signals.input_value(signal.input, 0.0));
+  signals.values.push_back(signal.state >= 0  ? e.states.y[signal.state]
+                           : signal.input < 0 ? signal.table.value(0.0)
+                                              : signals.input_value(signal.input, 0.0));
   signal.value = &signals.values.back();
   signals.list.push_back(std::move(signal));
   s.signals_end = signals.list.size();
   out->value = signals.list.back().value;
-  if (out->struct_size >= offsetof(mh_signal, state) + sizeof(out->state)) out->state = -1;
+  if (out->struct_size >= offsetof(mh_signal, state) + sizeof(out->state))
+    out->state = signals.list.back().state;
   return MH_OK;
+}
+
+mh_status host_option_signal(const mh_host* host, const char* key, int required, double fallback,
+                             mh_signal* out) {
+  return read_signal(host, "option_signal", false, key, required, fallback, out);
+}
+
+mh_status host_option_signal_port(const mh_host* host, const char* key, int required,
+                                  double fallback, mh_signal* out) {
+  return read_signal(host, "option_signal_port", true, key, required, fallback, out);
 }
 
 // The service tables, one per role's need (host.h): the functions are the
@@ -580,7 +617,8 @@ constexpr mh_subsystem_setup_service kSubsystemSetup{sizeof(mh_subsystem_setup_s
                                                      host_point_position,
                                                      host_add_time_event};
 constexpr mh_unknowns_service kUnknowns{sizeof(mh_unknowns_service), host_add_unknown};
-constexpr mh_signals_service kSignals{sizeof(mh_signals_service), host_option_signal};
+constexpr mh_signals_service kSignals{sizeof(mh_signals_service), host_option_signal,
+                                      host_option_signal_port};
 
 // What each role is given: integrators their options; formulations options,
 // the mechanics, outputs and unknowns; subsystems options, mech_info,

@@ -14,6 +14,7 @@ void Simulation::Engine::energy_terms(double& stored_out, double& dissipation_ou
   for (auto& s : subsystems) {
     if (s.api.ops.energy == nullptr) continue;
     point_at(ev, s);
+    refresh_signals(s, ev);
     double st = 0.0, diss = 0.0;
     if (status_ok(normalized(in_flight(*s.host, InstanceHost::Op::energy, [&] {
           return s.api.ops.energy(s.api.self, &ev, &st, &diss);

@@ -1,7 +1,8 @@
 // The signals the host keeps for its components (host.h mh_signal): a
 // component's command option read as a time table or as one of the model's
 // inputs, each written before every evaluation of its instance at that
-// evaluation's time. The inputs hold what the embedding API set; until then
+// evaluation's time; or, at a signal port (3.2), a state of the run, written
+// from the evaluation's y. The inputs hold what the embedding API set; until then
 // they follow their table (or hold their initial value). A set value that
 // changes the input is a jump at the accepted time: the next step starts
 // from the rates at its right limit, as after a time event (time_step.cpp).
@@ -27,8 +28,9 @@ struct InputSignal {
 };
 
 struct Signal {
-  TimeTable table;          // a table option's (input < 0)
+  TimeTable table;          // a table option's (input < 0, state < 0)
   int input = -1;           // or the model's input it reads
+  int state = -1;           // or the state of the run it reads (a signal port, 3.2)
   double* value = nullptr;  // what the component reads (mh_signal.value), in Signals::values
 };
 
@@ -47,11 +49,13 @@ struct Signals {
     const InputSignal& in = inputs[static_cast<size_t>(k)];
     return in.follows_table ? in.table.value(t) : in.value;
   }
-  // Writes the signals [begin, end) (one instance's) at time t.
-  void refresh(size_t begin, size_t end, double t) {
+  // Writes the signals [begin, end) (one instance's) at time t and states y.
+  void refresh(size_t begin, size_t end, double t, const double* y) {
     for (size_t k = begin; k < end; ++k) {
       const Signal& s = list[k];
-      *s.value = s.input < 0 ? s.table.value(t) : input_value(s.input, t);
+      *s.value = s.state >= 0  ? y[s.state]
+                 : s.input < 0 ? s.table.value(t)
+                               : input_value(s.input, t);
     }
   }
 };

@@ -208,6 +208,7 @@ mh_status Simulation::Engine::couple_subsystems(double t_eval) {
       std::fill(s.dF_dy.begin(), s.dF_dy.end(), 0.0);
       std::fill(s.dF_dydot.begin(), s.dF_dydot.end(), 0.0);
       point_at(ev, s);
+      refresh_signals(s, ev);
       st = normalized(in_flight(*s.host, InstanceHost::Op::coupling_jacobian, [&] {
         return s.api.ops.coupling_jacobian(s.api.self, &ev, s.dR_dp.data(), s.dR_dv.data(),
                                            s.dF_dy.data(), s.dF_dydot.data());

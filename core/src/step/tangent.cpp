@@ -245,6 +245,7 @@ mh_status Simulation::Engine::assemble_tangent(double t_eval) {
     std::fill(s.d_dy.begin(), s.d_dy.end(), 0.0);
     std::fill(s.d_dydot.begin(), s.d_dydot.end(), 0.0);
     point_at(ev, s);
+    refresh_signals(s, ev);
     const mh_status st = normalized(in_flight(*s.host, InstanceHost::Op::jacobian, [&] {
       return s.api.ops.jacobian(s.api.self, &ev, s.d_dy.data(), s.d_dydot.data());
     }));

@@ -318,6 +318,7 @@ void Simulation::Engine::accept_step(double t_next, bool event, double h) {
     if (s.api.ops.accept == nullptr) continue;
     mh_subsystem_eval ev = subsystem_eval(t_next, eval.scratch_rows.data());
     point_at(ev, s);
+    refresh_signals(s, ev);
     check(in_flight(*s.host, InstanceHost::Op::accept,
                     [&] { return s.api.ops.accept(s.api.self, &ev); }),
           "subsystem", s.spec->name, "accept");

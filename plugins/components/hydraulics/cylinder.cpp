@@ -21,7 +21,7 @@
 #include "gas_release.hpp"
 #include "host_services.hpp"
 #include "monohydra/cpp/services.hpp"
-#include "touched_states.hpp"
+#include "monohydra/cpp/touched_states.hpp"
 
 namespace hyd {
 namespace {
@@ -122,7 +122,7 @@ class Cylinder {
   mh_status jacobian(const mh_subsystem_eval& eval, double* d_dy, double* d_dydot) const {
     State st;
     if (!measure(eval, st)) return MH_ERROR;
-    JacobianBlock dydot(states_, d_dydot);
+    monohydra::JacobianBlock dydot(states_, d_dydot);
     dydot.add(p_a_, p_a_, a2_ * st.l2 * compliance_);
     dydot.add(p_b_, p_b_, a3_ * st.l3 * compliance_);
     if (gas_a_.on()) gas_jacobian(eval, d_dy, d_dydot);
@@ -303,7 +303,7 @@ class Cylinder {
     return MH_OK;
   }
   void gas_jacobian(const mh_subsystem_eval& eval, double* d_dy, double* d_dydot) const {
-    JacobianBlock dy(states_, d_dy), dydot(states_, d_dydot);
+    monohydra::JacobianBlock dy(states_, d_dy), dydot(states_, d_dydot);
     const double p_a = eval.y[p_a_], p_b = eval.y[p_b_];
     dydot.add(p_a_, p_a_, gas_a_.capacitance(p_a));
     dydot.add(p_b_, p_b_, gas_b_.capacitance(p_b));
@@ -366,7 +366,7 @@ class Cylinder {
   EndStop end_stop_;          // off unless end_stop_stiffness is given
   GasRelease gas_a_, gas_b_;  // off unless minimum_pressure is given
   int32_t stop_out_ = -1;
-  TouchedStates states_;
+  monohydra::TouchedStates states_;
 };
 
 const mh_component_descriptor Cylinder::kDescriptor{

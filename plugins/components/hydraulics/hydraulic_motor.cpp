@@ -26,7 +26,7 @@
 #include "example_models.hpp"
 #include "host_services.hpp"
 #include "monohydra/cpp/services.hpp"
-#include "touched_states.hpp"
+#include "monohydra/cpp/touched_states.hpp"
 
 namespace hyd {
 namespace {
@@ -120,7 +120,7 @@ class HydraulicMotor {
 
   // The rows depend on the pressures through the leakage only (omega is mechanical).
   mh_status jacobian(const mh_subsystem_eval&, double* d_dy, double*) const {
-    JacobianBlock dy(states_, d_dy);
+    monohydra::JacobianBlock dy(states_, d_dy);
     dy.add(p_a_, p_a_, leakage_);
     dy.add(p_a_, p_b_, -leakage_);
     dy.add(p_b_, p_a_, -leakage_);
@@ -271,7 +271,7 @@ class HydraulicMotor {
   double coulomb_ = 0.0;       // N m
   double omega_s_ = 0.01;      // rad/s
   int32_t p_a_ = -1, p_b_ = -1, omega_out_ = -1, torque_out_ = -1, q_out_ = -1;
-  TouchedStates states_;
+  monohydra::TouchedStates states_;
 };
 
 const mh_component_descriptor HydraulicMotor::kDescriptor{

@@ -10,7 +10,7 @@
 #include "example_models.hpp"
 #include "host_services.hpp"
 #include "monohydra/cpp/services.hpp"
-#include "touched_states.hpp"
+#include "monohydra/cpp/touched_states.hpp"
 
 namespace hyd {
 namespace {
@@ -50,7 +50,7 @@ class PressureSource {
   }
 
   mh_status jacobian(const mh_subsystem_eval&, double* d_dy, double*) const {
-    JacobianBlock dy(states_, d_dy);
+    monohydra::JacobianBlock dy(states_, d_dy);
     dy.add(p_, q_, -1.0);
     dy.add(q_, p_, 1.0);
     return MH_OK;
@@ -60,7 +60,7 @@ class PressureSource {
   const mh_host* host_;
   double pressure_ = 0.0;  // Pa
   int32_t p_ = -1, q_ = -1;
-  TouchedStates states_;
+  monohydra::TouchedStates states_;
 };
 
 const mh_component_descriptor PressureSource::kDescriptor{

@@ -26,7 +26,7 @@
 #include "host_services.hpp"
 #include "monohydra/cpp/services.hpp"
 #include "monohydra/cpp/subsystem_component.hpp"
-#include "touched_states.hpp"
+#include "monohydra/cpp/touched_states.hpp"
 
 namespace hyd {
 
@@ -141,7 +141,7 @@ class PressureValve {
 
   mh_status jacobian(const mh_subsystem_eval& eval, double* d_dy, double*) const {
     const double dq = law_.slope(eval.y[in_] - eval.y[out_]);  // dQ/dp_in = -dQ/dp_out
-    JacobianBlock dy(states_, d_dy);
+    monohydra::JacobianBlock dy(states_, d_dy);
     dy.add(in_, in_, dq);
     dy.add(in_, out_, -dq);
     dy.add(out_, in_, -dq);
@@ -161,7 +161,7 @@ class PressureValve {
   const mh_host* host_;
   PoppetLaw law_;
   int32_t in_ = -1, out_ = -1, q_out_ = -1;
-  TouchedStates states_;
+  monohydra::TouchedStates states_;
 };
 
 }  // namespace hyd

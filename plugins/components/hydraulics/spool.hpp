@@ -2,10 +2,11 @@
 // first-order dynamics (Eq. 27), the one law of every valve with a spool
 // (valve_4_3.cpp, valve_table.cpp):
 //   U's row += tau dU/dt - (U_ref(t) - U)
-// Options time_constant, reference (a signal: a time table or one of the
-// model's inputs, which the host evaluates and whose jumps are its time
-// events), initial_spool, tolerance, spool_limit; state U (role
-// MH_ROLE_CONTROL_SIGNAL, range [-spool_limit, spool_limit]), output U_ref.
+// Options time_constant, reference (a signal port: a time table or one of
+// the model's inputs, which the host evaluates and whose jumps are its time
+// events, or a state of the run such as a controller's output), initial_spool, tolerance,
+// spool_limit; state U (role MH_ROLE_CONTROL_SIGNAL, range [-spool_limit, spool_limit]), output
+// U_ref.
 #pragma once
 
 #include <algorithm>
@@ -15,26 +16,28 @@
 #include "host_services.hpp"
 #include "monohydra/cpp/services.hpp"
 #include "monohydra/cpp/specs.hpp"
-#include "touched_states.hpp"
+#include "monohydra/cpp/touched_states.hpp"
 
 namespace hyd {
 
 class Spool {
  public:
   // Reads the options, declares U and U_ref, adds U to `states`.
-  mh_status setup(const mh_host* h, TouchedStates& states) {
+  mh_status setup(const mh_host* h, monohydra::TouchedStates& states) {
     double u0 = 0.0, tolerance = 0.0;
     mh_signal reference{};
     reference.struct_size = sizeof reference;
     if (positive_option(h, "time_constant", 1, 0.0, "a positive spool time constant tau (s)",
                         &tau_) != MH_OK ||
-        monohydra::signals(h).option_signal(h, "reference", 1, 0.0, &reference) != MH_OK ||
+        monohydra::signal_port(h, "reference", 1, 0.0, &reference) != MH_OK ||
         monohydra::options(h).option_number(h, "initial_spool", 0, 0.0, &u0) != MH_OK ||
         positive_option(h, "tolerance", 0, 1e-7, "a positive spool tolerance (V)", &tolerance) !=
             MH_OK ||
         positive_option(h, "spool_limit", 0, 10.0, "a positive spool limit (V)", &limit_) != MH_OK)
       return MH_ERROR;
     reference_ = reference.value;
+    reference_state_ = reference.state;
+    if (reference_state_ >= 0) states.add(reference_state_);  // the host touched it first
     if (!std::isfinite(u0))
       return monohydra::options(h).option_error(h, "initial_spool", "a finite spool position (V)");
     mh_state_spec spool = monohydra::state_spec("U", "V", u0, tolerance);
@@ -55,14 +58,17 @@ class Spool {
     eval.residual[u_] += tau_ * eval.ydot[u_] - (u_ref - eval.y[u_]);  // Eq. 27
     eval.outputs[u_ref_out_] = u_ref;
   }
-  void jacobian(const TouchedStates& states, double* d_dy, double* d_dydot) const {
-    JacobianBlock(states, d_dy).add(u_, u_, 1.0);
-    JacobianBlock(states, d_dydot).add(u_, u_, tau_);
+  void jacobian(const monohydra::TouchedStates& states, double* d_dy, double* d_dydot) const {
+    monohydra::JacobianBlock(states, d_dy).add(u_, u_, 1.0);
+    if (reference_state_ >= 0 && std::abs(*reference_) < limit_)  // a signal port's state
+      monohydra::JacobianBlock(states, d_dy).add(u_, reference_state_, -1.0);
+    monohydra::JacobianBlock(states, d_dydot).add(u_, u_, tau_);
   }
 
  private:
   double tau_ = 0.0, limit_ = 10.0;
   const double* reference_ = nullptr;  // the signal's value (mh_signal), owned by the host
+  int32_t reference_state_ = -1;       // the state it reads (a signal port), or -1
   int32_t u_ = -1, u_ref_out_ = -1;
 };
 

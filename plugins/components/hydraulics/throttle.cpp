@@ -8,8 +8,8 @@
 #include "example_models.hpp"
 #include "host_services.hpp"
 #include "monohydra/cpp/services.hpp"
+#include "monohydra/cpp/touched_states.hpp"
 #include "orifice_flow.hpp"
-#include "touched_states.hpp"
 
 namespace hyd {
 namespace {
@@ -54,7 +54,7 @@ class Throttle {
 
   mh_status jacobian(const mh_subsystem_eval& eval, double* d_dy, double*) const {
     const double dq = c_vt_ * law_.slope(eval.y[a_] - eval.y[b_]);  // dQ/dp_a = -dQ/dp_b
-    JacobianBlock dy(states_, d_dy);
+    monohydra::JacobianBlock dy(states_, d_dy);
     dy.add(a_, a_, dq);
     dy.add(a_, b_, -dq);
     dy.add(b_, a_, -dq);
@@ -67,7 +67,7 @@ class Throttle {
   double c_vt_ = 0.0;  // m^3/(s sqrt(Pa))
   OrificeFlow law_;
   int32_t a_ = -1, b_ = -1, q_out_ = -1;
-  TouchedStates states_;
+  monohydra::TouchedStates states_;
 };
 
 const mh_component_descriptor Throttle::kDescriptor{

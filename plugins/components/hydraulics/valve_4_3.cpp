@@ -13,9 +13,9 @@
 #include "example_models.hpp"
 #include "host_services.hpp"
 #include "monohydra/cpp/services.hpp"
+#include "monohydra/cpp/touched_states.hpp"
 #include "orifice_flow.hpp"
 #include "spool.hpp"
-#include "touched_states.hpp"
 
 namespace hyd {
 namespace {
@@ -63,7 +63,7 @@ class Valve43 {
 
   mh_status jacobian(const mh_subsystem_eval& eval, double* d_dy, double* d_dydot) const {
     spool_.jacobian(states_, d_dy, d_dydot);
-    JacobianBlock dy(states_, d_dy);
+    monohydra::JacobianBlock dy(states_, d_dy);
     const int32_t us = spool_.state();
     const double u = eval.y[us];
     for (const Path& path : paths(u)) {
@@ -101,7 +101,7 @@ class Valve43 {
   OrificeFlow law_;
   Spool spool_;
   int32_t p_ = -1, t_ = -1, a_ = -1, b_ = -1;
-  TouchedStates states_;
+  monohydra::TouchedStates states_;
 };
 
 const mh_component_descriptor Valve43::kDescriptor{
@@ -114,7 +114,8 @@ const mh_component_descriptor Valve43::kDescriptor{
     "(Eq. 27); flows C_vd |U| sgn(dp) sqrt|dp| P->A and B->T for U >= 0, A->T and P->B for "
     "U < 0 (Eq. 26). Options: flow_coefficient (m^3/(s sqrt(Pa) V)), time_constant (s), "
     "reference (a signal: rows [t (s), U_ref (V)], linear between rows, a repeated time is a "
-    "step, or the name of one of the model's inputs), "
+    "step, the name of one of the model's inputs, or a state 'instance.state' such as a "
+    "controller's output u), "
     "transition_pressure (Pa, default 2e5), initial_spool (V, default 0), tolerance (V, default "
     "1e-7), spool_limit (V, default 10). Output U_ref (V). U is a control signal of range "
     "[-spool_limit, spool_limit]."};

@@ -16,9 +16,9 @@
 #include "flow_map.hpp"
 #include "host_services.hpp"
 #include "monohydra/cpp/services.hpp"
+#include "monohydra/cpp/touched_states.hpp"
 #include "orifice_flow.hpp"
 #include "spool.hpp"
-#include "touched_states.hpp"
 
 namespace hyd {
 namespace {
@@ -69,7 +69,7 @@ class ValveTable {
 
   mh_status jacobian(const mh_subsystem_eval& eval, double* d_dy, double* d_dydot) const {
     spool_.jacobian(states_, d_dy, d_dydot);
-    JacobianBlock dy(states_, d_dy);
+    monohydra::JacobianBlock dy(states_, d_dy);
     const int32_t us = spool_.state();
     const double u = eval.y[us];
     for (const Path& path : paths(u)) {
@@ -111,7 +111,7 @@ class ValveTable {
   FlowMap map_;
   Spool spool_;
   int32_t p_ = -1, t_ = -1, a_ = -1, b_ = -1;
-  TouchedStates states_;
+  monohydra::TouchedStates states_;
 };
 
 const mh_component_descriptor ValveTable::kDescriptor{
@@ -124,7 +124,8 @@ const mh_component_descriptor ValveTable::kDescriptor{
     "U >= 0, A->T, P->B for U < 0); each edge's flow from flow_table, rows [spool (V), pressure "
     "drop (Pa), flow (m^3/s)] on a full grid, bilinear in the flow coefficient Q/sqrt(dp), "
     "sqrt(dp) beyond the measured drops. Options: flow_table, time_constant (s), reference (rows "
-    "[t (s), U_ref (V)] or an input's name), transition_pressure (Pa, default 2e5), initial_spool "
+    "[t (s), U_ref (V)], an input's name or a state 'instance.state'), transition_pressure (Pa, "
+    "default 2e5), initial_spool "
     "(V, default 0), "
     "tolerance (V, default 1e-7), spool_limit (V, default 10). Output U_ref (V)."};
 

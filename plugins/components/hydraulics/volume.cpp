@@ -13,7 +13,7 @@
 #include "gas_release.hpp"
 #include "host_services.hpp"
 #include "monohydra/cpp/services.hpp"
-#include "touched_states.hpp"
+#include "monohydra/cpp/touched_states.hpp"
 
 namespace hyd {
 namespace {
@@ -53,10 +53,11 @@ class Volume {
   }
 
   mh_status jacobian(const mh_subsystem_eval& eval, double* d_dy, double* d_dydot) const {
-    JacobianBlock(states_, d_dydot).add(p_, p_, capacitance_);
+    monohydra::JacobianBlock(states_, d_dydot).add(p_, p_, capacitance_);
     if (gas_.on()) {
-      JacobianBlock(states_, d_dydot).add(p_, p_, gas_.capacitance(eval.y[p_]));
-      JacobianBlock(states_, d_dy).add(p_, p_, gas_.capacitance_slope(eval.y[p_]) * eval.ydot[p_]);
+      monohydra::JacobianBlock(states_, d_dydot).add(p_, p_, gas_.capacitance(eval.y[p_]));
+      monohydra::JacobianBlock(states_, d_dy)
+          .add(p_, p_, gas_.capacitance_slope(eval.y[p_]) * eval.ydot[p_]);
     }
     return MH_OK;
   }
@@ -66,7 +67,7 @@ class Volume {
   double capacitance_ = 0.0;  // V (1/B_oil + 1/B_h), m^3/Pa
   GasRelease gas_;            // off unless minimum_pressure is given
   int32_t p_ = -1;
-  TouchedStates states_;
+  monohydra::TouchedStates states_;
 };
 
 const mh_component_descriptor Volume::kDescriptor{

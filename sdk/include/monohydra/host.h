@@ -272,23 +272,26 @@ typedef struct mh_unknowns_service {
   mh_status (*add_unknown)(const struct mh_host* host, const mh_unknown_spec* spec, int32_t* index);
 } mh_unknowns_service;
 
-/* A signal: a value of time the host keeps for a component (option_signal).
- * The host writes *value before each call of the instance that evaluates it
- * (evaluate), with the signal's value at that call's time: a time table's
- * (linear between rows, right-continuous at a repeated time, every such jump
- * a time event, so a step ending at a jump is evaluated at its left limit),
- * or an input's (held from the time it was set: a change between two steps
- * is a jump there). Within one call it is a constant of the unknowns, with no
- * derivative to give. */
+/* A signal: a value the host keeps for a component (option_signal,
+ * option_signal_port). The host writes *value before each call of the instance
+ * that evaluates it (evaluate), with the signal's value at that call: a time
+ * table's (linear between rows, right-continuous at a repeated time, every
+ * such jump a time event, so a step ending at a jump is evaluated at its left
+ * limit), an input's (held from the time it was set: a change between two
+ * steps is a jump there), or, from option_signal_port (3.2), a state of the
+ * run's (another instance's output port: a sensor's reading, a controller's
+ * command). A signal of time or of an input is, within one call, a constant of
+ * the unknowns, with no derivative to give; a state's is eval.y[state], and
+ * the instance gives its derivatives in its jacobian. */
 typedef struct mh_signal {
   uint32_t struct_size;
   const double* value; /* host-owned, valid as long as the instance */
-  int32_t state;       /* -1: the signal depends on time alone (3.1's only kind). Room for a
-                          later minor's signals that are states of the run: then
-                          eval.y[state], with its derivatives in the jacobian */
+  int32_t state;       /* -1: the signal depends on time alone (a table, an input);
+                          >= 0 (option_signal_port only): the global index of the state
+                          it reads, one of the states this instance touches */
 } mh_signal;
 
-/* Signals (subsystems, during setup; 3.1). */
+/* Signals (subsystems, during setup; 3.1, option_signal_port 3.2). */
 #define MH_SERVICE_SIGNALS "monohydra.signals/3"
 typedef struct mh_signals_service {
   uint32_t struct_size;
@@ -297,9 +300,19 @@ typedef struct mh_signals_service {
    * model's inputs (inputs:). A missing key with required = 0 yields the
    * constant `fallback`. A bad value is reported by the host (file, line,
    * field, what was expected) and yields MH_ERROR. `out->struct_size` is the
-   * plugin's sizeof(mh_signal). */
+   * plugin's sizeof(mh_signal). A name of a state of the run is refused here
+   * (the component would miss its derivative): see option_signal_port. */
   mh_status (*option_signal)(const struct mh_host* host, const char* key, int required,
                              double fallback, mh_signal* out);
+  /* 3.2: the option `key` as a signal input port. As option_signal, and the
+   * option may also name a state of the run, "instance.state" of an instance
+   * above this one in the model file: the signal graph is joined by name, as
+   * hydraulic nodes are. Then out->state receives the state's global index
+   * and the state joins this instance's touched states, at this call's place
+   * in their order (as find_state); *value holds eval.y[state] at each
+   * evaluation, and the jacobian gives the derivatives in it. */
+  mh_status (*option_signal_port)(const struct mh_host* host, const char* key, int required,
+                                  double fallback, mh_signal* out);
 } mh_signals_service;
 
 typedef struct mh_host {

@@ -20,7 +20,9 @@
  * the migration section of docs/sdk.md ("Migrating a 2.x plugin").
  *
  * 3.1 appends the signals service (host.h, MH_SERVICE_SIGNALS): a command
- * option read as a signal, a time table or one of the model's inputs. */
+ * option read as a signal, a time table or one of the model's inputs.
+ * 3.2 appends option_signal_port to it: a signal that is a state of the run
+ * (another instance's output: sensors and controllers wired by name). */
 #ifndef MONOHYDRA_TYPES_H
 #define MONOHYDRA_TYPES_H
 
@@ -32,7 +34,7 @@ extern "C" {
 #endif
 
 #define MH_ABI_VERSION_MAJOR 3u
-#define MH_ABI_VERSION_MINOR 1u
+#define MH_ABI_VERSION_MINOR 2u
 #define MH_ABI_VERSION_PATCH 0u
 
 typedef struct mh_version {

@@ -537,8 +537,9 @@ TEST(EmbeddingBadCalls, AModelThatDoesNotOpenIsFatalAndSaysWhy) {
             MHS_FATAL);
   Sim typo(raw);
   EXPECT_NE(std::string(mhs_message(typo.get()))
-                .find("option 'reference': a table of rows [t (s), value] or one of the model's "
-                      "inputs (valve_command), got 'valve_comand'"),
+                .find("option 'reference': a table of rows [t (s), value], one of the model's "
+                      "inputs (valve_command) or a state 'instance.state' of an instance listed "
+                      "above this one, got 'valve_comand'"),
             std::string::npos)
       << mhs_message(typo.get());
 

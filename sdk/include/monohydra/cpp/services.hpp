@@ -117,12 +117,32 @@ inline const mh_subsystem_setup_service& subsystem_setup(const mh_host* host) no
 // missing says so ("this host has no signals service (SDK 3.1)").
 inline const mh_signals_service& signals(const mh_host* host) noexcept {
   static const mh_signals_service kMissing{
-      sizeof(mh_signals_service), [](const mh_host* h, const char*, int, double, mh_signal*) {
+      sizeof(mh_signals_service),
+      [](const mh_host* h, const char*, int, double, mh_signal*) {
+        return services_detail::missing(
+            h, "this host has no signals service (SDK 3.1): a subsystem reads signals from 3.1 on");
+      },
+      [](const mh_host* h, const char*, int, double, mh_signal*) {
         return services_detail::missing(
             h, "this host has no signals service (SDK 3.1): a subsystem reads signals from 3.1 on");
       }};
   const auto* s = services_detail::find<mh_signals_service>(host, MH_SERVICE_SIGNALS);
   return s != nullptr ? *s : kMissing;
+}
+
+// The option `key` as a signal input port (option_signal_port, 3.2): a table,
+// an input or a state of the run. A host of 3.1 has no ports: there the
+// option is read with option_signal (tables and inputs), so a component
+// built against 3.2 still loads in a 3.1 host. out->state says which it got.
+inline mh_status signal_port(const mh_host* host, const char* key, int required, double fallback,
+                             mh_signal* out) noexcept {
+  const mh_signals_service& s = signals(host);
+  const bool has_port = s.struct_size >= offsetof(mh_signals_service, option_signal_port) +
+                                             sizeof(s.option_signal_port) &&
+                        s.option_signal_port != nullptr;
+  if (out != nullptr) out->state = -1;
+  return has_port ? s.option_signal_port(host, key, required, fallback, out)
+                  : s.option_signal(host, key, required, fallback, out);
 }
 
 inline const mh_unknowns_service& unknowns(const mh_host* host) noexcept {

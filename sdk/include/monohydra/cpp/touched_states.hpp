@@ -1,14 +1,15 @@
-// The states an instance touches, in the order the host numbers its jacobian
-// blocks (docs/sdk.md): first-call order of add_state / find_state / add_port,
-// without repeats. Two ports joined to one node share one state, so an
-// instance looks every global index up here rather than counting calls.
+// monohydra SDK, optional C++17 helper (header-only): the states an instance
+// touches, in the order the host numbers its jacobian blocks (subsystem.h,
+// docs/sdk.md): first-call order of add_state / find_state / add_port /
+// option_signal_port (a port on a state), without repeats. Two ports joined to one node share one
+// state, so an instance looks every global index up here rather than counting calls.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
-namespace hyd {
+namespace monohydra {
 
 class TouchedStates {
  public:
@@ -48,4 +49,4 @@ class JacobianBlock {
   size_t n_;
 };
 
-}  // namespace hyd
+}  // namespace monohydra
