@@ -240,7 +240,11 @@ class FakeHost {
     FakeSignal signal;
     std::string error;
     auto it = f.tables.find(key);
-    if (it == f.tables.end()) {
+    auto number = f.numbers.find(key);
+    if (it == f.tables.end() && number != f.numbers.end()) {
+      const double constant[2] = {0.0, number->second};  // a number: a constant signal
+      signal.table.assign(constant, 1, error);
+    } else if (it == f.tables.end()) {
       if (required != 0) return MH_ERROR;
       const double constant[2] = {0.0, fallback};
       signal.table.assign(constant, 1, error);
@@ -251,6 +255,7 @@ class FakeHost {
         return option_error(h, key, error.c_str());
       for (double t : signal.table.jump_times()) f.time_events.push_back(t);
     }
+    signal.value = signal.table.value(0.0);  // as the host: the value at t = 0 until evaluated
     f.network_->signals.push_back(std::move(signal));
     out->value = &f.network_->signals.back().value;
     out->state = -1;

@@ -524,13 +524,21 @@ mh_status read_signal(const mh_host* host, const char* what, bool port, const ch
   Signals& signals = e.signals;
   SubsystemInstance& s = e.subsystems[static_cast<size_t>(h.subsystem)];
   const OptionValue* v = lookup(h, key);
-  const std::string kinds = port ? "a table of rows [t (s), value], an input's name or a state "
-                                   "'instance.state' of an instance above"
-                                 : "a table of rows [t (s), value] or an input's name";
+  const std::string kinds = port ? "a number, a table of rows [t (s), value], an input's name or "
+                                   "a state 'instance.state' of an instance above"
+                                 : "a number, a table of rows [t (s), value] or an input's name";
   Signal signal;
   if (v == nullptr) {
     if (required != 0) return missing(h, key, kinds.c_str());
     const double constant[2] = {0.0, fallback};
+    std::string unused;
+    signal.table.assign(constant, 1, unused);
+  } else if (v->kind == OptionValue::Kind::number) {
+    // A number is a constant signal: what the option was before it was a port.
+    if (!std::isfinite(v->number))
+      return report(h, v->mark, key,
+                    "expected a finite number or " + kinds + ", got '" + v->text + "'");
+    const double constant[2] = {0.0, v->number};
     std::string unused;
     signal.table.assign(constant, 1, unused);
   } else if (v->kind == OptionValue::Kind::string) {

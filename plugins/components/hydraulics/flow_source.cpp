@@ -13,6 +13,7 @@
 #include "example_models.hpp"
 #include "host_services.hpp"
 #include "monohydra/cpp/services.hpp"
+#include "monohydra/cpp/touched_states.hpp"
 
 namespace hyd {
 namespace {
@@ -28,10 +29,17 @@ class FlowSource {
 
   mh_status setup() {
     const mh_host* h = host_;
-    if (monohydra::options(h).option_number(h, "flow", 1, 0.0, &flow_) != MH_OK) return MH_ERROR;
-    if (!(std::isfinite(flow_) && flow_ >= 0.0))
-      return monohydra::options(h).option_error(h, "flow", "a non-negative, finite flow (m^3/s)");
+    mh_signal flow{};
+    flow.struct_size = sizeof flow;
+    if (monohydra::signal_port(h, "flow", 1, 0.0, &flow) != MH_OK) return MH_ERROR;
+    flow_ = flow.value;
+    flow_state_ = flow.state;
+    if (flow_state_ >= 0) states_.add(flow_state_);  // the host touched it first
+    if (!(std::isfinite(*flow_) && *flow_ >= 0.0))
+      return monohydra::options(h).option_error(h, "flow",
+                                                "a non-negative, finite flow (m^3/s) at t = 0");
     if (add_hydraulic_port(h, "p", MH_PORT_FLOW, kNaN, kNaN, &p_) != MH_OK) return MH_ERROR;
+    states_.add(p_);
     const mh_output_spec q = monohydra::output_spec("q", "m^3/s");
     const mh_output_spec power = monohydra::output_spec("P", "W");
     if (monohydra::outputs(h).add_output(h, &q, &q_out_) != MH_OK ||
@@ -41,29 +49,36 @@ class FlowSource {
   }
 
   mh_status evaluate(const mh_subsystem_eval& eval) const {
-    eval.residual[p_] -= flow_;
-    eval.outputs[q_out_] = flow_;
-    eval.outputs[power_out_] = eval.y[p_] * flow_;
+    const double flow = *flow_;  // the signal's, at eval.t
+    eval.residual[p_] -= flow;
+    eval.outputs[q_out_] = flow;
+    eval.outputs[power_out_] = eval.y[p_] * flow;
     return MH_OK;
   }
 
-  // The row does not depend on any state.
-  mh_status jacobian(const mh_subsystem_eval&, double*, double*) const { return MH_OK; }
+  // The row depends on no state but the flow's when that is a signal port's.
+  mh_status jacobian(const mh_subsystem_eval&, double* d_dy, double*) const {
+    if (flow_state_ >= 0) monohydra::JacobianBlock(states_, d_dy).add(p_, flow_state_, -1.0);
+    return MH_OK;
+  }
 
  private:
   const mh_host* host_;
-  double flow_ = 0.0;  // m^3/s
+  const double* flow_ = nullptr;  // m^3/s: the signal's value, owned by the host
+  int32_t flow_state_ = -1;       // the state it reads (a signal port), or -1
   int32_t p_ = -1, q_out_ = -1, power_out_ = -1;
+  monohydra::TouchedStates states_;
 };
 
 const mh_component_descriptor FlowSource::kDescriptor{
     sizeof(mh_component_descriptor),
     "flow-source",
-    "Constant flow source (fixed-displacement pump)",
+    "Flow source (fixed-displacement pump)",
     "monohydra",
     "1.0.0",
-    "Delivers a constant flow into its node (port p) whatever its pressure. Options: flow "
-    "(m^3/s, >= 0). Outputs q (m^3/s), the delivered flow, and P (W), its hydraulic power p q."};
+    "Delivers its flow into its node (port p) whatever its pressure. Options: flow "
+    "(m^3/s, >= 0 at t = 0: a number, a signal table [t, q], an input's name or a state). Outputs "
+    "q (m^3/s), the delivered flow, and P (W), its hydraulic power p q."};
 
 }  // namespace
 

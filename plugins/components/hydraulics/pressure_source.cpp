@@ -25,16 +25,21 @@ class PressureSource {
   mh_status setup() {
     const mh_host* h = host_;
     double tolerance = 0.0, flow_tolerance = 0.0;
-    if (monohydra::options(h).option_number(h, "pressure", 1, 0.0, &pressure_) != MH_OK)
-      return MH_ERROR;
-    if (!(std::isfinite(pressure_) && pressure_ >= 0.0))
-      return monohydra::options(h).option_error(h, "pressure", "a non-negative pressure (Pa)");
+    mh_signal pressure{};
+    pressure.struct_size = sizeof pressure;
+    if (monohydra::signal_port(h, "pressure", 1, 0.0, &pressure) != MH_OK) return MH_ERROR;
+    pressure_ = pressure.value;
+    pressure_state_ = pressure.state;
+    if (pressure_state_ >= 0) states_.add(pressure_state_);  // the host touched it first
+    if (!(std::isfinite(*pressure_) && *pressure_ >= 0.0))
+      return monohydra::options(h).option_error(h, "pressure",
+                                                "a non-negative pressure (Pa) at t = 0");
     if (positive_option(h, "tolerance", 0, 1e-2, "a positive pressure tolerance (Pa)",
                         &tolerance) != MH_OK ||
         positive_option(h, "flow_tolerance", 0, 1e-10, "a positive flow tolerance (m^3/s)",
                         &flow_tolerance) != MH_OK)
       return MH_ERROR;
-    if (add_hydraulic_port(h, "p", MH_PORT_EFFORT, pressure_, tolerance, &p_) != MH_OK)
+    if (add_hydraulic_port(h, "p", MH_PORT_EFFORT, *pressure_, tolerance, &p_) != MH_OK)
       return MH_ERROR;
     states_.add(p_);
     const mh_state_spec q = monohydra::state_spec("q", "m^3/s", 0.0, flow_tolerance);
@@ -45,7 +50,7 @@ class PressureSource {
 
   mh_status evaluate(const mh_subsystem_eval& eval) const {
     eval.residual[p_] -= eval.y[q_];
-    eval.residual[q_] += eval.y[p_] - pressure_;
+    eval.residual[q_] += eval.y[p_] - *pressure_;  // the signal's, at eval.t
     return MH_OK;
   }
 
@@ -53,12 +58,14 @@ class PressureSource {
     monohydra::JacobianBlock dy(states_, d_dy);
     dy.add(p_, q_, -1.0);
     dy.add(q_, p_, 1.0);
+    if (pressure_state_ >= 0) dy.add(q_, pressure_state_, -1.0);
     return MH_OK;
   }
 
  private:
   const mh_host* host_;
-  double pressure_ = 0.0;  // Pa
+  const double* pressure_ = nullptr;  // Pa: the signal's value, owned by the host
+  int32_t pressure_state_ = -1;       // the state it reads (a signal port), or -1
   int32_t p_ = -1, q_ = -1;
   monohydra::TouchedStates states_;
 };
@@ -66,11 +73,12 @@ class PressureSource {
 const mh_component_descriptor PressureSource::kDescriptor{
     sizeof(mh_component_descriptor),
     "pressure-source",
-    "Constant pressure source (pump or tank)",
+    "Pressure source (pump or tank)",
     "monohydra",
     "1.0.0",
-    "Holds its node (port p) at a constant pressure; state q (m^3/s) is the flow it delivers "
-    "into the node. Options: pressure (Pa), tolerance (Pa, default 1e-2), flow_tolerance "
+    "Holds its node (port p) at its pressure; state q (m^3/s) is the flow it delivers "
+    "into the node. Options: pressure (Pa: a number, a signal table [t, p], an input's name or "
+    "a state 'instance.state'), tolerance (Pa, default 1e-2), flow_tolerance "
     "(m^3/s, default 1e-10)."};
 
 }  // namespace
