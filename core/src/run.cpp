@@ -78,8 +78,8 @@ void write_checked(std::ostream& out, const std::string& text, const std::string
 }
 
 std::string where(const RunSummary& s) {
-  return "t = " + short_number(s.end_time) + " s, step " + std::to_string(s.steps) + " of " +
-         std::to_string(s.steps_asked);
+  return "t = " + short_number(s.end_time) + " s, step " + std::to_string(s.first_step + s.steps) +
+         " of " + std::to_string(s.steps_asked);
 }
 }  // namespace
 
@@ -119,6 +119,10 @@ RunSummary run(Simulation& sim, std::ostream* csv, const RunOptions& options) {
     const long every = layout->every_steps();
     sim.set_real_time(options.real_time_cap);
     sim.start();
+    if (options.resume != nullptr) sim.restore_state(*options.resume);
+    const long first = sim.step_index();  // 0, or the resumed state's step
+    summary.first_step = first;
+    summary.end_time = sim.time();
     if (csv != nullptr) {
       line.str("");
       layout->header(line);
@@ -131,9 +135,10 @@ RunSummary run(Simulation& sim, std::ostream* csv, const RunOptions& options) {
     const auto wall0 = std::chrono::steady_clock::now();
     const auto wall_at = [&](long k) {  // wall time at which simulated t_k is due
       return wall0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                         std::chrono::duration<double>(static_cast<double>(k) * dt));
+                         std::chrono::duration<double>(static_cast<double>(k - first) * dt));
     };
-    for (long k = 0; k < total && !stopped(); ++k) {
+    for (long k = first; k < total && !stopped(); ++k) {
+      if (options.before_step) options.before_step(sim);
       std::chrono::steady_clock::time_point deadline{};
       if (real_time) {  // pacing: never ahead of the wall clock
         std::this_thread::sleep_until(wall_at(k));
@@ -167,6 +172,7 @@ RunSummary run(Simulation& sim, std::ostream* csv, const RunOptions& options) {
       summary.max_abs_drift = std::max(summary.max_abs_drift, std::abs(sim.drift()));
       summary.max_phi_norm = std::max(summary.max_phi_norm, sim.phi_norm());
       if ((k + 1) % every == 0) write_row();
+      if (options.after_step) options.after_step(sim);
       if (options.progress && (k + 1) % report_every == 0)
         options.progress(static_cast<double>(k + 1) / static_cast<double>(total));
     }
@@ -177,7 +183,7 @@ RunSummary run(Simulation& sim, std::ostream* csv, const RunOptions& options) {
         throw CsvWriteError("cannot write the results to '" + csv_name +
                             "': " + (errno != 0 ? std::strerror(errno) : "write failed"));
     }
-    if (summary.steps < total) {
+    if (first + summary.steps < total) {
       summary.end = RunEnd::interrupted;
       summary.stop_signal = static_cast<int>(*options.stop);
       summary.failure = "stopped at " + where(summary);
@@ -188,6 +194,9 @@ RunSummary run(Simulation& sim, std::ostream* csv, const RunOptions& options) {
   } catch (const InputError& err) {  // e.g. an unknown state under equilibrium.free
     summary.end = RunEnd::bad_input;
     summary.failure = err.what();
+  } catch (const RunStateError& err) {  // a state to resume that is another run's
+    summary.end = RunEnd::bad_input;
+    summary.failure = std::string("cannot resume: ") + err.what();
   } catch (const CsvWriteError& err) {
     summary.end = RunEnd::write_failed;
     summary.failure = "stopped at " + where(summary) + ": " + err.what();

@@ -16,8 +16,10 @@
 #include <optional>
 
 #include "call_watchdog.hpp"
+#include "checkpoint.hpp"
 #include "cli_support.hpp"
 #include "crash_report.hpp"
+#include "input_feed.hpp"
 #include "model_plugins.hpp"
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/plugin_registry.hpp"
@@ -45,15 +47,19 @@ const char* kUsage =
     "                          plugins: choices), its components and ABI version, and every\n"
     "                          id that two libraries offer\n"
     "  run MODEL.yaml [--formulation NAME] [--integrator NAME] [--dt S] [--t-end S]\n"
-    "                 [--out FILE.csv] [--output-interval S] [--real-time [--newton-cap N]]\n"
-    "                 [LIMITS]\n"
+    "                 [--out FILE.csv | --stream] [--output-interval S]\n"
+    "                 [--real-time [--newton-cap N]] [--inputs FILE.csv|-]\n"
+    "                 [--save-state FILE [--at T]] [--resume FILE] [LIMITS]\n"
     "                          simulate MODEL.yaml; CSV columns: t, z1..zN, states,\n"
     "                          outputs, KE, PE, W, drift, phi_norm, iters (the model's\n"
     "                          output: selects them); --output-interval S writes rows at\n"
     "                          multiples of S only; --real-time paces the steps to the wall\n"
     "                          clock, each due at its simulated time, Newton stopping at N\n"
     "                          iterations (default 4) or the deadline, and adds the CSV\n"
-    "                          columns late (s) and unconverged (|dx|/tol)\n"
+    "                          columns late (s) and unconverged (|dx|/tol); --inputs sets\n"
+    "                          the model's inputs from t,NAME,... rows or from name=value\n"
+    "                          lines on stdin (-); --stream writes the rows to stdout;\n"
+    "                          --save-state writes a checkpoint that --resume goes on from\n"
     "  compare MODEL.yaml [--formulations A,B,...] [--integrators C,D,...] [--report DIR]\n"
     "                     [--dt S] [--t-end S] [LIMITS]\n"
     "                          run every formulation with every integrator on MODEL.yaml\n"
@@ -127,6 +133,20 @@ std::optional<int> parse_run_args(const std::vector<std::string>& args, const ch
   auto* timeout_opt = app.add_option(
       "--call-timeout", call_timeout,
       "stop when one plugin call has not returned within S s, naming it (default 60; 0: never)");
+  std::string save_at;
+  CLI::Option* at_opt = nullptr;
+  if (out != nullptr) {
+    app.add_option("--save-state", request.save_state,
+                   "write the whole run state to FILE at --at T (default: the end), for --resume");
+    at_opt = app.add_option("--at", save_at, "with --save-state: the time (s) of the checkpoint");
+    app.add_option("--resume", request.resume,
+                   "go on from a --save-state FILE: rows from its time on, bit for bit");
+    app.add_option("--inputs", request.inputs,
+                   "set the model's inputs from FILE.csv (t,NAME,... rows), or '-': lines "
+                   "name=value from standard input, each applied at the next step");
+    app.add_flag("--stream", request.stream,
+                 "write each row to standard output as it is computed (the summary to stderr)");
+  }
   if (const auto code = parse_subcommand(app, args)) return code;
   if (!overrides.read(request.overrides)) return 2;
 
@@ -176,15 +196,31 @@ std::optional<int> parse_run_args(const std::vector<std::string>& args, const ch
     return 2;
   }
   if (real_time) request.real_time_cap = newton_cap > 0 ? newton_cap : kDefaultNewtonCap;
+  if (at_opt != nullptr && at_opt->count() > 0) {
+    if (request.save_state.empty()) {
+      std::cerr << "monohydra: --at applies to --save-state only\n";
+      return 2;
+    }
+    request.save_at = parse_number("--at", save_at);
+    if (!request.save_at) return 2;
+    if (!std::isfinite(*request.save_at) || !(*request.save_at > 0.0)) {
+      std::cerr << "monohydra: --at expects a positive time (s), got '" << save_at << "'\n";
+      return 2;
+    }
+  }
+  if (request.stream && out != nullptr && !out->empty()) {
+    std::cerr << "monohydra: --stream writes the rows to standard output: give --out or "
+                 "--stream, not both\n";
+    return 2;
+  }
   return std::nullopt;
 }
 
 // Real-time mode's account: deadlines missed and steps accepted unconverged,
 // and that these results depend on the machine.
-void print_real_time(const RunSummary& s, int cap) {
+void print_real_time(std::ostream& out, const RunSummary& s, int cap) {
   const double steps = std::max(1.0, static_cast<double>(s.steps));
-  std::cout
-      << "real time:    deadlines missed: " << s.deadlines_missed << " of " << s.steps << " steps ("
+  out << "real time:    deadlines missed: " << s.deadlines_missed << " of " << s.steps << " steps ("
       << 100.0 * static_cast<double>(s.deadlines_missed) / steps << " %), worst "
       << 1e3 * s.max_late << " ms late, mean "
       << (s.deadlines_missed > 0 ? 1e3 * s.total_late / static_cast<double>(s.deadlines_missed)
@@ -224,15 +260,51 @@ int run_prepared(PreparedRun& prepared, const RunRequest& request, const std::st
     provenance.plugins = prepared.used;
     if (!write_sidecar(out_path, provenance)) return 2;
   }
+  // Inputs from outside and checkpoints: read and checked before any step.
+  std::optional<InputFeed> feed;
+  RunState resumed;
+  long save_step = -1;
+  try {
+    if (!request.inputs.empty())
+      feed = request.inputs == "-" ? InputFeed::from_stream(STDIN_FILENO)
+                                   : InputFeed::from_csv(request.inputs, sim);
+    if (!request.resume.empty()) load_checkpoint(request.resume, resumed);
+  } catch (const std::exception& err) {
+    std::cerr << "monohydra: " << err.what() << '\n';
+    return 2;
+  }
+  if (!request.save_state.empty()) {
+    const double dt = sim.settings().dt;
+    save_step = prepared.steps;
+    if (request.save_at) {
+      save_step = std::lround(*request.save_at / dt);
+      if (std::abs(static_cast<double>(save_step) * dt - *request.save_at) >
+              1e-9 * *request.save_at ||
+          save_step < 1 || save_step > prepared.steps) {
+        std::cerr << "monohydra: --at expects a time on the run's steps (a multiple of dt = " << dt
+                  << " s, up to t_end = " << sim.settings().t_end << " s), got " << *request.save_at
+                  << " s\n";
+        return 2;
+      }
+    }
+  }
   ProgressBar bar;
   RunOptions options;
-  options.progress = std::ref(bar);
+  if (!request.stream) options.progress = std::ref(bar);
   options.stop = stop;
-  options.flush_rows = flush_rows;
-  options.csv_name = out_path;
+  options.flush_rows = flush_rows || request.stream;
+  options.csv_name = request.stream ? "standard output" : out_path;
   options.layout = prepared.layout.get();
   options.real_time_cap = request.real_time_cap;
-  const RunSummary s = mh::run(sim, out_path.empty() ? nullptr : &csv, options);
+  if (!request.resume.empty()) options.resume = &resumed;
+  if (feed) options.before_step = [&feed](Simulation& s) { feed->apply(s); };
+  if (save_step > 0)
+    options.after_step = [&](const Simulation& s) {
+      if (s.step_index() == save_step) save_checkpoint(s, request.save_state);
+    };
+  std::ostream* rows = request.stream ? &std::cout : out_path.empty() ? nullptr : &csv;
+  const RunSummary s = mh::run(sim, rows, options);
+  std::ostream& report = request.stream ? std::cerr : std::cout;
   if (s.end == RunEnd::write_failed) {
     csv.close();
     drop_partial_last_line(out_path);
@@ -247,38 +319,41 @@ int run_prepared(PreparedRun& prepared, const RunRequest& request, const std::st
     std::cerr << "monohydra: " << s.failure << '\n';
     return 2;
   }
-  std::cout << "model:        " << prepared.file.model.name << " (" << request.model_path << ")\n"
-            << "formulation:  " << sim.formulation_name() << "\n"
-            << "integrator:   " << sim.integrator_name() << "\n"
-            << "steps:        " << s.steps << " of " << s.steps_asked
-            << " asked (dt = " << sim.settings().dt << " s, t_end = " << sim.settings().t_end
-            << " s)\n"
-            << "Newton:       "
-            << (s.steps > 0 ? static_cast<double>(s.iterations) / static_cast<double>(s.steps)
-                            : 0.0)
-            << " iterations per step on average, " << s.max_iterations << " at most\n"
-            << "retries:      " << s.retries << " halvings of failed steps\n"
-            << (sim.settings().line_search
-                    ? "line search:  " + std::to_string(s.damped) + " increments shortened\n"
-                    : std::string())
-            << (sim.explicit_stability().checks > 0
-                    ? "stability:    " + stability_text(sim.explicit_stability()) + " (" +
-                          stability_cost_text(sim.explicit_stability()) + ")\n"
-                    : std::string())
-            << "solver:       " << to_string(sim.settings().linear) << ", "
-            << to_string(sim.settings().newton) << " Newton"
-            << (sim.settings().line_search ? " with line search, " : ", ")
-            << (s.steps > 0 ? static_cast<double>(s.tangents) / static_cast<double>(s.steps) : 0.0)
-            << " tangents factored per step\n"
-            << "peak |drift|: " << s.max_abs_drift << " J\n"
-            << "wall time:    " << s.wall_seconds << " s\n";
-  if (s.real_time) print_real_time(s, request.real_time_cap);
+  report << "model:        " << prepared.file.model.name << " (" << request.model_path << ")\n"
+         << "formulation:  " << sim.formulation_name() << "\n"
+         << "integrator:   " << sim.integrator_name() << "\n"
+         << "steps:        " << s.steps << " of " << s.steps_asked
+         << " asked (dt = " << sim.settings().dt << " s, t_end = " << sim.settings().t_end << " s"
+         << (s.first_step > 0 ? ", from step " + std::to_string(s.first_step) : "") << ")\n"
+         << "Newton:       "
+         << (s.steps > 0 ? static_cast<double>(s.iterations) / static_cast<double>(s.steps) : 0.0)
+         << " iterations per step on average, " << s.max_iterations << " at most\n"
+         << "retries:      " << s.retries << " halvings of failed steps\n"
+         << (sim.settings().line_search
+                 ? "line search:  " + std::to_string(s.damped) + " increments shortened\n"
+                 : std::string())
+         << (sim.explicit_stability().checks > 0
+                 ? "stability:    " + stability_text(sim.explicit_stability()) + " (" +
+                       stability_cost_text(sim.explicit_stability()) + ")\n"
+                 : std::string())
+         << "solver:       " << to_string(sim.settings().linear) << ", "
+         << to_string(sim.settings().newton) << " Newton"
+         << (sim.settings().line_search ? " with line search, " : ", ")
+         << (s.steps > 0 ? static_cast<double>(s.tangents) / static_cast<double>(s.steps) : 0.0)
+         << " tangents factored per step\n"
+         << "peak |drift|: " << s.max_abs_drift << " J\n"
+         << "wall time:    " << s.wall_seconds << " s\n";
+  if (s.real_time) print_real_time(report, s, request.real_time_cap);
   if (!out_path.empty())
-    std::cout << "results:      " << out_path << " (" << s.rows << " rows of "
-              << prepared.layout->names().size() << " columns, every "
-              << prepared.layout->every_steps() << " steps)\n"
-              << "provenance:   " << sidecar_path(out_path) << "\n";
-  host::print_used_components(std::cout, prepared.used);
+    report << "results:      " << out_path << " (" << s.rows << " rows of "
+           << prepared.layout->names().size() << " columns, every "
+           << prepared.layout->every_steps() << " steps)\n"
+           << "provenance:   " << sidecar_path(out_path) << "\n";
+  host::print_used_components(report, prepared.used);
+  if (!request.save_state.empty() && s.first_step + s.steps >= save_step)
+    report << "state:        " << request.save_state
+           << " (t = " << static_cast<double>(save_step) * sim.settings().dt << " s; run --resume "
+           << request.save_state << " goes on from there)\n";
   if (sim.explicit_stability().unstable && s.end != RunEnd::simulation_failed)
     std::cerr << "monohydra: warning: the explicit integrator '" << sim.integrator_name()
               << "' is unstable at this dt (" << stability_text(sim.explicit_stability())
@@ -300,8 +375,9 @@ int run_prepared(PreparedRun& prepared, const RunRequest& request, const std::st
                 << '\n';
       return exit_status_for_signal(s.stop_signal);
   }
-  if (s.steps != s.steps_asked) {  // never report a run that did not reach t_end as done
-    std::cerr << "monohydra: the run did " << s.steps << " of " << s.steps_asked << " steps\n";
+  if (s.first_step + s.steps != s.steps_asked) {  // never report a run short of t_end as done
+    std::cerr << "monohydra: the run did " << s.first_step + s.steps << " of " << s.steps_asked
+              << " steps\n";
     return 1;
   }
   return 0;

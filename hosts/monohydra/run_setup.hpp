@@ -29,6 +29,11 @@ struct RunRequest {
   std::optional<double> output_interval;  // --output-interval: overrides output.interval
   int real_time_cap = 0;                  // --real-time: Newton iterations per step (0: off)
   double call_timeout = 0.0;              // --call-timeout: s a plugin call may take (0: no limit)
+  std::string save_state;                 // --save-state FILE: a checkpoint ("" none)
+  std::optional<double> save_at;          // --at T: when (s; none: at the run's end)
+  std::string resume;                     // --resume FILE: go on from a checkpoint
+  std::string inputs;                     // --inputs FILE.csv, or "-": standard input
+  bool stream = false;                    // --stream: rows to standard output as computed
 };
 
 struct PreparedRun {

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "monohydra/core/csv_layout.hpp"
+#include "monohydra/core/run_state.hpp"
 #include "monohydra/core/simulation.hpp"
 
 namespace mh {
@@ -22,13 +23,15 @@ void write_csv_row(std::ostream& out, const Simulation& sim);
 enum class RunEnd {
   completed,
   simulation_failed,  // a step failed (SimulationError)
-  bad_input,          // the model or settings cannot run (InputError at start, no steps)
+  bad_input,          // the model or settings cannot run (InputError at start, no steps;
+                      // a state to resume of another run, RunStateError)
   write_failed,       // the CSV could not be written: stopped at once
   interrupted,        // RunOptions::stop was set (a signal): stopped between two steps
 };
 
 struct RunSummary {
-  long steps = 0;          // steps done
+  long steps = 0;          // steps done (by this run: after the resumed state's)
+  long first_step = 0;     // the step it started from: 0, or the resumed state's
   long steps_asked = 0;    // round(t_end / dt)
   long iterations = 0;     // Newton iterations, all steps
   int max_iterations = 0;  // in one step
@@ -71,6 +74,16 @@ struct RunOptions {
   // stands. Results then depend on the machine; every other run is
   // bit-identical from run to run. 0: off.
   int real_time_cap = 0;
+  // A saved state to go on from (a checkpoint, run_state_bytes.hpp): restored
+  // after start(), so the rows begin at its time and continue as the saved
+  // run's would, bit for bit. Another model's state stops the run as bad input.
+  const RunState* resume = nullptr;
+  // Called between two steps: before each one (e.g. inputs set from outside,
+  // Simulation::set_input) and after each one (e.g. a checkpoint at a time).
+  // Either may throw SimulationError (the run stops with it, every row
+  // before it kept) or InputError (bad input, before any step).
+  std::function<void(Simulation&)> before_step;
+  std::function<void(const Simulation&)> after_step;
 };
 
 // start()s the simulation and steps it to settings().t_end. `csv` may be null.
