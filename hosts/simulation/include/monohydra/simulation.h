@@ -28,7 +28,7 @@ extern "C" {
 #endif
 
 #define MHS_API_VERSION_MAJOR 1u
-#define MHS_API_VERSION_MINOR 1u  /* 1.1: mhs_linearize and its accessors */
+#define MHS_API_VERSION_MINOR 1u /* 1.1: mhs_linearize and its accessors */
 
 #if defined(__GNUC__) || defined(__clang__)
 #define MHS_API __attribute__((visibility("default")))
