@@ -11,9 +11,10 @@ namespace mh::cli {
 // bad input, 128 + N stopped by signal N (130 SIGINT, 143 SIGTERM).
 int plugins(const std::vector<std::string>& args);
 int run(const std::vector<std::string>& args);
-int validate(const std::vector<std::string>& args);  // 0 OK, 1 the error, 2 bad usage
-int compare(const std::vector<std::string>& args);   // compare.cpp
-int run_default();                                   // default_job.cpp
+int validate(const std::vector<std::string>& args);   // 0 OK, 1 the error, 2 bad usage
+int compare(const std::vector<std::string>& args);    // compare.cpp
+int linearize(const std::vector<std::string>& args);  // linearize_command.cpp
+int run_default();                                    // default_job.cpp
 int usage(int code);
 
 }  // namespace mh::cli

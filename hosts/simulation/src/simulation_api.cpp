@@ -2,14 +2,17 @@
 // arguments, runs inside one guard that turns every exception into a status
 // and a message, and keeps the rule that a failed step leaves the run at its
 // last accepted state until a snapshot is restored.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <memory>
 #include <new>
 #include <string>
+#include <vector>
 
 #include "instance.hpp"
 #include "monohydra/core/input_error.hpp"
+#include "monohydra/core/linearization.hpp"
 #include "monohydra/core/run_state_bytes.hpp"
 #include "monohydra/cpp/number_text.hpp"
 #include "monohydra/simulation.h"
@@ -21,6 +24,10 @@ struct mhs_simulation {
   std::string message;
   bool started = false;
   std::string failure;  // why the last step failed ("" : it did not)
+};
+
+struct mhs_linearization {
+  mh::Linearization result;
 };
 
 struct mhs_snapshot {
@@ -442,6 +449,102 @@ MHS_API mhs_status mhs_snapshot_read(mhs_simulation* sim, mhs_snapshot* snapshot
     snapshot->bytes_current = false;
     mh::read_run_state_bytes(static_cast<const unsigned char*>(bytes), size, snapshot->state);
     snapshot->saved = true;
+    return MHS_OK;
+  });
+}
+
+MHS_API mhs_status mhs_linearize(mhs_simulation* sim, const uint32_t* outputs, size_t count,
+                                 mhs_linearization** out) {
+  if (out != nullptr) *out = nullptr;
+  return guarded(sim, [&](Instance& in) -> mhs_status {
+    if (out == nullptr) return refuse(sim, "mhs_linearize: out is NULL");
+    if (count > 0 && outputs == nullptr)
+      return refuse(sim, "mhs_linearize: outputs is NULL with a count of " + std::to_string(count));
+    if (!sim->started) return refuse(sim, "mhs_linearize: the run has not started (mhs_start)");
+    if (!sim->failure.empty())
+      return refuse(sim, "mhs_linearize: the last step failed (" + sim->failure +
+                             "); restore a snapshot (mhs_restore) first");
+    // The core names outputs as mhs_find does: coordinates, "z1_dot", qualified names.
+    std::vector<std::string> names;
+    for (size_t i = 0; i < count; ++i) {
+      if (outputs[i] >= in.variables().size())
+        return refuse(sim, "mhs_linearize: output " + std::to_string(i) + " is value " +
+                               std::to_string(outputs[i]) + ", not one of the " +
+                               std::to_string(in.variables().size()) + " (mhs_variable_count)");
+      const mh::embed::Variable& v = in.variables()[outputs[i]];
+      if (v.kind == MHS_INPUT)
+        return refuse(sim, "mhs_linearize: output " + std::to_string(i) + " is the input '" +
+                               v.name + "' (inputs are the columns of B and D)");
+      names.push_back(v.kind == MHS_COORDINATE || v.kind == MHS_COORDINATE_RATE ? v.name
+                                                                                : v.qualified);
+    }
+    auto lin = std::make_unique<mhs_linearization>();
+    lin->result = mh::linearize(in.sim(), names);
+    for (size_t i = 0; i < count; ++i)
+      lin->result.outputs[i].name = in.variables()[outputs[i]].name;
+    *out = lin.release();
+    return MHS_OK;
+  });
+}
+
+MHS_API void mhs_linearization_free(mhs_linearization* lin) {
+  delete lin;
+}
+
+MHS_API mhs_status mhs_linearization_size(mhs_simulation* sim, const mhs_linearization* lin,
+                                          uint32_t* n, uint32_t* m, uint32_t* p, double* t) {
+  return guarded(sim, [&](Instance&) -> mhs_status {
+    if (lin == nullptr) return refuse(sim, "mhs_linearization_size: the linearisation is NULL");
+    const mh::Linearization& r = lin->result;
+    if (n != nullptr) *n = static_cast<uint32_t>(r.states.size());
+    if (m != nullptr) *m = static_cast<uint32_t>(r.inputs.size());
+    if (p != nullptr) *p = static_cast<uint32_t>(r.outputs.size());
+    if (t != nullptr) *t = r.t;
+    return MHS_OK;
+  });
+}
+
+MHS_API mhs_status mhs_linearization_matrix(mhs_simulation* sim, const mhs_linearization* lin,
+                                            char which, double* values, size_t capacity) {
+  return guarded(sim, [&](Instance&) -> mhs_status {
+    if (lin == nullptr) return refuse(sim, "mhs_linearization_matrix: the linearisation is NULL");
+    const mh::Linearization& r = lin->result;
+    const Eigen::MatrixXd* matrix = which == 'A'   ? &r.A
+                                    : which == 'B' ? &r.B
+                                    : which == 'C' ? &r.C
+                                    : which == 'D' ? &r.D
+                                                   : nullptr;
+    if (matrix == nullptr)
+      return refuse(sim, std::string("mhs_linearization_matrix: which = '") + which +
+                             "' (expected 'A', 'B', 'C' or 'D')");
+    const auto size = static_cast<size_t>(matrix->size());
+    if (size > 0 && (values == nullptr || capacity < size))
+      return refuse(sim, std::string("mhs_linearization_matrix: ") + which + " has " +
+                             std::to_string(size) + " entries; values holds " +
+                             std::to_string(values == nullptr ? 0 : capacity));
+    std::copy(matrix->data(), matrix->data() + size, values);  // Eigen: column-major
+    return MHS_OK;
+  });
+}
+
+MHS_API mhs_status mhs_linearization_name(mhs_simulation* sim, const mhs_linearization* lin,
+                                          mhs_linear_role role, uint32_t k, const char** name,
+                                          const char** unit) {
+  return guarded(sim, [&](Instance&) -> mhs_status {
+    if (lin == nullptr) return refuse(sim, "mhs_linearization_name: the linearisation is NULL");
+    const mh::Linearization& r = lin->result;
+    const std::vector<mh::LinearVariable>* list = role == MHS_LINEAR_STATE    ? &r.states
+                                                  : role == MHS_LINEAR_INPUT  ? &r.inputs
+                                                  : role == MHS_LINEAR_OUTPUT ? &r.outputs
+                                                                              : nullptr;
+    if (list == nullptr)
+      return refuse(sim, "mhs_linearization_name: role " + std::to_string(role) +
+                             " (expected MHS_LINEAR_STATE, _INPUT or _OUTPUT)");
+    if (k >= list->size())
+      return refuse(sim, "mhs_linearization_name: " + std::to_string(k) + " is not below " +
+                             std::to_string(list->size()));
+    if (name != nullptr) *name = (*list)[k].name.c_str();
+    if (unit != nullptr) *unit = (*list)[k].unit.c_str();
     return MHS_OK;
   });
 }

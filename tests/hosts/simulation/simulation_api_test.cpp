@@ -675,3 +675,95 @@ TEST(EmbeddingBadCalls, TheApiVersionIsTheHeadersMajor) {
 }
 
 }  // namespace
+
+namespace {
+
+struct FreeLinearization {
+  void operator()(mhs_linearization* l) const { mhs_linearization_free(l); }
+};
+using Linearization = std::unique_ptr<mhs_linearization, FreeLinearization>;
+
+uint32_t find(mhs_simulation* sim, const char* name) {
+  uint32_t index = 0;
+  EXPECT_EQ(mhs_find(sim, name, &index), MHS_OK) << name << ": " << mhs_message(sim);
+  return index;
+}
+
+TEST(EmbeddingLinearization, FourbarMatricesHaveTheirSizesNamesAndTheSpoolsTimeConstant) {
+  Sim sim = open("fourbar.yaml");
+  ASSERT_TRUE(ok(mhs_start(sim.get())));
+  ASSERT_TRUE(ok(mhs_advance(sim.get(), 0.5))) << mhs_message(sim.get());
+  const uint32_t outputs[] = {find(sim.get(), "s"), find(sim.get(), "z1_dot"),
+                              find(sim.get(), "U")};
+  mhs_linearization* raw = nullptr;
+  ASSERT_EQ(mhs_linearize(sim.get(), outputs, 3, &raw), MHS_OK) << mhs_message(sim.get());
+  const Linearization lin(raw);
+  uint32_t n = 0, m = 0, p = 0;
+  double t = 0.0;
+  ASSERT_EQ(mhs_linearization_size(sim.get(), lin.get(), &n, &m, &p, &t), MHS_OK);
+  EXPECT_EQ(m, 1u);
+  EXPECT_EQ(p, 3u);
+  EXPECT_NEAR(t, 0.5, 1e-12);
+  const char* name = nullptr;
+  const char* unit = nullptr;
+  ASSERT_EQ(mhs_linearization_name(sim.get(), lin.get(), MHS_LINEAR_INPUT, 0, &name, &unit),
+            MHS_OK);
+  EXPECT_STREQ(name, "valve_command");
+  EXPECT_STREQ(unit, "V");
+  ASSERT_EQ(mhs_linearization_name(sim.get(), lin.get(), MHS_LINEAR_OUTPUT, 1, &name, &unit),
+            MHS_OK);
+  EXPECT_STREQ(name, "z1_dot");
+  EXPECT_STREQ(unit, "rad/s");
+  int spool = -1;
+  for (uint32_t k = 0; k < n; ++k) {
+    ASSERT_EQ(mhs_linearization_name(sim.get(), lin.get(), MHS_LINEAR_STATE, k, &name, &unit),
+              MHS_OK);
+    if (std::string(name) == "U") spool = static_cast<int>(k);
+  }
+  ASSERT_GE(spool, 0);
+  std::vector<double> a(n * n), b(n * m), c(p * n), d(p * m);
+  ASSERT_EQ(mhs_linearization_matrix(sim.get(), lin.get(), 'A', a.data(), a.size()), MHS_OK);
+  ASSERT_EQ(mhs_linearization_matrix(sim.get(), lin.get(), 'B', b.data(), b.size()), MHS_OK);
+  ASSERT_EQ(mhs_linearization_matrix(sim.get(), lin.get(), 'C', c.data(), c.size()), MHS_OK);
+  ASSERT_EQ(mhs_linearization_matrix(sim.get(), lin.get(), 'D', d.data(), d.size()), MHS_OK);
+  const double tau = 4.547e-3;  // the model's spool time constant
+  const auto s = static_cast<size_t>(spool);
+  EXPECT_NEAR(a[s + s * n], -1.0 / tau, 1e-4 / tau);  // column-major
+  EXPECT_NEAR(b[s], 1.0 / tau, 1e-4 / tau);
+  EXPECT_NEAR(c[2 + s * p], 1.0, 1e-6);  // output U is the state U
+  // Too small a buffer, an unknown matrix: refused, named.
+  EXPECT_EQ(mhs_linearization_matrix(sim.get(), lin.get(), 'A', a.data(), a.size() - 1), MHS_ERROR);
+  EXPECT_NE(std::string(mhs_message(sim.get())).find("entries"), std::string::npos);
+  EXPECT_EQ(mhs_linearization_matrix(sim.get(), lin.get(), 'E', a.data(), a.size()), MHS_ERROR);
+  EXPECT_EQ(mhs_linearization_name(sim.get(), lin.get(), MHS_LINEAR_STATE, n, &name, &unit),
+            MHS_ERROR);
+  // The run goes on.
+  EXPECT_TRUE(ok(mhs_step(sim.get()))) << mhs_message(sim.get());
+}
+
+TEST(EmbeddingLinearization, RefusesNullHandlesUnknownIndicesInputsAndARunNotStarted) {
+  mhs_linearization* out = nullptr;
+  EXPECT_EQ(mhs_linearize(nullptr, nullptr, 0, &out), MHS_ERROR);
+  EXPECT_EQ(out, nullptr);
+  Sim sim = open("fourbar.yaml");
+  EXPECT_EQ(mhs_linearize(sim.get(), nullptr, 0, &out), MHS_ERROR);
+  EXPECT_NE(std::string(mhs_message(sim.get())).find("not started"), std::string::npos)
+      << mhs_message(sim.get());
+  ASSERT_TRUE(ok(mhs_start(sim.get())));
+  EXPECT_EQ(mhs_linearize(sim.get(), nullptr, 0, nullptr), MHS_ERROR);
+  EXPECT_EQ(mhs_linearize(sim.get(), nullptr, 2, &out), MHS_ERROR);
+  const uint32_t unknown[] = {1000000u};
+  EXPECT_EQ(mhs_linearize(sim.get(), unknown, 1, &out), MHS_ERROR);
+  EXPECT_NE(std::string(mhs_message(sim.get())).find("1000000"), std::string::npos);
+  const uint32_t input[] = {find(sim.get(), "valve_command")};
+  EXPECT_EQ(mhs_linearize(sim.get(), input, 1, &out), MHS_ERROR);
+  EXPECT_NE(std::string(mhs_message(sim.get())).find("valve_command"), std::string::npos);
+  EXPECT_EQ(out, nullptr);
+  EXPECT_EQ(mhs_linearization_size(sim.get(), nullptr, nullptr, nullptr, nullptr, nullptr),
+            MHS_ERROR);
+  double value = 0.0;
+  EXPECT_EQ(mhs_linearization_matrix(sim.get(), nullptr, 'A', &value, 1), MHS_ERROR);
+  mhs_linearization_free(nullptr);  // ignored
+}
+
+}  // namespace

@@ -19,7 +19,8 @@
 
 namespace mh {
 
-struct RunState;  // run_state.hpp
+struct RunState;       // run_state.hpp
+struct Linearization;  // linearization.hpp
 
 // A run that cannot go on: names the time, the step and the reason.
 class SimulationError : public std::runtime_error {
@@ -244,6 +245,9 @@ class Simulation {
   struct Engine;
 
  private:
+  // linearization.hpp: perturbs the engine's accepted state between steps.
+  friend Linearization linearize(Simulation& sim, const std::vector<std::string>& outputs);
+
   std::unique_ptr<Engine> engine_;
   std::vector<std::string> state_names_, state_units_, output_names_, output_units_;
 };

@@ -28,7 +28,7 @@ extern "C" {
 #endif
 
 #define MHS_API_VERSION_MAJOR 1u
-#define MHS_API_VERSION_MINOR 0u
+#define MHS_API_VERSION_MINOR 1u /* 1.1: mhs_linearize and its accessors */
 
 #if defined(__GNUC__) || defined(__clang__)
 #define MHS_API __attribute__((visibility("default")))
@@ -171,6 +171,37 @@ MHS_API mhs_status mhs_snapshot_bytes(mhs_simulation* sim, mhs_snapshot* snapsho
                                       const void** bytes, size_t* size);
 MHS_API mhs_status mhs_snapshot_read(mhs_simulation* sim, mhs_snapshot* snapshot, const void* bytes,
                                      size_t size);
+
+/* Linearisation, for control design: the state-space matrices of the run
+ * about its last accepted state,
+ *   dX/dt = A X + B u,   Y = C X + D u,
+ * over the model's inputs u (MHS_INPUT values, in file order) and the
+ * outputs Y numbered `outputs[0..count-1]` (coordinates, their rates,
+ * states, outputs: not inputs). X are the run's own states (the
+ * formulation's positions and velocities, the components' non-algebraic
+ * states), named by mhs_linearization_name. The run is left as it was: its
+ * next steps are those it would have taken, to the bit. Refused (MHS_ERROR)
+ * before mhs_start, after a failed step, with an explicit integrator, for
+ * an unknown index or an input as an output. docs/embedding.md gives the
+ * method and what its eigenvalues mean. */
+typedef struct mhs_linearization mhs_linearization;
+MHS_API mhs_status mhs_linearize(mhs_simulation* sim, const uint32_t* outputs, size_t count,
+                                 mhs_linearization** out);
+MHS_API void mhs_linearization_free(mhs_linearization* lin);
+/* n states, m inputs, p outputs, and the time t (s) it was taken at. Any
+ * pointer may be NULL. Messages of these calls go to `sim`. */
+MHS_API mhs_status mhs_linearization_size(mhs_simulation* sim, const mhs_linearization* lin,
+                                          uint32_t* n, uint32_t* m, uint32_t* p, double* t);
+/* Matrix `which` ('A' n x n, 'B' n x m, 'C' p x n, 'D' p x m) column-major
+ * into `values` (`capacity` at least its rows x columns). */
+MHS_API mhs_status mhs_linearization_matrix(mhs_simulation* sim, const mhs_linearization* lin,
+                                            char which, double* values, size_t capacity);
+/* The name and SI unit of state, input or output `k` (valid as long as `lin`). */
+typedef int32_t mhs_linear_role;
+enum { MHS_LINEAR_STATE = 0, MHS_LINEAR_INPUT = 1, MHS_LINEAR_OUTPUT = 2 };
+MHS_API mhs_status mhs_linearization_name(mhs_simulation* sim, const mhs_linearization* lin,
+                                          mhs_linear_role role, uint32_t k, const char** name,
+                                          const char** unit);
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,552 @@
+// The state-space matrices of a run about its accepted state
+// (linearization.hpp), from the run's own converged implicit step.
+//
+// Why the step and not the residual's blocks: the step is what the run does,
+// projections (penalty, Eqs. 20-21), dependent coordinates (double-step) and
+// the analytic tangent Newton solves with included, so A is the dynamics the
+// run shows (a closed loop's measured time constant is one of its
+// eigenvalues) whichever formulation made it. The step's map is taken by
+// central differences of whole steps from perturbed states:
+//
+// - each state starts consistent: with the perturbed positions, velocities
+//   and subsystem states held, the accelerations, the states' rates and the
+//   algebraic unknowns are solved from r(x, xd, xdd) = 0 (as an explicit
+//   stage does, explicit_step.cpp) and the integrator restarts from there,
+//   as after a time event. A history whose rates belong to another state
+//   would make the trapezoidal rule's map a different one (for x' = a x the
+//   column would be 1/(1 - ha/2) instead of (1 + ha/2)/(1 - ha/2));
+// - the perturbation is the unknown's Newton tolerance (velocities: that
+//   over h), and these steps' Newton runs to 1e-4 of its tolerances (the
+//   run's own are put back after): what Newton leaves of a converged step
+//   is then far below the perturbation, which stays small beside the
+//   model's nonlinearities (a cylinder's friction, steepest at rest, is
+//   smoothed over 0.01 m/s: on the four-bar ten times the tolerance over h,
+//   1e-3 rad/s, moved the poles at rest by 1 %);
+// - a formulation whose unknowns are the coordinates (penalty) is perturbed
+//   within the constraints' tangent space (see below);
+// - inputs are set as a program sets them (Simulation::set_input: a jump at
+//   the accepted time), by a millionth of their range;
+// - a step that would halve (solver.max_step_halvings) fails instead: a
+//   halved step is another map.
+//
+// Every perturbed run is the saved state restored: the caller's run goes on
+// from the same saved state, to the bit.
+#include "monohydra/core/linearization.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+#include <Eigen/QR>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "engine.hpp"
+#include "monohydra/core/run_state.hpp"
+#include "monohydra/cpp/unknowns.hpp"
+
+namespace mh {
+
+namespace {
+
+// A state's perturbation in units of its unknown's Newton tolerance.
+constexpr double kToleranceMultiple = 1.0;
+constexpr double kTighten = 1e-4;
+// An input's, relative to its range (or its value, or 1 when it has neither).
+constexpr double kInputFraction = 1e-6;
+// The consistent rates: Newton stops when every increment is below this
+// fraction of the rate's scale (tolerance / h^2, / h or itself by kind).
+constexpr double kRateTolerance = 1e-6;
+constexpr int kRateIterations = 20;
+
+// One component of the state vector X: unknown `unknown`'s value, or its
+// rate (second-order unknowns only).
+struct StateSlot {
+  int unknown = 0;
+  bool rate = false;
+};
+
+enum class OutputKind { coordinate, coordinate_rate, state, output };
+struct OutputRef {
+  OutputKind kind = OutputKind::output;
+  int index = 0;
+  bool formulation = false;  // the formulation's: written at accept only
+};
+
+double& slot_value(Simulation::Engine& e, const StateSlot& s) {
+  return s.rate ? e.xd[s.unknown] : e.x[s.unknown];
+}
+
+// The unknown Newton solves for in row i of the consistent rates.
+double& rate_unknown(Simulation::Engine& e, int i) {
+  switch (e.registry.kinds[static_cast<size_t>(i)]) {
+    case MH_UNKNOWN_SECOND_ORDER:
+      return e.xdd[i];
+    case MH_UNKNOWN_FIRST_ORDER:
+      return e.xd[i];
+    default:
+      return e.x[i];
+  }
+}
+
+// The unit of unknown i: a coordinate's (the shipped formulations name their
+// unknowns after the coordinates) or a subsystem state's.
+std::string unknown_unit(const Simulation::Engine& e, int i) {
+  if (i >= e.n_m) return e.states.state_info[static_cast<size_t>(i - e.n_m)].unit;
+  const std::string& name = e.registry.unknown_names[static_cast<size_t>(i)];
+  const auto& coords = e.registry.coordinate_names;
+  for (size_t j = 0; j < coords.size(); ++j)
+    if (coords[j] == name) return e.registry.coordinate_is_angle[j] != 0 ? "rad" : "m";
+  return "";
+}
+
+std::string unknown_label(const Simulation::Engine& e, int i) {
+  if (i < e.n_m) return e.registry.unknown_names[static_cast<size_t>(i)];
+  const VariableInfo& v = e.states.state_info[static_cast<size_t>(i - e.n_m)];
+  return v.name.empty() ? v.qualified : v.name;
+}
+
+// What each asked-for output is, or std::invalid_argument naming it.
+std::vector<OutputRef> resolve_outputs(const Simulation::Engine& e,
+                                       const std::vector<std::string>& names,
+                                       std::vector<LinearVariable>& described) {
+  std::vector<OutputRef> refs;
+  const auto& coords = e.registry.coordinate_names;
+  for (const std::string& name : names) {
+    OutputRef ref;
+    LinearVariable var{name, ""};
+    bool found = false;
+    for (size_t j = 0; j < coords.size() && !found; ++j) {
+      const std::string unit = e.registry.coordinate_is_angle[j] != 0 ? "rad" : "m";
+      if (name == coords[j]) {
+        ref = {OutputKind::coordinate, static_cast<int>(j), false};
+        var.unit = unit;
+        found = true;
+      } else if (name == coords[j] + "_dot") {
+        ref = {OutputKind::coordinate_rate, static_cast<int>(j), false};
+        var.unit = unit + "/s";
+        found = true;
+      }
+    }
+    const auto find_in = [&](const std::vector<VariableInfo>& infos, OutputKind kind) {
+      for (size_t j = 0; j < infos.size() && !found; ++j) {
+        if (name.empty() || (infos[j].name != name && infos[j].qualified != name)) continue;
+        const std::string owner = infos[j].qualified.substr(0, infos[j].qualified.find('.'));
+        ref = {kind, static_cast<int>(j),
+               kind == OutputKind::output && owner == e.formulation_name};
+        var.unit = infos[j].unit;
+        found = true;
+      }
+    };
+    find_in(e.states.state_info, OutputKind::state);
+    find_in(e.registry.output_info, OutputKind::output);
+    if (!found) {
+      std::string known;
+      for (const std::string& c : coords)
+        known += (known.empty() ? "" : ", ") + c + ", " + c + "_dot";
+      for (const auto* infos : {&e.states.state_info, &e.registry.output_info})
+        for (const VariableInfo& v : *infos)
+          known += ", " + (v.name.empty() ? v.qualified : v.name);
+      throw std::invalid_argument("linearize: unknown output '" + name +
+                                  "' (expected a coordinate, its rate NAME_dot, a state or an "
+                                  "output: " +
+                                  known + ")");
+    }
+    refs.push_back(ref);
+    described.push_back(var);
+  }
+  return refs;
+}
+
+// A state of the run from the engine's x (and xd of second-order
+// unknowns), as an accepted one would be: the accelerations, the
+// first-order rates and the algebraic values from r = 0 at the right limit
+// of the accepted time; the formulation's accept (its projections of the
+// velocities and accelerations, Eqs. 20-21 for penalty, and its own record
+// of the state); the subsystems' rates again at the velocities it left;
+// then the integrator restarted there, as after a time event. Newton's
+// Jacobian is differenced once, at the unperturbed state (the
+// perturbations are far too small to change it), and kept.
+class ConsistentState {
+ public:
+  explicit ConsistentState(Simulation::Engine& e)
+      : e_(e), r_(e.n), r1_(e.n), du_(e.n), scale_(e.n), row_scale_(e.n) {
+    const double h = e.settings.dt;
+    for (int i = 0; i < e.n; ++i) {
+      const uint8_t k = e.registry.kinds[static_cast<size_t>(i)];
+      const double tol = e.registry.tol[i];
+      scale_[i] = k == MH_UNKNOWN_SECOND_ORDER  ? tol / (h * h)
+                  : k == MH_UNKNOWN_FIRST_ORDER ? tol / h
+                                                : tol;
+    }
+  }
+
+  void make(const char* what) {
+    Simulation::Engine& e = e_;
+    const double t = std::nextafter(e.accepted.t, HUGE_VAL);
+    // The formulation's own prediction starts from its accepted state (no
+    // step: h = 0 from its time), as at an explicit stage.
+    e.formulation_begin_step(monohydra::step_coefficients(e.settings.dt, 0.0, 0.0, 0.0),
+                             e.accepted.t, e.x, e.xd, e.xdd);
+    for (int i = 0; i < e.n; ++i) {
+      const uint8_t k = e.registry.kinds[static_cast<size_t>(i)];
+      if (k != MH_UNKNOWN_SECOND_ORDER) e.xdd[i] = 0.0;
+      if (k == MH_UNKNOWN_ALGEBRAIC) e.xd[i] = 0.0;
+    }
+    if (!full_) factor(t, what);
+    solve(t, 0, *full_, what);
+    accept(what);
+    if (e.n_s > 0) solve(t, e.n_m, *states_, what);
+    e.states.y_k = e.states.y;
+    e.states.ydot_k = e.states.ydot;
+    e.kinematics_at(e.accepted.z.data(), e.accepted.zd.data());
+    e.solver.reuse.invalidate();
+    e.restart_integrator();
+  }
+
+ private:
+  void evaluate(double t, Eigen::VectorXd& r, const char* what) {
+    if (!status_ok(e_.residual_at(t, e_.x, e_.xd, e_.xdd, r)) || !r.allFinite())
+      throw SimulationError(e_.accepted.t, e_.accepted.step,
+                            std::string("linearize: the residual failed at the state ") + what +
+                                (e_.last_plugin_error.empty() ? "" : ": " + e_.last_plugin_error));
+  }
+
+  // Newton on the rate unknowns from `begin` on (0: all; n_m: the
+  // subsystems'), the others held; ends with an evaluation at the solution
+  // (the state's coordinates and outputs are that evaluation's).
+  void solve(double t, int begin, const Eigen::FullPivLU<Eigen::MatrixXd>& lu, const char* what) {
+    Simulation::Engine& e = e_;
+    const int count = e.n - begin;
+    bool converged = false;
+    for (int it = 0; it < kRateIterations && !converged; ++it) {
+      evaluate(t, r_, what);
+      const Eigen::VectorXd rows = row_scale_.tail(count).asDiagonal() * r_.tail(count);
+      du_.tail(count) = -(scale_.tail(count).asDiagonal() * lu.solve(rows));
+      converged = true;
+      for (int i = begin; i < e.n; ++i) {
+        double& u = rate_unknown(e, i);
+        u += du_[i];
+        converged =
+            converged && std::abs(du_[i]) <= kRateTolerance * scale_[i] + 1e-12 * std::abs(u);
+      }
+    }
+    if (!converged)
+      throw SimulationError(e.accepted.t, e.accepted.step,
+                            std::string("linearize: the rates at the state ") + what +
+                                " did not converge in " + std::to_string(kRateIterations) +
+                                " iterations");
+    evaluate(t, r_, what);
+  }
+
+  // The formulation accepts the state (at the trapezoidal rule's weights
+  // for its projections, as an explicit step hands them) and gives its
+  // coordinates.
+  void accept(const char* what) {
+    Simulation::Engine& e = e_;
+    const double h = e.settings.dt;
+    const mh_step_coefficients c = monohydra::step_coefficients(h, 2.0 / h, 4.0 / (h * h), 2.0 / h);
+    uint32_t flags = 0;
+    e.check(in_flight(*e.formulation_host, InstanceHost::Op::accept,
+                      [&] {
+                        const mh_unknown_buffers values = monohydra::unknown_buffers(
+                            static_cast<size_t>(e.n_m), e.x.data(), e.xd.data(), e.xdd.data());
+                        return e.formulation.ops.accept(e.formulation.self, e.accepted.t, &c,
+                                                        &values, &flags);
+                      }),
+            "formulation accept");
+    if ((flags & MH_ACCEPT_REDEFINED) != 0)
+      throw SimulationError(e.accepted.t, e.accepted.step,
+                            std::string("linearize: formulation '") + e.formulation_name +
+                                "' redefined its unknowns at the state " + what +
+                                " (a new partition): linearize a step later");
+    e.check(in_flight(*e.formulation_host, InstanceHost::Op::coordinates,
+                      [&] {
+                        const mh_coordinate_buffers out{
+                            sizeof(mh_coordinate_buffers), static_cast<uint32_t>(e.N),
+                            e.accepted.z.data(), e.accepted.zd.data(), e.accepted.zdd.data()};
+                        return e.formulation.ops.coordinates(e.formulation.self, &out);
+                      }),
+            "formulation coordinates");
+  }
+
+  void factor(double t, const char* what) {
+    Simulation::Engine& e = e_;
+    Eigen::MatrixXd J(e.n, e.n);
+    evaluate(t, r_, what);
+    for (int j = 0; j < e.n; ++j) {
+      double& u = rate_unknown(e, j);
+      const double saved = u, d = 1e-7 * std::max(std::abs(u), 1e3 * scale_[j]);
+      u = saved + d;
+      evaluate(t, r1_, what);
+      u = saved;
+      J.col(j) = (r1_ - r_) / d;
+    }
+    // Equilibrated: columns in units of the rates' scales, rows by their
+    // largest entry (a volume's row in m^3/s beside a body's in N would
+    // otherwise read as singular).
+    J = J * scale_.asDiagonal();
+    for (int i = 0; i < e.n; ++i) {
+      const double big = J.row(i).lpNorm<Eigen::Infinity>();
+      row_scale_[i] = big > 0.0 ? 1.0 / big : 1.0;
+    }
+    J = row_scale_.asDiagonal() * J;
+    full_ = std::make_unique<Eigen::FullPivLU<Eigen::MatrixXd>>(J);
+    states_ =
+        std::make_unique<Eigen::FullPivLU<Eigen::MatrixXd>>(J.bottomRightCorner(e.n_s, e.n_s));
+    if (!full_->isInvertible() || (e.n_s > 0 && !states_->isInvertible()))
+      throw SimulationError(e.accepted.t, e.accepted.step,
+                            "linearize: the rows do not determine the rates at the accepted "
+                            "state (a singular mass matrix or state row?)");
+  }
+
+  Simulation::Engine& e_;
+  Eigen::VectorXd r_, r1_, du_, scale_, row_scale_;
+  std::unique_ptr<Eigen::FullPivLU<Eigen::MatrixXd>> full_, states_;
+};
+
+// Restores the saved run (and the settings linearize changed) however it ends.
+class RunRestorer {
+ public:
+  RunRestorer(Simulation& sim, Simulation::Engine& e, const RunState& saved)
+      : sim_(sim),
+        e_(e),
+        saved_(saved),
+        halvings_(e.settings.max_step_halvings),
+        tol_(e.registry.tol) {}
+  RunRestorer(const RunRestorer&) = delete;
+  RunRestorer& operator=(const RunRestorer&) = delete;
+  ~RunRestorer() {
+    e_.settings.max_step_halvings = halvings_;
+    e_.registry.tol = tol_;
+    try {
+      sim_.restore_state(saved_);
+    } catch (...) {  // a state saved from this very run: not refused
+    }
+  }
+
+ private:
+  Simulation& sim_;
+  Simulation::Engine& e_;
+  const RunState& saved_;
+  int halvings_;
+  Eigen::VectorXd tol_;
+};
+
+}  // namespace
+
+Linearization linearize(Simulation& sim, const std::vector<std::string>& output_names) {
+  Simulation::Engine& e = *sim.engine_;
+  if (!e.accepted.started)
+    throw SimulationError(e.accepted.t, e.accepted.step,
+                          "linearize: the run has not started (call start() first)");
+  if (e.explicit_method)
+    throw SimulationError(e.accepted.t, e.accepted.step,
+                          "linearize: the run's integrator '" + e.integrator_name +
+                              "' is explicit; the linearisation differences an implicit step");
+  Linearization out;
+  const std::vector<OutputRef> refs = resolve_outputs(e, output_names, out.outputs);
+  out.t = e.accepted.t;
+  out.step = e.accepted.step;
+  out.h = e.settings.dt;
+  const double h = e.settings.dt;
+
+  // X: positions and first-order unknowns of the formulation, the
+  // velocities of its second-order ones, then the subsystems' states.
+  std::vector<StateSlot> slots;
+  for (int i = 0; i < e.n_m; ++i)
+    if (e.registry.kinds[static_cast<size_t>(i)] != MH_UNKNOWN_ALGEBRAIC)
+      slots.push_back({i, false});
+  for (int i = 0; i < e.n_m; ++i)
+    if (e.registry.kinds[static_cast<size_t>(i)] == MH_UNKNOWN_SECOND_ORDER)
+      slots.push_back({i, true});
+  for (int i = e.n_m; i < e.n; ++i)
+    if (e.registry.kinds[static_cast<size_t>(i)] != MH_UNKNOWN_ALGEBRAIC)
+      slots.push_back({i, false});
+  for (const StateSlot& s : slots) {
+    const std::string unit = unknown_unit(e, s.unknown);
+    out.states.push_back({unknown_label(e, s.unknown) + (s.rate ? "_dot" : ""),
+                          s.rate ? (unit.empty() ? "1/s" : unit + "/s") : unit});
+  }
+  const std::vector<InputSpec>& inputs = sim.inputs();
+  for (const InputSpec& in : inputs) out.inputs.push_back({in.name, in.unit});
+  const auto n = static_cast<Eigen::Index>(slots.size());
+  const auto m = static_cast<Eigen::Index>(inputs.size());
+  const auto p = static_cast<Eigen::Index>(refs.size());
+
+  std::vector<double> u_base;
+  for (size_t k = 0; k < inputs.size(); ++k) u_base.push_back(sim.input(static_cast<int>(k)));
+  const RunState saved = sim.save_state();
+  const RunRestorer restorer(sim, e, saved);
+  // A halved step would be another map: a perturbed step that fails is an error.
+  e.settings.max_step_halvings = 0;
+  const Eigen::VectorXd tol = e.registry.tol;
+  ConsistentState consistent(e);  // its scales: the run's own tolerances
+  e.registry.tol *= kTighten;
+
+  // Y at the current (consistent) state, and X and the formulation's
+  // outputs after the step from it.
+  Eigen::VectorXd y_now(p), x_next(n), y_next(p);
+  const auto read_now = [&] {
+    for (Eigen::Index k = 0; k < p; ++k) {
+      const OutputRef& r = refs[static_cast<size_t>(k)];
+      switch (r.kind) {
+        case OutputKind::coordinate:
+          y_now[k] = e.accepted.z[r.index];
+          break;
+        case OutputKind::coordinate_rate:
+          y_now[k] = e.accepted.zd[r.index];
+          break;
+        case OutputKind::state:
+          y_now[k] = e.states.y_k[r.index];
+          break;
+        case OutputKind::output:
+          y_now[k] = e.registry.outputs[r.index];  // of the state's evaluation
+          break;
+      }
+    }
+  };
+  const auto read_next = [&] {
+    for (Eigen::Index k = 0; k < n; ++k) x_next[k] = slot_value(e, slots[static_cast<size_t>(k)]);
+    for (Eigen::Index k = 0; k < p; ++k) {
+      const OutputRef& r = refs[static_cast<size_t>(k)];
+      y_next[k] = r.kind == OutputKind::output ? e.registry.outputs_k[r.index] : 0.0;
+    }
+  };
+  // One side of a central difference: the perturbed state made consistent,
+  // its outputs, one step.
+  const auto side = [&](const auto& perturb, const char* what) {
+    sim.restore_state(saved);
+    perturb();
+    consistent.make(what);
+    read_now();
+    try {
+      e.step_once();
+    } catch (const SimulationError& err) {
+      throw SimulationError(
+          err.time(), err.step(),
+          std::string("linearize: the step from the state ") + what + " failed: " + err.reason());
+    }
+    read_next();
+  };
+
+  Eigen::MatrixXd phi(n, n), gamma(n, m), c(p, n), d(p, m), g_x(p, n), g_u(p, m);
+  Eigen::VectorXd x_plus(n), y_now_plus(p), y_next_plus(p), widths(n);
+  const auto difference = [&](const auto& perturb, double width, const char* what,
+                              Eigen::MatrixXd& map, Eigen::MatrixXd& direct, Eigen::MatrixXd& after,
+                              Eigen::Index col) {
+    side([&] { perturb(+1.0); }, what);
+    x_plus = x_next;
+    y_now_plus = y_now;
+    y_next_plus = y_next;
+    side([&] { perturb(-1.0); }, what);
+    map.col(col) = (x_plus - x_next) / width;
+    direct.col(col) = (y_now_plus - y_now) / width;
+    after.col(col) = (y_next_plus - y_next) / width;
+  };
+  // A formulation whose unknowns are the coordinates (penalty) has more of
+  // them than the mechanism's degrees of freedom: a coordinate moved alone
+  // leaves the constraints, and its step snaps back (its projections and
+  // penalty forces) with a jump through every state a motion drives. Its
+  // positions and velocities are moved within the constraints' tangent
+  // space, P = I - Phi_z^+ Phi_z at the accepted z: the columns are then
+  // Phi P, which has the eigenvalues of Phi on the constraints (the
+  // mechanism's) and zeros across them (-2/h in A).
+  Eigen::MatrixXd tangent_space;
+  const bool coordinate_unknowns =
+      e.formulation.ops.get_extension != nullptr &&
+      e.formulation.ops.get_extension(e.formulation.self, MH_EXT_COORDINATE_UNKNOWNS) != nullptr;
+  if (coordinate_unknowns && e.n_m == e.N && e.m > 0) {
+    e.kinematics_at(e.accepted.z.data(), e.accepted.zd.data());
+    e.constraints_at_kinematics(false);
+    tangent_space = Eigen::MatrixXd::Identity(e.N, e.N) -
+                    e.cons.phi_z.completeOrthogonalDecomposition().pseudoInverse() * e.cons.phi_z;
+  }
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const StateSlot& s = slots[static_cast<size_t>(k)];
+    const double step = kToleranceMultiple * tol[s.unknown] / (s.rate ? h : 1.0);
+    widths[k] = step;
+    const std::string what = "with " + out.states[static_cast<size_t>(k)].name + " perturbed";
+    const bool within = tangent_space.size() > 0 && s.unknown < e.N;
+    difference(
+        [&](double sign) {
+          if (!within) {
+            slot_value(e, s) += sign * step;
+            return;
+          }
+          Eigen::VectorXd& v = s.rate ? e.xd : e.x;
+          v.head(e.N) += (sign * step) * tangent_space.col(s.unknown);
+        },
+        2.0 * step, what.c_str(), phi, c, g_x, k);
+  }
+  for (Eigen::Index k = 0; k < m; ++k) {
+    const InputSpec& spec = inputs[static_cast<size_t>(k)];
+    const int input = static_cast<int>(k);
+    const double u = u_base[static_cast<size_t>(k)];
+    const double span = spec.min < spec.max ? spec.max - spec.min : 0.0;
+    const double step = kInputFraction * std::max({span, std::abs(u), 1.0});
+    // At a range's end the clamped side is the value itself (one-sided).
+    double taken[2] = {u, u};
+    const std::string what = "with input " + spec.name + " perturbed";
+    difference(
+        [&](double sign) {
+          const double v = u + sign * step;
+          const bool inside = !(spec.min < spec.max) || (v >= spec.min && v <= spec.max);
+          taken[sign > 0 ? 0 : 1] = sim.set_input(input, inside ? v : u);
+        },
+        1.0, what.c_str(), gamma, d, g_u, k);
+    const double width = taken[0] - taken[1];
+    if (!(width > 0.0))
+      throw SimulationError(out.t, out.step,
+                            "linearize: input '" + spec.name + "' cannot be moved from " +
+                                short_number(u) + " " + spec.unit + " within its range");
+    gamma.col(k) /= width;
+    d.col(k) /= width;
+    g_u.col(k) /= width;
+  }
+
+  // The inverse of the trapezoidal rule's map: Phi = (I - hA/2)^-1 (I + hA/2),
+  // Gamma = (I - hA/2)^-1 h B, so A = (2/h)(Phi + I)^-1 (Phi - I) and
+  // B = (2/h)(Phi + I)^-1 Gamma ((Phi + I) and (Phi - I) commute). Solved in
+  // units of the perturbations (S^-1 Phi S: pressures in Pa beside angles in
+  // rad would span 1e12), then scaled back.
+  const Eigen::MatrixXd identity = Eigen::MatrixXd::Identity(n, n);
+  const Eigen::MatrixXd phi_scaled = widths.cwiseInverse().asDiagonal() * phi * widths.asDiagonal();
+  const Eigen::PartialPivLU<Eigen::MatrixXd> plus(phi_scaled + identity);
+  const Eigen::MatrixXd a_scaled = (2.0 / h) * plus.solve(phi_scaled - identity);
+  const Eigen::MatrixXd b_scaled =
+      (2.0 / h) * plus.solve(widths.cwiseInverse().asDiagonal() * gamma);
+  out.A = widths.asDiagonal() * a_scaled * widths.cwiseInverse().asDiagonal();
+  out.B = widths.asDiagonal() * b_scaled;
+  if (!out.A.allFinite() || !out.B.allFinite())
+    throw SimulationError(out.t, out.step,
+                          "linearize: the step's map has an eigenvalue -1 (an oscillation at "
+                          "the step's Nyquist frequency): no continuous A maps to it");
+  // The formulation's outputs are written at accept only: from the step,
+  // Y_{k+1} = C Phi X_k + (C Gamma + D) u, C by least squares (Phi is
+  // nearly singular along the directions a projection removes).
+  for (Eigen::Index k = 0; k < p; ++k) {
+    if (!refs[static_cast<size_t>(k)].formulation) continue;
+    const Eigen::VectorXd row =
+        phi.transpose().completeOrthogonalDecomposition().solve(g_x.row(k).transpose());
+    c.row(k) = row.transpose();
+    d.row(k) = g_u.row(k) - row.transpose() * gamma;
+  }
+  out.C = c;
+  out.D = d;
+  return out;
+}
+
+std::vector<std::complex<double>> eigenvalues(const Eigen::MatrixXd& a) {
+  std::vector<std::complex<double>> values;
+  if (a.size() == 0) return values;
+  const Eigen::EigenSolver<Eigen::MatrixXd> solver(a, false);
+  const Eigen::VectorXcd& v = solver.eigenvalues();
+  values.assign(v.data(), v.data() + v.size());
+  std::sort(values.begin(), values.end(),
+            [](const std::complex<double>& x, const std::complex<double>& y) {
+              return x.real() != y.real() ? x.real() > y.real() : x.imag() > y.imag();
+            });
+  return values;
+}
+
+}  // namespace mh
