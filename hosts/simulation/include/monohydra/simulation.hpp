@@ -1,0 +1,200 @@
+// monohydra's embedding API for C++17 (header-only, over simulation.h): the
+// same calls as objects that free what they own and throw monohydra::Error
+// (the status and the library's message) where the C call returns a status
+// other than MHS_OK or MHS_WARNING. Nothing here is compiled into the
+// library: a program that includes it links monohydra::simulation alone.
+//
+//   monohydra::Simulation sim = monohydra::Simulation::open_file("models/fourbar.yaml");
+//   const uint32_t command = sim.find("valve_command");
+//   while (sim.time() < 10.0) {
+//     sim.set(command, my_controller(sim.get(sim.find("s"))));
+//     sim.step();
+//   }
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "monohydra/simulation.h"
+
+namespace monohydra {
+
+// A call that did not succeed: its status (MHS_ERROR or MHS_FATAL) and why.
+class Error : public std::runtime_error {
+ public:
+  Error(mhs_status status, const std::string& message)
+      : std::runtime_error(message), status_(status) {}
+  mhs_status status() const { return status_; }
+
+ private:
+  mhs_status status_;
+};
+
+// One variable of a run (mhs_variable_info), its strings copied.
+struct Variable {
+  mhs_kind kind = MHS_COORDINATE;
+  std::string name, qualified, unit;
+  double min = 0.0, max = -1.0;  // min > max: no range declared
+};
+
+// The whole state of a run between two steps (mhs_snapshot).
+class Snapshot {
+ public:
+  mhs_snapshot* handle() const { return handle_.get(); }
+
+ private:
+  friend class Simulation;
+  struct Free {
+    void operator()(mhs_snapshot* s) const { mhs_snapshot_free(s); }
+  };
+  explicit Snapshot(mhs_snapshot* s) : handle_(s) {}
+  std::unique_ptr<mhs_snapshot, Free> handle_;
+};
+
+class Simulation {
+ public:
+  using Settings = std::vector<std::pair<std::string, std::string>>;  // {path, value}
+
+  // A model file, with settings over it ({"formulation", "penalty"},
+  // {"subsystems/valve/flow_coefficient", "2e-8"}, ...).
+  static Simulation open_file(const std::string& path, const Settings& settings = {}) {
+    const std::vector<mhs_setting> s = c_settings(settings);
+    mhs_simulation* raw = nullptr;
+    const mhs_status st = mhs_open_file(path.c_str(), s.data(), s.size(), &raw);
+    return opened(st, raw);
+  }
+  // A model's text; `label` names it in messages, `base_dir` resolves its paths.
+  static Simulation open_text(const std::string& yaml, const std::string& label,
+                              const std::string& base_dir, const Settings& settings = {}) {
+    const std::vector<mhs_setting> s = c_settings(settings);
+    mhs_simulation* raw = nullptr;
+    const mhs_status st =
+        mhs_open_text(yaml.c_str(), label.c_str(), base_dir.c_str(), s.data(), s.size(), &raw);
+    return opened(st, raw);
+  }
+
+  void start() { check(mhs_start(get())); }
+  void step() { check(mhs_step(get())); }
+  void advance(double t) { check(mhs_advance(get(), t)); }
+
+  double time() const {
+    double t = 0.0;
+    check(mhs_time(get(), &t, nullptr, nullptr, nullptr));
+    return t;
+  }
+  int64_t steps() const {
+    int64_t n = 0;
+    check(mhs_time(get(), nullptr, &n, nullptr, nullptr));
+    return n;
+  }
+
+  std::vector<Variable> variables() const {
+    uint32_t count = 0;
+    check(mhs_variable_count(get(), &count));
+    std::vector<Variable> out(count);
+    for (uint32_t i = 0; i < count; ++i) {
+      mhs_variable_info info{};
+      info.struct_size = sizeof info;
+      check(mhs_variable(get(), i, &info));
+      out[i] = {info.kind, info.name, info.qualified, info.unit, info.min, info.max};
+    }
+    return out;
+  }
+  // The index of a variable by name (look it up once, outside the loop).
+  uint32_t find(const std::string& name) const {
+    uint32_t index = 0;
+    check(mhs_find(get(), name.c_str(), &index));
+    return index;
+  }
+  double get(uint32_t index) const {
+    double value = 0.0;
+    check(mhs_get(get(), &index, 1, &value));
+    return value;
+  }
+  void set(uint32_t index, double value) { check(mhs_set(get(), &index, 1, &value)); }
+
+  // The row of the last step, as `monohydra run` writes it.
+  std::vector<double> row() const {
+    uint32_t columns = 0;
+    check(mhs_row_size(get(), &columns));
+    std::vector<double> values(columns);
+    check(mhs_row(get(), values.data(), values.size()));
+    return values;
+  }
+  std::string row_text(bool header) const {
+    size_t length = 0;
+    (void)mhs_row_text(get(), header ? 1 : 0, nullptr, 0, &length);  // asks the length: refused
+    std::string text(length + 1, '\0');
+    check(mhs_row_text(get(), header ? 1 : 0, text.data(), text.size(), &length));
+    text.resize(length);
+    return text;
+  }
+
+  // A snapshot of this run's current state; save and restore it again later.
+  Snapshot snapshot() {
+    mhs_snapshot* raw = nullptr;
+    check(mhs_snapshot_new(get(), &raw));
+    Snapshot s(raw);
+    check(mhs_save(get(), s.handle()));
+    return s;
+  }
+  void save(Snapshot& s) { check(mhs_save(get(), s.handle())); }
+  void restore(const Snapshot& s) { check(mhs_restore(get(), s.handle())); }
+  // A snapshot as bytes (for a file, another process) and back.
+  std::vector<unsigned char> bytes(Snapshot& s) {
+    const void* data = nullptr;
+    size_t size = 0;
+    check(mhs_snapshot_bytes(get(), s.handle(), &data, &size));
+    const auto* p = static_cast<const unsigned char*>(data);
+    return std::vector<unsigned char>(p, p + size);
+  }
+  Snapshot snapshot_from(const std::vector<unsigned char>& bytes) {
+    mhs_snapshot* raw = nullptr;
+    check(mhs_snapshot_new(get(), &raw));
+    Snapshot s(raw);
+    check(mhs_snapshot_read(get(), s.handle(), bytes.data(), bytes.size()));
+    return s;
+  }
+
+  // The C handle, for the calls this layer does not wrap (mhs_linearize).
+  mhs_simulation* get() const { return handle_.get(); }
+  // The message of the last call that warned (MHS_WARNING), or "".
+  const std::string& warning() const { return warning_; }
+
+ private:
+  struct Free {
+    void operator()(mhs_simulation* s) const { mhs_free(s); }
+  };
+  explicit Simulation(mhs_simulation* s) : handle_(s) {}
+
+  static std::vector<mhs_setting> c_settings(const Settings& settings) {
+    std::vector<mhs_setting> out;
+    for (const auto& [path, value] : settings) out.push_back({path.c_str(), value.c_str()});
+    return out;
+  }
+  static Simulation opened(mhs_status status, mhs_simulation* raw) {
+    Simulation sim(raw);  // freed by it whatever the status
+    if (status != MHS_OK && status != MHS_WARNING)
+      throw Error(status, raw != nullptr ? mhs_message(raw) : "the model did not open");
+    return sim;
+  }
+  void check(mhs_status status) const {
+    if (status == MHS_OK) return;
+    const char* message = mhs_message(get());
+    if (status == MHS_WARNING) {
+      warning_ = message != nullptr ? message : "";
+      return;
+    }
+    throw Error(status, message != nullptr ? message : "monohydra: a call failed");
+  }
+
+  std::unique_ptr<mhs_simulation, Free> handle_;
+  mutable std::string warning_;
+};
+
+}  // namespace monohydra
