@@ -7,48 +7,11 @@
 
 namespace ctl {
 
-mh_status SignalInput::read(const mh_host* host, const char* key, int required, double fallback,
-                            monohydra::TouchedStates& states) {
-  mh_signal signal{};
-  signal.struct_size = sizeof signal;
-  if (monohydra::signal_port(host, key, required, fallback, &signal) != MH_OK) return MH_ERROR;
-  value_ = signal.value;
-  state_ = signal.state;
-  if (state_ >= 0) states.add(state_);
-  return MH_OK;
-}
-
 mh_status add_signal_state(const mh_host* host, const char* name, const char* unit, double initial,
                            double tolerance, int32_t* index, monohydra::TouchedStates& states) {
   const mh_state_spec spec = monohydra::state_spec(name, unit, initial, tolerance);
   if (monohydra::subsystem_setup(host).add_state(host, &spec, index) != MH_OK) return MH_ERROR;
   states.add(*index);
-  return MH_OK;
-}
-
-mh_status finite_option(const mh_host* host, const char* key, int required, double fallback,
-                        const char* expected, double* out) {
-  if (monohydra::options(host).option_number(host, key, required, fallback, out) != MH_OK)
-    return MH_ERROR;
-  if (!std::isfinite(*out)) return monohydra::options(host).option_error(host, key, expected);
-  return MH_OK;
-}
-
-mh_status positive_option(const mh_host* host, const char* key, int required, double fallback,
-                          const char* expected, double* out) {
-  if (monohydra::options(host).option_number(host, key, required, fallback, out) != MH_OK)
-    return MH_ERROR;
-  if (!(std::isfinite(*out) && *out > 0.0))
-    return monohydra::options(host).option_error(host, key, expected);
-  return MH_OK;
-}
-
-mh_status nonnegative_option(const mh_host* host, const char* key, int required, double fallback,
-                             const char* expected, double* out) {
-  if (monohydra::options(host).option_number(host, key, required, fallback, out) != MH_OK)
-    return MH_ERROR;
-  if (!(std::isfinite(*out) && *out >= 0.0))
-    return monohydra::options(host).option_error(host, key, expected);
   return MH_OK;
 }
 

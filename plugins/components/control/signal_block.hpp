@@ -9,6 +9,8 @@
 #include <cstdint>
 #include <limits>
 
+#include "monohydra/cpp/checked_options.hpp"
+#include "monohydra/cpp/signal_port.hpp"
 #include "monohydra/cpp/touched_states.hpp"
 #include "monohydra/host.h"
 
@@ -16,25 +18,8 @@ namespace ctl {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// A signal input port: its value at each call (written by the host) and the
-// state it reads when it is a state of the run (else -1: a table or an input,
-// a constant of the unknowns within a call).
-class SignalInput {
- public:
-  // Reads option `key` (option_signal_port) and records its state, if any, in
-  // `states` in the host's order.
-  mh_status read(const mh_host* host, const char* key, int required, double fallback,
-                 monohydra::TouchedStates& states);
-  double value() const { return *value_; }
-  // d(row)/d(this input) += slope, when the input is a state.
-  void add(monohydra::JacobianBlock& d_dy, int32_t row, double slope) const {
-    if (state_ >= 0) d_dy.add(row, state_, slope);
-  }
-
- private:
-  const double* value_ = nullptr;
-  int32_t state_ = -1;
-};
+// A signal input port (the SDK's helper): a table, an input or a state.
+using SignalInput = monohydra::SignalPort;
 
 // Declares the block's state `name` (the value it gives other blocks) with
 // tolerance `tolerance` in the option `unit`'s unit; *index receives it and
@@ -43,12 +28,10 @@ mh_status add_signal_state(const mh_host* host, const char* name, const char* un
                            double tolerance, int32_t* index, monohydra::TouchedStates& states);
 
 // Option readers that check the value and report `expected` otherwise.
-mh_status finite_option(const mh_host* host, const char* key, int required, double fallback,
-                        const char* expected, double* out);
-mh_status positive_option(const mh_host* host, const char* key, int required, double fallback,
-                          const char* expected, double* out);
-mh_status nonnegative_option(const mh_host* host, const char* key, int required, double fallback,
-                             const char* expected, double* out);
+using monohydra::finite_option;
+using monohydra::nonnegative_option;
+using monohydra::positive_option;
+
 // The output limits `lower_key` <= `upper_key` (missing: unbounded).
 mh_status limits_option(const mh_host* host, const char* lower_key, const char* upper_key,
                         double* lower, double* upper);

@@ -13,6 +13,7 @@
 #include "example_models.hpp"
 #include "host_services.hpp"
 #include "monohydra/cpp/services.hpp"
+#include "monohydra/cpp/signal_port.hpp"
 #include "monohydra/cpp/touched_states.hpp"
 
 namespace hyd {
@@ -29,13 +30,8 @@ class FlowSource {
 
   mh_status setup() {
     const mh_host* h = host_;
-    mh_signal flow{};
-    flow.struct_size = sizeof flow;
-    if (monohydra::signal_port(h, "flow", 1, 0.0, &flow) != MH_OK) return MH_ERROR;
-    flow_ = flow.value;
-    flow_state_ = flow.state;
-    if (flow_state_ >= 0) states_.add(flow_state_);  // the host touched it first
-    if (!(std::isfinite(*flow_) && *flow_ >= 0.0))
+    if (flow_.read(h, "flow", 1, 0.0, states_) != MH_OK) return MH_ERROR;
+    if (!(std::isfinite(flow_.value()) && flow_.value() >= 0.0))
       return monohydra::options(h).option_error(h, "flow",
                                                 "a non-negative, finite flow (m^3/s) at t = 0");
     if (add_hydraulic_port(h, "p", MH_PORT_FLOW, kNaN, kNaN, &p_) != MH_OK) return MH_ERROR;
@@ -49,7 +45,7 @@ class FlowSource {
   }
 
   mh_status evaluate(const mh_subsystem_eval& eval) const {
-    const double flow = *flow_;  // the signal's, at eval.t
+    const double flow = flow_.value();  // the signal's, at eval.t
     eval.residual[p_] -= flow;
     eval.outputs[q_out_] = flow;
     eval.outputs[power_out_] = eval.y[p_] * flow;
@@ -58,14 +54,14 @@ class FlowSource {
 
   // The row depends on no state but the flow's when that is a signal port's.
   mh_status jacobian(const mh_subsystem_eval&, double* d_dy, double*) const {
-    if (flow_state_ >= 0) monohydra::JacobianBlock(states_, d_dy).add(p_, flow_state_, -1.0);
+    monohydra::JacobianBlock dy(states_, d_dy);
+    flow_.add(dy, p_, -1.0);
     return MH_OK;
   }
 
  private:
   const mh_host* host_;
-  const double* flow_ = nullptr;  // m^3/s: the signal's value, owned by the host
-  int32_t flow_state_ = -1;       // the state it reads (a signal port), or -1
+  monohydra::SignalPort flow_;  // m^3/s: a number, a table, an input or a state
   int32_t p_ = -1, q_out_ = -1, power_out_ = -1;
   monohydra::TouchedStates states_;
 };

@@ -8,15 +8,6 @@
 
 namespace hyd {
 
-mh_status positive_option(const mh_host* host, const char* key, int required, double fallback,
-                          const char* expected, double* out) {
-  if (monohydra::options(host).option_number(host, key, required, fallback, out) != MH_OK)
-    return MH_ERROR;
-  if (!(std::isfinite(*out) && *out > 0.0))
-    return monohydra::options(host).option_error(host, key, expected);
-  return MH_OK;
-}
-
 mh_status add_hydraulic_port(const mh_host* host, const char* key, uint32_t role, double initial,
                              double abs_tolerance, int32_t* index) {
   mh_port_spec spec{};

@@ -5,15 +5,14 @@
 #include <cstdint>
 #include <string>
 
+#include "monohydra/cpp/checked_options.hpp"
 #include "monohydra/cpp/number_text.hpp"
 #include "monohydra/host.h"
 
 namespace hyd {
 
-// Reads option `key` into *out and checks it is finite and > 0, else reports
-// `expected` through option_error. A missing optional key yields `fallback`.
-mh_status positive_option(const mh_host* host, const char* key, int required, double fallback,
-                          const char* expected, double* out);
+// Option `key`, finite and > 0, else reported with `expected` (SDK helper).
+using monohydra::positive_option;
 
 // Declares a hydraulic port (domain "hydraulic", effort = pressure in Pa):
 // *index receives the node's pressure state.

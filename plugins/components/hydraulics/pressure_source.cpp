@@ -10,6 +10,7 @@
 #include "example_models.hpp"
 #include "host_services.hpp"
 #include "monohydra/cpp/services.hpp"
+#include "monohydra/cpp/signal_port.hpp"
 #include "monohydra/cpp/touched_states.hpp"
 
 namespace hyd {
@@ -25,13 +26,8 @@ class PressureSource {
   mh_status setup() {
     const mh_host* h = host_;
     double tolerance = 0.0, flow_tolerance = 0.0;
-    mh_signal pressure{};
-    pressure.struct_size = sizeof pressure;
-    if (monohydra::signal_port(h, "pressure", 1, 0.0, &pressure) != MH_OK) return MH_ERROR;
-    pressure_ = pressure.value;
-    pressure_state_ = pressure.state;
-    if (pressure_state_ >= 0) states_.add(pressure_state_);  // the host touched it first
-    if (!(std::isfinite(*pressure_) && *pressure_ >= 0.0))
+    if (pressure_.read(h, "pressure", 1, 0.0, states_) != MH_OK) return MH_ERROR;
+    if (!(std::isfinite(pressure_.value()) && pressure_.value() >= 0.0))
       return monohydra::options(h).option_error(h, "pressure",
                                                 "a non-negative pressure (Pa) at t = 0");
     if (positive_option(h, "tolerance", 0, 1e-2, "a positive pressure tolerance (Pa)",
@@ -39,7 +35,7 @@ class PressureSource {
         positive_option(h, "flow_tolerance", 0, 1e-10, "a positive flow tolerance (m^3/s)",
                         &flow_tolerance) != MH_OK)
       return MH_ERROR;
-    if (add_hydraulic_port(h, "p", MH_PORT_EFFORT, *pressure_, tolerance, &p_) != MH_OK)
+    if (add_hydraulic_port(h, "p", MH_PORT_EFFORT, pressure_.value(), tolerance, &p_) != MH_OK)
       return MH_ERROR;
     states_.add(p_);
     const mh_state_spec q = monohydra::state_spec("q", "m^3/s", 0.0, flow_tolerance);
@@ -50,7 +46,7 @@ class PressureSource {
 
   mh_status evaluate(const mh_subsystem_eval& eval) const {
     eval.residual[p_] -= eval.y[q_];
-    eval.residual[q_] += eval.y[p_] - *pressure_;  // the signal's, at eval.t
+    eval.residual[q_] += eval.y[p_] - pressure_.value();  // the signal's, at eval.t
     return MH_OK;
   }
 
@@ -58,14 +54,13 @@ class PressureSource {
     monohydra::JacobianBlock dy(states_, d_dy);
     dy.add(p_, q_, -1.0);
     dy.add(q_, p_, 1.0);
-    if (pressure_state_ >= 0) dy.add(q_, pressure_state_, -1.0);
+    pressure_.add(dy, q_, -1.0);
     return MH_OK;
   }
 
  private:
   const mh_host* host_;
-  const double* pressure_ = nullptr;  // Pa: the signal's value, owned by the host
-  int32_t pressure_state_ = -1;       // the state it reads (a signal port), or -1
+  monohydra::SignalPort pressure_;  // Pa: a number, a table, an input or a state
   int32_t p_ = -1, q_ = -1;
   monohydra::TouchedStates states_;
 };

@@ -15,6 +15,7 @@
 
 #include "host_services.hpp"
 #include "monohydra/cpp/services.hpp"
+#include "monohydra/cpp/signal_port.hpp"
 #include "monohydra/cpp/specs.hpp"
 #include "monohydra/cpp/touched_states.hpp"
 
@@ -25,19 +26,14 @@ class Spool {
   // Reads the options, declares U and U_ref, adds U to `states`.
   mh_status setup(const mh_host* h, monohydra::TouchedStates& states) {
     double u0 = 0.0, tolerance = 0.0;
-    mh_signal reference{};
-    reference.struct_size = sizeof reference;
     if (positive_option(h, "time_constant", 1, 0.0, "a positive spool time constant tau (s)",
                         &tau_) != MH_OK ||
-        monohydra::signal_port(h, "reference", 1, 0.0, &reference) != MH_OK ||
+        reference_.read(h, "reference", 1, 0.0, states) != MH_OK ||
         monohydra::options(h).option_number(h, "initial_spool", 0, 0.0, &u0) != MH_OK ||
         positive_option(h, "tolerance", 0, 1e-7, "a positive spool tolerance (V)", &tolerance) !=
             MH_OK ||
         positive_option(h, "spool_limit", 0, 10.0, "a positive spool limit (V)", &limit_) != MH_OK)
       return MH_ERROR;
-    reference_ = reference.value;
-    reference_state_ = reference.state;
-    if (reference_state_ >= 0) states.add(reference_state_);  // the host touched it first
     if (!std::isfinite(u0))
       return monohydra::options(h).option_error(h, "initial_spool", "a finite spool position (V)");
     mh_state_spec spool = monohydra::state_spec("U", "V", u0, tolerance);
@@ -54,21 +50,22 @@ class Spool {
   double limit() const { return limit_; }
 
   void evaluate(const mh_subsystem_eval& eval) const {
-    const double u_ref = std::clamp(*reference_, -limit_, limit_);     // the host's, at eval.t
-    eval.residual[u_] += tau_ * eval.ydot[u_] - (u_ref - eval.y[u_]);  // Eq. 27
+    const double u_ref = std::clamp(reference_.value(), -limit_, limit_);  // the host's, at eval.t
+    eval.residual[u_] += tau_ * eval.ydot[u_] - (u_ref - eval.y[u_]);      // Eq. 27
     eval.outputs[u_ref_out_] = u_ref;
   }
   void jacobian(const monohydra::TouchedStates& states, double* d_dy, double* d_dydot) const {
     monohydra::JacobianBlock(states, d_dy).add(u_, u_, 1.0);
-    if (reference_state_ >= 0 && std::abs(*reference_) < limit_)  // a signal port's state
-      monohydra::JacobianBlock(states, d_dy).add(u_, reference_state_, -1.0);
+    if (std::abs(reference_.value()) < limit_) {  // a signal port's state: -dU_ref/dstate
+      monohydra::JacobianBlock dy(states, d_dy);
+      reference_.add(dy, u_, -1.0);
+    }
     monohydra::JacobianBlock(states, d_dydot).add(u_, u_, tau_);
   }
 
  private:
   double tau_ = 0.0, limit_ = 10.0;
-  const double* reference_ = nullptr;  // the signal's value (mh_signal), owned by the host
-  int32_t reference_state_ = -1;       // the state it reads (a signal port), or -1
+  monohydra::SignalPort reference_;  // a table, an input or a state of the run
   int32_t u_ = -1, u_ref_out_ = -1;
 };
 
