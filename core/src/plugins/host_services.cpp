@@ -528,19 +528,17 @@ mh_status read_signal(const mh_host* host, const char* what, bool port, const ch
                                    "a state 'instance.state' of an instance above"
                                  : "a number, a table of rows [t (s), value] or an input's name";
   Signal signal;
-  if (v == nullptr) {
-    if (required != 0) return missing(h, key, kinds.c_str());
-    const double constant[2] = {0.0, fallback};
-    std::string unused;
-    signal.table.assign(constant, 1, unused);
-  } else if (v->kind == OptionValue::Kind::number) {
-    // A number is a constant signal: what the option was before it was a port.
-    if (!std::isfinite(v->number))
+  if (v == nullptr || v->kind == OptionValue::Kind::number) {
+    if (v == nullptr && required != 0) return missing(h, key, kinds.c_str());
+    // A number is a constant signal (what the option was before it was a
+    // port), as is a missing one's fallback: written once, never refreshed.
+    if (v != nullptr && !std::isfinite(v->number))
       return report(h, v->mark, key,
                     "expected a finite number or " + kinds + ", got '" + v->text + "'");
-    const double constant[2] = {0.0, v->number};
-    std::string unused;
-    signal.table.assign(constant, 1, unused);
+    signals.values.push_back(v != nullptr ? v->number : fallback);
+    out->value = &signals.values.back();
+    if (out->struct_size >= offsetof(mh_signal, state) + sizeof(out->state)) out->state = -1;
+    return MH_OK;
   } else if (v->kind == OptionValue::Kind::string) {
     signal.input = signals.find_input(v->text);
     const int state = signal.input < 0 ? state_named(e, v->text) : -1;
