@@ -26,6 +26,11 @@ class SignalPort {
     mh_signal signal{};
     signal.struct_size = sizeof signal;
     if (signal_port(host, key, required, fallback, &signal) != MH_OK) return MH_ERROR;
+    if (signal.value == nullptr) {  // a host that broke its contract
+      if (host != nullptr && host->log != nullptr)
+        host->log(host, MH_LOG_ERROR, "the host gave a signal port no value");
+      return MH_ERROR;
+    }
     value_ = signal.value;
     state_ = signal.state;
     if (state_ >= 0) states.add(state_);  // the host touched it at this call
@@ -41,7 +46,8 @@ class SignalPort {
   }
 
  private:
-  const double* value_ = nullptr;
+  static constexpr double kUnread = 0.0;  // the value before read()
+  const double* value_ = &kUnread;
   int32_t state_ = -1;
 };
 
