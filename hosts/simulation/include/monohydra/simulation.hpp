@@ -118,6 +118,35 @@ class Simulation {
   }
   void set(uint32_t index, double value) { check(mhs_set(get(), &index, 1, &value)); }
 
+  // The row's column names, and whether the last step is one the run writes
+  // a row at (t = 0 and every output interval).
+  std::vector<std::string> row_names() const {
+    uint32_t columns = 0;
+    check(mhs_row_size(get(), &columns));
+    std::vector<std::string> names(columns);
+    for (uint32_t c = 0; c < columns; ++c) {
+      const char* name = nullptr;
+      check(mhs_row_name(get(), c, &name));
+      names[c] = name;
+    }
+    return names;
+  }
+  bool row_due() const {
+    int32_t due = 0;
+    check(mhs_row_due(get(), &due));
+    return due != 0;
+  }
+  double dt() const {
+    double dt = 0.0;
+    check(mhs_time(get(), nullptr, nullptr, &dt, nullptr));
+    return dt;
+  }
+  double t_end() const {
+    double t_end = 0.0;
+    check(mhs_time(get(), nullptr, nullptr, nullptr, &t_end));
+    return t_end;
+  }
+
   // The row of the last step, as `monohydra run` writes it.
   std::vector<double> row() const {
     uint32_t columns = 0;

@@ -1,0 +1,163 @@
+"""import monohydra (hosts/python): its results are the command line's CSV
+byte for byte, a PI loop written in Python holds the four-bar's boom, snapshots
+restore and pickle to the bit, errors carry the command line's messages, and
+four threads give the serial results."""
+
+import os
+import pickle
+import subprocess
+import threading
+
+import numpy as np
+import pytest
+
+import monohydra
+
+SOURCE = os.environ["MH_SOURCE_DIR"]
+EXECUTABLE = os.environ["MH_EXECUTABLE"]
+
+
+def model(name):
+    return os.path.join(SOURCE, "models", name)
+
+
+def cli(*args):
+    return subprocess.run([EXECUTABLE, *args], capture_output=True, text=True)
+
+
+@pytest.mark.parametrize("name", ["fourbar.yaml", "quickreturn.yaml"])
+@pytest.mark.parametrize("formulation", ["double-step", "penalty"])
+def test_results_are_the_command_lines_csv_byte_for_byte(tmp_path, name, formulation):
+    reference = tmp_path / "cli.csv"
+    done = cli("run", model(name), "--formulation", formulation, "--out", str(reference))
+    assert done.returncode == 0, done.stderr
+    res = monohydra.Simulation(model(name), formulation=formulation).run()
+    ours = tmp_path / "python.csv"
+    res.to_csv(ours)
+    assert ours.read_bytes() == reference.read_bytes()
+    # The columns as NumPy arrays: the CSV's numbers, parsed back.
+    table = np.loadtxt(reference, delimiter=",", skiprows=1)
+    assert res.columns == reference.read_text().splitlines()[0].split(",")
+    assert res["z1"].dtype == np.float64
+    assert np.array_equal(res.t, table[:, 0])
+    assert np.array_equal(res[res.columns[1]], table[:, 1])
+    assert res.units["t"] == "s" and res.units["z1"] == "rad"
+
+
+def test_a_python_pi_loop_on_the_valve_settles_within_1e4_metres():
+    sim = monohydra.Simulation(model("fourbar.yaml"))
+    sim.start()
+    s0 = sim.value("s")
+    kp, ki = 600.0, 500.0  # V/m, V/(m s): as models/fourbar-position-control.yaml
+    integral, dt = 0.0, sim.dt
+    while sim.time < 10.0 - 0.5 * dt:
+        setpoint = 0.02 if sim.time >= 1.0 - 1e-9 else 0.0
+        e = setpoint - (sim.value("s") - s0)
+        v = kp * e + integral
+        u = min(max(v, -10.0), 10.0)
+        integral += dt * (ki * e + (u - v) * ki / kp)  # back-calculation, Tt = kp/ki
+        sim.set_input("valve_command", u)
+        sim.step()
+    assert abs(sim.value("s") - s0 - 0.02) < 1e-4
+    assert abs(sim.value("sdot")) < 1e-4
+
+
+def test_snapshots_restore_and_pickle_to_the_bit(tmp_path):
+    sim = monohydra.Simulation(model("fourbar.yaml"), formulation="penalty")
+    sim.advance(4.0)
+    snap = sim.snapshot()
+    first = sim.run(10.0)
+    again = pickle.loads(pickle.dumps(snap))
+    assert again == snap
+    sim.restore(again)
+    assert sim.time == 4.0
+    second = sim.run(10.0)
+    assert np.array_equal(first._values, second._values)
+    # In a fresh instance (as in another process: the bytes are all it gets).
+    other = monohydra.Simulation(model("fourbar.yaml"), formulation="penalty")
+    other.restore(pickle.loads(pickle.dumps(snap)))
+    third = other.run(10.0)
+    assert np.array_equal(first._values, third._values)
+    a, b = tmp_path / "a.csv", tmp_path / "b.csv"
+    first.to_csv(a)
+    third.to_csv(b)
+    assert a.read_bytes().splitlines()[1:] == b.read_bytes().splitlines()[1:]
+
+
+def test_a_snapshot_of_another_model_is_refused_with_the_reason():
+    snap = monohydra.Simulation(model("fourbar.yaml")).snapshot()
+    other = monohydra.Simulation(model("quickreturn.yaml"))
+    with pytest.raises(monohydra.InputError, match="another"):
+        other.restore(snap)
+    with pytest.raises(monohydra.InputError):
+        other.restore(monohydra.Snapshot(b"not a snapshot"))
+
+
+def test_a_bad_model_raises_the_command_lines_message_with_file_and_line(tmp_path):
+    text = open(model("fourbar.yaml")).read().replace("mass: 225", "mass: -225")
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(text)
+    done = cli("validate", str(bad))
+    assert done.returncode != 0
+    message = done.stderr.strip().splitlines()[0].removeprefix("monohydra: ")
+    assert str(bad) + ":" in message
+    with pytest.raises(monohydra.InputError) as raised:
+        monohydra.Simulation(str(bad))
+    assert message in str(raised.value)
+    assert isinstance(raised.value, monohydra.Error)
+
+
+def test_unknown_names_and_bad_values_raise_input_error_naming_them():
+    sim = monohydra.Simulation(model("fourbar.yaml"))
+    sim.start()
+    with pytest.raises(monohydra.InputError, match="'boom'"):
+        sim.value("boom")
+    with pytest.raises(monohydra.InputError, match="'boom'"):
+        sim.set_input("boom", 1.0)
+    with pytest.raises(monohydra.InputError, match="outside"):
+        sim.set_input("valve_command", 11.0)
+    with pytest.raises(monohydra.InputError):
+        sim.set_input("valve_command", float("nan"))
+    with pytest.raises(monohydra.InputError, match="formulation"):
+        monohydra.Simulation(model("fourbar.yaml"), formulation="no-such-formulation")
+    with pytest.raises(monohydra.InputError, match="subsystems/valve/no_such_option"):
+        monohydra.Simulation(model("fourbar.yaml"), options={"subsystems/valve/no_such_option": 1})
+
+
+def test_a_failed_run_raises_simulation_error_with_the_time_and_step():
+    # One Newton iteration per step cannot close the four-bar's loop once it moves.
+    sim = monohydra.Simulation(model("fourbar.yaml"), options={"solver/max_iterations": 1})
+    with pytest.raises(monohydra.SimulationError, match=r"t = [0-9.e-]+ s, step [0-9]+") as raised:
+        sim.run()
+    assert "converge" in str(raised.value)
+    with pytest.raises(monohydra.SimulationError, match="restore a snapshot"):
+        sim.step()
+
+
+def test_four_threads_give_the_serial_results():
+    def run(formulation):
+        return monohydra.Simulation(model("fourbar.yaml"), formulation=formulation, t_end=3.0).run()
+
+    formulations = ["double-step", "penalty", "double-step", "penalty"]
+    serial = [run(f) for f in formulations]
+    parallel = [None] * 4
+
+    def work(k):
+        parallel[k] = run(formulations[k])
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for a, b in zip(serial, parallel):
+        assert np.array_equal(a._values, b._values)
+
+
+def test_lists_inputs_outputs_and_columns_with_units_and_ranges():
+    sim = monohydra.Simulation(model("fourbar.yaml"))
+    (valve,) = sim.inputs
+    assert valve.name == "valve_command" and valve.unit == "V" and valve.range == (-10.0, 10.0)
+    assert "s" in [o.name for o in sim.outputs]
+    assert [c.name for c in sim.coordinates] == ["z1", "z2", "z3"]
+    assert sim.columns[0] == "t" and "p1" in sim.columns
