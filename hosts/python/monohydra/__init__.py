@@ -5,6 +5,7 @@ value, run it to a NumPy table, save and restore the whole run.
     res = monohydra.Simulation("models/fourbar.yaml").run()
     res["z1"], res.t            # float64 NumPy arrays
     res.to_csv("fourbar.csv")   # exactly `monohydra run`'s CSV
+    monohydra.compare("models/fourbar.yaml", formulations=["double-step", "penalty"])
 
 A thin layer over the embedding API (docs/embedding.md, docs/python.md):
 every call that steps releases the GIL, so one Simulation per thread runs
@@ -14,7 +15,12 @@ failed (the run keeps its last accepted state; restore a snapshot to go on),
 with the command line's messages (file:line included).
 """
 
+import csv
 import os
+import shutil
+import subprocess
+import tempfile
+import time as _time
 from typing import Dict, List, NamedTuple, Optional, Union
 
 import numpy as np
@@ -37,6 +43,8 @@ for _error in (Error, InputError, SimulationError):
 
 __all__ = [
     "Simulation",
+    "compare",
+    "sweep",
     "Results",
     "Snapshot",
     "Variable",
@@ -273,3 +281,111 @@ class Simulation:
 
 
 _ROW_UNITS = {"t": "s", "KE": "J", "PE": "J", "W": "J", "drift": "J", "phi_norm": "", "iters": ""}
+
+
+def _metrics(res: Results, wall: float, dt: float) -> dict:
+    """The comparison table's numbers of one run (docs/compare.md), from its
+    rows as `monohydra compare` computes them."""
+    t, iters, drift, work = res.t, res["iters"], res["drift"], res["W"]
+    steps = len(res) - 1
+    peak = int(np.argmax(np.abs(drift)))
+    max_work = float(np.max(np.abs(work)))
+    return {
+        "steps": int(round(t[-1] / dt)),
+        "avg_iterations": float(np.mean(iters[1:])) if steps > 0 else 0.0,
+        "max_iterations": int(np.max(iters[1:])) if steps > 0 else 0,
+        "wall_seconds": wall,
+        "peak_abs_drift": float(abs(drift[peak])),
+        "peak_drift_time": float(t[peak]),
+        "max_abs_work": max_work,
+        "drift_percent": float(abs(drift[peak]) / max_work * 100.0) if max_work > 0 else None,
+        "max_phi_norm": float(np.max(res["phi_norm"])),
+    }
+
+
+def compare(
+    model: Union[str, os.PathLike],
+    formulations: Optional[List[str]] = None,
+    integrators: Optional[List[str]] = None,
+    dt: Optional[float] = None,
+    t_end: Optional[float] = None,
+) -> List[dict]:
+    """Every formulation with every integrator on the model (None: the model
+    file's own), as `monohydra compare` runs them: one dict per run with its
+    table's numbers (steps, avg_iterations, max_iterations, wall_seconds,
+    peak_abs_drift, peak_drift_time, max_abs_work, drift_percent,
+    max_phi_norm) and, against the first run (the reference), max_abs_dz and
+    max_abs_dp (per pressure state). A run that fails has status "failed" and
+    its reason; the others "ok"."""
+    table, reference = [], None
+    for formulation in formulations or [None]:
+        for integrator in integrators or [None]:
+            sim = Simulation(model, formulation=formulation, integrator=integrator, dt=dt,
+                             t_end=t_end)
+            entry = {"formulation": formulation, "integrator": integrator}
+            start = _time.perf_counter()
+            try:
+                res = sim.run()
+            except SimulationError as err:
+                entry.update(status="failed", reason=str(err))
+                table.append(entry)
+                continue
+            entry.update(status="ok", **_metrics(res, _time.perf_counter() - start, sim.dt))
+            pressures = [v.name for v in sim.states if v.unit == "Pa" and v.name in res]
+            if reference is None:
+                reference = (res, sim.coordinates, pressures)
+            ref, coordinates, _ = reference
+            rows = min(len(res), len(ref))
+            entry["max_abs_dz"] = max(
+                (float(np.max(np.abs(res[c.name][:rows] - ref[c.name][:rows])))
+                 for c in coordinates if c.name in res and c.name in ref), default=None)
+            entry["max_abs_dp"] = {
+                p: float(np.max(np.abs(res[p][:rows] - ref[p][:rows])))
+                for p in pressures if p in ref}
+            table.append(entry)
+    return table
+
+
+def _command_line() -> str:
+    """The monohydra executable beside this module's build or install."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    for candidate in (
+        os.environ.get("MONOHYDRA_EXECUTABLE", ""),
+        os.path.join(here, "..", "..", "bin", "monohydra"),              # build/python/monohydra
+        os.path.join(here, "..", "..", "..", "..", "bin", "monohydra"),  # lib/python3.X/dist-packages
+    ):
+        if candidate and os.access(candidate, os.X_OK):
+            return os.path.normpath(candidate)
+    found = shutil.which("monohydra")
+    if found:
+        return found
+    raise Error("monohydra.sweep: the monohydra command was not found beside the module, on "
+                "PATH or in MONOHYDRA_EXECUTABLE")
+
+
+def sweep(study: Union[str, os.PathLike], jobs: Optional[int] = None,
+          out: Optional[Union[str, os.PathLike]] = None) -> Dict[str, np.ndarray]:
+    """Runs a study file's cases as `monohydra sweep` does (on `jobs` local
+    workers; into `out`, a temporary folder when None) and returns its table
+    DIR/results.csv: one entry per column, numbers as float64 NumPy arrays
+    (empty cells NaN), text columns (a failed case's reason) as lists."""
+    folder = os.fspath(out) if out is not None else tempfile.mkdtemp(prefix="monohydra-sweep-")
+    command = [_command_line(), "sweep", os.fspath(study), "--out", folder]
+    if jobs is not None:
+        command += ["--jobs", str(int(jobs))]
+    done = subprocess.run(command, capture_output=True, text=True)
+    if done.returncode != 0:
+        message = (done.stderr or done.stdout).strip()
+        raise (InputError if done.returncode == 2 else SimulationError)(message)
+    with open(os.path.join(folder, "results.csv"), newline="", encoding="utf-8") as f:
+        rows = list(csv.DictReader(f))
+    if out is None:
+        shutil.rmtree(folder, ignore_errors=True)
+    table: Dict[str, object] = {}
+    for name in (rows[0].keys() if rows else []):
+        cells = [r[name] for r in rows]
+        try:
+            table[name] = np.array([float(c) if c != "" else np.nan for c in cells])
+        except ValueError:
+            table[name] = cells
+    return table

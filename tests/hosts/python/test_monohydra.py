@@ -3,6 +3,7 @@ byte for byte, a PI loop written in Python holds the four-bar's boom, snapshots
 restore and pickle to the bit, errors carry the command line's messages, and
 four threads give the serial results."""
 
+import csv
 import os
 import pickle
 import subprocess
@@ -161,3 +162,54 @@ def test_lists_inputs_outputs_and_columns_with_units_and_ranges():
     assert "s" in [o.name for o in sim.outputs]
     assert [c.name for c in sim.coordinates] == ["z1", "z2", "z3"]
     assert sim.columns[0] == "t" and "p1" in sim.columns
+
+
+def table_value(text, label, column):
+    """A number of `monohydra compare`'s printed table: the row starting with
+    `label`, its `column`-th value (0: the first run's)."""
+    for line in text.splitlines():
+        if line.startswith(label + " "):
+            cells = line[len(label):].split()
+            return float(cells[column])
+    raise AssertionError(f"no row '{label}' in\n{text}")
+
+
+def test_compare_gives_the_numbers_of_the_command_lines_table():
+    done = cli("compare", model("fourbar.yaml"), "--formulations", "double-step,penalty",
+               "--t-end", "3")
+    assert done.returncode == 0, done.stderr
+    table = monohydra.compare(model("fourbar.yaml"), formulations=["double-step", "penalty"],
+                              t_end=3.0)
+    assert [r["formulation"] for r in table] == ["double-step", "penalty"]
+    for k, run in enumerate(table):
+        column = 2 * k  # each run is followed by the paper's column
+        assert run["status"] == "ok"
+        assert run["steps"] == table_value(done.stdout, "steps", column) == 3000
+        for label, key in [("Newton iterations avg", "avg_iterations"),
+                           ("peak |drift| (J)", "peak_abs_drift"),
+                           ("max |W| (J)", "max_abs_work"), ("max phi_norm", "max_phi_norm")]:
+            printed = table_value(done.stdout, label, column)
+            assert run[key] == pytest.approx(printed, rel=1e-3, abs=1e-12), label
+    printed_dz = table_value(done.stdout, "max |dz| from double-step", 2)
+    assert table[1]["max_abs_dz"] == pytest.approx(printed_dz, rel=1e-3)
+    assert table[0]["max_abs_dz"] == 0.0
+    assert table[1]["max_abs_dp"]["p1"] == pytest.approx(
+        table_value(done.stdout, "max |dp1| from double-step (Pa)", 2), rel=1e-3)
+
+
+def test_sweep_returns_the_study_table(tmp_path):
+    study = os.path.join(SOURCE, "studies", "smoke.yaml")
+    table = monohydra.sweep(study, jobs=2, out=tmp_path / "smoke")
+    with open(tmp_path / "smoke" / "results.csv") as f:
+        header = f.readline().strip().split(",")
+    assert list(table) == header
+    assert len(table["case"]) == 6
+    assert list(table["status"]).count("ok") == 5  # the negative flow coefficient is refused
+    assert table["peak_drift_J"].dtype == np.float64
+    # The numbers are the file's, parsed independently.
+    with open(tmp_path / "smoke" / "results.csv") as f:
+        parsed = [float(r["max_p1"]) if r["max_p1"] else np.nan for r in csv.DictReader(f)]
+    assert np.array_equal(table["max_p1"], np.array(parsed), equal_nan=True)
+    assert table["formulation/name"][1] == "penalty"
+    with pytest.raises(monohydra.InputError, match="no-such-study.yaml"):
+        monohydra.sweep(tmp_path / "no-such-study.yaml")
