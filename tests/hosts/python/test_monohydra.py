@@ -125,11 +125,19 @@ def test_unknown_names_and_bad_values_raise_input_error_naming_them():
         monohydra.Simulation(model("fourbar.yaml"), options={"subsystems/valve/no_such_option": 1})
 
 
-def test_a_failed_run_raises_simulation_error_with_the_time_and_step():
+def test_a_failed_run_raises_simulation_error_with_the_command_lines_message(tmp_path):
     # One Newton iteration per step cannot close the four-bar's loop once it moves.
-    sim = monohydra.Simulation(model("fourbar.yaml"), options={"solver/max_iterations": 1})
+    text = open(model("fourbar.yaml")).read().replace("max_iterations: 25", "max_iterations: 1")
+    failing = tmp_path / "one-iteration.yaml"
+    failing.write_text(text)
+    done = cli("run", str(failing))
+    assert done.returncode == 1
+    line = [l for l in done.stderr.splitlines() if "simulation failed at " in l][0]
+    message = line.split("simulation failed at ", 1)[1]
+    sim = monohydra.Simulation(str(failing))
     with pytest.raises(monohydra.SimulationError, match=r"t = [0-9.e-]+ s, step [0-9]+") as raised:
         sim.run()
+    assert message in str(raised.value)
     assert "converge" in str(raised.value)
     with pytest.raises(monohydra.SimulationError, match="restore a snapshot"):
         sim.step()
