@@ -42,7 +42,8 @@ foreach(doc sdk plugin-guide integrators hydraulics formulations model-format)
   endif()
 endforeach()
 # The full install holds the shipped plugins, the host's own libraries (the
-# sweep's MPI transport) and nothing built for tests (tests/fixtures: broken
+# sweep's MPI transport, the embedding library and its Python module) and
+# nothing built for tests (tests/fixtures: broken
 # on purpose, never installed).
 run(${CMAKE_COMMAND} --install ${BINARY_DIR} --prefix ${OUT}/full)
 file(GLOB_RECURSE libraries RELATIVE ${OUT}/full ${OUT}/full/*.so)
@@ -50,7 +51,8 @@ foreach(library ${libraries})
   if(NOT library MATCHES "^lib/monohydra/plugins/monohydra-[a-z-]+\\.so$" AND
      NOT library STREQUAL "lib/monohydra/libmonohydra_sweep_mpi.so" AND
      NOT library STREQUAL "lib/libmonohydra_testhost.so" AND
-     NOT library STREQUAL "lib/libmonohydra_simulation.so")
+     NOT library STREQUAL "lib/libmonohydra_simulation.so" AND
+     NOT library MATCHES "^lib/python3\\.[0-9]+/dist-packages/monohydra/_monohydra\\.[^/]+\\.so$")
     message(FATAL_ERROR "cmake --install installs ${library}, which is not a shipped plugin")
   endif()
 endforeach()

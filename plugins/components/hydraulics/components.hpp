@@ -16,5 +16,6 @@ extern const monohydra::SubsystemComponent kReliefValve;     // relief_valve.cpp
 extern const monohydra::SubsystemComponent kCheckValve;      // check_valve.cpp
 extern const monohydra::SubsystemComponent kHydraulicMotor;  // hydraulic_motor.cpp
 extern const monohydra::SubsystemComponent kValveTable;      // valve_table.cpp
+extern const monohydra::SubsystemComponent kHose;            // hose.cpp
 
 }  // namespace hyd

@@ -21,6 +21,22 @@ formulation: open-loop
 solver: {dt: 0.001, t_end: 1}
 )";
 
+// A 10 m hose from a pump to a small volume that drains through a throttle.
+inline constexpr const char* kHoseExample = R"(units: {length: m, mass: kg, time: s, angle: rad}
+gravity: [0, 0, 0]
+bodies:
+  - {name: slider, parent: ground, joint: {type: prismatic, at: [0, 0, 0], axis: [1, 0, 0]},
+     mass: 1.0, com: [0, 0, 0], inertia: [1, 1, 1]}
+subsystems:
+  - {name: pump, type: pressure-source, ports: {p: s}, pressure: 8e6}
+  - {name: hose, type: hose, ports: {a: s, b: end}, length: 10, inner_diameter: 0.012, density: 850, viscosity: 0.03, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, segments: 5, initial_pressure: 8e6}
+  - {name: end, type: volume, ports: {p: end}, volume: 1e-5, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9}
+  - {name: drain, type: throttle, ports: {a: end, b: tank}, area: 1e-6, discharge_coefficient: 0.7, density: 850}
+  - {name: tank, type: pressure-source, ports: {p: tank}, pressure: 1e5}
+formulation: open-loop
+solver: {dt: 0.0001, t_end: 0.05}
+)";
+
 // A hose charged from a pump through a check valve.
 inline constexpr const char* kCheckValveExample =
     R"(units: {length: m, mass: kg, time: s, angle: rad}
