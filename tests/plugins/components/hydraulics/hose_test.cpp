@@ -73,7 +73,7 @@ TEST(Hose, APressureStepReachesTheClosedEndAfterLOverCWithin4Percent) {
   const std::vector<double> up = upward_crossings(20, 0.0);
   ASSERT_GE(up.size(), 1u);
   const double travel = kL / wave_speed();  // 11.9 ms
-  EXPECT_GT(up[0] - kT0, travel);  // never early: no part of the front outruns c
+  EXPECT_GT(up[0] - kT0, travel);           // never early: no part of the front outruns c
   EXPECT_NEAR(up[0] - kT0, travel, 0.04 * travel);
 }
 
