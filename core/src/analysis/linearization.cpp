@@ -291,8 +291,10 @@ class ConsistentState {
     }
     J = row_scale_.asDiagonal() * J;
     full_ = std::make_unique<Eigen::FullPivLU<Eigen::MatrixXd>>(J);
-    states_ =
-        std::make_unique<Eigen::FullPivLU<Eigen::MatrixXd>>(J.bottomRightCorner(e.n_s, e.n_s));
+    // No subsystem states: no LU of an empty block (Eigen asserts on its norm).
+    if (e.n_s > 0)
+      states_ =
+          std::make_unique<Eigen::FullPivLU<Eigen::MatrixXd>>(J.bottomRightCorner(e.n_s, e.n_s));
     if (!full_->isInvertible() || (e.n_s > 0 && !states_->isInvertible()))
       throw SimulationError(e.accepted.t, e.accepted.step,
                             "linearize: the rows do not determine the rates at the accepted "
@@ -521,8 +523,10 @@ Linearization linearize(Simulation& sim, const std::vector<std::string>& output_
   const Eigen::MatrixXd phi_scaled = widths.cwiseInverse().asDiagonal() * phi * widths.asDiagonal();
   const Eigen::PartialPivLU<Eigen::MatrixXd> plus(phi_scaled + identity);
   const Eigen::MatrixXd a_scaled = (2.0 / h) * plus.solve(phi_scaled - identity);
+  // No inputs: B has no columns (and an empty solve reads a null matrix).
   const Eigen::MatrixXd b_scaled =
-      (2.0 / h) * plus.solve(widths.cwiseInverse().asDiagonal() * gamma);
+      m == 0 ? Eigen::MatrixXd(n, 0)
+             : Eigen::MatrixXd((2.0 / h) * plus.solve(widths.cwiseInverse().asDiagonal() * gamma));
   out.A = widths.asDiagonal() * a_scaled * widths.cwiseInverse().asDiagonal();
   out.B = widths.asDiagonal() * b_scaled;
   if (!out.A.allFinite() || !out.B.allFinite())
