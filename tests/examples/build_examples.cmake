@@ -42,7 +42,8 @@ foreach(doc sdk plugin-guide integrators hydraulics formulations model-format)
   endif()
 endforeach()
 # The full install holds the shipped plugins, the host's own libraries (the
-# sweep's MPI transport, the embedding library and its Python module) and
+# sweep's MPI transport, the embedding library and its Python module, the
+# binary every exported FMU carries) and
 # nothing built for tests (tests/fixtures: broken
 # on purpose, never installed).
 run(${CMAKE_COMMAND} --install ${BINARY_DIR} --prefix ${OUT}/full)
@@ -52,12 +53,19 @@ foreach(library ${libraries})
      NOT library STREQUAL "lib/monohydra/libmonohydra_sweep_mpi.so" AND
      NOT library STREQUAL "lib/libmonohydra_testhost.so" AND
      NOT library STREQUAL "lib/libmonohydra_simulation.so" AND
+     NOT library STREQUAL "lib/monohydra/fmu/monohydra-fmu.so" AND
      NOT library MATCHES "^lib/python3\\.[0-9]+/dist-packages/monohydra/_monohydra\\.[^/]+\\.so$")
     message(FATAL_ERROR "cmake --install installs ${library}, which is not a shipped plugin")
   endif()
 endforeach()
 if(NOT EXISTS ${OUT}/full/lib/monohydra/plugins/monohydra-penalty.so)
   message(FATAL_ERROR "cmake --install did not install the shipped plugins")
+endif()
+# The installed command line finds the installed FMU binary and plugins.
+run(${OUT}/full/bin/monohydra fmu ${OUT}/full/share/monohydra/models/fourbar.yaml
+    --out ${OUT}/installed-fourbar.fmu)
+if(NOT EXISTS ${OUT}/installed-fourbar.fmu)
+  message(FATAL_ERROR "the installed monohydra fmu wrote no FMU")
 endif()
 foreach(example accumulator:gas-accumulator lagrange-baumgarte:lagrange-baumgarte point-load:point-load
         rk4:rk4)

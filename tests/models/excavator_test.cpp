@@ -46,6 +46,9 @@ ModelFile model_with_references(const std::string& reference, const std::string&
   }
   text = std::regex_replace(text, std::regex("reference: \\[\\[[^\\n]*\\]\\]\\n"),
                             "reference: " + reference + "\n");
+  // The levers are the model's inputs: their tables are the references.
+  text = std::regex_replace(text, std::regex("table: \\[\\[[^\\n]*\\]\\]\\}\\n"),
+                            "table: " + reference + "}\n");
   return parse_model_text(text, "excavator (edited)", test::source_path("models"));
 }
 

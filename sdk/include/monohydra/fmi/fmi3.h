@@ -63,8 +63,7 @@ typedef enum {
 
 /* Callbacks the importer passes at instantiation (2.3.1). */
 typedef void (*fmi3LogMessageCallback)(fmi3InstanceEnvironment instanceEnvironment,
-                                       fmi3Status status, fmi3String category,
-                                       fmi3String message);
+                                       fmi3Status status, fmi3String category, fmi3String message);
 typedef void (*fmi3ClockUpdateCallback)(fmi3InstanceEnvironment instanceEnvironment);
 typedef void (*fmi3IntermediateUpdateCallback)(
     fmi3InstanceEnvironment instanceEnvironment, fmi3Float64 intermediateUpdateTime,
@@ -78,10 +77,12 @@ typedef void (*fmi3UnlockPreemptionCallback)(void);
 typedef const char* fmi3GetVersionTYPE(void);
 typedef fmi3Status fmi3SetDebugLoggingTYPE(fmi3Instance instance, fmi3Boolean loggingOn,
                                            size_t nCategories, const fmi3String categories[]);
-typedef fmi3Instance fmi3InstantiateModelExchangeTYPE(
-    fmi3String instanceName, fmi3String instantiationToken, fmi3String resourcePath,
-    fmi3Boolean visible, fmi3Boolean loggingOn, fmi3InstanceEnvironment instanceEnvironment,
-    fmi3LogMessageCallback logMessage);
+typedef fmi3Instance fmi3InstantiateModelExchangeTYPE(fmi3String instanceName,
+                                                      fmi3String instantiationToken,
+                                                      fmi3String resourcePath, fmi3Boolean visible,
+                                                      fmi3Boolean loggingOn,
+                                                      fmi3InstanceEnvironment instanceEnvironment,
+                                                      fmi3LogMessageCallback logMessage);
 typedef fmi3Instance fmi3InstantiateCoSimulationTYPE(
     fmi3String instanceName, fmi3String instantiationToken, fmi3String resourcePath,
     fmi3Boolean visible, fmi3Boolean loggingOn, fmi3Boolean eventModeUsed,
@@ -105,14 +106,13 @@ typedef fmi3Status fmi3TerminateTYPE(fmi3Instance instance);
 typedef fmi3Status fmi3ResetTYPE(fmi3Instance instance);
 
 /* Getting and setting values (2.3.5): one pair of function types per type. */
-#define MH_FMI3_ACCESSORS(Name, Type)                                                         \
-  typedef fmi3Status fmi3Get##Name##TYPE(fmi3Instance instance,                               \
-                                         const fmi3ValueReference valueReferences[],          \
+#define MH_FMI3_ACCESSORS(Name, Type)                                                             \
+  typedef fmi3Status fmi3Get##Name##TYPE(fmi3Instance instance,                                   \
+                                         const fmi3ValueReference valueReferences[],              \
                                          size_t nValueReferences, Type values[], size_t nValues); \
-  typedef fmi3Status fmi3Set##Name##TYPE(fmi3Instance instance,                               \
-                                         const fmi3ValueReference valueReferences[],          \
-                                         size_t nValueReferences, const Type values[],        \
-                                         size_t nValues);
+  typedef fmi3Status fmi3Set##Name##TYPE(                                                         \
+      fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, \
+      const Type values[], size_t nValues);
 MH_FMI3_ACCESSORS(Float32, fmi3Float32)
 MH_FMI3_ACCESSORS(Float64, fmi3Float64)
 MH_FMI3_ACCESSORS(Int8, fmi3Int8)
@@ -163,10 +163,12 @@ typedef fmi3Status fmi3GetDirectionalDerivativeTYPE(
     fmi3Instance instance, const fmi3ValueReference unknowns[], size_t nUnknowns,
     const fmi3ValueReference knowns[], size_t nKnowns, const fmi3Float64 seed[], size_t nSeed,
     fmi3Float64 sensitivity[], size_t nSensitivity);
-typedef fmi3Status fmi3GetAdjointDerivativeTYPE(
-    fmi3Instance instance, const fmi3ValueReference unknowns[], size_t nUnknowns,
-    const fmi3ValueReference knowns[], size_t nKnowns, const fmi3Float64 seed[], size_t nSeed,
-    fmi3Float64 sensitivity[], size_t nSensitivity);
+typedef fmi3Status fmi3GetAdjointDerivativeTYPE(fmi3Instance instance,
+                                                const fmi3ValueReference unknowns[],
+                                                size_t nUnknowns, const fmi3ValueReference knowns[],
+                                                size_t nKnowns, const fmi3Float64 seed[],
+                                                size_t nSeed, fmi3Float64 sensitivity[],
+                                                size_t nSensitivity);
 
 /* Configuration mode and clocks (2.3.7, 5). */
 typedef fmi3Status fmi3EnterConfigurationModeTYPE(fmi3Instance instance);
@@ -193,23 +195,20 @@ typedef fmi3Status fmi3SetIntervalDecimalTYPE(fmi3Instance instance,
                                               const fmi3Float64 intervals[]);
 typedef fmi3Status fmi3SetIntervalFractionTYPE(fmi3Instance instance,
                                                const fmi3ValueReference valueReferences[],
-                                               size_t nValueReferences,
-                                               const fmi3UInt64 counters[],
+                                               size_t nValueReferences, const fmi3UInt64 counters[],
                                                const fmi3UInt64 resolutions[]);
 typedef fmi3Status fmi3SetShiftDecimalTYPE(fmi3Instance instance,
                                            const fmi3ValueReference valueReferences[],
                                            size_t nValueReferences, const fmi3Float64 shifts[]);
 typedef fmi3Status fmi3SetShiftFractionTYPE(fmi3Instance instance,
                                             const fmi3ValueReference valueReferences[],
-                                            size_t nValueReferences,
-                                            const fmi3UInt64 counters[],
+                                            size_t nValueReferences, const fmi3UInt64 counters[],
                                             const fmi3UInt64 resolutions[]);
 typedef fmi3Status fmi3EvaluateDiscreteStatesTYPE(fmi3Instance instance);
 typedef fmi3Status fmi3UpdateDiscreteStatesTYPE(
-    fmi3Instance instance, fmi3Boolean* discreteStatesNeedUpdate,
-    fmi3Boolean* terminateSimulation, fmi3Boolean* nominalsOfContinuousStatesChanged,
-    fmi3Boolean* valuesOfContinuousStatesChanged, fmi3Boolean* nextEventTimeDefined,
-    fmi3Float64* nextEventTime);
+    fmi3Instance instance, fmi3Boolean* discreteStatesNeedUpdate, fmi3Boolean* terminateSimulation,
+    fmi3Boolean* nominalsOfContinuousStatesChanged, fmi3Boolean* valuesOfContinuousStatesChanged,
+    fmi3Boolean* nextEventTimeDefined, fmi3Float64* nextEventTime);
 
 /* Model Exchange (3.2). */
 typedef fmi3Status fmi3EnterContinuousTimeModeTYPE(fmi3Instance instance);
@@ -224,8 +223,7 @@ typedef fmi3Status fmi3SetContinuousStatesTYPE(fmi3Instance instance,
 typedef fmi3Status fmi3GetContinuousStateDerivativesTYPE(fmi3Instance instance,
                                                          fmi3Float64 derivatives[],
                                                          size_t nContinuousStates);
-typedef fmi3Status fmi3GetEventIndicatorsTYPE(fmi3Instance instance,
-                                              fmi3Float64 eventIndicators[],
+typedef fmi3Status fmi3GetEventIndicatorsTYPE(fmi3Instance instance, fmi3Float64 eventIndicators[],
                                               size_t nEventIndicators);
 typedef fmi3Status fmi3GetContinuousStatesTYPE(fmi3Instance instance,
                                                fmi3Float64 continuousStates[],
@@ -242,9 +240,8 @@ typedef fmi3Status fmi3GetNumberOfContinuousStatesTYPE(fmi3Instance instance,
 typedef fmi3Status fmi3EnterStepModeTYPE(fmi3Instance instance);
 typedef fmi3Status fmi3GetOutputDerivativesTYPE(fmi3Instance instance,
                                                 const fmi3ValueReference valueReferences[],
-                                                size_t nValueReferences,
-                                                const fmi3Int32 orders[], fmi3Float64 values[],
-                                                size_t nValues);
+                                                size_t nValueReferences, const fmi3Int32 orders[],
+                                                fmi3Float64 values[], size_t nValues);
 typedef fmi3Status fmi3DoStepTYPE(fmi3Instance instance, fmi3Float64 currentCommunicationPoint,
                                   fmi3Float64 communicationStepSize,
                                   fmi3Boolean noSetFMUStatePriorToCurrentPoint,
