@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -132,6 +133,8 @@ int compare_with_run(const Exported& e, const Csv& csv, double h, double t_end,
     }
     ++compared;
   }
+  std::printf("%d points: largest difference %.3e rad, %.3e Pa\n", compared, worst_angle,
+              worst_pressure);
   EXPECT_LE(worst_angle, angle_tol);
   EXPECT_LE(worst_pressure, pressure_tol);
   return compared;
