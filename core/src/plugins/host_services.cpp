@@ -12,6 +12,7 @@
 #include "engine.hpp"
 #include "monohydra/core/dynamics.hpp"
 #include "monohydra/core/kinematics.hpp"
+#include "monohydra/model_folder.h"
 #include "plugins/abi_struct.hpp"
 
 namespace mh {
@@ -629,6 +630,12 @@ mh_status host_option_signal_port(const mh_host* host, const char* key, int requ
   return read_signal(host, "option_signal_port", true, key, required, fallback, out);
 }
 
+const char* host_model_folder(const mh_host* host) {
+  const InstanceHost* hp = live(host, "model_folder");
+  if (hp == nullptr || hp->engine->file == nullptr) return ".";
+  return hp->engine->file->folder.empty() ? "." : hp->engine->file->folder.c_str();
+}
+
 // The service tables, one per role's need (host.h): the functions are the
 // same for every instance (each takes its mh_host), so the tables are too.
 constexpr mh_options_service kOptions{sizeof(mh_options_service), host_option_number,
@@ -646,6 +653,7 @@ constexpr mh_subsystem_setup_service kSubsystemSetup{sizeof(mh_subsystem_setup_s
                                                      host_point_position,
                                                      host_add_time_event};
 constexpr mh_unknowns_service kUnknowns{sizeof(mh_unknowns_service), host_add_unknown};
+constexpr mh_model_folder_service kModelFolder{sizeof(mh_model_folder_service), host_model_folder};
 constexpr mh_signals_service kSignals{sizeof(mh_signals_service), host_option_signal,
                                       host_option_signal_port};
 
@@ -667,6 +675,7 @@ const void* host_get_service(const mh_host* host, const char* id) {
     return subsystem ? &kSubsystemSetup : nullptr;
   if (std::strcmp(id, MH_SERVICE_UNKNOWNS) == 0) return formulation ? &kUnknowns : nullptr;
   if (std::strcmp(id, MH_SERVICE_SIGNALS) == 0) return subsystem ? &kSignals : nullptr;
+  if (std::strcmp(id, MH_SERVICE_MODEL_FOLDER) == 0) return subsystem ? &kModelFolder : nullptr;
   return nullptr;
 }
 

@@ -32,6 +32,12 @@ ModelFile Parser::parse(const YAML::Node& root, const std::string& base_dir) {
                      "assembly", "nodes", "equilibrium", "output", "inputs"});
   ModelFile file;
   file.path = file_;
+  {
+    std::error_code ec;
+    const fs::path base = fs::absolute(fs::path(base_dir.empty() ? "." : base_dir), ec);
+    file.folder = (ec ? fs::path(base_dir) : base).lexically_normal().string();
+    while (file.folder.size() > 1 && file.folder.back() == '/') file.folder.pop_back();
+  }
 
   parse_units(top);
 

@@ -1,0 +1,28 @@
+// An FMU's zip archive unpacked into a private temporary folder, removed with
+// the object: the FMU's binary is dlopen'ed from there and its resources
+// are handed to it by path (FMI 3.0, 2.5: the unpacked layout).
+#pragma once
+
+#include <string>
+
+namespace fmu {
+
+class UnpackedArchive {
+ public:
+  UnpackedArchive() = default;
+  // Unpacks `archive` (a .fmu zip file) into a new folder mkdtemp made.
+  // Throws std::runtime_error saying what failed: no such file, not a zip,
+  // an entry that would leave the folder (an absolute path, "..").
+  explicit UnpackedArchive(const std::string& archive);
+  ~UnpackedArchive();
+  UnpackedArchive(const UnpackedArchive&) = delete;
+  UnpackedArchive& operator=(const UnpackedArchive&) = delete;
+
+  // The folder, without a trailing slash ("" before unpacking).
+  const std::string& folder() const { return folder_; }
+
+ private:
+  std::string folder_;
+};
+
+}  // namespace fmu
