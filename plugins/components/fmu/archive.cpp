@@ -38,7 +38,7 @@ bool safe_entry(const std::string& name) {
 UnpackedArchive::UnpackedArchive(const std::string& archive) {
   std::error_code ec;
   if (!fs::is_regular_file(archive, ec))
-    throw std::runtime_error(archive + " does not exist or is not a file");
+    throw std::runtime_error("it does not exist or is not a file");
   int error = 0;
   const std::unique_ptr<zip_t, ZipCloser> zip(zip_open(archive.c_str(), ZIP_RDONLY, &error));
   if (zip == nullptr) {
@@ -46,7 +46,7 @@ UnpackedArchive::UnpackedArchive(const std::string& archive) {
     zip_error_init_with_code(&reason, error);
     const std::string why = zip_error_strerror(&reason);
     zip_error_fini(&reason);
-    throw std::runtime_error(archive + " is not a zip archive (" + why + ")");
+    throw std::runtime_error("it is not a zip archive (libzip: " + why + ")");
   }
   const fs::path base = fs::temp_directory_path(ec) / "monohydra-fmu-XXXXXX";
   std::string pattern = (ec ? fs::path("/tmp/monohydra-fmu-XXXXXX") : base).string();
@@ -63,8 +63,7 @@ UnpackedArchive::UnpackedArchive(const std::string& archive) {
       const char* entry = zip_get_name(zip.get(), static_cast<zip_uint64_t>(i), 0);
       const std::string entry_name = entry != nullptr ? entry : "";
       if (!safe_entry(entry_name))
-        throw std::runtime_error(archive + " has an entry outside its folder: '" + entry_name +
-                                 "'");
+        throw std::runtime_error("it has an entry outside its folder: '" + entry_name + "'");
       const fs::path target = fs::path(folder_) / entry_name;
       if (entry_name.back() == '/') {
         fs::create_directories(target);
@@ -75,12 +74,12 @@ UnpackedArchive::UnpackedArchive(const std::string& archive) {
           zip_fopen_index(zip.get(), static_cast<zip_uint64_t>(i), 0));
       std::ofstream out(target, std::ios::binary);
       if (in == nullptr || !out)
-        throw std::runtime_error("cannot unpack '" + entry_name + "' of " + archive);
+        throw std::runtime_error("its entry '" + entry_name + "' does not unpack");
       zip_int64_t got = 0;
       while ((got = zip_fread(in.get(), buffer.data(), buffer.size())) > 0)
         out.write(buffer.data(), static_cast<std::streamsize>(got));
       if (got < 0 || !out)
-        throw std::runtime_error("cannot unpack '" + entry_name + "' of " + archive);
+        throw std::runtime_error("its entry '" + entry_name + "' does not unpack");
     }
   } catch (...) {
     fs::remove_all(folder_, ec);

@@ -11,8 +11,8 @@ class UnpackedArchive {
  public:
   UnpackedArchive() = default;
   // Unpacks `archive` (a .fmu zip file) into a new folder mkdtemp made.
-  // Throws std::runtime_error saying what failed: no such file, not a zip,
-  // an entry that would leave the folder (an absolute path, "..").
+  // Throws std::runtime_error saying what failed, of "it" (the archive): no
+  // such file, not a zip, an entry that would leave the folder ("..").
   explicit UnpackedArchive(const std::string& archive);
   ~UnpackedArchive();
   UnpackedArchive(const UnpackedArchive&) = delete;
