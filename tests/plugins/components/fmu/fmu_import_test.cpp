@@ -189,6 +189,31 @@ TEST(FmuImport, TimeEventTakenWhereTheFmuAnnouncesIt) {
   EXPECT_LT(worst, 1e-7);
 }
 
+// The bias switches off at bias_off_time = 1.2505 s, a time event the FMU
+// announces only at the first one (not the host's): taken at the first
+// step that reaches it, 1.251 s, and the step after it starts from the rate
+// before it. The error is about bias (delay + dt / 2) <= 1.5 bias dt.
+TEST(FmuImport, LaterTimeEventTakenAtTheStepThatReachesIt) {
+  const double bias = 0.5, off = 1.2505, dt = 0.001;
+  FmuRun run(plant("d", "plant", ", bias_time: 0.5, bias: 0.5, bias_off_time: 1.2505"), 3.0);
+  const double x_off = bias + (std::exp(-0.5) - bias) * std::exp(-(off - 0.5));
+  double worst_before = 0.0, worst_after = 0.0;
+  while (run.sim->time() < 3.0 - 1e-12) {
+    run.sim->step();
+    const double t = run.sim->time();
+    const double x = run.state("d.x");
+    const double on = bias + (std::exp(-0.5) - bias) * std::exp(-(t - 0.5));
+    if (t <= 1.25 + 1e-12)
+      worst_before = std::max(worst_before, std::abs(x - (t <= 0.5 ? std::exp(-t) : on)));
+    if (t >= 1.26) worst_after = std::max(worst_after, std::abs(x - x_off * std::exp(-(t - off))));
+  }
+  RecordProperty("worst_error_before", test::scientific(worst_before));
+  RecordProperty("worst_error_after", test::scientific(worst_after));
+  EXPECT_LT(worst_before, 1e-7);
+  EXPECT_LT(worst_after, 1.5 * bias * dt);
+  EXPECT_GT(worst_after, 1e-5);  // the event was taken (without it x would stay near 0.5)
+}
+
 // A snapshot before the event and one after it: a new run restored from
 // either continues to the same bits.
 TEST(FmuImport, SnapshotRestoreContinuesIdentically) {

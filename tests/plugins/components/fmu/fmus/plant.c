@@ -1,13 +1,13 @@
-/* The tests' first-order plant: x' = -x/tau + k u (+ bias from bias_time on,
- * a time event), y = 2 x. Compiled with MH_WITH_DD it provides its
- * directional derivatives. */
-#define NVR 10
+/* The tests' first-order plant: x' = -x/tau + k u (+ bias from bias_time to
+ * bias_off_time, two time events, the second announced at the first),
+ * y = 2 x. Compiled with MH_WITH_DD it provides its directional derivatives. */
+#define NVR 12
 #define NX 1
-enum { T, X, DX, U, TAU, K, Y, BIAS_TIME, BIAS, ON };
+enum { T, X, DX, U, TAU, K, Y, BIAS_TIME, BIAS, OFF_TIME, ON, DONE };
 static const unsigned STATE_VR[NX] = {X};
 static const unsigned DER_VR[NX] = {DX};
-/*                              t    x    dx   u    tau  k    y    bias_time bias on */
-static const double START[NVR] = {0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, -1.0, 0.0, 0.0};
+/*                              t    x    dx   u    tau  k    y    bias_time bias off  on   done */
+static const double START[NVR] = {0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, -1.0, 0.0, -1.0, 0.0, 0.0};
 
 static void model_compute(double* v) {
   v[DX] = -v[X] / v[TAU] + v[K] * v[U] + (v[ON] != 0.0 ? v[BIAS] : 0.0);
@@ -15,10 +15,19 @@ static void model_compute(double* v) {
 }
 
 static int model_event(double* v, double* next) {
-  if (v[BIAS_TIME] < 0.0) return 0;
-  if (v[T] >= v[BIAS_TIME] - 1e-9) v[ON] = 1.0;
-  *next = v[BIAS_TIME];
-  return v[ON] == 0.0;
+  if (v[BIAS_TIME] < 0.0 || v[DONE] != 0.0) return 0;
+  if (v[ON] == 0.0 && v[T] >= v[BIAS_TIME] - 1e-9) v[ON] = 1.0;
+  if (v[ON] != 0.0 && v[OFF_TIME] >= 0.0 && v[T] >= v[OFF_TIME] - 1e-9) {
+    v[ON] = 0.0;
+    v[DONE] = 1.0;
+    return 0;
+  }
+  if (v[ON] == 0.0) {
+    *next = v[BIAS_TIME];
+    return 1;
+  }
+  *next = v[OFF_TIME];
+  return v[OFF_TIME] >= 0.0;
 }
 
 #ifdef MH_WITH_DD
