@@ -88,6 +88,19 @@ UnpackedArchive::UnpackedArchive(const std::string& archive) {
   }
 }
 
+void UnpackedArchive::keep_only_resources() {
+  if (folder_.empty()) return;
+  std::error_code ec;
+  const fs::path resources = fs::path(folder_) / "resources";
+  if (!fs::is_directory(resources, ec) || fs::is_empty(resources, ec)) {
+    fs::remove_all(folder_, ec);  // a loaded binary stays mapped
+    folder_.clear();
+    return;
+  }
+  for (const auto& entry : fs::directory_iterator(folder_, ec))
+    if (entry.path().filename() != "resources") fs::remove_all(entry.path(), ec);
+}
+
 UnpackedArchive::~UnpackedArchive() {
   if (folder_.empty()) return;
   std::error_code ec;

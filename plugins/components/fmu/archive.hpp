@@ -18,6 +18,12 @@ class UnpackedArchive {
   UnpackedArchive(const UnpackedArchive&) = delete;
   UnpackedArchive& operator=(const UnpackedArchive&) = delete;
 
+  // Removes what the instance no longer needs once its binary is loaded and
+  // it is instantiated: everything but resources/, and the whole folder when
+  // the FMU has no resources. (A host may end its process without running
+  // destructors, as `monohydra run`'s child does: then only resources stay.)
+  void keep_only_resources();
+
   // The folder, without a trailing slash ("" before unpacking).
   const std::string& folder() const { return folder_; }
 

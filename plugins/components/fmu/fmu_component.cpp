@@ -93,6 +93,7 @@ class Fmu {
                                    &tolerance) != MH_OK)
       return MH_ERROR;
     if (instantiate() != MH_OK) return MH_ERROR;
+    archive_->keep_only_resources();
     return declare(tolerance);
   }
 

@@ -13,6 +13,7 @@
 #include <iterator>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "hosts/cli_runner.hpp"
 #include "monohydra/core/run_state.hpp"
@@ -212,6 +213,35 @@ TEST(FmuImport, LaterTimeEventTakenAtTheStepThatReachesIt) {
   EXPECT_LT(worst_before, 1e-7);
   EXPECT_LT(worst_after, 1.5 * bias * dt);
   EXPECT_GT(worst_after, 1e-5);  // the event was taken (without it x would stay near 0.5)
+}
+
+// The FMU reads resources/start.txt through its resourcePath: the folder
+// (found by its start.txt, as other test processes unpack FMUs at the same
+// time) stays while the instance lives and goes with it.
+TEST(FmuImport, ResourcesStayForTheInstanceAndGoWithIt) {
+  namespace fs = std::filesystem;
+  const auto unpacked_with_resources = [] {
+    std::vector<fs::path> found;
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(fs::temp_directory_path(), ec))
+      if (e.path().filename().string().rfind("monohydra-fmu-", 0) == 0 &&
+          fs::exists(e.path() / "resources" / "start.txt", ec))
+        found.push_back(e.path());
+    return found;
+  };
+  const std::vector<fs::path> before = unpacked_with_resources();
+  fs::path ours;
+  {
+    FmuRun run(plant("d", "plant_resource"), 1.0);
+    EXPECT_EQ(run.state("d.x"), 0.25);
+    for (const fs::path& p : unpacked_with_resources())
+      if (std::find(before.begin(), before.end(), p) == before.end()) ours = p;
+    ASSERT_FALSE(ours.empty()) << "no unpacked folder with resources/start.txt";
+    EXPECT_FALSE(fs::exists(ours / "binaries")) << "the loaded binary's folder was kept";
+    run.sim->step();
+    EXPECT_NEAR(run.state("d.x"), 0.25 * std::exp(-0.001), 1e-9);
+  }
+  EXPECT_FALSE(fs::exists(ours)) << ours;
 }
 
 // A snapshot before the event and one after it: a new run restored from

@@ -9,8 +9,10 @@
  *                          when a time event is due later
  *   model_partial(v, unknown, known)  when MH_WITH_DD: d unknown / d known
  * and MH_TOKEN (the instantiation token its modelDescription.xml must give).
+ * MH_READ_RESOURCE reads the first state's start from resources/start.txt.
  * MH_OMIT_DERIVATIVES leaves fmi3GetContinuousStateDerivatives out (an FMU
  * that lacks a function). */
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -50,6 +52,23 @@ fmi3Instance fmi3InstantiateModelExchange(fmi3String name, fmi3String token, fmi
   Instance* in = (Instance*)calloc(1, sizeof(Instance));
   if (in == NULL) return NULL;
   memcpy(in->v, START, sizeof in->v);
+#ifdef MH_READ_RESOURCE
+  /* The first state's start from resources/start.txt: resourcePath ends with '/'. */
+  char path[4096];
+  FILE* file = NULL;
+  if (resources != NULL && strlen(resources) + 10 < sizeof path) {
+    strcpy(path, resources);
+    strcat(path, "start.txt");
+    file = fopen(path, "r");
+  }
+  if (file == NULL || fscanf(file, "%lf", &in->v[STATE_VR[0]]) != 1) {
+    if (file != NULL) fclose(file);
+    if (log != NULL) log(env, fmi3Error, "logStatusError", "no resources/start.txt");
+    free(in);
+    return NULL;
+  }
+  fclose(file);
+#endif
   in->env = env;
   in->log = log;
   return in;
