@@ -12,6 +12,7 @@
 #include "engine.hpp"
 #include "monohydra/core/dynamics.hpp"
 #include "monohydra/core/kinematics.hpp"
+#include "monohydra/model_folder.h"
 #include "plugins/abi_struct.hpp"
 
 namespace mh {
@@ -172,6 +173,16 @@ mh_status host_option_error(const mh_host* host, const char* key, const char* ex
                 std::string("expected ") + (expected != nullptr ? expected : "") + got);
 }
 
+// A valid array of no elements: a mechanism without bodies has empty vectors,
+// whose data() may be NULL, and NULL means "not given" to the other side.
+const double* empty_array() {
+  static const double kNone = 0.0;
+  return &kNone;
+}
+const double* nonnull(const double* p) {
+  return p != nullptr ? p : empty_array();
+}
+
 mh_status host_mech_info(const mh_host* host, mh_mech_info* out) {
   const InstanceHost* hp = live(host, "mech_info");
   if (hp == nullptr) return MH_ERROR;
@@ -180,12 +191,17 @@ mh_status host_mech_info(const mh_host* host, mh_mech_info* out) {
   info.struct_size = sizeof(info);
   info.num_coordinates = static_cast<uint32_t>(e.N);
   info.num_constraints = static_cast<uint32_t>(e.m);
-  info.coordinate_names = e.registry.coordinate_name_ptrs.data();
-  info.coordinate_is_angle = e.registry.coordinate_is_angle.data();
+  // A mechanism without bodies (a model of subsystems only) has empty arrays,
+  // whose data() may be NULL: the table still points at valid (empty) arrays,
+  // since NULL means "no information" to a formulation.
+  static const char* const kNoName = "";
+  static const uint8_t kNoAngle = 0;
+  info.coordinate_names = e.N > 0 ? e.registry.coordinate_name_ptrs.data() : &kNoName;
+  info.coordinate_is_angle = e.N > 0 ? e.registry.coordinate_is_angle.data() : &kNoAngle;
   info.position_tolerance = e.settings.tol_position;
   info.t0 = 0.0;
-  info.z0 = e.cons.z0.data();
-  info.zd0 = e.cons.zd0.data();
+  info.z0 = e.N > 0 ? e.cons.z0.data() : empty_array();
+  info.zd0 = e.N > 0 ? e.cons.zd0.data() : empty_array();
   return write_struct(out, info) ? MH_OK : MH_ERROR;
 }
 
@@ -412,7 +428,10 @@ mh_status host_evaluate_mechanics(const mh_host* host, const mh_mech_request* re
   InstanceHost* hp = live(host, "evaluate_mechanics");
   if (hp == nullptr) return MH_ERROR;
   InstanceHost& h = *hp;
-  const mh_mech_request rq = read_struct(request);
+  mh_mech_request rq = read_struct(request);
+  const bool empty = h.engine->N == 0;  // no bodies: z and zd may be data() of empty vectors
+  if (empty) rq.z = rq.z != nullptr ? rq.z : empty_array();
+  if (empty) rq.zd = rq.zd != nullptr ? rq.zd : empty_array();
   if (h.role != InstanceHost::Role::formulation || request == nullptr || result == nullptr ||
       rq.z == nullptr || rq.zd == nullptr) {
     host_log(host, MH_LOG_ERROR, "evaluate_mechanics: for a formulation, with z and zd");
@@ -424,12 +443,12 @@ mh_status host_evaluate_mechanics(const mh_host* host, const mh_mech_request* re
   const bool con = (rq.flags & MH_EVAL_CONSTRAINTS) != 0;
   mh_mech_result out{};
   out.struct_size = sizeof(out);
-  out.M = dyn ? e.data.M.data() : nullptr;
-  out.Q = dyn ? e.data.Q.data() : nullptr;
-  out.phi = con ? e.cons.phi.data() : nullptr;
-  out.phi_z = con ? e.cons.phi_z.data() : nullptr;
+  out.M = dyn ? nonnull(e.data.M.data()) : nullptr;
+  out.Q = dyn ? nonnull(e.data.Q.data()) : nullptr;
+  out.phi = con ? nonnull(e.cons.phi.data()) : nullptr;
+  out.phi_z = con ? nonnull(e.cons.phi_z.data()) : nullptr;
   out.phi_dot_zd =
-      con && (rq.flags & MH_EVAL_POSITIONS_ONLY) == 0 ? e.cons.phi_dot_zd.data() : nullptr;
+      con && (rq.flags & MH_EVAL_POSITIONS_ONLY) == 0 ? nonnull(e.cons.phi_dot_zd.data()) : nullptr;
   if (!write_struct(result, out)) return MH_ERROR;
   return s;
 }
@@ -439,7 +458,12 @@ mh_status host_mech_derivatives(const mh_host* host, const mh_mech_derivatives_r
   InstanceHost* hp = live(host, "mech_derivatives");
   if (hp == nullptr) return MH_ERROR;
   InstanceHost& h = *hp;
-  const mh_mech_derivatives_request rq = read_struct(request);
+  mh_mech_derivatives_request rq = read_struct(request);
+  if (h.engine->N == 0) {  // no bodies: data() of empty vectors may be NULL
+    rq.z = rq.z != nullptr ? rq.z : empty_array();
+    rq.zd = rq.zd != nullptr ? rq.zd : empty_array();
+    rq.zdd = rq.zdd != nullptr ? rq.zdd : empty_array();
+  }
   const bool needs_zdd = (rq.flags & (MH_DERIV_DYNAMICS | MH_DERIV_CONSTRAINT_ACCELERATIONS)) != 0;
   const bool needs_v = (rq.flags & MH_DERIV_CONSTRAINT_FORCES) != 0;
   Simulation::Engine& e = *h.engine;
@@ -455,8 +479,8 @@ mh_status host_mech_derivatives(const mh_host* host, const mh_mech_derivatives_r
   mh_mech_derivatives out{};
   out.struct_size = sizeof(out);
   const bool con = e.m > 0;
-  out.K = (rq.flags & MH_DERIV_DYNAMICS) != 0 ? e.derivs.K.data() : nullptr;
-  out.C = (rq.flags & MH_DERIV_DYNAMICS) != 0 ? e.derivs.C.data() : nullptr;
+  out.K = (rq.flags & MH_DERIV_DYNAMICS) != 0 ? nonnull(e.derivs.K.data()) : nullptr;
+  out.C = (rq.flags & MH_DERIV_DYNAMICS) != 0 ? nonnull(e.derivs.C.data()) : nullptr;
   out.dPhizT_v_dz = needs_v && con ? e.derivs.dPhizT_v_dz.data() : nullptr;
   const bool acc = (rq.flags & MH_DERIV_CONSTRAINT_ACCELERATIONS) != 0 && con;
   out.dA_dz = acc ? e.derivs.dA_dz.data() : nullptr;
@@ -606,6 +630,12 @@ mh_status host_option_signal_port(const mh_host* host, const char* key, int requ
   return read_signal(host, "option_signal_port", true, key, required, fallback, out);
 }
 
+const char* host_model_folder(const mh_host* host) {
+  const InstanceHost* hp = live(host, "model_folder");
+  if (hp == nullptr || hp->engine->file == nullptr) return ".";
+  return hp->engine->file->folder.empty() ? "." : hp->engine->file->folder.c_str();
+}
+
 // The service tables, one per role's need (host.h): the functions are the
 // same for every instance (each takes its mh_host), so the tables are too.
 constexpr mh_options_service kOptions{sizeof(mh_options_service), host_option_number,
@@ -623,6 +653,7 @@ constexpr mh_subsystem_setup_service kSubsystemSetup{sizeof(mh_subsystem_setup_s
                                                      host_point_position,
                                                      host_add_time_event};
 constexpr mh_unknowns_service kUnknowns{sizeof(mh_unknowns_service), host_add_unknown};
+constexpr mh_model_folder_service kModelFolder{sizeof(mh_model_folder_service), host_model_folder};
 constexpr mh_signals_service kSignals{sizeof(mh_signals_service), host_option_signal,
                                       host_option_signal_port};
 
@@ -644,6 +675,7 @@ const void* host_get_service(const mh_host* host, const char* id) {
     return subsystem ? &kSubsystemSetup : nullptr;
   if (std::strcmp(id, MH_SERVICE_UNKNOWNS) == 0) return formulation ? &kUnknowns : nullptr;
   if (std::strcmp(id, MH_SERVICE_SIGNALS) == 0) return subsystem ? &kSignals : nullptr;
+  if (std::strcmp(id, MH_SERVICE_MODEL_FOLDER) == 0) return subsystem ? &kModelFolder : nullptr;
   return nullptr;
 }
 

@@ -98,7 +98,8 @@ mh_status start(const mh_formulation* f, const mh_unknown_buffers* out) noexcept
     // LDLT (pivoted), as the penalty formulation's start: without cut joints
     // both give the same accelerations to the bit.
     const Eigen::LDLT<Eigen::MatrixXd> ldlt(M);
-    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0.0)) {
+    if (s.N > 0 && (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0.0))) {
+      // (N = 0: a model of subsystems only, nothing to factor)
       log_error(s, "the mass matrix M' is singular at the initial state (a massless body?)");
       return MH_ERROR;
     }

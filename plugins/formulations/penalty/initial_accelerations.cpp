@@ -28,7 +28,9 @@ AccelerationSolve solve_initial_accelerations(const Eigen::Map<const Eigen::Matr
   // LDLT (pivoted): with alpha = 1e11 the matrix is positive definite but its
   // condition number reaches ~1e13.
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(A);
-  if (ldlt.info() != Eigen::Success || !ldlt.isPositive() || !(ldlt.vectorD().minCoeff() > 0.0)) {
+  // N = 0 (a model of subsystems only): nothing to factor, no minimum pivot.
+  if (A.rows() > 0 &&
+      (ldlt.info() != Eigen::Success || !ldlt.isPositive() || !(ldlt.vectorD().minCoeff() > 0.0))) {
     out.positive_definite = false;
     return out;
   }

@@ -23,6 +23,7 @@ bool Projector::factorize(const ConstMatrixMap& W, const ConstMatrixMap& phi_z, 
   A_ = W_;
   add_penalty_matrix(A_, phi_z_, c_alpha_);
   if (!A_.allFinite()) return false;
+  if (A_.rows() == 0) return true;  // no bodies (a model of subsystems only): nothing to project
   lu_.compute(A_);
   // The penalty term's scale (alpha dt^2/4 ~ 1e5 M) makes A's condition large
   // by design; only a numerically singular A is refused. The test is on U's

@@ -581,8 +581,10 @@ TEST(ModelFileErrors, MissingRequiredBodyKeys) {
       "bodies:\n"
       "  - {name: a, joint: {type: revolute}, mass: 1, shape: {type: beam, length: 1}}\n",
       3, "bodies[0].parent", "missing required key 'parent'");
+  // Neither bodies nor subsystems: nothing to simulate (either alone is a model).
   expect_error("units: {length: m, mass: kg, time: s, angle: rad}\n", 1, "bodies",
-               "missing required key 'bodies'");
+               "expected bodies: (a list of bodies, may be empty) or subsystems: (a model of "
+               "subsystems only), found neither");
 }
 
 TEST(ModelFileErrors, UnknownJointType) {

@@ -173,6 +173,40 @@ TEST(TimeStepAllocationFree, SavingTheRunStateAgainIntoTheSameValueAllocatesNoth
   }
 }
 
+#ifdef MH_FMU_DIR
+// Imported FMUs (monohydra-fmu) in the step: the plant with its directional
+// derivatives reading a state, the PI without them (differenced tangent)
+// reading the plant's output, and a snapshot saved again at every step.
+TEST(TimeStepAllocationFree, StepsWithImportedFmusAllocateNothing) {
+  const std::string dir = MH_FMU_DIR;
+  const std::string model =
+      "units: {length: m, mass: kg, time: s, angle: rad}\nsubsystems:\n"
+      "  - {name: lag, type: first-order-lag, input: [[0, 0], [1, 1]], time_constant: 0.2}\n"
+      "  - {name: d, type: fmu, fmu: '" +
+      dir + "/plant.fmu', u: lag.y, bias_time: 0.5, bias: 0.2, bias_off_time: 0.7005}\n" +
+      "  - {name: c, type: fmu, fmu: '" + dir +
+      "/pi.fmu', setpoint: 1, measurement: d.y, kp: 2, ki: 1, output_max: 1.5}\n"
+      "solver: {dt: 0.001, t_end: 2}\n";
+  for (const NewtonKind newton : {NewtonKind::full, NewtonKind::modified}) {
+    ModelFile file = parse_model_text(model, "fmus.yaml");
+    file.solver.newton = newton;
+    Simulation sim(file, test::build_plugins());
+    sim.start();
+    for (int k = 0; k < 20; ++k) sim.step();
+    RunState state;
+    sim.save_state(state);
+    long worst = 0;
+    for (int k = 0; k < 1000; ++k) {  // through both time events
+      const long before = allocations();
+      sim.step();
+      sim.save_state(state);
+      worst = std::max(worst, allocations() - before);
+    }
+    EXPECT_EQ(worst, 0) << to_string(newton);
+  }
+}
+#endif
+
 class TimeStepAllocationFreeCase : public ::testing::TestWithParam<Case> {};
 
 TEST_P(TimeStepAllocationFreeCase, StepsAfterTheFirstAllocateNothing) {

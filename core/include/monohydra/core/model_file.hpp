@@ -112,7 +112,8 @@ inline constexpr const char* kDefaultFormulation = "open-loop";
 inline constexpr const char* kDefaultIntegrator = "trapezoidal";
 
 struct ModelFile {
-  std::string path;  // as given
+  std::string path;    // as given
+  std::string folder;  // absolute: what relative paths in it are relative to
   Model model;
   std::vector<SourceMark> body_marks;  // parallel to model.bodies
   SourceMark assembly_mark;            // assembly.fixed (the file alone when absent)

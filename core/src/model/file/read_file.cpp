@@ -32,6 +32,12 @@ ModelFile Parser::parse(const YAML::Node& root, const std::string& base_dir) {
                      "assembly", "nodes", "equilibrium", "output", "inputs"});
   ModelFile file;
   file.path = file_;
+  {
+    std::error_code ec;
+    const fs::path base = fs::absolute(fs::path(base_dir.empty() ? "." : base_dir), ec);
+    file.folder = (ec ? fs::path(base_dir) : base).lexically_normal().string();
+    while (file.folder.size() > 1 && file.folder.back() == '/') file.folder.pop_back();
+  }
 
   parse_units(top);
 
@@ -49,7 +55,18 @@ ModelFile Parser::parse(const YAML::Node& root, const std::string& base_dir) {
   if (auto paths = top.get("plugin_paths")) file.plugin_paths = plugin_paths(*paths, base_dir);
   if (auto chosen = top.get("plugins")) file.plugin_libraries = plugin_libraries(*chosen, base_dir);
 
-  parse_bodies(top.require("bodies", "a list of bodies (may be empty: bodies: [])"), file);
+  // A model of subsystems only (an imported FMU, a signal chain) has no
+  // mechanism: no bodies key is an empty one. A model with neither has nothing
+  // to simulate.
+  if (auto bodies_node = top.get("bodies")) {
+    parse_bodies(*bodies_node, file);
+  } else if (!top.get("subsystems")) {
+    fail(root, "bodies",
+         "expected bodies: (a list of bodies, may be empty) or subsystems: (a model of "
+         "subsystems only), found neither");
+  } else {
+    parse_bodies(YAML::Node(YAML::NodeType::Sequence), file);
+  }
 
   if (auto planar_node = top.get("planar")) {
     file.model.planar = boolean(*planar_node, "planar");

@@ -163,6 +163,12 @@ class SubsystemAdapter {
     return &instance.release()->api;
   }
 
+  // The T behind an instance table this adapter made: the `instance`
+  // argument of an extension's operations (state.h) is that table.
+  static T& object_of(const void* instance) noexcept {
+    return *self(static_cast<const mh_subsystem*>(instance)).object;
+  }
+
  private:
   struct Instance {
     mh_subsystem api{};
