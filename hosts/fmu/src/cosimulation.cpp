@@ -7,16 +7,13 @@
 #include <stdexcept>
 #include <utility>
 
+#include "monohydra/cpp/number_text.hpp"
+
 namespace mh::fmu {
 
-namespace {
+using monohydra::exact_number;  // the shortest text that reads back as the same double
 
-// Every double to the bit, as the model file would write it.
-std::string number(double v) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.17g", v);
-  return text;
-}
+namespace {
 
 const char* mode_name(Mode m) {
   switch (m) {
@@ -94,7 +91,7 @@ Status CoSimulation::open(bool with_settings) {
     for (const FmuVariable& v : variables_) {
       if (v.causality != Causality::parameter || parameters_[v.value_reference] == v.start)
         continue;
-      values.push_back(number(parameters_[v.value_reference]));
+      values.push_back(exact_number(parameters_[v.value_reference]));
     }
     std::size_t k = 0;
     for (const FmuVariable& v : variables_) {
@@ -185,7 +182,7 @@ Status CoSimulation::enter_initialization(bool tolerance_defined, double toleran
   if (start_time != 0.0)
     return error("fmi3EnterInitializationMode",
                  "the model starts at t = 0 s (its consistent initial state), not at " +
-                     number(start_time) + " s");
+                     exact_number(start_time) + " s");
   mode_ = Mode::initialization;
   return Status::ok;
 }
@@ -206,13 +203,13 @@ Status CoSimulation::do_step(double t, double h, double* last_successful_time) {
   const double now = current_time();
   if (last_successful_time != nullptr) *last_successful_time = now;
   if (!std::isfinite(t) || std::fabs(t - now) > 1e-6 * dt_)
-    return error("fmi3DoStep", "the communication point " + number(t) +
-                                   " s is not the FMU's time " + number(now) + " s");
+    return error("fmi3DoStep", "the communication point " + exact_number(t) +
+                                   " s is not the FMU's time " + exact_number(now) + " s");
   const double steps = h / dt_;
   if (!std::isfinite(h) || h <= 0.0 || std::fabs(steps - std::round(steps)) > 1e-6)
-    return error("fmi3DoStep", "the communication step " + number(h) +
+    return error("fmi3DoStep", "the communication step " + exact_number(h) +
                                    " s is not a positive multiple of the FMU's fixed step " +
-                                   number(dt_) + " s (fixedInternalStepSize)");
+                                   exact_number(dt_) + " s (fixedInternalStepSize)");
   row_valid_ = false;
   const Status s = from_api(mhs_advance(sim_, now + std::round(steps) * dt_), "fmi3DoStep");
   if (last_successful_time != nullptr) *last_successful_time = current_time();
@@ -294,8 +291,8 @@ Status CoSimulation::set(const std::uint32_t* vrs, std::size_t n, const double* 
       return error("fmi3SetFloat64", "the parameter '" + v->name +
                                          "' is fixed: it is set before the end of initialisation");
     if (!std::isfinite(values[k]))
-      return error("fmi3SetFloat64",
-                   "'" + v->name + "' set to " + number(values[k]) + ": a value must be finite");
+      return error("fmi3SetFloat64", "'" + v->name + "' set to " + exact_number(values[k]) +
+                                         ": a value must be finite");
   }
   Status worst = Status::ok;
   for (std::size_t k = 0; k < n; ++k) {

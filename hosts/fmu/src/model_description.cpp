@@ -5,17 +5,15 @@
 #include <set>
 #include <sstream>
 
+#include "monohydra/cpp/number_text.hpp"
 #include "si_unit.hpp"
+#include "xml_text.hpp"
 
 namespace mh::fmu {
 
-namespace {
+using monohydra::exact_number;  // the shortest text that reads back as the same double
 
-std::string number(double v) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.17g", v);
-  return text;
-}
+namespace {
 
 const char* causality_name(Causality c) {
   switch (c) {
@@ -47,7 +45,7 @@ void unit_definitions(std::ostream& out, const std::vector<FmuVariable>& variabl
   if (units.empty()) return;
   out << "  <UnitDefinitions>\n";
   for (const std::string& u : units) {
-    out << "    <Unit name=\"" << xml_escaped(u) << "\"";
+    out << "    <Unit name=\"" << host::xml_escape(u) << "\"";
     const auto base = base_unit(u);
     if (!base) {
       out << "/>\n";
@@ -62,8 +60,8 @@ void unit_definitions(std::ostream& out, const std::vector<FmuVariable>& variabl
 }
 
 void default_experiment(std::ostream& out, const Description& d) {
-  out << "  <DefaultExperiment startTime=\"0\" stopTime=\"" << number(d.t_end) << "\" stepSize=\""
-      << number(d.dt) << "\"/>\n";
+  out << "  <DefaultExperiment startTime=\"0\" stopTime=\"" << exact_number(d.t_end)
+      << "\" stepSize=\"" << exact_number(d.dt) << "\"/>\n";
 }
 
 // The attributes a variable's kind decides (FMI 3.0 Table 18 / FMI 2.0 p. 49:
@@ -79,10 +77,10 @@ std::string header_attributes(const Description& d) {
   gmtime_r(&now, &utc);
   std::strftime(when, sizeof(when), "%Y-%m-%dT%H:%M:%SZ", &utc);
   std::ostringstream out;
-  out << " modelName=\"" << xml_escaped(d.model_name) << "\" description=\""
-      << xml_escaped(d.model_name)
+  out << " modelName=\"" << host::xml_escape(d.model_name) << "\" description=\""
+      << host::xml_escape(d.model_name)
       << ", a hydraulically actuated multibody model exported by monohydra\" generationTool=\""
-      << xml_escaped(d.generation_tool) << "\" generationDateAndTime=\"" << when
+      << host::xml_escape(d.generation_tool) << "\" generationDateAndTime=\"" << when
       << "\" variableNamingConvention=\"flat\"";
   return out.str();
 }
@@ -90,10 +88,10 @@ std::string header_attributes(const Description& d) {
 std::string fmi3(const Description& d) {
   std::ostringstream out;
   out << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<fmiModelDescription fmiVersion=\"3.0\""
-      << header_attributes(d) << " instantiationToken=\"" << xml_escaped(d.token) << "\">\n";
-  out << "  <CoSimulation modelIdentifier=\"" << xml_escaped(d.model_identifier)
+      << header_attributes(d) << " instantiationToken=\"" << host::xml_escape(d.token) << "\">\n";
+  out << "  <CoSimulation modelIdentifier=\"" << host::xml_escape(d.model_identifier)
       << "\" canHandleVariableCommunicationStepSize=\"true\" fixedInternalStepSize=\""
-      << number(d.dt)
+      << exact_number(d.dt)
       << "\" canGetAndSetFMUState=\"true\" canSerializeFMUState=\"true\""
          " canBeInstantiatedOnlyOncePerProcess=\"false\" hasEventMode=\"false\""
          " providesIntermediateUpdate=\"false\" "
@@ -103,15 +101,16 @@ std::string fmi3(const Description& d) {
   default_experiment(out, d);
   out << "  <ModelVariables>\n";
   for (const FmuVariable& v : d.variables) {
-    out << "    <Float64 name=\"" << xml_escaped(v.name) << "\" valueReference=\""
-        << v.value_reference << "\" description=\"" << xml_escaped(v.description)
+    out << "    <Float64 name=\"" << host::xml_escape(v.name) << "\" valueReference=\""
+        << v.value_reference << "\" description=\"" << host::xml_escape(v.description)
         << "\" causality=\"" << causality_name(v.causality) << "\" variability=\"" << variability(v)
         << '"';
     if (v.causality == Causality::parameter) out << " initial=\"exact\"";
-    if (!v.unit.empty()) out << " unit=\"" << xml_escaped(v.unit) << '"';
-    if (v.min <= v.max) out << " min=\"" << number(v.min) << "\" max=\"" << number(v.max) << '"';
+    if (!v.unit.empty()) out << " unit=\"" << host::xml_escape(v.unit) << '"';
+    if (v.min <= v.max)
+      out << " min=\"" << exact_number(v.min) << "\" max=\"" << exact_number(v.max) << '"';
     if (v.causality == Causality::parameter || v.causality == Causality::input)
-      out << " start=\"" << number(v.start) << '"';
+      out << " start=\"" << exact_number(v.start) << '"';
     out << "/>\n";
   }
   out << "  </ModelVariables>\n  <ModelStructure>\n";
@@ -130,9 +129,9 @@ std::string fmi3(const Description& d) {
 std::string fmi2(const Description& d) {
   std::ostringstream out;
   out << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<fmiModelDescription fmiVersion=\"2.0\""
-      << header_attributes(d) << " guid=\"" << xml_escaped(d.token)
+      << header_attributes(d) << " guid=\"" << host::xml_escape(d.token)
       << "\" numberOfEventIndicators=\"0\">\n";
-  out << "  <CoSimulation modelIdentifier=\"" << xml_escaped(d.model_identifier)
+  out << "  <CoSimulation modelIdentifier=\"" << host::xml_escape(d.model_identifier)
       << "\" canHandleVariableCommunicationStepSize=\"true\" canGetAndSetFMUstate=\"true\""
          " canSerializeFMUstate=\"true\" canNotUseMemoryManagementFunctions=\"true\"/>\n";
   unit_definitions(out, d.variables);
@@ -145,17 +144,18 @@ std::string fmi2(const Description& d) {
     if (v.causality == Causality::independent) continue;
     ++place;
     if (v.causality == Causality::output) outputs.push_back(place);
-    out << "    <ScalarVariable name=\"" << xml_escaped(v.name) << "\" valueReference=\""
-        << v.value_reference << "\" description=\"" << xml_escaped(v.description)
+    out << "    <ScalarVariable name=\"" << host::xml_escape(v.name) << "\" valueReference=\""
+        << v.value_reference << "\" description=\"" << host::xml_escape(v.description)
         << "\" causality=\"" << causality_name(v.causality) << "\" variability=\"" << variability(v)
         << '"';
     if (v.causality == Causality::parameter) out << " initial=\"exact\"";
     if (v.causality == Causality::output) out << " initial=\"calculated\"";
     out << ">\n      <Real";
-    if (!v.unit.empty()) out << " unit=\"" << xml_escaped(v.unit) << '"';
-    if (v.min <= v.max) out << " min=\"" << number(v.min) << "\" max=\"" << number(v.max) << '"';
+    if (!v.unit.empty()) out << " unit=\"" << host::xml_escape(v.unit) << '"';
+    if (v.min <= v.max)
+      out << " min=\"" << exact_number(v.min) << "\" max=\"" << exact_number(v.max) << '"';
     if (v.causality == Causality::parameter || v.causality == Causality::input)
-      out << " start=\"" << number(v.start) << '"';
+      out << " start=\"" << exact_number(v.start) << '"';
     out << "/>\n    </ScalarVariable>\n";
   }
   out << "  </ModelVariables>\n  <ModelStructure>\n    <Outputs>\n";
@@ -167,32 +167,6 @@ std::string fmi2(const Description& d) {
 }
 
 }  // namespace
-
-std::string xml_escaped(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&apos;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
 
 std::string model_description_xml(const Description& d) {
   return d.fmi_version == 2 ? fmi2(d) : fmi3(d);

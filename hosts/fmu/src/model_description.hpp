@@ -22,7 +22,4 @@ struct Description {
 
 std::string model_description_xml(const Description& d);
 
-// `text` with XML's five special characters escaped, for attribute values.
-std::string xml_escaped(const std::string& text);
-
 }  // namespace mh::fmu

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "xml_text.hpp"
+
 namespace mh::cli {
 
 struct PlotSeries {
@@ -50,8 +52,8 @@ std::vector<double> nice_ticks(double lo, double hi, int target);
 std::vector<size_t> decimate_min_max(const std::vector<double>& x, const std::vector<double>& y,
                                      double x0, double x1, int buckets);
 
-// Text made safe for XML content and attribute values.
-std::string xml_escape(const std::string& text);
+// Text made safe for XML content and attribute values (hosts/common).
+using host::xml_escape;
 
 // A colour of a 10-colour palette (Tableau 10), by index (wraps).
 const char* palette(size_t index);
