@@ -373,6 +373,7 @@ struct Simulation::Engine {
   mh_explicit_method explicit_ops{};
   // Subsystems and their states (the last n_s unknowns).
   std::vector<SubsystemInstance> subsystems;
+  std::vector<Visual> visuals;  // what they declared of their look (monohydra.visual/1)
 
   int N = 0;    // joint coordinates
   int m = 0;    // constraint rows

@@ -393,6 +393,9 @@ const std::vector<std::string>& Simulation::state_units() const {
 const std::vector<std::string>& Simulation::output_units() const {
   return output_units_;
 }
+const std::vector<Visual>& Simulation::visuals() const {
+  return engine_->visuals;
+}
 static int index_of(const std::vector<VariableInfo>& vars, const std::string& name) {
   for (size_t i = 0; i < vars.size(); ++i)
     if (vars[i].name == name || vars[i].qualified == name) return static_cast<int>(i);

@@ -3,6 +3,7 @@
 #include <stddef.h>
 
 #include "monohydra/monohydra.h"
+#include "monohydra/visual.h"
 
 #define LAYOUT(T) \
   { #T, sizeof(T), _Alignof(T) }
@@ -57,6 +58,8 @@ const abi_layout mh_c_layouts[] = {
     LAYOUT(mh_subsystem_setup_service),
     LAYOUT(mh_unknowns_service),
     LAYOUT(mh_state_extension),
+    LAYOUT(mh_visual_spec),
+    LAYOUT(mh_visual_service),
 };
 const size_t mh_c_layout_count = sizeof(mh_c_layouts) / sizeof(mh_c_layouts[0]);
 const size_t mh_c_offset_host_get_service = offsetof(mh_host, get_service);

@@ -206,7 +206,7 @@ TEST(PluginCheck, ARunThatFailsIsReportedAsAFailedRunWithItsTimeNotAsAnException
   EXPECT_EQ(r.output.find("an exception reached the host"), std::string::npos) << r.output;
 }
 
-TEST(HostServices, NullOutPointersAndNullOrForgedHandlesAreRefusedWithAMessageNotACrash) {
+TEST(HostServices, NullOutPointersNullOrForgedHandlesAndBadLooksAreRefusedWithAMessageNotACrash) {
   // The fixture's setup makes each bad call and fails, naming it, if one is
   // accepted; refused, it goes on as the sound spring and the model runs.
   const auto path = mh::test::scratch_dir("check-model") / "bad-host-calls.yaml";
@@ -226,7 +226,13 @@ TEST(HostServices, NullOutPointersAndNullOrForgedHandlesAreRefusedWithAMessageNo
         "the host service option_number with a handle the host did not give it (NULL)",
         "the host service add_state with a handle the host did not give it (forged, or kept past "
         "its instance's destroy)",
-        "the host service log with a handle the host did not give it (NULL)"})
+        "the host service log with a handle the host did not give it (NULL)",
+        "add_visual: expected a spec, got NULL",
+        "add_visual: unknown kind 7 (expected MH_VISUAL_ACTUATOR or MH_VISUAL_LINK)",
+        "add_visual: no point 2 (this instance added 2 with add_point)",
+        "add_visual: point_a and point_b are the same point",
+        "add_visual: an actuator needs a positive barrel_length and barrel_diameter (m)",
+        "add_visual: no state 99 (expected -1 or a global index below"})
     EXPECT_NE(r.output.find(said), std::string::npos) << said << "\n" << r.output;
 }
 

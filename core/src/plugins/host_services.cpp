@@ -13,6 +13,7 @@
 #include "monohydra/core/dynamics.hpp"
 #include "monohydra/core/kinematics.hpp"
 #include "monohydra/model_folder.h"
+#include "monohydra/visual.h"
 #include "plugins/abi_struct.hpp"
 
 namespace mh {
@@ -636,6 +637,55 @@ const char* host_model_folder(const mh_host* host) {
   return hp->engine->file->folder.empty() ? "." : hp->engine->file->folder.c_str();
 }
 
+// A component's look (visual.h): checked here, so that a host drawing it
+// needs no checks of its own.
+mh_status host_add_visual(const mh_host* host, const mh_visual_spec* spec_in) {
+  InstanceHost* hp = live(host, "add_visual");
+  if (hp == nullptr) return MH_ERROR;
+  InstanceHost& h = *hp;
+  if (setup_only(h, "add_visual", true, false) != MH_OK) return MH_ERROR;
+  if (spec_in == nullptr) {
+    host_log(host, MH_LOG_ERROR, "add_visual: expected a spec, got NULL");
+    return MH_ERROR;
+  }
+  const mh_visual_spec spec = read_struct(spec_in);
+  const SubsystemInstance& s = h.engine->subsystems[static_cast<size_t>(h.subsystem)];
+  auto refuse = [&](const std::string& why) {
+    host_log(host, MH_LOG_ERROR, ("add_visual: " + why).c_str());
+    return MH_ERROR;
+  };
+  const bool actuator = spec.kind == MH_VISUAL_ACTUATOR;
+  if (!actuator && spec.kind != MH_VISUAL_LINK)
+    return refuse("unknown kind " + std::to_string(spec.kind) +
+                  " (expected MH_VISUAL_ACTUATOR or MH_VISUAL_LINK)");
+  const auto points = static_cast<int32_t>(s.points.size());
+  for (const int32_t p : {spec.point_a, spec.point_b})
+    if (p < 0 || p >= points)
+      return refuse("no point " + std::to_string(p) + " (this instance added " +
+                    std::to_string(points) + " with add_point)");
+  if (spec.point_a == spec.point_b) return refuse("point_a and point_b are the same point");
+  auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
+  if (!positive(spec.rod_diameter)) return refuse("expected a positive rod_diameter (m)");
+  if (actuator && (!positive(spec.barrel_length) || !positive(spec.barrel_diameter)))
+    return refuse("an actuator needs a positive barrel_length and barrel_diameter (m)");
+  for (const int32_t state : {spec.state_a, spec.state_b})
+    if (state < -1 || state >= h.engine->n_s)
+      return refuse("no state " + std::to_string(state) + " (expected -1 or a global index below " +
+                    std::to_string(h.engine->n_s) + ")");
+  Visual v;
+  v.instance = s.spec->name;
+  v.kind = actuator ? Visual::Kind::actuator : Visual::Kind::link;
+  v.a = s.points[static_cast<size_t>(spec.point_a)];
+  v.b = s.points[static_cast<size_t>(spec.point_b)];
+  v.barrel_length = actuator ? spec.barrel_length : 0.0;
+  v.barrel_diameter = actuator ? spec.barrel_diameter : 0.0;
+  v.rod_diameter = spec.rod_diameter;
+  v.state_a = spec.state_a;
+  v.state_b = spec.state_b;
+  h.engine->visuals.push_back(std::move(v));
+  return MH_OK;
+}
+
 // The service tables, one per role's need (host.h): the functions are the
 // same for every instance (each takes its mh_host), so the tables are too.
 constexpr mh_options_service kOptions{sizeof(mh_options_service), host_option_number,
@@ -654,6 +704,7 @@ constexpr mh_subsystem_setup_service kSubsystemSetup{sizeof(mh_subsystem_setup_s
                                                      host_add_time_event};
 constexpr mh_unknowns_service kUnknowns{sizeof(mh_unknowns_service), host_add_unknown};
 constexpr mh_model_folder_service kModelFolder{sizeof(mh_model_folder_service), host_model_folder};
+constexpr mh_visual_service kVisual{sizeof(mh_visual_service), host_add_visual};
 constexpr mh_signals_service kSignals{sizeof(mh_signals_service), host_option_signal,
                                       host_option_signal_port};
 
@@ -676,6 +727,7 @@ const void* host_get_service(const mh_host* host, const char* id) {
   if (std::strcmp(id, MH_SERVICE_UNKNOWNS) == 0) return formulation ? &kUnknowns : nullptr;
   if (std::strcmp(id, MH_SERVICE_SIGNALS) == 0) return subsystem ? &kSignals : nullptr;
   if (std::strcmp(id, MH_SERVICE_MODEL_FOLDER) == 0) return subsystem ? &kModelFolder : nullptr;
+  if (std::strcmp(id, MH_SERVICE_VISUAL) == 0) return subsystem ? &kVisual : nullptr;
   return nullptr;
 }
 

@@ -22,6 +22,7 @@
 #include "host_services.hpp"
 #include "monohydra/cpp/services.hpp"
 #include "monohydra/cpp/touched_states.hpp"
+#include "monohydra/visual.h"
 
 namespace hyd {
 namespace {
@@ -92,7 +93,28 @@ class Cylinder {
         monohydra::outputs(h).add_output(h, &force, &force_out_) != MH_OK)
       return MH_ERROR;
     if (setup_end_stop() != MH_OK) return MH_ERROR;
-    return setup_gas_release();
+    if (setup_gas_release() != MH_OK) return MH_ERROR;
+    return declare_look(d2, d3);
+  }
+
+  // For a host that draws the run: a barrel of the cylinder's length from
+  // point a, its tube a fifth wider than the piston, the rod from point b; the
+  // cap chamber coloured by A's pressure, the rod chamber by B's.
+  mh_status declare_look(double piston_diameter, double rod_diameter) const {
+    const auto* visual =
+        static_cast<const mh_visual_service*>(host_->get_service(host_, MH_SERVICE_VISUAL));
+    if (visual == nullptr) return MH_OK;
+    mh_visual_spec look{};
+    look.struct_size = sizeof(mh_visual_spec);
+    look.kind = MH_VISUAL_ACTUATOR;
+    look.point_a = point_a_;
+    look.point_b = point_b_;
+    look.barrel_length = length_;
+    look.barrel_diameter = 1.2 * piston_diameter;
+    look.rod_diameter = rod_diameter;
+    look.state_a = p_a_;
+    look.state_b = p_b_;
+    return visual->add_visual(host_, &look);
   }
 
   mh_status evaluate(const mh_subsystem_eval& eval) const {

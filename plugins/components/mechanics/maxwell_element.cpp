@@ -45,7 +45,7 @@ class Maxwell {
         monohydra::subsystem_setup(h).add_point(h, "b", &b) != MH_OK ||
         monohydra::subsystem_setup(h).add_state(h, &delta, &delta_) != MH_OK)
       return MH_ERROR;
-    return MH_OK;
+    return declare_link(h, a, b);
   }
 
   mh_status evaluate(const mh_subsystem_eval& eval) const {

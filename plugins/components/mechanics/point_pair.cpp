@@ -1,5 +1,7 @@
 #include "point_pair.hpp"
 
+#include "monohydra/visual.h"
+
 namespace mech {
 
 bool PointPair::measure(const mh_subsystem_eval* eval) {
@@ -52,6 +54,21 @@ void PointPair::tension_jacobian(const mh_subsystem_eval* eval, double tension, 
         }
     }
   }
+}
+
+mh_status declare_link(const mh_host* host, int32_t point_a, int32_t point_b) {
+  const auto* visual =
+      static_cast<const mh_visual_service*>(host->get_service(host, MH_SERVICE_VISUAL));
+  if (visual == nullptr) return MH_OK;
+  mh_visual_spec look{};
+  look.struct_size = sizeof(mh_visual_spec);
+  look.kind = MH_VISUAL_LINK;
+  look.point_a = point_a;
+  look.point_b = point_b;
+  look.rod_diameter = 0.02;  // m: a thin line on a machine's scale
+  look.state_a = -1;
+  look.state_b = -1;
+  return visual->add_visual(host, &look);
 }
 
 }  // namespace mech

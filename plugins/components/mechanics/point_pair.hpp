@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "monohydra/host.h"
 #include "monohydra/subsystem.h"
 
 namespace mech {
@@ -28,5 +29,9 @@ struct PointPair {
   void tension_jacobian(const mh_subsystem_eval* eval, double tension, double dT_dl,
                         double dT_drate, double* dF_dp, double* dF_dv) const;
 };
+
+// Declares the element's look for a host that draws the run (visual.h): a
+// link between points a and b (MH_OK without such a host).
+mh_status declare_link(const mh_host* host, int32_t point_a, int32_t point_b);
 
 }  // namespace mech

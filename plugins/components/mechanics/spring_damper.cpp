@@ -4,6 +4,7 @@
 #include "components.hpp"
 #include "example_models.hpp"
 #include "monohydra/cpp/services.hpp"
+#include "monohydra/visual.h"
 #include "point_pair.hpp"
 
 namespace mech {
@@ -32,7 +33,7 @@ class SpringDamper {
     if (monohydra::subsystem_setup(h).add_point(h, "a", &a) != MH_OK ||
         monohydra::subsystem_setup(h).add_point(h, "b", &b) != MH_OK)
       return MH_ERROR;
-    return MH_OK;
+    return declare_link(h, a, b);
   }
 
   mh_status evaluate(const mh_subsystem_eval& eval) const {

@@ -70,6 +70,17 @@ struct VariableInfo {
   double range_min = 0.0, range_max = 0.0;
 };
 
+// How a component looks, as it declared it (sdk/include/monohydra/visual.h):
+// what a host draws of it without knowing its id.
+struct Visual {
+  enum class Kind { actuator, link };
+  std::string instance;  // the subsystem's name
+  Kind kind = Kind::link;
+  BodyPoint a, b;                                                         // its two points
+  double barrel_length = 0.0, barrel_diameter = 0.0, rod_diameter = 0.0;  // m
+  int state_a = -1, state_b = -1;  // global state indices colouring it, or -1
+};
+
 class Simulation {
  public:
   // Creates and sets up every instance; `choices` override the model file.
@@ -135,6 +146,8 @@ class Simulation {
   const std::vector<std::string>& output_names() const;  // CSV names ("" not written)
   int output_index(const std::string& name) const;       // -1 if absent
   const std::vector<std::string>& output_units() const;  // as declared, e.g. "m", "N"
+  // What the components declared of their look, in model-file order.
+  const std::vector<Visual>& visuals() const;
 
   // The model's inputs (its inputs:, in file order) and their values at the
   // accepted time.

@@ -177,5 +177,29 @@ TEST(ValveTableCircuit, FourBarWithAnOrificeGeneratedTableRunsAsWithValve43) {
       dz, dp);
 }
 
+// What a host that draws the run sees of the four-bar's cylinder (visual.h):
+// an actuator from its housing point a to its rod point b, the barrel as
+// long as the cylinder, a fifth wider than the piston, the rod its own
+// diameter, and its two chambers coloured by the nodes of its ports A and B.
+TEST(HydraulicCylinder, DeclaresItsBarrelRodAndChamberPressuresAsItsLook) {
+  const ModelFile file = load_model_file(test::source_path("models/fourbar.yaml"));
+  const Simulation sim(file, test::build_plugins());
+  ASSERT_EQ(sim.visuals().size(), 1u);
+  const Visual& v = sim.visuals().front();
+  EXPECT_EQ(v.instance, "cylinder");
+  EXPECT_EQ(v.kind, Visual::Kind::actuator);
+  EXPECT_EQ(v.a.body, kGround);
+  EXPECT_TRUE(v.a.p_B.isApprox(Eigen::Vector3d(0, -2, 0)));
+  EXPECT_EQ(v.b.body, 2);
+  EXPECT_TRUE(v.b.p_B.isApprox(Eigen::Vector3d(1, 0, 0)));
+  EXPECT_DOUBLE_EQ(v.barrel_length, 1.1);
+  EXPECT_DOUBLE_EQ(v.barrel_diameter, 1.2 * 0.080);
+  EXPECT_DOUBLE_EQ(v.rod_diameter, 0.035);
+  ASSERT_GE(v.state_a, 0);
+  ASSERT_GE(v.state_b, 0);
+  EXPECT_EQ(sim.state_names()[static_cast<size_t>(v.state_a)], "p2");  // node n2
+  EXPECT_EQ(sim.state_names()[static_cast<size_t>(v.state_b)], "p3");  // node n3
+}
+
 }  // namespace
 }  // namespace mh

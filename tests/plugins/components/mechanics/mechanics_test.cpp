@@ -43,6 +43,23 @@ solver: {dt: 0.001, t_end: 2}
 
 const std::string kOscillatorOptions = "    stiffness: 200\n    damping: 4\n    free_length: 1.0\n";
 
+// What a host that draws the run sees (visual.h): a link between the
+// spring's two points, named after the instance, coloured by nothing.
+TEST(SpringDamper, DeclaresItsLookAsALinkBetweenItsPoints) {
+  const ModelFile file = parse_model_text(oscillator(kOscillatorOptions), "oscillator.yaml");
+  const Simulation sim(file, test::build_plugins());
+  ASSERT_EQ(sim.visuals().size(), 1u);
+  const Visual& v = sim.visuals().front();
+  EXPECT_EQ(v.instance, "spring");
+  EXPECT_EQ(v.kind, Visual::Kind::link);
+  EXPECT_EQ(v.a.body, kGround);
+  EXPECT_TRUE(v.a.p_B.isApprox(Eigen::Vector3d(-1, 0, 0)));
+  EXPECT_EQ(v.b.body, 0);
+  EXPECT_GT(v.rod_diameter, 0.0);
+  EXPECT_EQ(v.state_a, -1);
+  EXPECT_EQ(v.state_b, -1);
+}
+
 TEST(SpringDamper, MatchesTheClosedFormDampedOscillator) {
   const ModelFile file = parse_model_text(oscillator(kOscillatorOptions), "oscillator.yaml");
   Simulation sim(file, test::build_plugins());
