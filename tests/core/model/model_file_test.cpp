@@ -8,9 +8,11 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <optional>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace mh {
 namespace {
@@ -186,6 +188,98 @@ bodies:
   EXPECT_TRUE(bodies[2].inertia_B.isApprox(Eigen::Matrix3d(Eigen::Vector3d(0, 1, 1).asDiagonal())));
   EXPECT_TRUE(bodies[3].com_B.isApprox(Eigen::Vector3d(1, 0, 0)));
   EXPECT_TRUE(bodies[3].inertia_B.isApprox(Eigen::Matrix3d(Eigen::Vector3d(1, 2, 3).asDiagonal())));
+}
+
+// The inertia about the centre of mass of a uniform solid of mass m, by
+// midpoint quadrature over cells: `inside` says whether a point is in it,
+// [lo, hi] bounds it. An independent check of the closed forms.
+Eigen::Matrix3d integrated_inertia(double m, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                                   const std::function<bool(const Eigen::Vector3d&)>& inside,
+                                   Eigen::Vector3d& com) {
+  const int n = 60;
+  const Eigen::Vector3d h = (hi - lo) / n;
+  std::vector<Eigen::Vector3d> cells;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      for (int k = 0; k < n; ++k) {
+        const Eigen::Vector3d p = lo + h.cwiseProduct(Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5));
+        if (inside(p)) cells.push_back(p);
+      }
+  const double dm = m / static_cast<double>(cells.size());
+  com.setZero();
+  for (const auto& p : cells) com += p / static_cast<double>(cells.size());
+  Eigen::Matrix3d J = Eigen::Matrix3d::Zero();
+  for (const auto& p : cells) {
+    const Eigen::Vector3d r = p - com;
+    J += dm * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
+  }
+  return J;
+}
+
+TEST(ModelFile, BoxAndCylinderShapesHaveTheInertiaOfUniformSolids) {
+  const ModelFile file = parse_model_text(R"(units: {length: m, mass: kg, time: s, angle: rad}
+bodies:
+  - name: box
+    parent: ground
+    joint: {type: revolute, axis: [0, 0, 1]}
+    mass: 6
+    shape: {type: box, size: [3, 2, 1], at: [0.5, -0.25, 0.1]}
+  - name: drum
+    parent: ground
+    joint: {type: revolute, axis: [0, 0, 1]}
+    mass: 4
+    shape: {type: cylinder, length: 2, radius: 0.3}
+  - name: drawn-only
+    parent: ground
+    joint: {type: revolute, axis: [0, 0, 1]}
+    mass: 4
+    shape: {type: cylinder, length: 2, radius: 0.3}
+    com: [0.4, 0, 0]
+    inertia: [1, 2, 3]
+)",
+                                          kLabel);
+  const auto& bodies = file.model.bodies;
+  ASSERT_EQ(bodies.size(), 3u);
+  ASSERT_EQ(file.body_shapes.size(), 3u);
+  // Box: centred on `at`, m (b^2 + c^2) / 12 about x and so on.
+  Eigen::Vector3d com;
+  const Eigen::Vector3d at(0.5, -0.25, 0.1), half(1.5, 1.0, 0.5);
+  const Eigen::Matrix3d box = integrated_inertia(
+      6, at - half, at + half, [](const Eigen::Vector3d&) { return true; }, com);
+  EXPECT_TRUE(bodies[0].com_B.isApprox(at));
+  EXPECT_LT((com - at).norm(), 1e-9);
+  EXPECT_TRUE(bodies[0].inertia_B.isApprox(box, 1e-3)) << bodies[0].inertia_B << "\n" << box;
+  EXPECT_TRUE(bodies[0].inertia_B.isApprox(
+      Eigen::Matrix3d(Eigen::Vector3d(2.5, 5.0, 6.5).asDiagonal())));  // 6/12 (5, 10, 13)
+  EXPECT_EQ(file.body_shapes[0].kind, BodyShape::Kind::box);
+  EXPECT_TRUE(file.body_shapes[0].size.isApprox(Eigen::Vector3d(3, 2, 1)));
+  EXPECT_TRUE(file.body_shapes[0].at.isApprox(at));
+  // Cylinder: from the joint point along x, m r^2 / 2 about its axis and
+  // m (3 r^2 + L^2) / 12 across.
+  const Eigen::Matrix3d drum = integrated_inertia(
+      4, Eigen::Vector3d(0, -0.3, -0.3), Eigen::Vector3d(2, 0.3, 0.3),
+      [](const Eigen::Vector3d& p) { return p.y() * p.y() + p.z() * p.z() <= 0.09; }, com);
+  EXPECT_TRUE(bodies[1].com_B.isApprox(Eigen::Vector3d(1, 0, 0)));
+  EXPECT_LT((com - Eigen::Vector3d(1, 0, 0)).norm(), 1e-9);
+  EXPECT_TRUE(bodies[1].inertia_B.isApprox(drum, 5e-3)) << bodies[1].inertia_B << "\n" << drum;
+  EXPECT_EQ(file.body_shapes[1].kind, BodyShape::Kind::cylinder);
+  EXPECT_TRUE(file.body_shapes[1].size.isApprox(Eigen::Vector3d(2, 0.3, 0.3)));
+  // Given com and inertia win: the shape is then only what is drawn.
+  EXPECT_TRUE(bodies[2].com_B.isApprox(Eigen::Vector3d(0.4, 0, 0)));
+  EXPECT_TRUE(bodies[2].inertia_B.isApprox(Eigen::Matrix3d(Eigen::Vector3d(1, 2, 3).asDiagonal())));
+  EXPECT_EQ(file.body_shapes[2].kind, BodyShape::Kind::cylinder);
+}
+
+TEST(ModelFileErrors, AShapeTakesTheKeysOfItsType) {
+  expect_error(one_body("    mass: 1\n    shape: {type: box, size: [1, 2, 3], length: 1}\n"), 7,
+               "bodies[0].shape.length", "unknown key 'length' (expected one of: type, size, at)");
+  expect_error(one_body("    mass: 1\n    shape: {type: cylinder, length: 1}\n"), 7,
+               "bodies[0].shape.radius", "required");
+  expect_error(one_body("    mass: 1\n    shape: {type: box, size: [1, 0, 3]}\n"), 7,
+               "bodies[0].shape.size", "expected three positive sides");
+  expect_error(one_body("    mass: 1\n    shape: {type: sphere, radius: 1}\n"), 7,
+               "bodies[0].shape.type",
+               "unknown shape type 'sphere' (expected one of: beam, cuboid, box or cylinder)");
 }
 
 TEST(ModelFile, FullInertiaMatrix) {

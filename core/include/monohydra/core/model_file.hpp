@@ -111,11 +111,28 @@ struct OutputSettings {
 inline constexpr const char* kDefaultFormulation = "open-loop";
 inline constexpr const char* kDefaultIntegrator = "trapezoidal";
 
+// bodies/<i>/shape: what the body looks like, in its own frame (a host draws
+// it; its mass properties come from it unless com and inertia are given).
+struct BodyShape {
+  enum class Kind {
+    none,      // no shape given: a host draws a default glyph
+    beam,      // a slender bar from the joint point along +x: size (length, 0, 0)
+    cuboid,    // a cube of side size.x centred on the joint point
+    box,       // a box of sides size centred on `at` (the joint point by default)
+    cylinder,  // a solid cylinder from the joint point along +x: size (length, radius, radius)
+  };
+  Kind kind = Kind::none;
+  Eigen::Vector3d size = Eigen::Vector3d::Zero();  // m
+  Eigen::Vector3d at = Eigen::Vector3d::Zero();    // m, body frame: a box's centre
+};
+const char* to_string(BodyShape::Kind kind);  // "none", "beam", ...
+
 struct ModelFile {
   std::string path;    // as given
   std::string folder;  // absolute: what relative paths in it are relative to
   Model model;
   std::vector<SourceMark> body_marks;  // parallel to model.bodies
+  std::vector<BodyShape> body_shapes;  // parallel to model.bodies
   SourceMark assembly_mark;            // assembly.fixed (the file alone when absent)
   std::vector<SubsystemSpec> subsystems;
   ComponentChoice formulation{kDefaultFormulation, {}, {}};

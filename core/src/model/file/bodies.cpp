@@ -1,5 +1,5 @@
-// bodies: each body with its joint, orientation, mass and shape (beam or
-// cuboid give com and inertia), sorted so that parents precede their children;
+// bodies: each body with its joint, orientation, mass and shape (beam,
+// cuboid, box or cylinder give com and inertia), sorted so that parents precede their children;
 // the planar check; and points {body, at} on the sorted bodies.
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -8,8 +8,28 @@
 #include <map>
 #include <optional>
 #include <queue>
+#include <string>
+#include <vector>
 
 #include "parser.hpp"
+
+namespace mh {
+const char* to_string(BodyShape::Kind kind) {
+  switch (kind) {
+    case BodyShape::Kind::beam:
+      return "beam";
+    case BodyShape::Kind::cuboid:
+      return "cuboid";
+    case BodyShape::Kind::box:
+      return "box";
+    case BodyShape::Kind::cylinder:
+      return "cylinder";
+    case BodyShape::Kind::none:
+      break;
+  }
+  return "none";
+}
+}  // namespace mh
 
 namespace mh::model_file_detail {
 
@@ -99,6 +119,7 @@ void Parser::parse_bodies(const YAML::Node& node, ModelFile& file) {
     b.body.parent = p == kGround ? kGround : topo_of[static_cast<std::size_t>(p)];
     file.model.bodies.push_back(b.body);
     file.body_marks.push_back(b.mark);
+    file.body_shapes.push_back(b.shape);
     body_topo_index_[b.body.name] = topo_of[static_cast<std::size_t>(i)];
     body_topo_names_.push_back(b.body.name);
   }
@@ -177,23 +198,64 @@ RawBody Parser::body(const YAML::Node& node, const std::string& field, std::size
   std::optional<Eigen::Vector3d> shape_com;
   std::optional<Eigen::Matrix3d> shape_inertia;
   if (auto shape_node = map.get("shape")) {
-    const MapView shape(*this, *shape_node, map.field("shape"), {"type", "length"});
-    const YAML::Node shape_type = shape.require("type", "beam or cuboid");
+    // The keys of its type only, so that a stray or misspelt one is named
+    // with the keys that type takes (an unknown type: any, and the type's
+    // error comes first).
+    const YAML::Node peek = shape_node->IsMap() ? (*shape_node)["type"] : YAML::Node();
+    const std::string peeked = peek && peek.IsScalar() ? peek.Scalar() : "";
+    const std::vector<std::string> keys =
+        peeked == "beam" || peeked == "cuboid" ? std::vector<std::string>{"type", "length"}
+        : peeked == "box"                      ? std::vector<std::string>{"type", "size", "at"}
+        : peeked == "cylinder" ? std::vector<std::string>{"type", "length", "radius"}
+                               : std::vector<std::string>{"type", "length", "size", "radius", "at"};
+    const MapView shape(*this, *shape_node, map.field("shape"), keys);
+    const char* const kinds = "beam, cuboid, box or cylinder";
+    const YAML::Node shape_type = shape.require("type", kinds);
     const std::string kind = string(shape_type, shape.field("type"));
-    if (kind != "beam" && kind != "cuboid") {
-      fail(shape_type, shape.field("type"),
-           "unknown shape type '" + kind + "' (expected one of: beam, cuboid)");
-    }
-    const YAML::Node length_node = shape.require("length");
-    const double length = bounded(positive(length_node, shape.field("length")), length_node,
-                                  shape.field("length"), kMaxLength, "m");
-    const double ml2 = b.mass * length * length;
-    if (kind == "beam") {
+    auto length_of = [&](const char* key) {
+      const YAML::Node value = shape.require(key);
+      return bounded(positive(value, shape.field(key)), value, shape.field(key), kMaxLength, "m");
+    };
+    const double m = b.mass;
+    // Inertias about the centre of mass, in the body frame (uniform solids).
+    if (kind == "beam" || kind == "cuboid") {
+      const double length = length_of("length");
+      const double ml2 = m * length * length;
+      if (kind == "beam") {
+        raw.shape.kind = BodyShape::Kind::beam;
+        raw.shape.size = Eigen::Vector3d(length, 0.0, 0.0);
+        shape_com = Eigen::Vector3d(0.5 * length, 0.0, 0.0);
+        shape_inertia = Eigen::Vector3d(0.0, ml2 / 12.0, ml2 / 12.0).asDiagonal();
+      } else {
+        raw.shape.kind = BodyShape::Kind::cuboid;
+        raw.shape.size = Eigen::Vector3d::Constant(length);
+        shape_com = Eigen::Vector3d::Zero();
+        shape_inertia = Eigen::Matrix3d::Identity() * (ml2 / 6.0);
+      }
+    } else if (kind == "box") {
+      const YAML::Node size_node = shape.require("size", "[x, y, z] in m, each positive");
+      const Eigen::Vector3d d = length3(size_node, shape.field("size"));
+      if (!(d.minCoeff() > 0.0))
+        fail(size_node, shape.field("size"), "expected three positive sides [x, y, z] (m)");
+      raw.shape.kind = BodyShape::Kind::box;
+      raw.shape.size = d;
+      if (auto at = shape.get("at")) raw.shape.at = length3(*at, shape.field("at"));
+      const Eigen::Vector3d d2 = d.cwiseProduct(d);
+      shape_com = raw.shape.at;
+      shape_inertia =
+          (m / 12.0 * Eigen::Vector3d(d2.y() + d2.z(), d2.x() + d2.z(), d2.x() + d2.y()))
+              .asDiagonal();
+    } else if (kind == "cylinder") {
+      const double length = length_of("length");
+      const double r = length_of("radius");
+      raw.shape.kind = BodyShape::Kind::cylinder;
+      raw.shape.size = Eigen::Vector3d(length, r, r);
       shape_com = Eigen::Vector3d(0.5 * length, 0.0, 0.0);
-      shape_inertia = Eigen::Vector3d(0.0, ml2 / 12.0, ml2 / 12.0).asDiagonal();
+      const double across = m * (3.0 * r * r + length * length) / 12.0;
+      shape_inertia = Eigen::Vector3d(0.5 * m * r * r, across, across).asDiagonal();
     } else {
-      shape_com = Eigen::Vector3d::Zero();
-      shape_inertia = Eigen::Matrix3d::Identity() * (ml2 / 6.0);
+      fail(shape_type, shape.field("type"),
+           "unknown shape type '" + kind + "' (expected one of: " + kinds + ")");
     }
   }
   const std::string without_shape = "required when no shape is given";

@@ -79,6 +79,7 @@ class MapView {
 // A body as written, before its parent is resolved.
 struct RawBody {
   Body body;
+  BodyShape shape;
   YAML::Node name_node;
   std::string parent_name;
   YAML::Node parent_node;
