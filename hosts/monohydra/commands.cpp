@@ -18,6 +18,7 @@
 #include "call_watchdog.hpp"
 #include "checkpoint.hpp"
 #include "cli_support.hpp"
+#include "compare.hpp"
 #include "crash_report.hpp"
 #include "input_feed.hpp"
 #include "model_plugins.hpp"
@@ -60,6 +61,10 @@ const char* kUsage =
     "                          the model's inputs from t,NAME,... rows or from name=value\n"
     "                          lines on stdin (-); --stream writes the rows to stdout;\n"
     "                          --save-state writes a checkpoint that --resume goes on from\n"
+    "  run MODEL.yaml --report DIR [--formulation NAME] [--integrator NAME]\n"
+    "                 [--dt S] [--t-end S] [LIMITS]\n"
+    "                          the run's report: DIR/report.html (the animated 3D view and\n"
+    "                          the figures, as compare --report) and its CSV in DIR\n"
     "  compare MODEL.yaml [--formulations A,B,...] [--integrators C,D,...] [--report DIR]\n"
     "                     [--dt S] [--t-end S] [LIMITS]\n"
     "                          run every formulation with every integrator on MODEL.yaml\n"
@@ -156,6 +161,9 @@ std::optional<int> parse_run_args(const std::vector<std::string>& args, const ch
                    "name=value from standard input, each applied at the next step");
     app.add_flag("--stream", request.stream,
                  "write each row to standard output as it is computed (the summary to stderr)");
+    app.add_option("--report", request.report_dir,
+                   "write DIR/report.html (the 3D view and the figures, as compare --report) "
+                   "and the run's CSV in DIR");
   }
   if (const auto code = parse_subcommand(app, args)) return code;
   if (!overrides.read(request.overrides)) return 2;
@@ -556,6 +564,34 @@ int run(const std::vector<std::string>& args) {
   RunRequest request;
   std::string out;
   if (const auto code = parse_run_args(args, "run", request, &out)) return *code;
+  if (!request.report_dir.empty()) {
+    // A report is made from the whole run kept in memory, as compare makes
+    // it: the options that feed, pace, stream or checkpoint a run are not
+    // for it.
+    const std::pair<bool, const char*> refused[] = {
+        {!out.empty(), "--out (the CSV goes to DIR)"},
+        {request.output_interval.has_value(), "--output-interval"},
+        {request.real_time_cap > 0, "--real-time"},
+        {!request.inputs.empty(), "--inputs"},
+        {request.stream, "--stream"},
+        {!request.save_state.empty(), "--save-state"},
+        {!request.resume.empty(), "--resume"}};
+    for (const auto& [given, name] : refused)
+      if (given) {
+        std::cerr << "monohydra: run --report takes no " << name
+                  << "; run once with it and once with --report\n";
+        return 2;
+      }
+    CompareJob job;
+    job.model_path = request.model_path;
+    if (!request.formulation.empty()) job.formulations = {request.formulation};
+    if (!request.integrator.empty()) job.integrators = {request.integrator};
+    job.report_dir = request.report_dir;
+    job.overrides = request.overrides;
+    job.single_run = true;
+    start_call_watchdog(request.call_timeout);
+    return run_comparison(job, std::cout);
+  }
   return simulate(request, out);
 }
 

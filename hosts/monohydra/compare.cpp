@@ -13,6 +13,7 @@
 #include "comparison_table.hpp"
 #include "control_intervals.hpp"
 #include "isolated_run.hpp"
+#include "machine_view.hpp"
 #include "model_plugins.hpp"
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/plugin_registry.hpp"
@@ -129,10 +130,11 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
   }
 
   const std::string name = job.study != nullptr ? job.study->name : file.model.name;
-  const auto formulations =
-      or_defaults(job.formulations, file.compare_formulations, file.formulation.name);
-  const auto integrators =
-      or_defaults(job.integrators, file.compare_integrators, file.integrator.name);
+  const std::vector<std::string> none;
+  const auto formulations = or_defaults(
+      job.formulations, job.single_run ? none : file.compare_formulations, file.formulation.name);
+  const auto integrators = or_defaults(
+      job.integrators, job.single_run ? none : file.compare_integrators, file.integrator.name);
   std::vector<RunRecord> runs;
   std::vector<host::UsedComponent> loaded;  // every component of every run, once
   for (const auto& formulation : formulations) {
@@ -213,7 +215,7 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
     const std::string shading = job.study != nullptr ? job.study->control_shading : "#d8c8f0";
     const auto figures = report_figures(file, c, on, shading);
     ReportPage page;
-    page.title = "monohydra compare: " + name;
+    page.title = std::string(job.single_run ? "monohydra run: " : "monohydra compare: ") + name;
     const auto joined = [](const std::vector<std::string>& names) {
       std::string text;
       for (const auto& f : names) text += (text.empty() ? "" : ", ") + f;
@@ -235,6 +237,9 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
                            ") on, shaded in the time plots: " + interval_text(on));
     page.table = &table;
     page.figures = &figures;
+    std::vector<const RunRecord*> shown;
+    for (const auto& r : c.runs) shown.push_back(&r);
+    add_machine_view(page, file, registry, shown, formulations);
     for (const auto& r : c.runs)
       if (!r.csv_path.empty()) page.csv_files.push_back(fs::path(r.csv_path).filename().string());
     try {

@@ -23,6 +23,9 @@ struct CompareJob {
   std::string report_dir;            // "" for no report and no CSVs
   StepOverrides overrides;           // of the model file's solver settings
   const CaseStudy* study = nullptr;  // the paper's numbers beside ours, when set
+  // `run --report`: one run, empty lists meaning the model file's own
+  // formulation and integrator (not its compare lists).
+  bool single_run = false;
 };
 
 // Runs every combination, prints the table to `out` (progress and failures to

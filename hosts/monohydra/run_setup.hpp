@@ -34,6 +34,7 @@ struct RunRequest {
   std::string resume;                     // --resume FILE: go on from a checkpoint
   std::string inputs;                     // --inputs FILE.csv, or "-": standard input
   bool stream = false;                    // --stream: rows to standard output as computed
+  std::string report_dir;                 // --report DIR: the run's report.html and CSV there
 };
 
 struct PreparedRun {

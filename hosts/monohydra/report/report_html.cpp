@@ -24,6 +24,12 @@ ul.notes { font-size: 13px; }
 figure { margin: 1.2em 0; } figure svg { display: block; max-width: 100%; height: auto; }
 figcaption { font-size: 13px; color: #444444; }
 p.omitted { font-style: italic; color: #666666; }
+.mh-view-box canvas { width: 820px; height: 520px; display: block; border: 1px solid #cccccc; }
+.mh-controls { font-size: 13px; margin: 6px 0; display: flex; gap: 10px; align-items: center; }
+.mh-controls input[type=range] { flex: 1; }
+.mh-legend { font-size: 12px; display: flex; gap: 6px; align-items: center; }
+.mh-legend .mh-bar { display: inline-block; width: 220px; height: 12px; border: 1px solid #999999; }
+p.mh-caption { font-size: 13px; color: #444444; }
 )";
 
 // The id attribute of an <svg ...> element's text.
@@ -52,6 +58,11 @@ std::string report_html(const ReportPage& page) {
   o << "<h1>" << xml_escape(page.title) << "</h1>\n<ul class=\"facts\">\n";
   for (const auto& f : page.facts) o << "<li>" << xml_escape(f) << "</li>\n";
   o << "</ul>\n";
+  if (!page.view.empty())
+    o << page.view;
+  else if (!page.view_note.empty())
+    o << "<h2 id=\"view\">The machine in motion</h2>\n<p class=\"omitted\">"
+      << xml_escape(page.view_note) << "</p>\n";
 
   if (page.table != nullptr) {
     const TextTable& t = *page.table;

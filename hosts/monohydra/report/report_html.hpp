@@ -1,7 +1,8 @@
-// The comparison's report: one self-contained page (report.html: inline CSS
-// and SVG, no scripts, no network) that is also well-formed XML (polyglot
-// XHTML), with the table, every figure of report_figures and links to the
-// runs' CSVs; each SVG is also written alone under figures/.
+// The comparison's report: one self-contained page (report.html: inline CSS,
+// SVG and scripts, nothing from the network) that is also well-formed XML
+// (polyglot XHTML), with the animated 3D view (machine_view.hpp), the table,
+// every figure of report_figures and links to the runs' CSVs; each SVG is
+// also written alone under figures/.
 #pragma once
 
 #include <string>
@@ -20,6 +21,8 @@ struct ReportPage {
   const TextTable* table = nullptr;
   const std::vector<ReportFigure>* figures = nullptr;
   std::vector<std::string> csv_files;  // names relative to the report's folder
+  std::string view;                    // machine_view_html's section, or "" for none
+  std::string view_note;               // why there is none, said in its place
 };
 
 std::string report_html(const ReportPage& page);
