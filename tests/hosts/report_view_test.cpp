@@ -269,6 +269,33 @@ TEST_P(ReportView, ChromiumDrawsTheMarkedPointWhereTheCsvPutsIt) {
 #endif
 }
 
+// run --report keeps the whole run to draw it: the options that feed, pace,
+// stream or checkpoint a run are refused, naming the option; without them it
+// writes the page and the run's CSV.
+TEST(RunReport, RefusesTheOptionsOfAStreamedRunAndWritesThePageAndTheCsv) {
+  const fs::path dir = scratch_dir("run-report");
+  const std::string model = shipped_model("fourbar.yaml");
+  for (const std::pair<const char*, const char*>& refused :
+       {std::pair<const char*, const char*>{"--out x.csv", "--out"},
+        {"--stream", "--stream"},
+        {"--real-time", "--real-time"},
+        {"--output-interval 0.01", "--output-interval"}}) {
+    const CliResult r = run_cli("run " + model + " --report " + dir.string() + " " + refused.first);
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find(std::string("run --report takes no ") + refused.second),
+              std::string::npos)
+        << r.output;
+  }
+  const CliResult r =
+      run_cli("run " + model + " --t-end 1 --formulation penalty --report " + dir.string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::string html = read_text(dir / "report.html");
+  EXPECT_NE(html.find("<title>monohydra run: fourbar</title>"), std::string::npos);
+  EXPECT_NE(html.find("formulations: penalty"), std::string::npos);
+  const Csv csv = read_csv(dir / "penalty.csv");
+  EXPECT_NEAR(csv["t"].back(), 1.0, 1e-9);
+}
+
 INSTANTIATE_TEST_SUITE_P(
     Reports, ReportView,
     ::testing::Values(Case{"fourbar", "compare --formulations double-step,penalty", "fourbar.yaml",
