@@ -150,3 +150,63 @@ solver: {dt: 0.001, t_end: 1}
 )";
 
 }  // namespace hyd
+
+// A 1 t load on a vertical cylinder (cap side down, 2 MPa to hold it), its
+// cap chamber held by a counterbalance valve piloted from the rod side
+// through a damping orifice (without it the valve and the load's oil spring
+// oscillate, as real ones do); from 1 s the pump fills the rod side at
+// 0.2 l/s and the load is lowered at 0.2 l/s over the rod side's area, the
+// cap side's oil passing the valve and a metering orifice to tank.
+inline constexpr const char* kCounterbalanceValveExample =
+    R"(units: {length: m, mass: kg, time: s, angle: rad}
+gravity: [0, -9.81, 0]
+planar: true
+bodies:
+  - {name: load, parent: ground, joint: {type: prismatic, at: [0, 0, 0], axis: [0, 1, 0]},
+     mass: 1000, com: [0, 0, 0], inertia: [1, 1, 1]}
+subsystems:
+  - {name: cylinder, type: cylinder, points: {a: {body: ground, at: [0, -2, 0]}, b: {body: load, at: [0, 0, 0]}},
+     ports: {A: cap, B: rod}, piston_diameter: 0.08, rod_diameter: 0.04, length: 1.2,
+     chamber_bulk_modulus: 2e10, fluid_bulk_modulus: 1.5e9, efficiency: 0.9}
+  - {name: V_cap, type: volume, ports: {p: cap}, volume: 2e-4, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9}
+  - {name: V_rod, type: volume, ports: {p: rod}, volume: 2e-4, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, initial_pressure: 1e5}
+  - {name: V_line, type: volume, ports: {p: line}, volume: 2e-4, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, initial_pressure: 1e5}
+  - {name: V_pilot, type: volume, ports: {p: pilot}, volume: 1e-4, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, initial_pressure: 1e5}
+  - {name: pilot_orifice, type: throttle, ports: {a: rod, b: pilot}, area: 5e-8, discharge_coefficient: 0.7, density: 850}
+  - {name: cbv, type: counterbalance-valve, ports: {L: cap, V: line, X: pilot}, setting_pressure: 4e6,
+     pilot_ratio: 3, override_pressure: 5e6, nominal_flow: 3e-4}
+  - {name: pump, type: flow-source, ports: {p: rod}, flow: [[0, 0], [1, 0], [1.2, 2e-4], [100, 2e-4]]}
+  - {name: metering, type: throttle, ports: {a: line, b: tank}, area: 2e-5, discharge_coefficient: 0.7, density: 850}
+  - {name: tank, type: pressure-source, ports: {p: tank}, pressure: 1e5}
+equilibrium: {free: [cap]}
+formulation: open-loop
+solver: {dt: 0.001, t_end: 2}
+)";
+
+// The same load on a pilot-operated check valve: the pump fills the cap side
+// through it (free flow) from 0.5 s to 1 s and the load rises, the rod side
+// emptying to tank; then the valve holds it (the pilot, the rod side, near
+// tank pressure).
+inline constexpr const char* kPilotCheckValveExample =
+    R"(units: {length: m, mass: kg, time: s, angle: rad}
+gravity: [0, -9.81, 0]
+planar: true
+bodies:
+  - {name: load, parent: ground, joint: {type: prismatic, at: [0, 0, 0], axis: [0, 1, 0]},
+     mass: 1000, com: [0, 0, 0], inertia: [1, 1, 1]}
+subsystems:
+  - {name: cylinder, type: cylinder, points: {a: {body: ground, at: [0, -2, 0]}, b: {body: load, at: [0, 0, 0]}},
+     ports: {A: cap, B: rod}, piston_diameter: 0.08, rod_diameter: 0.04, length: 1.2,
+     chamber_bulk_modulus: 2e10, fluid_bulk_modulus: 1.5e9, efficiency: 0.9}
+  - {name: V_cap, type: volume, ports: {p: cap}, volume: 2e-4, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9}
+  - {name: V_rod, type: volume, ports: {p: rod}, volume: 2e-4, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, initial_pressure: 1e5}
+  - {name: V_line, type: volume, ports: {p: line}, volume: 2e-4, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, initial_pressure: 1e5}
+  - {name: pocv, type: pilot-check-valve, ports: {A: line, B: cap, X: rod}, pilot_ratio: 4, nominal_flow: 1e-3}
+  - {name: pump, type: flow-source, ports: {p: line}, flow: [[0, 0], [0.5, 0], [0.6, 2e-4], [0.9, 2e-4], [1, 0], [100, 0]]}
+  - {name: rod_return, type: throttle, ports: {a: rod, b: tank}, area: 2e-5, discharge_coefficient: 0.7, density: 850}
+  - {name: line_bleed, type: throttle, ports: {a: line, b: tank}, area: 1e-7, discharge_coefficient: 0.7, density: 850}
+  - {name: tank, type: pressure-source, ports: {p: tank}, pressure: 1e5}
+equilibrium: {free: [cap]}
+formulation: open-loop
+solver: {dt: 0.001, t_end: 2, line_search: on}
+)";
