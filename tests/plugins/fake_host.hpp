@@ -107,6 +107,7 @@ class FakeHost {
   std::map<std::string, double> numbers;
   std::map<std::string, std::pair<uint32_t, std::vector<double>>> tables;  // columns, data
   std::map<std::string, std::string> port_nodes;                           // port key -> node name
+  std::map<std::string, std::string> strings;                              // string options
   std::map<std::string, std::array<double, 3>> point_positions;            // point key -> world (m)
 
   // What the instance did.
@@ -176,9 +177,11 @@ class FakeHost {
     *out = fallback;
     return MH_OK;
   }
-  static mh_status option_string(const mh_host*, const char*, int, const char* fallback,
+  static mh_status option_string(const mh_host* h, const char* key, int, const char* fallback,
                                  const char** out) {
-    *out = fallback;
+    const FakeHost& f = self(h);
+    auto it = f.strings.find(key);
+    *out = it == f.strings.end() ? fallback : it->second.c_str();
     return MH_OK;
   }
   static mh_status option_table(const mh_host* h, const char* key, int required, uint32_t columns,

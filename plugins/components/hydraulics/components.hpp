@@ -19,5 +19,8 @@ extern const monohydra::SubsystemComponent kValveTable;           // valve_table
 extern const monohydra::SubsystemComponent kHose;                 // hose.cpp
 extern const monohydra::SubsystemComponent kCounterbalanceValve;  // counterbalance_valve.cpp
 extern const monohydra::SubsystemComponent kPilotCheckValve;      // pilot_check_valve.cpp
+extern const monohydra::SubsystemComponent kVariablePump;         // variable_pump.cpp
+extern const monohydra::SubsystemComponent kLsValveSection;       // ls_valve_section.cpp
+extern const monohydra::SubsystemComponent kShuttleValve;         // shuttle_valve.cpp
 
 }  // namespace hyd

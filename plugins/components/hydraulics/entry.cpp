@@ -5,4 +5,5 @@
 MONOHYDRA_SUBSYSTEM_PLUGIN(hyd::kPressureSource, hyd::kVolume, hyd::kThrottle, hyd::kValve43,
                            hyd::kCylinder, hyd::kReliefValve, hyd::kCheckValve,
                            hyd::kHydraulicMotor, hyd::kValveTable, hyd::kFlowSource, hyd::kHose,
-                           hyd::kCounterbalanceValve, hyd::kPilotCheckValve);
+                           hyd::kCounterbalanceValve, hyd::kPilotCheckValve, hyd::kVariablePump,
+                           hyd::kLsValveSection, hyd::kShuttleValve);

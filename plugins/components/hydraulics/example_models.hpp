@@ -210,3 +210,54 @@ equilibrium: {free: [cap]}
 formulation: open-loop
 solver: {dt: 0.001, t_end: 2, line_search: on}
 )";
+
+// A load-sensing pump (max 1.5 l/s) feeding one pre-compensated section that
+// opens to 5 V from 0.1 s against a 10 MPa load; the section's LS port
+// pilots the pump through a small line.
+inline constexpr const char* kVariablePumpExample =
+    R"(units: {length: m, mass: kg, time: s, angle: rad}
+gravity: [0, 0, 0]
+bodies:
+  - {name: slider, parent: ground, joint: {type: prismatic, at: [0, 0, 0], axis: [1, 0, 0]},
+     mass: 1.0, com: [0, 0, 0], inertia: [1, 1, 1]}
+subsystems:
+  - {name: pump, type: variable-pump, ports: {P: supply, S: tank, LS: ls}, max_displacement: 1e-5,
+     speed: 150, margin: 2e6, cutoff_pressure: 30e6, max_power: 60e3}
+  - {name: V_supply, type: volume, ports: {p: supply}, volume: 1e-3, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, initial_pressure: 2.1e6}
+  - {name: V_ls, type: volume, ports: {p: ls}, volume: 1e-5, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, initial_pressure: 1e5}
+  - {name: section, type: ls-valve-section, ports: {P: supply, T: tank, A: load, B: tank, LS: ls},
+     flow_coefficient: 2e-8, time_constant: 0.02, reference: [[0, 0], [0.1, 0], [0.2, 5], [10, 5]]}
+  - {name: load, type: pressure-source, ports: {p: load}, pressure: 10e6}
+  - {name: tank, type: pressure-source, ports: {p: tank}, pressure: 1e5}
+formulation: open-loop
+solver: {dt: 0.001, t_end: 1}
+)";
+
+// Two post-compensated sections (flow sharing) on a pump of at most 0.1 l/s,
+// against 5 and 10 MPa loads; a shuttle sends the higher load pressure to
+// the pump and to the compensators; both spools open from 0.1 s (4 V and 8
+// V), asking for more than the pump gives.
+inline constexpr const char* kLoadSensingExample =
+    R"(units: {length: m, mass: kg, time: s, angle: rad}
+gravity: [0, 0, 0]
+bodies:
+  - {name: slider, parent: ground, joint: {type: prismatic, at: [0, 0, 0], axis: [1, 0, 0]},
+     mass: 1.0, com: [0, 0, 0], inertia: [1, 1, 1]}
+subsystems:
+  - {name: pump, type: variable-pump, ports: {P: supply, S: tank, LS: ls}, max_displacement: 1e-6,
+     speed: 100, margin: 2e6}
+  - {name: V_supply, type: volume, ports: {p: supply}, volume: 1e-3, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, initial_pressure: 2.1e6}
+  - {name: V_ls, type: volume, ports: {p: ls}, volume: 1e-5, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, initial_pressure: 1e5}
+  - {name: V_ls1, type: volume, ports: {p: ls1}, volume: 1e-5, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, initial_pressure: 1e5}
+  - {name: V_ls2, type: volume, ports: {p: ls2}, volume: 1e-5, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, initial_pressure: 1e5}
+  - {name: shuttle, type: shuttle-valve, ports: {A: ls1, B: ls2, C: ls}}
+  - {name: section1, type: ls-valve-section, ports: {P: supply, T: tank, A: load1, B: tank, LS: ls1, X: ls},
+     compensation: post, flow_coefficient: 2e-8, time_constant: 0.02, reference: [[0, 0], [0.1, 0], [0.2, 4], [10, 4]]}
+  - {name: section2, type: ls-valve-section, ports: {P: supply, T: tank, A: load2, B: tank, LS: ls2, X: ls},
+     compensation: post, flow_coefficient: 2e-8, time_constant: 0.02, reference: [[0, 0], [0.1, 0], [0.2, 8], [10, 8]]}
+  - {name: load1, type: pressure-source, ports: {p: load1}, pressure: 5e6}
+  - {name: load2, type: pressure-source, ports: {p: load2}, pressure: 10e6}
+  - {name: tank, type: pressure-source, ports: {p: tank}, pressure: 1e5}
+formulation: open-loop
+solver: {dt: 0.001, t_end: 1}
+)";

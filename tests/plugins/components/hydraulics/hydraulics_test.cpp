@@ -59,7 +59,8 @@ TEST(HydraulicPlugin, OneLibraryListsItsComponents) {
   EXPECT_EQ(ids, (std::vector<std::string>{"pressure-source", "volume", "throttle", "valve-4-3",
                                            "cylinder", "relief-valve", "check-valve",
                                            "hydraulic-motor", "valve-table", "flow-source", "hose",
-                                           "counterbalance-valve", "pilot-check-valve"}));
+                                           "counterbalance-valve", "pilot-check-valve",
+                                           "variable-pump", "ls-valve-section", "shuttle-valve"}));
 }
 
 // ---------------------------------------------------------------------------
