@@ -22,5 +22,6 @@ extern const monohydra::SubsystemComponent kPilotCheckValve;      // pilot_check
 extern const monohydra::SubsystemComponent kVariablePump;         // variable_pump.cpp
 extern const monohydra::SubsystemComponent kLsValveSection;       // ls_valve_section.cpp
 extern const monohydra::SubsystemComponent kShuttleValve;         // shuttle_valve.cpp
+extern const monohydra::SubsystemComponent kOpenCentreValve;      // open_centre_valve.cpp
 
 }  // namespace hyd

@@ -6,4 +6,4 @@ MONOHYDRA_SUBSYSTEM_PLUGIN(hyd::kPressureSource, hyd::kVolume, hyd::kThrottle, h
                            hyd::kCylinder, hyd::kReliefValve, hyd::kCheckValve,
                            hyd::kHydraulicMotor, hyd::kValveTable, hyd::kFlowSource, hyd::kHose,
                            hyd::kCounterbalanceValve, hyd::kPilotCheckValve, hyd::kVariablePump,
-                           hyd::kLsValveSection, hyd::kShuttleValve);
+                           hyd::kLsValveSection, hyd::kShuttleValve, hyd::kOpenCentreValve);

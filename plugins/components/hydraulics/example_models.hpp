@@ -261,3 +261,25 @@ subsystems:
 formulation: open-loop
 solver: {dt: 0.001, t_end: 1}
 )";
+
+// A fixed pump (0.1 l/s) on an open-centre valve: in neutral the centre
+// passes it to tank at 1 MPa; from 0.1 s to 0.5 s the spool opens to 10 V
+// against an 8 MPa load, closing the centre at 6 V.
+inline constexpr const char* kOpenCentreValveExample =
+    R"(units: {length: m, mass: kg, time: s, angle: rad}
+gravity: [0, 0, 0]
+bodies:
+  - {name: slider, parent: ground, joint: {type: prismatic, at: [0, 0, 0], axis: [1, 0, 0]},
+     mass: 1.0, com: [0, 0, 0], inertia: [1, 1, 1]}
+subsystems:
+  - {name: pump, type: flow-source, ports: {p: supply}, flow: 1e-4}
+  - {name: V_supply, type: volume, ports: {p: supply}, volume: 1e-3, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, initial_pressure: 1.1e6}
+  - {name: valve, type: open-centre-valve, ports: {P: supply, T: tank, A: load, B: tank}, flow_coefficient: 2e-8,
+     nominal_bypass_flow: 1e-4, bypass_pressure: 1e6, closing_spool: 6, time_constant: 0.02,
+     reference: [[0, 0], [0.1, 0], [0.5, 10], [10, 10]]}
+  - {name: relief, type: relief-valve, ports: {P: supply, T: tank}, cracking_pressure: 20e6, override_pressure: 2e6, nominal_flow: 2e-4}
+  - {name: load, type: pressure-source, ports: {p: load}, pressure: 8e6}
+  - {name: tank, type: pressure-source, ports: {p: tank}, pressure: 1e5}
+formulation: open-loop
+solver: {dt: 0.001, t_end: 1}
+)";

@@ -56,11 +56,11 @@ TEST(HydraulicPlugin, OneLibraryListsItsComponents) {
     EXPECT_EQ(c.abi_version.major, MH_ABI_VERSION_MAJOR);
     EXPECT_EQ(c.abi_version.minor, MH_ABI_VERSION_MINOR);
   }
-  EXPECT_EQ(ids, (std::vector<std::string>{"pressure-source", "volume", "throttle", "valve-4-3",
-                                           "cylinder", "relief-valve", "check-valve",
-                                           "hydraulic-motor", "valve-table", "flow-source", "hose",
-                                           "counterbalance-valve", "pilot-check-valve",
-                                           "variable-pump", "ls-valve-section", "shuttle-valve"}));
+  EXPECT_EQ(ids, (std::vector<std::string>{
+                     "pressure-source", "volume", "throttle", "valve-4-3", "cylinder",
+                     "relief-valve", "check-valve", "hydraulic-motor", "valve-table", "flow-source",
+                     "hose", "counterbalance-valve", "pilot-check-valve", "variable-pump",
+                     "ls-valve-section", "shuttle-valve", "open-centre-valve"}));
 }
 
 // ---------------------------------------------------------------------------
