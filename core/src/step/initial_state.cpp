@@ -315,7 +315,8 @@ void Simulation::Engine::solve_algebraic_and_equilibrium() {
     fail("the initial states could not be solved: an equation is not finite at the start");
   if (!(worst <= 1.0))
     fail("the initial states could not be solved (the last correction was " + short_number(worst) +
-         " times the tolerance)");
+         " times the tolerance, in state '" +
+         states.state_info[static_cast<size_t>(out.worst)].qualified + "')");
   // Every equation must hold: a row that the unknowns cannot move must be zero.
   for (int i = 0; i < n_rows; ++i) {
     const bool ok = scale[i] > 0.0 ? std::abs(F[i]) * scale[i] <= 10.0 : std::abs(F[i]) <= 1e-9;
