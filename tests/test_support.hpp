@@ -9,6 +9,7 @@
 
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/plugin_registry.hpp"
+#include "monohydra/subsystem.h"
 
 namespace mh::test {
 
@@ -50,6 +51,29 @@ inline std::string load_error(const std::string& path) {
 
 inline std::string source_path(const std::string& relative) {
   return std::string(MH_SOURCE_DIR) + "/" + relative;
+}
+
+// The example model a subsystem component of this build declares (its
+// factory's example_model), "" when it declares none.
+inline std::string example_model(const std::string& id) {
+  const ComponentInfo& c = build_plugins().find(ComponentKind::subsystem, id);
+  const auto* plugin = static_cast<const mh_subsystem_factory*>(c.factory);
+  if (c.subsystem_factory.count == nullptr || c.subsystem_factory.example_model == nullptr)
+    return "";
+  for (uint32_t i = 0; i < c.subsystem_factory.count(plugin); ++i)
+    if (id == c.subsystem_factory.descriptor(plugin, i)->id) {
+      const char* text = c.subsystem_factory.example_model(plugin, i);
+      return text != nullptr ? text : "";
+    }
+  return "";
+}
+
+// `text` with its first `from` replaced by `to`; "" when `from` is not there
+// (so that a model edited wrongly fails to parse, loudly).
+inline std::string edited(std::string text, const std::string& from, const std::string& to) {
+  const size_t at = text.find(from);
+  if (at == std::string::npos) return "";
+  return text.replace(at, from.size(), to);
 }
 
 // For RecordProperty: an error or a measured number, in a readable form.

@@ -25,22 +25,6 @@
 namespace mh::test {
 namespace {
 
-std::string example_model(const std::string& id) {
-  const ComponentInfo& c = build_plugins().find(ComponentKind::subsystem, id);
-  const auto* plugin = static_cast<const mh_subsystem_factory*>(c.factory);
-  for (uint32_t i = 0; i < c.subsystem_factory.count(plugin); ++i)
-    if (id == c.subsystem_factory.descriptor(plugin, i)->id)
-      return c.subsystem_factory.example_model(plugin, i);
-  return "";
-}
-
-std::string edited(std::string text, const std::string& from, const std::string& to) {
-  const size_t at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  if (at != std::string::npos) text.replace(at, from.size(), to);
-  return text;
-}
-
 // The model run to its end (1 s: every transient over); the run itself.
 std::unique_ptr<Simulation> settled(const std::string& text, ModelFile& file) {
   file = parse_model_text(text, "load-sensing.yaml");

@@ -20,15 +20,6 @@
 namespace mh::test {
 namespace {
 
-std::string example_model(const std::string& id) {
-  const ComponentInfo& c = build_plugins().find(ComponentKind::subsystem, id);
-  const auto* plugin = static_cast<const mh_subsystem_factory*>(c.factory);
-  for (uint32_t i = 0; i < c.subsystem_factory.count(plugin); ++i)
-    if (id == c.subsystem_factory.descriptor(plugin, i)->id)
-      return c.subsystem_factory.example_model(plugin, i);
-  return "";
-}
-
 constexpr double kPump = 1e-4, kTank = 1e5, kLoad = 8e6, kCvd = 2e-8, kBypassDrop = 1e6;
 
 TEST(OpenCentreValve, NeutralBypassesThePumpAndTheOpenValveFeedsTheLoad) {

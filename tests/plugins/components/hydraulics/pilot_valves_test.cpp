@@ -188,23 +188,6 @@ TEST(PilotValveOptions, BadValuesAreRefusedOnTheirKey) {
 
 // --- in a run: the example models' load -------------------------------------
 
-std::string example_model(const std::string& id) {
-  const ComponentInfo& c = build_plugins().find(ComponentKind::subsystem, id);
-  const auto* plugin = static_cast<const mh_subsystem_factory*>(c.factory);
-  for (uint32_t i = 0; i < c.subsystem_factory.count(plugin); ++i)
-    if (id == c.subsystem_factory.descriptor(plugin, i)->id)
-      return c.subsystem_factory.example_model(plugin, i);
-  return "";
-}
-
-// The model with `from` replaced by `to` (one occurrence, which must be there).
-std::string edited(std::string text, const std::string& from, const std::string& to) {
-  const size_t at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  if (at != std::string::npos) text.replace(at, from.size(), to);
-  return text;
-}
-
 constexpr double kRodArea = 0.25 * M_PI * (0.08 * 0.08 - 0.04 * 0.04);
 constexpr double kInflow = 2e-4;  // m^3/s, the examples' pump
 
