@@ -97,6 +97,10 @@ TextTable comparison_table(const Comparison& c, const PaperNumbers* paper) {
           paper_run([](const PaperRun& r) { return r.total_seconds; }));
   add_row(row::kPerStep, metric([](const RunMetrics& m) { return g4(m.seconds_per_step * 1e3); }),
           none);
+  add_row(row::kWorstStep,
+          metric([](const RunMetrics& m) { return g4(m.worst_step_seconds * 1e3); }), none);
+  add_row(row::kWorstStepTime, metric([](const RunMetrics& m) { return g4(m.worst_step_time); }),
+          none);
   add_row(row::kRealTime, metric([](const RunMetrics& m) { return g4(m.real_time_factor); }), none);
   add_row(row::kDrift, metric([](const RunMetrics& m) { return g4(m.peak_abs_drift); }),
           paper_model(p.peak_drift));

@@ -25,6 +25,12 @@ RunMetrics compute_metrics(const RunRecord& run) {
     iteration_sum += iters[k];
     m.max_iterations = std::max(m.max_iterations, static_cast<int>(iters[k]));
     step_wall += wall[k];
+    const double steps_in_row =
+        run.dt > 0.0 ? std::max(1.0, std::round((t[k] - t[k - 1]) / run.dt)) : 1.0;
+    if (wall[k] / steps_in_row > m.worst_step_seconds) {
+      m.worst_step_seconds = wall[k] / steps_in_row;
+      m.worst_step_time = t[k];
+    }
   }
   m.wall_seconds = wall[0] + step_wall;
   if (m.steps > 0) {

@@ -17,10 +17,14 @@ struct RunMetrics {
   int max_iterations = 0;          // max of iters over the steps
   double wall_seconds = 0.0;       // sum of wall_s over every row: start() and every step()
   double seconds_per_step = 0.0;   // sum of wall_s over the steps / steps
-  double real_time_factor = 0.0;   // simulated_seconds / wall_seconds (> 1: faster than real time)
-  double peak_abs_drift = 0.0;     // max |drift| over every row (J)
-  double peak_drift_time = 0.0;    // t of that row (s)
-  double max_abs_work = 0.0;       // max |W| over every row (J): the maximum actuator work
+  // The costliest step: a row's wall_s over the steps it stands for (one when
+  // every step is written), the largest over the rows, and the row's t.
+  double worst_step_seconds = 0.0;
+  double worst_step_time = 0.0;
+  double real_time_factor = 0.0;  // simulated_seconds / wall_seconds (> 1: faster than real time)
+  double peak_abs_drift = 0.0;    // max |drift| over every row (J)
+  double peak_drift_time = 0.0;   // t of that row (s)
+  double max_abs_work = 0.0;      // max |W| over every row (J): the maximum actuator work
   std::optional<double> drift_percent;  // peak_abs_drift / max_abs_work * 100; none when W is 0
   double max_phi_norm = 0.0;            // max phi_norm over every row
 };

@@ -47,11 +47,15 @@ void expect_table_from_csvs(const PrintedTable& t, const fs::path& dir,
     const Csv csv = read_csv(dir / (f + ".csv"));
     ASSERT_GT(csv.rows, 1u);
     const size_t steps = csv.rows - 1;
-    double iterations = 0.0, max_iterations = 0.0, step_wall = 0.0;
+    double iterations = 0.0, max_iterations = 0.0, step_wall = 0.0, worst_wall = 0.0, worst_t = 0.0;
     for (size_t k = 1; k < csv.rows; ++k) {
       iterations += csv["iters"][k];
       max_iterations = std::max(max_iterations, csv["iters"][k]);
       step_wall += csv["wall_s"][k];
+      if (csv["wall_s"][k] > worst_wall) {  // every step is a row here
+        worst_wall = csv["wall_s"][k];
+        worst_t = csv["t"][k];
+      }
     }
     const double wall = csv["wall_s"][0] + step_wall;
     double drift = 0.0, drift_t = 0.0, work = 0.0, phi = 0.0;
@@ -90,6 +94,8 @@ void expect_table_from_csvs(const PrintedTable& t, const fs::path& dir,
     EXPECT_EQ(number(t.cell("Newton iterations max", f)), max_iterations);
     expect_printed(t, "total wall time (s)", f, wall);
     expect_printed(t, "time per step (ms)", f, step_wall / static_cast<double>(steps) * 1e3);
+    expect_printed(t, "worst step time (ms)", f, worst_wall * 1e3);
+    expect_printed(t, "worst step at t (s)", f, worst_t);
     expect_printed(t, "real-time factor", f, csv["t"].back() / wall);
     expect_printed(t, "peak |drift| (J)", f, drift);
     expect_printed(t, "peak |drift| at t (s)", f, drift_t);

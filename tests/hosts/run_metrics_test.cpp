@@ -32,6 +32,16 @@ TEST(RunMetrics, StepsAverageOverStepsAndWallTimeIncludesTheStart) {
   EXPECT_DOUBLE_EQ(m.real_time_factor, 0.3 / 0.8);
 }
 
+// The costliest single step, not only the average: its wall time and when.
+TEST(RunMetrics, TheWorstStepIsTheCostliestRowPerStepItStandsFor) {
+  SyntheticRun s = three_steps();
+  s.wall = [](size_t k, double) { return k == 0 ? 0.5 : k == 2 ? 0.25 : 0.1; };
+  const cli::RunMetrics m = cli::compute_metrics(s.make());
+  EXPECT_DOUBLE_EQ(m.worst_step_seconds, 0.25);
+  EXPECT_DOUBLE_EQ(m.worst_step_time, 0.2);
+  EXPECT_DOUBLE_EQ(m.seconds_per_step, 0.45 / 3.0);  // the average hides it
+}
+
 TEST(RunMetrics, DriftIsThePeakMagnitudeAndItsPercentIsOfTheLargestWork) {
   const cli::RunMetrics m = cli::compute_metrics(three_steps().make());
   EXPECT_DOUBLE_EQ(m.peak_abs_drift, 0.2);
