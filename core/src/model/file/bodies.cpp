@@ -1,6 +1,7 @@
 // bodies: each body with its joint, orientation, mass and shape (beam,
-// cuboid, box or cylinder give com and inertia), sorted so that parents precede their children;
-// the planar check; and points {body, at} on the sorted bodies.
+// cuboid, box or cylinder give com and inertia), sorted so that parents
+// precede their children; the planar check; and points {body, at} on the
+// sorted bodies.
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
