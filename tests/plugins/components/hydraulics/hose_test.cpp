@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -18,7 +19,7 @@ namespace {
 constexpr double kL = 10.0, kRho = 850.0, kFluid = 1.5e9, kWall = 1e9;
 constexpr double kP0 = 1e6, kStep = 1e5, kT0 = 1e-3;
 
-std::string line_model(int segments, double viscosity) {
+std::string line_model(int segments, double viscosity, double dt = 2e-5, double t_end = 0.08) {
   return R"(units: {length: m, mass: kg, time: s, angle: rad}
 name: line
 gravity: [0, 0, 0]
@@ -35,21 +36,23 @@ subsystems:
   - {name: gauge, type: pressure-sensor, ports: {a: closed}}   # takes no flow: a closed end
 nodes: {inlet: p_in, closed: p_end}
 formulation: open-loop
-solver: {dt: 0.00002, t_end: 0.08}
+solver: {dt: )" +
+         std::to_string(dt) + ", t_end: " + std::to_string(t_end) + R"(}
 )";
 }
 
 // The times the closed end's pressure rises through p0 + step (the middle
 // of each of its jumps from p0 to p0 + 2 step).
-std::vector<double> upward_crossings(int segments, double viscosity) {
-  const ModelFile file = parse_model_text(line_model(segments, viscosity), "line.yaml");
+std::vector<double> upward_crossings(int segments, double viscosity, double dt = 2e-5,
+                                     double t_end = 0.08) {
+  const ModelFile file = parse_model_text(line_model(segments, viscosity, dt, t_end), "line.yaml");
   Simulation sim(file, test::build_plugins());
   sim.start();
   const int end = sim.state_index("p_end");
   EXPECT_GE(end, 0);
   std::vector<double> crossings;
   double t_prev = sim.time(), p_prev = sim.states()[end];
-  while (sim.time() < 0.08 - 1e-9) {
+  while (sim.time() < t_end - 1e-9) {
     sim.step();
     const double p = sim.states()[end], level = kP0 + kStep;
     if (p_prev < level && p >= level)  // linear between the two steps
@@ -66,15 +69,28 @@ double wave_speed() {
 
 // The wave's arrival at the closed end: the middle of the end pressure's
 // first jump (to p0 + step on its way to p0 + 2 step), L / c after the step.
-// Measured 3.0 % late with 20 segments and 2.9 % with 40: the lumping
-// disperses the front (docs/hydraulics.md); the issue asks for 1 %, which
-// this line does not yet meet, so the bound here is what it does: 4 %.
-TEST(Hose, APressureStepReachesTheClosedEndAfterLOverCWithin4Percent) {
+// A lumped line's front disperses: the exact solution of the ladder puts the
+// middle 8.4 % late with 5 segments, 2.95 % with 20, 1.8 % with 40, 1.1 % with
+// 80 (it shrinks as n^(-2/3), docs/hydraulics.md), and the trapezoidal step
+// adds its own phase lag when it is not small against a segment's travel
+// (20 segments at 20 us: 3.0 %). So 1 % takes a hundred segments at 4 us
+// (measured 0.98 %); the coarse line is held to what it does, 4 %.
+TEST(Hose, APressureStepReachesTheClosedEndAfterLOverCWithin4PercentWithTwentySegments) {
   const std::vector<double> up = upward_crossings(20, 0.0);
   ASSERT_GE(up.size(), 1u);
   const double travel = kL / wave_speed();  // 11.9 ms
   EXPECT_GT(up[0] - kT0, travel);           // never early: no part of the front outruns c
   EXPECT_NEAR(up[0] - kT0, travel, 0.04 * travel);
+}
+
+TEST(Hose, APressureStepReachesTheClosedEndAfterLOverCWithin1PercentWithAHundredSegments) {
+  const std::vector<double> up = upward_crossings(100, 0.0, 4e-6, 0.0135);
+  ASSERT_GE(up.size(), 1u);
+  const double travel = kL / wave_speed();
+  EXPECT_GT(up[0] - kT0, travel);
+  EXPECT_NEAR(up[0] - kT0, travel, 0.01 * travel);
+  std::printf("[ measured ] hose, 100 segments at 4 us: the front %.3f %% late\n",
+              100.0 * ((up[0] - kT0) / travel - 1.0));
 }
 
 TEST(Hose, TheClosedEndRingsAtTheFirstResonanceCOver4L) {
