@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <string_view>
 
+#include "mechanism_drawing.hpp"
 #include "monohydra/core/data.hpp"
 #include "monohydra/core/kinematics.hpp"
 #include "view_scripts.hpp"
@@ -37,6 +38,16 @@ void put3(std::ostringstream& o, const Vector3d& v) {
   put(o, v.y());
   o << ',';
   put(o, v.z());
+  o << ']';
+}
+
+// A JSON array of points.
+void put_points(std::ostringstream& o, const std::vector<Vector3d>& points) {
+  o << '[';
+  for (size_t k = 0; k < points.size(); ++k) {
+    o << (k ? "," : "");
+    put3(o, points[k]);
+  }
   o << ']';
 }
 
@@ -233,24 +244,14 @@ std::string machine_view_data(const ModelFile& file, const ViewDeclarations& dec
 
   std::ostringstream o;
   o << "window.MH_VIEW={\"version\":1,\"planar\":" << (m.planar ? "true" : "false");
-  const Vector3d up =
-      m.gravity.norm() > 0.0 ? Vector3d(-m.gravity.normalized()) : Vector3d::UnitY();
+  const ViewAxes axes = view_axes(m);  // mechanism_drawing.hpp
   o << ",\"up\":";
-  put3(o, up);
+  put3(o, axes.up);
   // The first view's direction (towards the eye): a planar model from +Z as
   // the paper draws it, a little from above; a 3D one isometric, as the 2D
   // drawing's third view.
-  Vector3d eye = (Vector3d::UnitZ() + 0.3 * up).normalized();
-  if (!m.planar) {
-    Vector3d level = Vector3d::UnitX();
-    for (int k = 1; k < 3; ++k)
-      if (std::abs(up[k]) < std::abs(level.dot(up)) - 1e-12) level = Vector3d::Unit(k);
-    const Vector3d h1 = (level - level.dot(up) * up).normalized();
-    const Vector3d h2 = up.cross(h1);
-    eye = (h1 - h2 + up).normalized();
-  }
   o << ",\"eye\":";
-  put3(o, eye);
+  put3(o, m.planar ? Vector3d((Vector3d::UnitZ() + 0.3 * axes.up).normalized()) : axes.iso_eye);
 
   // Bodies: shape, bones, joint axis in the body frame.
   const auto bones = bones_of(file);
@@ -266,12 +267,9 @@ std::string machine_view_data(const ModelFile& file, const ViewDeclarations& dec
     put3(o, shape.at);
     o << ",\"com\":";
     put3(o, b.com_B);
-    o << ",\"bones\":[";
-    for (size_t k = 0; k < bones[j].size(); ++k) {
-      o << (k ? "," : "");
-      put3(o, bones[j][k]);
-    }
-    o << "],\"joint\":\"" << (b.joint == JointType::revolute ? "revolute" : "prismatic")
+    o << ",\"bones\":";
+    put_points(o, bones[j]);
+    o << ",\"joint\":\"" << (b.joint == JointType::revolute ? "revolute" : "prismatic")
       << "\",\"axis\":";
     // A revolute axis is fixed in the body too (the rotation is about it).
     put3(o, b.R_P_B0.transpose() * b.axis_P);
@@ -289,12 +287,9 @@ std::string machine_view_data(const ModelFile& file, const ViewDeclarations& dec
   for (const SubsystemSpec& sub : file.subsystems)
     for (const auto& [key, spec] : sub.points)
       if (spec.point.body == kGround) ground.push_back(spec.point.p_B);
-  o << ",\"ground\":[";
-  for (size_t k = 0; k < ground.size(); ++k) {
-    o << (k ? "," : "");
-    put3(o, ground[k]);
-  }
-  o << "],\"cuts\":[";
+  o << ",\"ground\":";
+  put_points(o, ground);
+  o << ",\"cuts\":[";
   for (size_t k = 0; k < m.cut_joints.size(); ++k) {
     const CutJoint& c = m.cut_joints[k];
     o << (k ? "," : "") << "{\"name\":";

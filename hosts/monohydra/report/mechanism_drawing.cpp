@@ -128,14 +128,8 @@ std::vector<View> views_of(const Model& m) {
   Eigen::Matrix<double, 2, 3> xy;
   xy << 1, 0, 0, 0, 1, 0;
   if (m.planar) return {View{"", xy}};
-  const Vector3d up =
-      m.gravity.norm() > 0.0 ? Vector3d(-m.gravity.normalized()) : Vector3d::UnitY();
-  Vector3d level = Vector3d::UnitX();
-  for (int k = 1; k < 3; ++k)
-    if (std::abs(up[k]) < std::abs(level.dot(up)) - 1e-12) level = Vector3d::Unit(k);
-  const Vector3d h1 = (level - level.dot(up) * up).normalized();
-  const Vector3d h2 = up.cross(h1);
-  const Vector3d eye = (h1 - h2 + up).normalized();  // the isometric view's direction
+  const ViewAxes a = view_axes(m);
+  const Vector3d &up = a.up, &h1 = a.h1, &h2 = a.h2, &eye = a.iso_eye;
   const Vector3d right = up.cross(eye).normalized();
   Eigen::Matrix<double, 2, 3> side, top, iso;
   side << h1.transpose(), up.transpose();
@@ -186,6 +180,18 @@ FrameShape shape_of(const Model& m, const Sketch& s, Data& data, const Eigen::Ve
 }
 
 }  // namespace
+
+ViewAxes view_axes(const Model& m) {
+  ViewAxes a;
+  a.up = m.gravity.norm() > 0.0 ? Vector3d(-m.gravity.normalized()) : Vector3d::UnitY();
+  Vector3d level = Vector3d::UnitX();
+  for (int k = 1; k < 3; ++k)
+    if (std::abs(a.up[k]) < std::abs(level.dot(a.up)) - 1e-12) level = Vector3d::Unit(k);
+  a.h1 = (level - level.dot(a.up) * a.up).normalized();
+  a.h2 = a.up.cross(a.h1);
+  a.iso_eye = (a.h1 - a.h2 + a.up).normalized();
+  return a;
+}
 
 std::vector<MechanismFrame> frames_every_second(const RunRecord& run) {
   std::vector<MechanismFrame> frames;

@@ -20,6 +20,16 @@ struct MechanismFrame {
   Eigen::VectorXd z;  // relative joint coordinates
 };
 
+// The directions a 3D model is looked at along: up against gravity (Y
+// without gravity), h1 the world axis most nearly level made level, h2 = up x
+// h1; `iso_eye` is the isometric view's direction towards the eye (from h1's
+// side, the near side and above). The 2D drawing's views and the 3D view's
+// first camera both come from here.
+struct ViewAxes {
+  Eigen::Vector3d up, h1, h2, iso_eye;
+};
+ViewAxes view_axes(const Model& m);
+
 // The run's rows at every whole second (t = 0, 1, 2, ...); a run shorter than
 // 2 s gives five frames evenly spread over it instead. Empty without rows.
 std::vector<MechanismFrame> frames_every_second(const RunRecord& run);
