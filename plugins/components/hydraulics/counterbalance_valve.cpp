@@ -54,11 +54,7 @@ class CounterbalanceValve {
         positive_option(h, "nominal_pressure", 0, 1e6,
                         "a positive pressure drop (Pa) at which the open valve passes nominal_flow",
                         &p_nom_) != MH_OK ||
-        positive_option(h, "smoothing", 0, 0.1,
-                        "a positive smoothing in (0, 1] (a fraction of the override)",
-                        &smoothing) != MH_OK ||
-        positive_option(h, "transition_pressure", 0, 2e5,
-                        "a positive laminar-turbulent transition pressure (Pa)", &p_tr) != MH_OK ||
+        read_poppet_shape(h, &smoothing, &p_tr) != MH_OK ||
         positive_option(h, "check_override_pressure", 0, 2e5,
                         "a positive override of the check (Pa)", &check_override) != MH_OK)
       return MH_ERROR;
@@ -67,9 +63,6 @@ class CounterbalanceValve {
         monohydra::options(h).option_number(h, "leakage", 0, 0.0, &leakage_) != MH_OK ||
         monohydra::options(h).option_number(h, "reference_pressure", 0, 1e5, &p_ref_) != MH_OK)
       return MH_ERROR;
-    if (smoothing > 1.0)
-      return monohydra::options(h).option_error(
-          h, "smoothing", "a smoothing in (0, 1] (a fraction of the override)");
     if (!(check_cracking >= 0.0))
       return monohydra::options(h).option_error(h, "check_cracking_pressure",
                                                 "a non-negative cracking pressure (Pa)");

@@ -50,15 +50,8 @@ class PilotCheckValve {
         positive_option(h, "nominal_pressure", 0, 5e5,
                         "a positive pressure drop (Pa) at which the open valve passes nominal_flow",
                         &p_nom) != MH_OK ||
-        positive_option(h, "smoothing", 0, 0.1,
-                        "a positive smoothing in (0, 1] (a fraction of the override)",
-                        &smoothing) != MH_OK ||
-        positive_option(h, "transition_pressure", 0, 2e5,
-                        "a positive laminar-turbulent transition pressure (Pa)", &p_tr) != MH_OK)
+        read_poppet_shape(h, &smoothing, &p_tr) != MH_OK)
       return MH_ERROR;
-    if (smoothing > 1.0)
-      return monohydra::options(h).option_error(
-          h, "smoothing", "a smoothing in (0, 1] (a fraction of the override)");
     shape_ = PoppetLaw(0.0, 1.0, smoothing, p_tr);
     c_ = q_nom / shape_.orifice(p_nom);
     if (add_hydraulic_port(h, "A", MH_PORT_FLOW, kNaN, kNaN, &a_) != MH_OK) return MH_ERROR;

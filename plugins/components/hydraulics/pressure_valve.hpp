@@ -77,6 +77,22 @@ class PoppetLaw {
   double c_ = 0.0;  // m^3/(s sqrt(Pa))
 };
 
+// The shape options of every poppet valve (PoppetLaw's d and p_tr), read and
+// checked in one place: `smoothing` in (0, 1] (a fraction of the override,
+// default 0.1) and `transition_pressure` (Pa, default 2e5).
+inline mh_status read_poppet_shape(const mh_host* h, double* smoothing, double* transition) {
+  if (positive_option(h, "smoothing", 0, 0.1,
+                      "a positive smoothing in (0, 1] (a fraction of the override)",
+                      smoothing) != MH_OK ||
+      positive_option(h, "transition_pressure", 0, 2e5,
+                      "a positive laminar-turbulent transition pressure (Pa)", transition) != MH_OK)
+    return MH_ERROR;
+  if (*smoothing > 1.0)
+    return monohydra::options(h).option_error(h, "smoothing",
+                                              "a smoothing in (0, 1] (a fraction of the override)");
+  return MH_OK;
+}
+
 // The component: Traits gives kInlet, kOutlet (port keys), kMinCracking (the
 // smallest cracking pressure accepted) and the descriptor.
 template <class Traits>
@@ -100,15 +116,8 @@ class PressureValve {
                         &override_pressure) != MH_OK ||
         positive_option(h, "nominal_flow", 1, 0.0, "a positive nominal flow (m^3/s)", &q_nom) !=
             MH_OK ||
-        positive_option(h, "smoothing", 0, 0.1,
-                        "a positive smoothing in (0, 1] (a fraction of the override)",
-                        &smoothing) != MH_OK ||
-        positive_option(h, "transition_pressure", 0, 2e5,
-                        "a positive laminar-turbulent transition pressure (Pa)", &p_tr) != MH_OK)
+        read_poppet_shape(h, &smoothing, &p_tr) != MH_OK)
       return MH_ERROR;
-    if (smoothing > 1.0)
-      return monohydra::options(h).option_error(
-          h, "smoothing", "a smoothing in (0, 1] (a fraction of the override)");
     const double full = cracking + override_pressure;
     double p_nom = full;
     if (monohydra::options(h).option_number(h, "nominal_pressure", 0, full, &p_nom) != MH_OK)
