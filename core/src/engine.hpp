@@ -502,7 +502,9 @@ struct Simulation::Engine {
   void accept_step(double t_next, bool event, double h);
 
   // energy_balance.cpp
-  void energy_terms(double& stored_out, double& dissipation_out);
+  // The subsystems' stored energy and dissipated power at the accepted state;
+  // with `per_instance`, each instance's dissipation too (0 without an energy op).
+  void energy_terms(double& stored_out, double& dissipation_out, double* per_instance = nullptr);
   void start_energy_balance();
   void update_energy_balance(double h);
   void measure_mechanism();  // KE, PE, phi_norm at the accepted z, zd

@@ -425,6 +425,15 @@ double Simulation::stored_energy() const {
 double Simulation::dissipated_energy() const {
   return engine_->energy.dissipated;
 }
+std::vector<std::string> Simulation::subsystem_names() const {
+  std::vector<std::string> names;
+  for (const auto& s : engine_->subsystems) names.push_back(s.spec->name);
+  return names;
+}
+void Simulation::dissipation_powers(double* out) {
+  double stored = 0.0, dissipation = 0.0;
+  engine_->energy_terms(stored, dissipation, out);
+}
 double Simulation::phi_norm() const {
   return engine_->energy.phi_norm;
 }

@@ -160,6 +160,11 @@ RunRecord record_run(const ModelFile& file, const PluginRegistry& registry,
       write_row(csv, line, *layout, *sim, wall);
       csv.flush();
     }
+    // The breakdown of the dissipated energy, outside the steps' wall time.
+    rec.dissipators = sim->subsystem_names();
+    rec.dissipated.assign(rec.dissipators.size(), 0.0);
+    std::vector<double> power_k(rec.dissipators.size()), power(rec.dissipators.size());
+    sim->dissipation_powers(power_k.data());
     const long report_every = std::max(1L, total / 100);
     const long every = layout->every_steps();
     double wall_since_row = 0.0;  // the steps since the last row kept
@@ -172,9 +177,15 @@ RunRecord record_run(const ModelFile& file, const PluginRegistry& registry,
         rec.failure_time = sim->time();
         break;
       }
+      const double t_k = sim->time();
       t0 = Clock::now();
       sim->step();
       wall_since_row += seconds_since(t0);
+      sim->dissipation_powers(power.data());
+      const double h = sim->time() - t_k;
+      for (size_t i = 0; i < power.size(); ++i)
+        rec.dissipated[i] += 0.5 * h * (power_k[i] + power[i]);
+      power_k.swap(power);
       if ((k + 1) % every == 0) {
         record_row(*sim, wall_since_row, rec);
         if (options.on_row) options.on_row(rec);

@@ -45,6 +45,12 @@ struct RunRecord {
   int stopped_by = 0;           // the signal that stopped the run between two steps, 0 if none
   ExplicitStability stability;  // an explicit integrator's stability checks (checks = 0: none)
   int crashed_by = 0;  // the signal that killed the run's process (isolated_run.hpp), 0 if none
+  // Where the subsystems' dissipation went: every subsystem instance (model
+  // order) and the energy it dissipated (J) from t = 0 to the last step
+  // taken, the trapezoidal integral per step of its power, as the core
+  // integrates their sum (Simulation::dissipation_powers).
+  std::vector<std::string> dissipators;
+  std::vector<double> dissipated;
 
   size_t rows() const { return columns.empty() ? 0 : columns.front().size(); }
   int column(const std::string& name) const;  // -1 when absent

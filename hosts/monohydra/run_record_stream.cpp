@@ -98,6 +98,9 @@ void read_description(Reader& in, RunRecord& rec) {
   s.stable_dt = in.get<double>();
   s.cpu_seconds = in.get<double>();
   s.skipped = in.get<int32_t>();
+  rec.dissipators = in.get_strings();
+  rec.dissipated.clear();
+  for (size_t i = 0; i < rec.dissipators.size(); ++i) rec.dissipated.push_back(in.get<double>());
   if (rec.columns.size() != rec.names.size()) rec.columns.assign(rec.names.size(), {});
 }
 
@@ -142,6 +145,8 @@ void append_record_description(std::string& out, const RunRecord& rec, bool fina
   put(p, s.stable_dt);
   put(p, s.cpu_seconds);
   put(p, static_cast<int32_t>(s.skipped));
+  put_strings(p, rec.dissipators);
+  for (size_t i = 0; i < rec.dissipators.size(); ++i) put(p, rec.dissipated.at(i));
   append_message(out, final ? 'F' : 'D', p);
 }
 

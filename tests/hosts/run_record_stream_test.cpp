@@ -56,6 +56,8 @@ TEST(RunRecordStream, ACompleteRecordComesBackBitForBit) {
   rec.failure = "t = 0.1 s, step 100: no convergence";
   rec.failure_time = 0.1;
   std::string bytes = stream_of(rec);
+  rec.dissipators = {"valve", "spring"};  // known at the end: in the final description
+  rec.dissipated = {12.5, 1.0 / 3.0};
   append_record_description(bytes, rec, true);
   const DecodedRecord d = decode_record_stream(bytes);
   EXPECT_TRUE(d.complete);
@@ -72,6 +74,9 @@ TEST(RunRecordStream, ACompleteRecordComesBackBitForBit) {
   EXPECT_TRUE(same_bits(d.record.info[1].range_min, -1.5));
   EXPECT_EQ(d.record.num_coordinates, 1);
   EXPECT_EQ(d.record.csv_path, "/tmp/x.csv");
+  EXPECT_EQ(d.record.dissipators, rec.dissipators);
+  ASSERT_EQ(d.record.dissipated.size(), 2u);
+  EXPECT_TRUE(same_bits(d.record.dissipated[1], 1.0 / 3.0));
   ASSERT_EQ(d.record.columns.size(), 3u);
   for (size_t c = 0; c < 3; ++c) {
     ASSERT_EQ(d.record.columns[c].size(), 2u);

@@ -7,11 +7,14 @@
 
 namespace mh {
 
-void Simulation::Engine::energy_terms(double& stored_out, double& dissipation_out) {
+void Simulation::Engine::energy_terms(double& stored_out, double& dissipation_out,
+                                      double* per_instance) {
   stored_out = 0.0;
   dissipation_out = 0.0;
   mh_subsystem_eval ev = subsystem_eval(accepted.t, eval.scratch_rows.data());
-  for (auto& s : subsystems) {
+  for (size_t i = 0; i < subsystems.size(); ++i) {
+    auto& s = subsystems[i];
+    if (per_instance != nullptr) per_instance[i] = 0.0;
     if (s.api.ops.energy == nullptr) continue;
     point_at(ev, s);
     refresh_signals(s, ev);
@@ -21,6 +24,7 @@ void Simulation::Engine::energy_terms(double& stored_out, double& dissipation_ou
         })))) {
       stored_out += st;
       dissipation_out += diss;
+      if (per_instance != nullptr) per_instance[i] = diss;
     }
   }
 }

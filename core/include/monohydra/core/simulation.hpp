@@ -174,6 +174,13 @@ class Simulation {
   // Energy stored in subsystems (relative to t = 0) and dissipated by them.
   double stored_energy() const;
   double dissipated_energy() const;
+  // Where the dissipation happens: every subsystem instance, in the model's
+  // order, and the power each dissipates (W, 0 for one without an energy op)
+  // at the accepted state, into out[0 .. subsystem_names().size()). Their sum
+  // is what dissipated_energy() integrates. For a host that breaks the
+  // dissipated energy down (the report); step() does not need it.
+  std::vector<std::string> subsystem_names() const;
+  void dissipation_powers(double* out);
   double phi_norm() const;  // norm of the cut-joint constraints at z
   const StepStats& last_step() const;
   // An explicit integrator's stability checks so far (checks = 0: none).
