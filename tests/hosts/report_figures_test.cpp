@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -79,7 +80,10 @@ cli::RunRecord hydraulic_run(const std::string& formulation, double wobble) {
   s.phi = [](size_t, double) { return 1e-15; };
   s.iters = [](size_t k, double) { return k == 0 ? 0.0 : 1.0 + static_cast<double>(k % 3 == 0); };
   s.wall = [](size_t, double) { return 2e-5; };
-  return s.make();
+  cli::RunRecord rec = s.make();
+  rec.dissipators = {"valve", "cylinder", "relief"};  // J over the run: the relief did nothing
+  rec.dissipated = {1500.0, 3000.0 + wobble, 0.0};
+  return rec;
 }
 
 class HydraulicReport : public ::testing::Test {
@@ -112,6 +116,46 @@ TEST_F(HydraulicReport, EveryFigureIsThereInThePapersOrder) {
     EXPECT_EQ(figures[i].id, cli::report_figure_ids()[i]);
     EXPECT_FALSE(figures[i].svgs.empty()) << figures[i].id;
   }
+}
+
+TEST_F(HydraulicReport, DissipationBarsShowEachSubsystemThatDissipatedLargestFirstInKilojoules) {
+  const std::string svg = svgs("fig-dissipation");
+  EXPECT_EQ(count(svg, "<rect class=\"bar\""), 2u);  // the relief, at 0 J, is left out
+  const size_t cylinder = svg.find("<title>cylinder: 3 kJ</title>");
+  const size_t valve = svg.find("<title>valve: 1.5 kJ</title>");
+  ASSERT_NE(cylinder, std::string::npos) << svg;
+  ASSERT_NE(valve, std::string::npos);
+  EXPECT_LT(cylinder, valve);
+  for (const auto& f : figures)
+    if (f.id == "fig-dissipation") {
+      EXPECT_NE(f.caption.find("4.5 kJ in all"), std::string::npos) << f.caption;
+    }
+}
+
+// A load-sensing pump (ports P on p1, LS on p3) adds a panel: its pressure
+// and its LS line's plus the margin, for every run.
+TEST_F(HydraulicReport, ALoadSensingPumpsPressureIsDrawnAgainstItsLoadPlusItsMargin) {
+  ModelFile with_pump = file;
+  SubsystemSpec pump;
+  pump.name = "pump";
+  pump.type = "variable-pump";
+  pump.options["margin"].number = 2.5e6;
+  pump.ports["P"].node = "p1";
+  pump.ports["LS"].node = "ls";
+  with_pump.node_columns["ls"] = "p3";  // the LS node is written as p3
+  with_pump.subsystems.push_back(pump);
+  const auto figs = cli::report_figures(with_pump, c, open, "#d8c8f0");
+  const auto f = std::find_if(figs.begin(), figs.end(),
+                              [](const cli::ReportFigure& x) { return x.id == "fig-pressures"; });
+  ASSERT_NE(f, figs.end());
+  ASSERT_EQ(f->svgs.size(), 2u);
+  const std::string& svg = f->svgs[1];
+  EXPECT_NE(svg.find("id=\"plot-load-sensing-pump\""), std::string::npos);
+  EXPECT_EQ(count(svg, "class=\"series\""), 4u);  // p1 and p3 + margin, two runs
+  EXPECT_NE(svg.find("p3 + margin double-step"), std::string::npos);
+  EXPECT_NE(f->caption.find("2.5 MPa margin"), std::string::npos) << f->caption;
+  // Without the pump, the pressures' panel alone.
+  EXPECT_EQ(svgs("fig-pressures").find("plot-load-sensing"), std::string::npos);
 }
 
 TEST_F(HydraulicReport, PressuresAreTheStatesInPascalOfEveryRunInMegapascal) {
@@ -197,7 +241,7 @@ TEST_F(HydraulicReport, ThePageHoldsEveryFigureAndTheTable) {
   for (const auto& id : cli::report_figure_ids())
     EXPECT_NE(html.find("<figure id=\"" + id + "\">"), std::string::npos) << id;
   // One each, two for the coordinates (none prismatic) and the actuators (s, Fs).
-  EXPECT_EQ(count(html, "<svg xmlns=\"http://www.w3.org/2000/svg\""), 10u);
+  EXPECT_EQ(count(html, "<svg xmlns=\"http://www.w3.org/2000/svg\""), 11u);
   EXPECT_NE(html.find("<table class=\"comparison\">"), std::string::npos);
   EXPECT_EQ(html.rfind("<!DOCTYPE html>\n<html xmlns=\"http://www.w3.org/1999/xhtml\"", 0), 0u);
 }

@@ -6,6 +6,7 @@
 
 #include "control_intervals.hpp"
 #include "mechanism_drawing.hpp"
+#include "svg_bars.hpp"
 
 namespace mh::cli {
 namespace {
@@ -72,8 +73,8 @@ struct Plotter {
 
 const std::vector<std::string>& report_figure_ids() {
   static const std::vector<std::string> ids = {
-      "fig-mechanism", "fig-coordinates", "fig-pressures",  "fig-actuators", "fig-energies",
-      "fig-drift",     "fig-constraints", "fig-iterations", "fig-step-time"};
+      "fig-mechanism", "fig-coordinates", "fig-pressures",   "fig-actuators",  "fig-energies",
+      "fig-drift",     "fig-dissipation", "fig-constraints", "fig-iterations", "fig-step-time"};
   return ids;
 }
 
@@ -142,6 +143,44 @@ std::vector<ReportFigure> report_figures(const ModelFile& file, const Comparison
                                       c.pressures[k] + " " + c.runs[r].label, palette(k)));
       f.svgs.push_back(svg_plot(p.spec("plot-pressures", "Pressures", "p (MPa)"), series));
       f.caption = "The states in Pa. Colour: the pressure; line style: the run.";
+      // A load-sensing pump: its pressure against the highest load plus its
+      // margin, which its compensator holds until the cut-off or the power
+      // limit takes over (docs/hydraulics.md, variable-pump).
+      for (const SubsystemSpec& s : file.subsystems) {
+        const auto margin = s.options.find("margin");
+        const auto port_p = s.ports.find("P");
+        const auto port_ls = s.ports.find("LS");
+        if (s.type != "variable-pump" || margin == s.options.end() || port_p == s.ports.end() ||
+            port_ls == s.ports.end())
+          continue;
+        auto column_of = [&](const std::string& node) {
+          const auto it = file.node_columns.find(node);
+          return it == file.node_columns.end() ? node : it->second;
+        };
+        const std::string col_p = column_of(port_p->second.node);
+        const std::string col_ls = column_of(port_ls->second.node);
+        std::vector<PlotSeries> ls;
+        for (size_t r : runs) {
+          const RunRecord& run = c.runs[r];
+          if (run.column(col_p) < 0 || run.column(col_ls) < 0) continue;
+          ls.push_back(p.series(r, col_p, 1e-6, col_p + " " + run.label, palette(0)));
+          PlotSeries target = p.series(r, col_ls, 1e-6, "", palette(1));
+          for (double& y : target.y) y += 1e-6 * margin->second.number;
+          target.label = col_ls + " + margin " + run.label;
+          ls.push_back(target);
+        }
+        if (ls.empty()) continue;
+        f.svgs.push_back(
+            svg_plot(p.spec("plot-load-sensing-" + s.name,
+                            "Load sensing: " + s.name + " against the highest load", "p (MPa)"),
+                     ls));
+        char text[200];
+        std::snprintf(text, sizeof(text),
+                      " The last panel: the pump %s's pressure and its LS line's plus its "
+                      "%g MPa margin.",
+                      s.name.c_str(), 1e-6 * margin->second.number);
+        f.caption += text;
+      }
     } else {
       f.caption = "This model has no pressures (no written state in Pa): the panel is left out.";
     }
@@ -213,6 +252,50 @@ std::vector<ReportFigure> report_figures(const ModelFile& file, const Comparison
     if (!series.empty())
       f.svgs.push_back(svg_plot(p.spec("plot-drift", "Drift KE + PE - W", "drift (J)"), series));
     f.caption = "drift = KE + PE - W: zero for an exact energy balance.";
+    figs.push_back(f);
+  }
+
+  // Where the energy goes: what each subsystem dissipated over the run
+  // (throttling edges, compensators, reliefs, leakage, friction), beside the
+  // work the subsystems did on the bodies.
+  {
+    ReportFigure f{"fig-dissipation", "", "Where the energy goes", "", {}};
+    if (ref != nullptr) {
+      std::vector<size_t> order;
+      double total = 0.0;
+      for (size_t i = 0; i < ref->dissipated.size(); ++i)
+        if (ref->dissipated[i] > 0.0) {
+          order.push_back(i);
+          total += ref->dissipated[i];
+        }
+      std::stable_sort(order.begin(), order.end(),
+                       [&](size_t a, size_t b) { return ref->dissipated[a] > ref->dissipated[b]; });
+      std::vector<Bar> bars;
+      bars.reserve(order.size());
+      for (size_t i : order)
+        bars.push_back({ref->dissipators[i], 1e-3 * ref->dissipated[i], palette(i)});
+      const auto& t = ref->values("t");
+      char text[400];
+      if (bars.empty()) {
+        f.caption =
+            "No subsystem of this model reports a dissipation (no energy op, or none "
+            "dissipated): the panel is left out.";
+      } else {
+        f.svgs.push_back(svg_bars(
+            {"plot-dissipation", "Energy dissipated by each subsystem (" + ref->label + ")", "kJ"},
+            bars));
+        std::snprintf(text, sizeof(text),
+                      "Each subsystem's dissipated power integrated over the %s run's %g s "
+                      "(trapezoidal, per step, as the energy balance integrates their sum): "
+                      "%.6g kJ in all, beside W = %.6g kJ of work the subsystems did on the "
+                      "bodies and %.6g kJ of kinetic and potential energy gained. Subsystems "
+                      "that dissipated nothing are left out.",
+                      ref->label.c_str(), t.empty() ? 0.0 : t.back(), 1e-3 * total,
+                      1e-3 * ref->values("W").back(),
+                      1e-3 * (ref->values("KE").back() + ref->values("PE").back()));
+        f.caption = text;
+      }
+    }
     figs.push_back(f);
   }
 
