@@ -152,7 +152,19 @@ struct SubsystemInstance {
   std::vector<int> touched;  // states it may read and add to; own first-call order
   std::vector<BodyPoint> points;
   std::vector<double> p, v, f;  // 3 per point
-  std::vector<int> slots;       // touched x touched: value slots in the tangent
+  std::vector<int> slots;       // touched x touched: value slots in the tangent (-1: none)
+  // The entries of its block it declared (sparsity.h: global state indices,
+  // row then column); empty: the block is dense.
+  std::vector<std::pair<int, int>> declared;
+  // The entries of its block that have a slot: where in d_dy (b k + a), the
+  // slot, and the column's state. The tangent is assembled from these alone,
+  // so a declared block costs its entries, not k^2.
+  struct BlockEntry {
+    int local = 0, slot = 0, column = 0;
+  };
+  std::vector<BlockEntry> block;
+  Eigen::ArrayXd undeclared;   // k x k: 1 where a declared block has no entry (empty: dense)
+  bool block_checked = false;  // its first jacobian wrote within the declaration
   std::vector<double> d_dy, d_dydot;
   double power = 0.0;  // sum F . v at the last evaluation
   // Point-force derivatives (3P x 3P, column-major) and the buffers that

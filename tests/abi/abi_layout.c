@@ -3,6 +3,7 @@
 #include <stddef.h>
 
 #include "monohydra/monohydra.h"
+#include "monohydra/sparsity.h"
 #include "monohydra/visual.h"
 
 #define LAYOUT(T) \
@@ -60,6 +61,7 @@ const abi_layout mh_c_layouts[] = {
     LAYOUT(mh_state_extension),
     LAYOUT(mh_visual_spec),
     LAYOUT(mh_visual_service),
+    LAYOUT(mh_sparsity_service),
 };
 const size_t mh_c_layout_count = sizeof(mh_c_layouts) / sizeof(mh_c_layouts[0]);
 const size_t mh_c_offset_host_get_service = offsetof(mh_host, get_service);

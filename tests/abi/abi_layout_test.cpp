@@ -6,6 +6,7 @@
 #include <string>
 
 #include "monohydra/monohydra.h"
+#include "monohydra/sparsity.h"
 #include "monohydra/visual.h"
 
 extern "C" {
@@ -63,6 +64,7 @@ TEST(AbiLayout, CAndCxxSeeTheSameSizesAndAlignments) {
       CXX_LAYOUT(mh_state_extension),
       CXX_LAYOUT(mh_visual_spec),
       CXX_LAYOUT(mh_visual_service),
+      CXX_LAYOUT(mh_sparsity_service),
   };
   ASSERT_EQ(mh_c_layout_count, sizeof(cxx) / sizeof(cxx[0]));
   for (size_t i = 0; i < mh_c_layout_count; ++i) {

@@ -1,6 +1,7 @@
 // The mh_host table the core hands to every plugin instance: options from the
 // model file, logging, state and point registration, and the semirecursive
 // kinematics and dynamics. No exception crosses the C boundary.
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
@@ -13,6 +14,7 @@
 #include "monohydra/core/dynamics.hpp"
 #include "monohydra/core/kinematics.hpp"
 #include "monohydra/model_folder.h"
+#include "monohydra/sparsity.h"
 #include "monohydra/visual.h"
 #include "plugins/abi_struct.hpp"
 
@@ -686,6 +688,38 @@ mh_status host_add_visual(const mh_host* host, const mh_visual_spec* spec_in) {
   return MH_OK;
 }
 
+// The entries of an instance's jacobian block that may be non-zero
+// (sparsity.h): both states touched, so that the block stays within the rows
+// and columns the instance owns in the tangent.
+mh_status host_declare_entries(const mh_host* host, uint32_t count, const int32_t* rows,
+                               const int32_t* columns) {
+  InstanceHost* hp = live(host, "declare_entries");
+  if (hp == nullptr) return MH_ERROR;
+  InstanceHost& h = *hp;
+  if (setup_only(h, "declare_entries", true, false) != MH_OK) return MH_ERROR;
+  if (count > 0 && (rows == nullptr || columns == nullptr)) {
+    host_log(host, MH_LOG_ERROR, "declare_entries: expected rows and columns, got NULL");
+    return MH_ERROR;
+  }
+  SubsystemInstance& s = h.engine->subsystems[static_cast<size_t>(h.subsystem)];
+  auto touched = [&](int32_t state) {
+    return std::find(s.touched.begin(), s.touched.end(), state) != s.touched.end();
+  };
+  for (uint32_t i = 0; i < count; ++i)
+    for (const int32_t state : {rows[i], columns[i]})
+      if (!touched(state)) {
+        host_log(host, MH_LOG_ERROR,
+                 ("declare_entries: entry " + std::to_string(i) + " names state " +
+                  std::to_string(state) +
+                  ", which this instance does not touch (expected a global index it added, "
+                  "found or joined with a port before declaring)")
+                     .c_str());
+        return MH_ERROR;
+      }
+  for (uint32_t i = 0; i < count; ++i) s.declared.emplace_back(rows[i], columns[i]);
+  return MH_OK;
+}
+
 // The service tables, one per role's need (host.h): the functions are the
 // same for every instance (each takes its mh_host), so the tables are too.
 constexpr mh_options_service kOptions{sizeof(mh_options_service), host_option_number,
@@ -705,6 +739,7 @@ constexpr mh_subsystem_setup_service kSubsystemSetup{sizeof(mh_subsystem_setup_s
 constexpr mh_unknowns_service kUnknowns{sizeof(mh_unknowns_service), host_add_unknown};
 constexpr mh_model_folder_service kModelFolder{sizeof(mh_model_folder_service), host_model_folder};
 constexpr mh_visual_service kVisual{sizeof(mh_visual_service), host_add_visual};
+constexpr mh_sparsity_service kSparsity{sizeof(mh_sparsity_service), host_declare_entries};
 constexpr mh_signals_service kSignals{sizeof(mh_signals_service), host_option_signal,
                                       host_option_signal_port};
 
@@ -728,6 +763,7 @@ const void* host_get_service(const mh_host* host, const char* id) {
   if (std::strcmp(id, MH_SERVICE_SIGNALS) == 0) return subsystem ? &kSignals : nullptr;
   if (std::strcmp(id, MH_SERVICE_MODEL_FOLDER) == 0) return subsystem ? &kModelFolder : nullptr;
   if (std::strcmp(id, MH_SERVICE_VISUAL) == 0) return subsystem ? &kVisual : nullptr;
+  if (std::strcmp(id, MH_SERVICE_SPARSITY) == 0) return subsystem ? &kSparsity : nullptr;
   return nullptr;
 }
 

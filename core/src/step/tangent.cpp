@@ -52,8 +52,13 @@ void Simulation::Engine::build_pattern() {
   }
   for (size_t i = 0; i < subsystems.size(); ++i) {
     const auto& s = subsystems[i];
-    for (int a : s.touched)
-      for (int b : s.touched) entries.emplace_back(n_m + a, n_m + b);
+    if (s.declared.empty()) {  // its block is dense
+      for (int a : s.touched)
+        for (int b : s.touched) entries.emplace_back(n_m + a, n_m + b);
+    } else {  // the entries it declared (sparsity.h) and the diagonal
+      for (int a : s.touched) entries.emplace_back(n_m + a, n_m + a);
+      for (const auto& [row, col] : s.declared) entries.emplace_back(n_m + row, n_m + col);
+    }
     // Its rows see the kinematics; its forces enter the mechanical rows.
     for (int a : s.touched)
       for (int k : moved[i]) {
@@ -98,6 +103,30 @@ void Simulation::Engine::build_pattern() {
     for (size_t a = 0; a < k; ++a)
       for (size_t b = 0; b < k; ++b)
         s.slots[b * k + a] = tangent_ws.pattern->slot(n_m + s.touched[a], n_m + s.touched[b]);
+    if (s.declared.empty()) continue;
+    // A declared block: its entries outside the declaration are zero, and
+    // another instance's entry in the same place is not its to write.
+    std::vector<char> own(k * k, 0);
+    auto local = [&](int state) {
+      return static_cast<size_t>(std::find(s.touched.begin(), s.touched.end(), state) -
+                                 s.touched.begin());
+    };
+    for (size_t a = 0; a < k; ++a) own[a * k + a] = 1;
+    for (const auto& [row, col] : s.declared) own[local(col) * k + local(row)] = 1;
+    for (size_t e = 0; e < k * k; ++e)
+      if (own[e] == 0) s.slots[e] = -1;
+  }
+  for (auto& s : subsystems) {
+    const size_t k = s.touched.size();
+    s.block.clear();
+    for (size_t e = 0; e < k * k; ++e)
+      if (s.slots[e] >= 0) s.block.push_back({static_cast<int>(e), s.slots[e], s.touched[e / k]});
+    s.undeclared.resize(0);
+    s.block_checked = false;
+    if (s.declared.empty()) continue;
+    s.undeclared.setZero(static_cast<Eigen::Index>(k * k));
+    for (size_t e = 0; e < k * k; ++e)
+      if (s.slots[e] < 0) s.undeclared[static_cast<Eigen::Index>(e)] = 1.0;
   }
   solver.linear_solver = make_linear_solver(*tangent_ws.pattern, settings.linear);
   for (Eigen::VectorXd* v :
@@ -242,14 +271,40 @@ mh_status Simulation::Engine::assemble_tangent(double t_eval) {
   mh_subsystem_eval ev = subsystem_eval(t_eval, eval.scratch_rows.data());
   for (auto& s : subsystems) {
     if (s.api.ops.jacobian == nullptr) continue;
-    std::fill(s.d_dy.begin(), s.d_dy.end(), 0.0);
-    std::fill(s.d_dydot.begin(), s.d_dydot.end(), 0.0);
+    if (s.undeclared.size() != 0 && s.block_checked) {
+      // A declared block, checked: only its entries were written; clearing
+      // them alone keeps the assembly linear in the block's entries.
+      for (const auto& be : s.block) {
+        s.d_dy[static_cast<size_t>(be.local)] = 0.0;
+        s.d_dydot[static_cast<size_t>(be.local)] = 0.0;
+      }
+    } else {
+      std::fill(s.d_dy.begin(), s.d_dy.end(), 0.0);
+      std::fill(s.d_dydot.begin(), s.d_dydot.end(), 0.0);
+    }
     point_at(ev, s);
     refresh_signals(s, ev);
     const mh_status st = normalized(in_flight(*s.host, InstanceHost::Op::jacobian, [&] {
       return s.api.ops.jacobian(s.api.self, &ev, s.d_dy.data(), s.d_dydot.data());
     }));
     if (!status_ok(st)) return st;
+    // A declared block (sparsity.h) holds every entry the instance writes:
+    // checked at its first jacobian in one vectorized pass, and the entry
+    // searched for only when it fails.
+    if (s.undeclared.size() == 0 || s.block_checked) continue;
+    s.block_checked = true;
+    const auto n_block = s.undeclared.size();
+    const Eigen::Map<const Eigen::ArrayXd> dy(s.d_dy.data(), n_block);
+    const Eigen::Map<const Eigen::ArrayXd> dydot(s.d_dydot.data(), n_block);
+    if (((dy.abs() + dydot.abs()) * s.undeclared).sum() == 0.0) continue;
+    const size_t k = s.touched.size();
+    for (size_t e = 0; e < k * k; ++e)
+      if (s.slots[e] < 0 && (s.d_dy[e] != 0.0 || s.d_dydot[e] != 0.0))
+        fail((s.host->label.empty() ? s.host->source : s.host->label) +
+             " wrote a non-zero entry in jacobian outside the entries it declared "
+             "(declare_entries): row " +
+             states.state_info[static_cast<size_t>(s.touched[e % k])].qualified + ", column " +
+             states.state_info[static_cast<size_t>(s.touched[e / k])].qualified);
   }
 
   // Forward differences by column groups, Eqs. (40)-(41).
@@ -311,26 +366,19 @@ mh_status Simulation::Engine::assemble_tangent(double t_eval) {
   // d r / d y_{k+1} = d r / d y + dydot_dy d r / d ydot, Eq. (33); summed over
   // the instances that share a state, in the columns where all of them are analytic.
   const double dydot_dy = cf.dxd_dx_first;
-  for (const auto& s : subsystems) {
-    const size_t k = s.touched.size();
-    for (size_t b = 0; b < k; ++b) {
-      if (tangent_ws.column_analytic[static_cast<size_t>(s.touched[b])] == 0) continue;
-      for (size_t a = 0; a < k; ++a)
-        tangent_ws.values[static_cast<size_t>(s.slots[b * k + a])] = 0.0;
-    }
-  }
-  for (const auto& s : subsystems) {
-    const size_t k = s.touched.size();
-    for (size_t b = 0; b < k; ++b) {
-      const int state = s.touched[b];
-      if (tangent_ws.column_analytic[static_cast<size_t>(state)] == 0) continue;
+  for (const auto& s : subsystems)
+    for (const auto& be : s.block)
+      if (tangent_ws.column_analytic[static_cast<size_t>(be.column)] != 0)
+        tangent_ws.values[static_cast<size_t>(be.slot)] = 0.0;
+  for (const auto& s : subsystems)
+    for (const auto& be : s.block) {
+      const auto state = static_cast<size_t>(be.column);
+      if (tangent_ws.column_analytic[state] == 0) continue;
       // An algebraic state has no rate: its column is d r / d y alone.
-      const double cv = states.algebraic[static_cast<size_t>(state)] != 0 ? 0.0 : dydot_dy;
-      for (size_t a = 0; a < k; ++a)
-        tangent_ws.values[static_cast<size_t>(s.slots[b * k + a])] +=
-            s.d_dy[b * k + a] + cv * s.d_dydot[b * k + a];
+      const double cv = states.algebraic[state] != 0 ? 0.0 : dydot_dy;
+      const auto e = static_cast<size_t>(be.local);
+      tangent_ws.values[static_cast<size_t>(be.slot)] += s.d_dy[e] + cv * s.d_dydot[e];
     }
-  }
   check_tangent_values();
   return MH_OK;
 }
