@@ -28,6 +28,7 @@
 #include "monohydra/cpp/services.hpp"
 #include "monohydra/cpp/specs.hpp"
 #include "monohydra/cpp/touched_states.hpp"
+#include "monohydra/sparsity.h"
 
 namespace hyd {
 namespace {
@@ -101,7 +102,7 @@ class Hose {
       if (monohydra::subsystem_setup(h).add_state(h, &spec, &flows_[k]) != MH_OK) return MH_ERROR;
       states_.add(flows_[k]);
     }
-    return MH_OK;
+    return declare_entries(h);
   }
 
   mh_status evaluate(const mh_subsystem_eval& eval) const {
@@ -138,6 +139,29 @@ class Hose {
   }
 
  private:
+  // The ladder couples each flow to its two nodes only (sparsity.h): 4n
+  // entries besides the diagonal, where a dense block of 2n + 1 states
+  // would make the tangent's factorization cost n^3 a step.
+  mh_status declare_entries(const mh_host* h) const {
+    const auto* sparsity =
+        static_cast<const mh_sparsity_service*>(h->get_service(h, MH_SERVICE_SPARSITY));
+    if (sparsity == nullptr) return MH_OK;  // a host without it: a dense block
+    std::vector<int32_t> rows, columns;
+    auto entry = [&](int32_t row, int32_t column) {
+      rows.push_back(row);
+      columns.push_back(column);
+    };
+    for (size_t k = 0; k < flows_.size(); ++k) {
+      const int32_t q = flows_[k], up = pressures_[k], down = pressures_[k + 1];
+      entry(q, up);
+      entry(q, down);
+      entry(up, q);
+      entry(down, q);
+    }
+    return sparsity->declare_entries(h, static_cast<uint32_t>(rows.size()), rows.data(),
+                                     columns.data());
+  }
+
   // The ends' half segments: the first flow's, b's node's.
   double flow_share(size_t k) const { return k == 0 ? 0.5 : 1.0; }
   double node_share(size_t k) const { return k == flows_.size() ? 0.5 : 1.0; }

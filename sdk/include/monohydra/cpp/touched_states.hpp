@@ -5,8 +5,10 @@
 // state, so an instance looks every global index up here rather than counting calls.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace monohydra {
@@ -15,20 +17,28 @@ class TouchedStates {
  public:
   // Records a global state index the host just returned (no-op if known).
   void add(int32_t global) {
-    for (int32_t g : globals_)
-      if (g == global) return;
+    const auto at = find(global);
+    if (at != sorted_.end() && at->first == global) return;
+    sorted_.insert(at, {global, globals_.size()});
     globals_.push_back(global);
   }
-  // Position of `global` in the jacobian blocks (it must have been added).
+  // Position of `global` in the jacobian blocks (it must have been added):
+  // a binary search, so that a block of n states (a hose's ladder) is filled
+  // in n log n, not n^2.
   size_t local(int32_t global) const {
-    for (size_t i = 0; i < globals_.size(); ++i)
-      if (globals_[i] == global) return i;
-    return globals_.size();
+    const auto at = find(global);
+    return at != sorted_.end() && at->first == global ? at->second : globals_.size();
   }
   size_t size() const { return globals_.size(); }
 
  private:
-  std::vector<int32_t> globals_;
+  using Entry = std::pair<int32_t, size_t>;  // global index, position
+  std::vector<Entry>::const_iterator find(int32_t global) const {
+    return std::lower_bound(sorted_.begin(), sorted_.end(), global,
+                            [](const Entry& e, int32_t g) { return e.first < g; });
+  }
+  std::vector<int32_t> globals_;  // in first-call order
+  std::vector<Entry> sorted_;     // by global index
 };
 
 // A view of an n x n column-major jacobian block in local (touched) numbering,

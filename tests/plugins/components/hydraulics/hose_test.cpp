@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "monohydra/core/run.hpp"
@@ -119,6 +120,23 @@ TEST(Hose, TangentEqualsCentralDifferences) {
     for (Eigen::Index c = 0; c < J.cols(); ++c)
       EXPECT_NEAR(J(r, c), J_cd(r, c), 1e-6 * scale) << "row " << r << ", column " << c;
   }
+}
+
+// The ladder couples each flow to its two nodes (it declares so, sparsity.h):
+// the tangent holds a few entries per state, not the (2n + 1)^2 of a dense
+// block, and doubling the segments doubles them.
+TEST(Hose, TheTangentHoldsEntriesLinearInTheSegments) {
+  auto nonzeros = [](int segments) {
+    const ModelFile file = parse_model_text(line_model(segments, 0.03), "line.yaml");
+    Simulation sim(file, test::build_plugins());
+    sim.start();
+    return std::pair<int, int>(sim.tangent_nonzeros(), sim.num_unknowns());
+  };
+  const auto [nz100, n100] = nonzeros(100);
+  const auto [nz200, n200] = nonzeros(200);
+  EXPECT_LT(nz100, 4 * n100);  // a dense block: 201^2 = 40401 entries
+  EXPECT_NEAR(static_cast<double>(nz200) / nz100, 2.0, 0.02);
+  EXPECT_NEAR(static_cast<double>(n200) / n100, 2.0, 0.02);
 }
 
 }  // namespace
