@@ -160,9 +160,14 @@ struct SubsystemInstance {
   // slot, and the column's state. The tangent is assembled from these alone,
   // so a declared block costs its entries, not k^2.
   struct BlockEntry {
-    int local = 0, slot = 0, column = 0;
+    int local = 0, slot = 0;
   };
-  std::vector<BlockEntry> block;
+  std::vector<BlockEntry> block;  // column by column
+  struct BlockColumn {
+    int state = 0;              // the column's state
+    size_t begin = 0, end = 0;  // its entries in `block`
+  };
+  std::vector<BlockColumn> block_columns;
   Eigen::ArrayXd undeclared;   // k x k: 1 where a declared block has no entry (empty: dense)
   bool block_checked = false;  // its first jacobian wrote within the declaration
   std::vector<double> d_dy, d_dydot;

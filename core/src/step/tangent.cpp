@@ -119,8 +119,14 @@ void Simulation::Engine::build_pattern() {
   for (auto& s : subsystems) {
     const size_t k = s.touched.size();
     s.block.clear();
-    for (size_t e = 0; e < k * k; ++e)
-      if (s.slots[e] >= 0) s.block.push_back({static_cast<int>(e), s.slots[e], s.touched[e / k]});
+    s.block_columns.clear();
+    for (size_t b = 0; b < k; ++b) {
+      const size_t begin = s.block.size();
+      for (size_t a = 0; a < k; ++a)
+        if (s.slots[b * k + a] >= 0)
+          s.block.push_back({static_cast<int>(b * k + a), s.slots[b * k + a]});
+      if (s.block.size() > begin) s.block_columns.push_back({s.touched[b], begin, s.block.size()});
+    }
     s.undeclared.resize(0);
     s.block_checked = false;
     if (s.declared.empty()) continue;
@@ -367,17 +373,21 @@ mh_status Simulation::Engine::assemble_tangent(double t_eval) {
   // the instances that share a state, in the columns where all of them are analytic.
   const double dydot_dy = cf.dxd_dx_first;
   for (const auto& s : subsystems)
-    for (const auto& be : s.block)
-      if (tangent_ws.column_analytic[static_cast<size_t>(be.column)] != 0)
-        tangent_ws.values[static_cast<size_t>(be.slot)] = 0.0;
+    for (const auto& col : s.block_columns) {
+      if (tangent_ws.column_analytic[static_cast<size_t>(col.state)] == 0) continue;
+      for (size_t i = col.begin; i < col.end; ++i)
+        tangent_ws.values[static_cast<size_t>(s.block[i].slot)] = 0.0;
+    }
   for (const auto& s : subsystems)
-    for (const auto& be : s.block) {
-      const auto state = static_cast<size_t>(be.column);
+    for (const auto& col : s.block_columns) {
+      const auto state = static_cast<size_t>(col.state);
       if (tangent_ws.column_analytic[state] == 0) continue;
       // An algebraic state has no rate: its column is d r / d y alone.
       const double cv = states.algebraic[state] != 0 ? 0.0 : dydot_dy;
-      const auto e = static_cast<size_t>(be.local);
-      tangent_ws.values[static_cast<size_t>(be.slot)] += s.d_dy[e] + cv * s.d_dydot[e];
+      for (size_t i = col.begin; i < col.end; ++i) {
+        const auto e = static_cast<size_t>(s.block[i].local);
+        tangent_ws.values[static_cast<size_t>(s.block[i].slot)] += s.d_dy[e] + cv * s.d_dydot[e];
+      }
     }
   check_tangent_values();
   return MH_OK;

@@ -26,12 +26,18 @@ class TouchedStates {
   // a binary search, so that a block of n states (a hose's ladder) is filled
   // in n log n, not n^2.
   size_t local(int32_t global) const {
+    if (globals_.size() <= kLinear) {  // a valve's few states: a scan is cheaper
+      for (size_t i = 0; i < globals_.size(); ++i)
+        if (globals_[i] == global) return i;
+      return globals_.size();
+    }
     const auto at = find(global);
     return at != sorted_.end() && at->first == global ? at->second : globals_.size();
   }
   size_t size() const { return globals_.size(); }
 
  private:
+  static constexpr size_t kLinear = 16;
   using Entry = std::pair<int32_t, size_t>;  // global index, position
   std::vector<Entry>::const_iterator find(int32_t global) const {
     return std::lower_bound(sorted_.begin(), sorted_.end(), global,
