@@ -17,6 +17,15 @@
 // travels at c = sqrt(B_e / rho), 1/B_e = 1/B_oil + 1/B_h, the line's
 // delay L/c is the ladder's at low frequencies, and its first resonances
 // are the continuous line's to about (pi / 4n)^2.
+// Energy: the compression of each node, C_k p_k^2 / 2, and the fluid's
+// motion in each segment, I_k q_k^2 / 2, are stored; friction dissipates
+// R_k q_k^2. Multiplying node k's row by p_k and flow k's by q_k and adding
+// them, d/dt(stored) = p_a q_1 - p_b q_b - dissipation: what enters at a,
+// less what leaves at b (q_b, b's other components' take), less friction.
+// Optional: the volumes' cavitation limit (gas_release.hpp) on every node
+// the hose owns (its inner nodes, half a segment's on b), so a line pulled
+// below it by a closing valve's wave holds at the limit instead of going
+// negative; the free gas's compression energy is not tracked.
 #include <cmath>
 #include <limits>
 #include <string>
@@ -24,6 +33,7 @@
 
 #include "components.hpp"
 #include "example_models.hpp"
+#include "gas_release.hpp"
 #include "host_services.hpp"
 #include "monohydra/cpp/services.hpp"
 #include "monohydra/cpp/specs.hpp"
@@ -64,7 +74,8 @@ class Hose {
             MH_OK ||
         positive_option(h, "flow_tolerance", 0, 1e-10, "a positive flow tolerance (m^3/s)",
                         &tol_q) != MH_OK ||
-        monohydra::options(h).option_number(h, "initial_pressure", 0, initial, &initial) != MH_OK)
+        monohydra::options(h).option_number(h, "initial_pressure", 0, initial, &initial) != MH_OK ||
+        gas_.read(h) != MH_OK)
       return MH_ERROR;
     if (segments != std::floor(segments) || segments > 1000.0)
       return monohydra::options(h).option_error(h, "segments",
@@ -74,6 +85,8 @@ class Hose {
     inertance_ = rho * l / area;
     resistance_ = 128.0 * mu * l / (kPi * diameter * diameter * diameter * diameter);
     capacitance_ = area * l * (1.0 / fluid + 1.0 / wall);
+    inner_gas_ = gas_.for_volume(area * l);
+    end_gas_ = gas_.for_volume(0.5 * area * l);
     // A flow's row in units of flow: divided by the segment's impedance
     // sqrt(I/C), so its rate's coefficient is the segment's travel time
     // sqrt(I C) = l/c, not an inertance 1e20 times a node's compliance (the
@@ -107,8 +120,11 @@ class Hose {
 
   mh_status evaluate(const mh_subsystem_eval& eval) const {
     const size_t n = flows_.size();
-    for (size_t k = 1; k <= n; ++k)  // storage: on every node but a, half of it on b
-      eval.residual[pressures_[k]] += node_share(k) * capacitance_ * eval.ydot[pressures_[k]];
+    for (size_t k = 1; k <= n; ++k) {  // storage: on every node but a, half of it on b
+      const int32_t p = pressures_[k];
+      eval.residual[p] += node_share(k) * capacitance_ * eval.ydot[p];
+      if (gas_.on()) eval.residual[p] += gas(k).capacitance(eval.y[p]) * eval.ydot[p];
+    }
     for (size_t k = 0; k < n; ++k) {
       const int32_t q = flows_[k], up = pressures_[k], down = pressures_[k + 1];
       const double share = flow_share(k);
@@ -121,11 +137,17 @@ class Hose {
     return MH_OK;
   }
 
-  mh_status jacobian(const mh_subsystem_eval&, double* d_dy, double* d_dydot) const {
+  mh_status jacobian(const mh_subsystem_eval& eval, double* d_dy, double* d_dydot) const {
     monohydra::JacobianBlock dy(states_, d_dy), dydot(states_, d_dydot);
     const size_t n = flows_.size();
-    for (size_t k = 1; k <= n; ++k)
-      dydot.add(pressures_[k], pressures_[k], node_share(k) * capacitance_);
+    for (size_t k = 1; k <= n; ++k) {
+      const int32_t p = pressures_[k];
+      dydot.add(p, p, node_share(k) * capacitance_);
+      if (gas_.on()) {
+        dydot.add(p, p, gas(k).capacitance(eval.y[p]));
+        dy.add(p, p, gas(k).capacitance_slope(eval.y[p]) * eval.ydot[p]);
+      }
+    }
     for (size_t k = 0; k < n; ++k) {
       const int32_t q = flows_[k], up = pressures_[k], down = pressures_[k + 1];
       dydot.add(q, q, row_scale_ * flow_share(k) * inertance_);
@@ -134,6 +156,21 @@ class Hose {
       dy.add(q, down, row_scale_);
       dy.add(up, q, 1.0);
       dy.add(down, q, -1.0);
+    }
+    return MH_OK;
+  }
+
+  mh_status energy(const mh_subsystem_eval& eval, double& stored, double& dissipation) const {
+    stored = 0.0;
+    dissipation = 0.0;
+    for (size_t k = 1; k <= flows_.size(); ++k) {
+      const double p = eval.y[pressures_[k]];
+      stored += 0.5 * node_share(k) * capacitance_ * p * p;
+    }
+    for (size_t k = 0; k < flows_.size(); ++k) {
+      const double q = eval.y[flows_[k]];
+      stored += 0.5 * flow_share(k) * inertance_ * q * q;
+      dissipation += flow_share(k) * resistance_ * q * q;
     }
     return MH_OK;
   }
@@ -165,10 +202,12 @@ class Hose {
   // The ends' half segments: the first flow's, b's node's.
   double flow_share(size_t k) const { return k == 0 ? 0.5 : 1.0; }
   double node_share(size_t k) const { return k == flows_.size() ? 0.5 : 1.0; }
+  const GasRelease& gas(size_t k) const { return k == flows_.size() ? end_gas_ : inner_gas_; }
 
   const mh_host* host_;
   double inertance_ = 0.0, resistance_ = 0.0, capacitance_ = 0.0;  // per segment
-  double row_scale_ = 1.0;  // sqrt(C/I): a flow's row in m^3/s
+  double row_scale_ = 1.0;                // sqrt(C/I): a flow's row in m^3/s
+  GasRelease gas_, inner_gas_, end_gas_;  // the options; a node's, b's half node's
   int32_t pa_ = -1, pb_ = -1;
   std::vector<int32_t> pressures_;  // n + 1 nodes: a, the inner ones, b
   std::vector<int32_t> flows_;      // n segments, from a to b
@@ -188,8 +227,10 @@ const mh_component_descriptor Hose::kDescriptor{
     "sqrt(B_e/rho). Options: length (m), inner_diameter (m), "
     "density (kg/m^3), viscosity (Pa s, 0: no friction), bulk_modulus (Pa, of the wall), "
     "fluid_bulk_modulus (Pa), segments (default 10), initial_pressure (Pa, optional), tolerance "
-    "(Pa, default 1e-2), flow_tolerance (m^3/s, default 1e-10). States p1 .. p(n-1) (Pa), q1 .. "
-    "qn (m^3/s, from a to b)."};
+    "(Pa, default 1e-2), flow_tolerance (m^3/s, default 1e-10), minimum_pressure (Pa: the "
+    "cavitation limit on the hose's nodes, off without it), gas_fraction (default 1e-3), "
+    "gas_reference_pressure (Pa, default 1e5). States p1 .. p(n-1) (Pa), q1 .. qn (m^3/s, from a "
+    "to b). Reports its compression and kinetic energy and its friction's dissipation."};
 
 }  // namespace
 
