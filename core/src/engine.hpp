@@ -331,6 +331,9 @@ struct TangentWorkspace {
   // The formulation's unknowns are the coordinates (MH_EXT_COORDINATE_UNKNOWNS):
   // the mechanical block is the topology's pattern (build_pattern).
   bool coordinate_unknowns = false;
+  // Then the mechanical block's pattern alone (n_m columns), for the
+  // formulation (sparsity.h, mechanical_pattern/1) and the checks on K and C.
+  std::vector<int32_t> mech_column_start, mech_row_index;
   bool any_points = false;          // some subsystem is attached to body points
   Eigen::VectorXd z_base, zd_base;  // the iterate's, kept while the tangent differences
 };
@@ -494,6 +497,7 @@ struct Simulation::Engine {
   // Inside a host service no exception may reach the plugin: the reason is
   // kept in last_plugin_error and the service returns MH_ERROR.
   mh_status refuse_nonfinite_derivatives();
+  bool derivatives_finite() const;  // K and C, on the mechanical pattern when there is one
   // r(x): the formulation's rows (which evaluate the subsystems' rows) at the
   // rates the integrator's map gives x.
   mh_status residual(double t_eval, const Eigen::VectorXd& xq, Eigen::VectorXd& rq);

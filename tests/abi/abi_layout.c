@@ -62,6 +62,7 @@ const abi_layout mh_c_layouts[] = {
     LAYOUT(mh_visual_spec),
     LAYOUT(mh_visual_service),
     LAYOUT(mh_sparsity_service),
+    LAYOUT(mh_mechanical_pattern_service),
 };
 const size_t mh_c_layout_count = sizeof(mh_c_layouts) / sizeof(mh_c_layouts[0]);
 const size_t mh_c_offset_host_get_service = offsetof(mh_host, get_service);

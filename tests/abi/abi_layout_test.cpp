@@ -65,6 +65,7 @@ TEST(AbiLayout, CAndCxxSeeTheSameSizesAndAlignments) {
       CXX_LAYOUT(mh_visual_spec),
       CXX_LAYOUT(mh_visual_service),
       CXX_LAYOUT(mh_sparsity_service),
+      CXX_LAYOUT(mh_mechanical_pattern_service),
   };
   ASSERT_EQ(mh_c_layout_count, sizeof(cxx) / sizeof(cxx[0]));
   for (size_t i = 0; i < mh_c_layout_count; ++i) {

@@ -720,6 +720,33 @@ mh_status host_declare_entries(const mh_host* host, uint32_t count, const int32_
   return MH_OK;
 }
 
+// The mechanical block's pattern, for a formulation of coordinate unknowns
+// once build_pattern has made it (sparsity.h).
+mh_status host_mechanical_pattern(const mh_host* host, uint32_t* num_columns,
+                                  const int32_t** column_start, const int32_t** row_index) {
+  InstanceHost* hp = live(host, "mechanical_pattern");
+  if (hp == nullptr) return MH_ERROR;
+  if (num_columns == nullptr || column_start == nullptr || row_index == nullptr) {
+    host_log(host, MH_LOG_ERROR,
+             "mechanical_pattern: expected num_columns, column_start and row_index, got NULL");
+    return MH_ERROR;
+  }
+  const auto& ws = hp->engine->tangent_ws;
+  if (!ws.coordinate_unknowns || ws.mech_column_start.empty()) {
+    host_log(host, MH_LOG_ERROR,
+             ws.pattern == nullptr
+                 ? "mechanical_pattern: called during setup (expected from the first residual "
+                   "on: the host builds the pattern after setup)"
+                 : "mechanical_pattern: this formulation does not declare "
+                   "MH_EXT_COORDINATE_UNKNOWNS (its mechanical block is dense)");
+    return MH_ERROR;
+  }
+  *num_columns = static_cast<uint32_t>(ws.mech_column_start.size() - 1);
+  *column_start = ws.mech_column_start.data();
+  *row_index = ws.mech_row_index.data();
+  return MH_OK;
+}
+
 // The service tables, one per role's need (host.h): the functions are the
 // same for every instance (each takes its mh_host), so the tables are too.
 constexpr mh_options_service kOptions{sizeof(mh_options_service), host_option_number,
@@ -740,6 +767,8 @@ constexpr mh_unknowns_service kUnknowns{sizeof(mh_unknowns_service), host_add_un
 constexpr mh_model_folder_service kModelFolder{sizeof(mh_model_folder_service), host_model_folder};
 constexpr mh_visual_service kVisual{sizeof(mh_visual_service), host_add_visual};
 constexpr mh_sparsity_service kSparsity{sizeof(mh_sparsity_service), host_declare_entries};
+constexpr mh_mechanical_pattern_service kMechanicalPattern{sizeof(mh_mechanical_pattern_service),
+                                                           host_mechanical_pattern};
 constexpr mh_signals_service kSignals{sizeof(mh_signals_service), host_option_signal,
                                       host_option_signal_port};
 
@@ -764,6 +793,8 @@ const void* host_get_service(const mh_host* host, const char* id) {
   if (std::strcmp(id, MH_SERVICE_MODEL_FOLDER) == 0) return subsystem ? &kModelFolder : nullptr;
   if (std::strcmp(id, MH_SERVICE_VISUAL) == 0) return subsystem ? &kVisual : nullptr;
   if (std::strcmp(id, MH_SERVICE_SPARSITY) == 0) return subsystem ? &kSparsity : nullptr;
+  if (std::strcmp(id, MH_SERVICE_MECHANICAL_PATTERN) == 0)
+    return formulation ? &kMechanicalPattern : nullptr;
   return nullptr;
 }
 

@@ -103,6 +103,22 @@ mh_status Simulation::Engine::refuse_nonfinite_derivatives() {
   return MH_ERROR;
 }
 
+// K and C where they can be non-zero: the mechanical pattern of coordinate
+// unknowns (zero elsewhere, never written), else every entry.
+bool Simulation::Engine::derivatives_finite() const {
+  if (!tangent_ws.coordinate_unknowns)
+    return all_finite(derivs.K.data(), static_cast<size_t>(derivs.K.size())) &&
+           all_finite(derivs.C.data(), static_cast<size_t>(derivs.C.size()));
+  const auto& start = tangent_ws.mech_column_start;
+  const auto& rows = tangent_ws.mech_row_index;
+  for (int c = 0; c + 1 < static_cast<int>(start.size()); ++c)
+    for (int32_t k = start[static_cast<size_t>(c)]; k < start[static_cast<size_t>(c) + 1]; ++k) {
+      const int row = rows[static_cast<size_t>(k)];
+      if (!std::isfinite(derivs.K(row, c)) || !std::isfinite(derivs.C(row, c))) return false;
+    }
+  return true;
+}
+
 mh_status Simulation::Engine::mechanics_derivatives(const mh_mech_derivatives_request& rq) {
   kinematics_at(rq.z, rq.zd);
   if ((rq.flags & MH_DERIV_DYNAMICS) != 0) {
@@ -164,9 +180,7 @@ mh_status Simulation::Engine::mechanics_derivatives(const mh_mech_derivatives_re
     derivs.zdd_eval = Eigen::Map<const Eigen::VectorXd>(rq.zdd, N);
     dynamics_derivatives(model, data, derivs.zdd_eval, derivs.force_terms, *derivs.dyn_ws, derivs.K,
                          derivs.C);
-    if (!all_finite(derivs.K.data(), static_cast<size_t>(derivs.K.size())) ||
-        !all_finite(derivs.C.data(), static_cast<size_t>(derivs.C.size())))
-      return refuse_nonfinite_derivatives();
+    if (!derivatives_finite()) return refuse_nonfinite_derivatives();
   }
   if ((rq.flags & MH_DERIV_CONSTRAINT_FORCES) != 0 && m > 0) {
     derivs.v_eval = Eigen::Map<const Eigen::VectorXd>(rq.v, m);

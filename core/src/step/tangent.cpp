@@ -28,6 +28,9 @@ void Simulation::Engine::build_pattern() {
     throw PluginError("formulation '" + formulation_name + "' declares " +
                       MH_EXT_COORDINATE_UNKNOWNS + " (its unknowns are the " + std::to_string(N) +
                       " joint coordinates) but added " + std::to_string(n_m) + " unknowns");
+  // The formulation's blocks are then cleared and read on the pattern only
+  // (assemble_tangent, check_formulation_blocks): O(nonzeros), not 3 n_m^2.
+  tangent_ws.coordinate_unknowns = topological;
   // The mechanical unknowns each subsystem with points moves and is moved by.
   std::vector<std::vector<int>> moved(subsystems.size());
   std::vector<int> all_mechanical(static_cast<size_t>(n_m));
@@ -72,6 +75,18 @@ void Simulation::Engine::build_pattern() {
     tangent_ws.any_points = tangent_ws.any_points || !s.points.empty();
   tangent_ws.values.assign(static_cast<size_t>(tangent_ws.pattern->nonzeros()), 0.0);
   tangent_ws.groups = tangent_ws.pattern->column_groups();
+  tangent_ws.mech_column_start.assign(1, 0);
+  tangent_ws.mech_row_index.clear();
+  if (topological) {
+    const auto& colptr = tangent_ws.pattern->column_start();
+    const auto& rows = tangent_ws.pattern->row_index();
+    for (int c = 0; c < n_m; ++c) {  // a column's mechanical rows come first
+      for (int k = colptr[c]; k < colptr[c + 1] && rows[k] < n_m; ++k)
+        tangent_ws.mech_row_index.push_back(rows[k]);
+      tangent_ws.mech_column_start.push_back(
+          static_cast<int32_t>(tangent_ws.mech_row_index.size()));
+    }
+  }
 
   // Which state columns are fully covered by analytic blocks.
   tangent_ws.column_analytic.assign(static_cast<size_t>(n_s), 1);

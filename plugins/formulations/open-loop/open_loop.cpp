@@ -4,18 +4,23 @@
 // Eqs. 32-34, by default), and the residual is Eq. (39) without constraints
 // and without its dt^2/4 factor: r = M'(z) zdd - Q'(z, zd). Its tangent is
 // analytic (the host's mech_derivatives): dr/dz = K, dr/dzd = C,
-// dr/dzdd = M'.
+// dr/dzdd = M'. The product M' zdd, the copy of M' the tangent keeps and
+// the tangent's blocks are computed on the mechanical block's pattern
+// (sparsity.h, mechanical_pattern/1): O(N) for a tree of bounded depth,
+// where the dense blocks cost N^2 per call.
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <algorithm>
 #include <cstddef>
 #include <cstring>
 #include <string>
+#include <vector>
 
 #include "monohydra/cpp/formulation_plugin.hpp"
 #include "monohydra/cpp/services.hpp"
 #include "monohydra/cpp/state.hpp"
 #include "monohydra/monohydra.h"
+#include "monohydra/sparsity.h"
 
 namespace {
 
@@ -30,6 +35,10 @@ struct OpenLoop {
   double tol = 1e-7;
   Eigen::VectorXd z, zd, zdd;  // accepted (z0, zd0 and their accelerations after start)
   Eigen::MatrixXd M_last;      // M' of the last residual call: the tangent's dr/dzdd
+  // The mechanical pattern, asked for at the first residual (the host builds
+  // it after setup); left empty by a host without the service: dense.
+  bool pattern_asked = false;
+  std::vector<int32_t> column_start, row_index;
 
   // What a step reads of the last one (MH_EXT_STATE, monohydra/cpp/state.hpp).
   template <class Archive>
@@ -111,6 +120,22 @@ mh_status start(const mh_formulation* f, const mh_unknown_buffers* out) noexcept
   });
 }
 
+// Copies the host's pattern once (the instance's own, whatever becomes of
+// the host's arrays).
+void ask_pattern(OpenLoop& s) {
+  s.pattern_asked = true;
+  const auto* service = static_cast<const mh_mechanical_pattern_service*>(
+      s.host->get_service(s.host, MH_SERVICE_MECHANICAL_PATTERN));
+  uint32_t columns = 0;
+  const int32_t* start = nullptr;
+  const int32_t* rows = nullptr;
+  if (service == nullptr || service->mechanical_pattern(s.host, &columns, &start, &rows) != MH_OK ||
+      columns != static_cast<uint32_t>(s.N))
+    return;
+  s.column_start.assign(start, start + s.N + 1);
+  s.row_index.assign(rows, rows + start[s.N]);
+}
+
 // Eq. (12) as residual rows: r = M'(x) xdd - Q'(x, xd).
 mh_status residual(const mh_formulation* f, const mh_unknown_values* at, double* r) noexcept {
   const double t = at->t;
@@ -125,9 +150,21 @@ mh_status residual(const mh_formulation* f, const mh_unknown_values* at, double*
     if (st >= MH_DISCARD) return st;
     const Eigen::Map<const Eigen::MatrixXd> M(rs.M, s.N, s.N);
     VectorMap rows(r, s.N);
-    rows.noalias() = M * ConstVectorMap(xdd, s.N);
+    if (!s.pattern_asked) ask_pattern(s);
+    if (s.row_index.empty()) {
+      rows.noalias() = M * ConstVectorMap(xdd, s.N);
+      s.M_last = M;
+    } else {  // M' is zero off the pattern; M_last was made zero there
+      rows.setZero();
+      for (int c = 0; c < s.N; ++c)
+        for (int32_t k = s.column_start[static_cast<size_t>(c)];
+             k < s.column_start[static_cast<size_t>(c) + 1]; ++k) {
+          const int i = s.row_index[static_cast<size_t>(k)];
+          rows[i] += M(i, c) * xdd[c];
+          s.M_last(i, c) = M(i, c);
+        }
+    }
     rows -= ConstVectorMap(rs.Q, s.N);
-    s.M_last = M;
     return st;
   });
 }
@@ -160,9 +197,22 @@ mh_status tangent(const mh_formulation* f, const mh_unknown_values* at,
     if (st >= MH_DISCARD) return st;
     using MatrixMap = Eigen::Map<Eigen::MatrixXd>;
     using ConstMatrixMap = Eigen::Map<const Eigen::MatrixXd>;
-    MatrixMap(dr_dx, s.N, s.N) = ConstMatrixMap(d.K, s.N, s.N);
-    MatrixMap(dr_dxd, s.N, s.N) = ConstMatrixMap(d.C, s.N, s.N);
-    MatrixMap(dr_dxdd, s.N, s.N) = s.M_last;
+    if (s.row_index.empty()) {
+      MatrixMap(dr_dx, s.N, s.N) = ConstMatrixMap(d.K, s.N, s.N);
+      MatrixMap(dr_dxd, s.N, s.N) = ConstMatrixMap(d.C, s.N, s.N);
+      MatrixMap(dr_dxdd, s.N, s.N) = s.M_last;
+    } else {  // the host reads the blocks on the pattern only
+      for (int c = 0; c < s.N; ++c)
+        for (int32_t k = s.column_start[static_cast<size_t>(c)];
+             k < s.column_start[static_cast<size_t>(c) + 1]; ++k) {
+          const int i = s.row_index[static_cast<size_t>(k)];
+          const size_t e =
+              static_cast<size_t>(c) * static_cast<size_t>(s.N) + static_cast<size_t>(i);
+          dr_dx[e] = d.K[e];
+          dr_dxd[e] = d.C[e];
+          dr_dxdd[e] = s.M_last(i, c);
+        }
+    }
     std::fill(column_given, column_given + s.N, uint8_t{1});
     return MH_OK;
   });

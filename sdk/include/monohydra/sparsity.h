@@ -1,4 +1,5 @@
-/* monohydra SDK: which entries of a subsystem's jacobian can be non-zero.
+/* monohydra SDK: which entries of a subsystem's jacobian can be non-zero,
+ * and which entries of the mechanical block a formulation's need compute.
  *
  * Without a declaration the host takes an instance's rows to depend on every
  * state it touches: a dense block of n x n in the shared tangent (n =
@@ -41,6 +42,28 @@ typedef struct mh_sparsity_service {
   mh_status (*declare_entries)(const struct mh_host* host, uint32_t count, const int32_t* rows,
                                const int32_t* columns);
 } mh_sparsity_service;
+
+/* Formulations whose unknowns are the joint coordinates
+ * (MH_EXT_COORDINATE_UNKNOWNS), from their first residual on: the entries of
+ * the N x N mechanical block that can be non-zero, the same for M' (the
+ * mechanism's mass matrix), K, C (mech_derivatives) and the tangent's
+ * dr_dx, dr_dxd, dr_dxdd. In a tree they are the ancestor pairs, and the
+ * pairs that subsystems with points or cut joints couple: O(N) for a tree
+ * of bounded depth, where the dense blocks hold N^2. M', K and C are zero
+ * at every other entry, and the host clears and reads the tangent's blocks
+ * on these entries only, so a formulation may compute and copy on them
+ * alone. Compressed columns: column c's rows are
+ * row_index[column_start[c] .. column_start[c + 1]), ascending, with
+ * num_columns = N; the arrays stay valid and unchanged for the instance's
+ * life. */
+#define MH_SERVICE_MECHANICAL_PATTERN "monohydra.mechanical_pattern/1"
+typedef struct mh_mechanical_pattern_service {
+  uint32_t struct_size;
+  /* MH_ERROR (logged) for a formulation without coordinate unknowns, or
+   * called during setup (the pattern is built after it). */
+  mh_status (*mechanical_pattern)(const struct mh_host* host, uint32_t* num_columns,
+                                  const int32_t** column_start, const int32_t** row_index);
+} mh_mechanical_pattern_service;
 
 #ifdef __cplusplus
 }
