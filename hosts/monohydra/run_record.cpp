@@ -13,6 +13,7 @@
 #include "monohydra/core/run.hpp"
 #include "monohydra/core/run_limits.hpp"
 #include "monohydra/cpp/number_text.hpp"
+#include "monohydra/host.h"
 
 namespace mh::cli {
 namespace {
@@ -165,6 +166,16 @@ RunRecord record_run(const ModelFile& file, const PluginRegistry& registry,
     rec.dissipated.assign(rec.dissipators.size(), 0.0);
     std::vector<double> power_k(rec.dissipators.size()), power(rec.dissipators.size());
     sim->dissipation_powers(power_k.data());
+    std::vector<size_t> part_outputs;  // the outputs of role dissipation-part
+    for (size_t i = 0; i < sim->output_info().size(); ++i)
+      if (sim->output_info()[i].role == MH_ROLE_DISSIPATION_PART) {
+        part_outputs.push_back(i);
+        rec.dissipation_parts.push_back(sim->output_info()[i].qualified);
+      }
+    rec.parts_dissipated.assign(part_outputs.size(), 0.0);
+    std::vector<double> part_k(part_outputs.size());
+    for (size_t j = 0; j < part_outputs.size(); ++j)
+      part_k[j] = sim->outputs()[static_cast<Eigen::Index>(part_outputs[j])];
     const long report_every = std::max(1L, total / 100);
     const long every = layout->every_steps();
     double wall_since_row = 0.0;  // the steps since the last row kept
@@ -186,6 +197,11 @@ RunRecord record_run(const ModelFile& file, const PluginRegistry& registry,
       for (size_t i = 0; i < power.size(); ++i)
         rec.dissipated[i] += 0.5 * h * (power_k[i] + power[i]);
       power_k.swap(power);
+      for (size_t j = 0; j < part_outputs.size(); ++j) {
+        const double p = sim->outputs()[static_cast<Eigen::Index>(part_outputs[j])];
+        rec.parts_dissipated[j] += 0.5 * h * (part_k[j] + p);
+        part_k[j] = p;
+      }
       if ((k + 1) % every == 0) {
         record_row(*sim, wall_since_row, rec);
         if (options.on_row) options.on_row(rec);

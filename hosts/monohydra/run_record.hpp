@@ -51,6 +51,11 @@ struct RunRecord {
   // integrates their sum (Simulation::dissipation_powers).
   std::vector<std::string> dissipators;
   std::vector<double> dissipated;
+  // Where within an instance: the outputs its component gives the role
+  // MH_ROLE_DISSIPATION_PART ("instance.output", W), each integrated the same
+  // way; an instance's parts add up to its entry above.
+  std::vector<std::string> dissipation_parts;
+  std::vector<double> parts_dissipated;
 
   size_t rows() const { return columns.empty() ? 0 : columns.front().size(); }
   int column(const std::string& name) const;  // -1 when absent

@@ -101,6 +101,10 @@ void read_description(Reader& in, RunRecord& rec) {
   rec.dissipators = in.get_strings();
   rec.dissipated.clear();
   for (size_t i = 0; i < rec.dissipators.size(); ++i) rec.dissipated.push_back(in.get<double>());
+  rec.dissipation_parts = in.get_strings();
+  rec.parts_dissipated.clear();
+  for (size_t i = 0; i < rec.dissipation_parts.size(); ++i)
+    rec.parts_dissipated.push_back(in.get<double>());
   if (rec.columns.size() != rec.names.size()) rec.columns.assign(rec.names.size(), {});
 }
 
@@ -147,6 +151,8 @@ void append_record_description(std::string& out, const RunRecord& rec, bool fina
   put(p, static_cast<int32_t>(s.skipped));
   put_strings(p, rec.dissipators);
   for (size_t i = 0; i < rec.dissipators.size(); ++i) put(p, rec.dissipated.at(i));
+  put_strings(p, rec.dissipation_parts);
+  for (size_t i = 0; i < rec.dissipation_parts.size(); ++i) put(p, rec.parts_dissipated.at(i));
   append_message(out, final ? 'F' : 'D', p);
 }
 

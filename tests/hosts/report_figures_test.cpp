@@ -132,6 +132,29 @@ TEST_F(HydraulicReport, DissipationBarsShowEachSubsystemThatDissipatedLargestFir
     }
 }
 
+// A subsystem whose component names the parts of its dissipation is shown by
+// them (instance.part), each ranked among the others; one without parts stays whole.
+TEST_F(HydraulicReport, ASubsystemsDissipationPartsReplaceItsBar) {
+  cli::RunRecord run = hydraulic_run("double-step", 0.0);
+  run.dissipation_parts = {"valve.P_meter_in", "valve.P_compensator", "valve.P_load_sense"};
+  run.parts_dissipated = {1000.0, 500.0, 0.0};  // the last dissipated nothing: left out
+  const cli::Comparison parted = cli::summarize("four-bar", "fourbar-hydraulic.yaml", {run});
+  std::string svg;
+  for (const auto& f : cli::report_figures(file, parted, open, "#d8c8f0"))
+    if (f.id == "fig-dissipation")
+      for (const auto& s : f.svgs) svg += s;
+  EXPECT_EQ(count(svg, "<rect class=\"bar\""), 3u);
+  EXPECT_EQ(svg.find("<title>valve: 1.5 kJ</title>"), std::string::npos) << svg;
+  const size_t cylinder = svg.find("<title>cylinder: 3 kJ</title>");
+  const size_t meter_in = svg.find("<title>valve.P_meter_in: 1 kJ</title>");
+  const size_t compensator = svg.find("<title>valve.P_compensator: 0.5 kJ</title>");
+  ASSERT_NE(cylinder, std::string::npos) << svg;
+  ASSERT_NE(meter_in, std::string::npos) << svg;
+  ASSERT_NE(compensator, std::string::npos) << svg;
+  EXPECT_LT(cylinder, meter_in);
+  EXPECT_LT(meter_in, compensator);
+}
+
 // A load-sensing pump (ports P on p1, LS on p3) adds a panel: its pressure
 // and its LS line's plus the margin, for every run.
 TEST_F(HydraulicReport, ALoadSensingPumpsPressureIsDrawnAgainstItsLoadPlusItsMargin) {

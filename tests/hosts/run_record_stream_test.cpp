@@ -58,6 +58,8 @@ TEST(RunRecordStream, ACompleteRecordComesBackBitForBit) {
   std::string bytes = stream_of(rec);
   rec.dissipators = {"valve", "spring"};  // known at the end: in the final description
   rec.dissipated = {12.5, 1.0 / 3.0};
+  rec.dissipation_parts = {"valve.P_meter_in", "valve.P_compensator"};
+  rec.parts_dissipated = {10.0, 2.5 + 1e-13};
   append_record_description(bytes, rec, true);
   const DecodedRecord d = decode_record_stream(bytes);
   EXPECT_TRUE(d.complete);
@@ -77,6 +79,9 @@ TEST(RunRecordStream, ACompleteRecordComesBackBitForBit) {
   EXPECT_EQ(d.record.dissipators, rec.dissipators);
   ASSERT_EQ(d.record.dissipated.size(), 2u);
   EXPECT_TRUE(same_bits(d.record.dissipated[1], 1.0 / 3.0));
+  EXPECT_EQ(d.record.dissipation_parts, rec.dissipation_parts);
+  ASSERT_EQ(d.record.parts_dissipated.size(), 2u);
+  EXPECT_TRUE(same_bits(d.record.parts_dissipated[1], 2.5 + 1e-13));
   ASSERT_EQ(d.record.columns.size(), 3u);
   for (size_t c = 0; c < 3; ++c) {
     ASSERT_EQ(d.record.columns[c].size(), 2u);

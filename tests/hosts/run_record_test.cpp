@@ -43,5 +43,40 @@ TEST(RunRecord, TheDissipationOfEachSubsystemAddsUpToTheRunsDissipatedEnergy) {
   EXPECT_GT(of("valve_boom"), 0.0);
 }
 
+// A valve section names where its dissipation happens (outputs of role
+// dissipation-part): its meter-in and meter-out edges, its compensator and its
+// load-sense orifices, integrated as the sections' whole; they add up to it.
+TEST(RunRecord, AValveSectionsDissipationPartsAddUpToItsDissipation) {
+  const ModelFile file = load_model_file(source_path("models/excavator-ls.yaml"));
+  cli::RecordOptions options;
+  options.overrides.t_end = 3.0;
+  const cli::RunRecord rec = cli::record_run(file, build_plugins(), "", "", options);
+  ASSERT_FALSE(rec.failed) << rec.failure;
+  ASSERT_EQ(rec.parts_dissipated.size(), rec.dissipation_parts.size());
+  ASSERT_EQ(rec.dissipation_parts.size(), 16u);  // four sections, four parts each
+  for (const std::string section : {"valve_boom", "valve_arm", "valve_bucket", "valve_slew"}) {
+    const auto it = std::find(rec.dissipators.begin(), rec.dissipators.end(), section);
+    ASSERT_NE(it, rec.dissipators.end()) << section;
+    const double whole = rec.dissipated[static_cast<size_t>(it - rec.dissipators.begin())];
+    double sum = 0.0, compensator = 0.0, meter_in = 0.0;
+    for (size_t j = 0; j < rec.dissipation_parts.size(); ++j) {
+      const std::string& part = rec.dissipation_parts[j];
+      if (part.rfind(section + ".", 0) != 0) continue;
+      sum += rec.parts_dissipated[j];
+      if (part == section + ".P_compensator") compensator = rec.parts_dissipated[j];
+      if (part == section + ".P_meter_in") meter_in = rec.parts_dissipated[j];
+    }
+    EXPECT_NEAR(sum, whole, 1e-9 * std::max(whole, 1.0)) << section;
+    EXPECT_GE(compensator, 0.0) << section;  // it only ever takes pressure away
+    if (section == "valve_boom") {           // lowered in these 3 s: its edge throttles (J)
+      EXPECT_GT(meter_in, 1e3);
+    }
+    if (section ==
+        "valve_arm") {  // it moves beside the boom's higher load: its compensator throttles
+      EXPECT_GT(compensator, 1e3);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace mh::test

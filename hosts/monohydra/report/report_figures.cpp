@@ -270,12 +270,26 @@ std::vector<ReportFigure> report_figures(const ModelFile& file, const Comparison
         }
       std::stable_sort(order.begin(), order.end(),
                        [&](size_t a, size_t b) { return ref->dissipated[a] > ref->dissipated[b]; });
+      // An instance whose component names its parts (MH_ROLE_DISSIPATION_PART:
+      // a valve section's edges and compensator) is shown by them, in its colour.
       std::vector<Bar> bars;
       bars.reserve(order.size());
-      for (size_t i : order)
-        bars.push_back({ref->dissipators[i], 1e-3 * ref->dissipated[i], palette(i)});
+      for (size_t i : order) {
+        const std::string prefix = ref->dissipators[i] + ".";
+        bool parted = false;
+        for (size_t j = 0; j < ref->dissipation_parts.size(); ++j)
+          if (ref->dissipation_parts[j].rfind(prefix, 0) == 0) {
+            parted = true;
+            if (ref->parts_dissipated[j] > 0.0)
+              bars.push_back(
+                  {ref->dissipation_parts[j], 1e-3 * ref->parts_dissipated[j], palette(i)});
+          }
+        if (!parted) bars.push_back({ref->dissipators[i], 1e-3 * ref->dissipated[i], palette(i)});
+      }
+      std::stable_sort(bars.begin(), bars.end(),
+                       [](const Bar& a, const Bar& b) { return a.value > b.value; });
       const auto& t = ref->values("t");
-      char text[400];
+      char text[800];
       if (bars.empty()) {
         f.caption =
             "No subsystem of this model reports a dissipation (no energy op, or none "
@@ -289,7 +303,10 @@ std::vector<ReportFigure> report_figures(const ModelFile& file, const Comparison
                       "(trapezoidal, per step, as the energy balance integrates their sum): "
                       "%.6g kJ in all, beside W = %.6g kJ of work the subsystems did on the "
                       "bodies and %.6g kJ of kinetic and potential energy gained. Subsystems "
-                      "that dissipated nothing are left out.",
+                      "that dissipated nothing are left out; one whose component names the "
+                      "parts of its dissipation (a valve section's meter-in and meter-out "
+                      "edges, its compensator, its load-sense orifices) is shown by them, "
+                      "as instance.part.",
                       ref->label.c_str(), t.empty() ? 0.0 : t.back(), 1e-3 * total,
                       1e-3 * ref->values("W").back(),
                       1e-3 * (ref->values("KE").back() + ref->values("PE").back()));

@@ -9,16 +9,23 @@
 //     has the margin: dp_edge = smax(smin(p_P - p_load, dp_c), 0);
 //   post-compensated (compensation: post, flow sharing): downstream, every
 //     section's compensator throttles to the highest load pressure p_X
-//     (port X, the LS network's output): dp_edge = smax(p_P - p_X, 0), the
-//     same drop in every section, so that a pump short of flow is shared in
-//     proportion to the openings;
+//     (port X, the LS network's output): dp_edge = smax(p_P - smax(p_X,
+//     p_load - 4 w), 0), the same drop in every section, so that a pump
+//     short of flow is shared in proportion to the openings (the inner smax:
+//     a compensator only takes pressure away, so the edge passes no flow to
+//     a load above the supply while the LS line lags below it);
 //   Q_in = C_vd |U| g(dp_edge),  Q_out = C_vd |U| g(p_other - p_T)
 // (smin, smax: dual.hpp, rounded over `smoothing_pressure`). The section's
 // load-sense port LS is joined to its working port as the spool opens and to
 // T in neutral, through a pilot orifice:
 //   w_A = h(U / u_ls), w_B = h(-U / u_ls), w_T = 1 - w_A - w_B  (h: smoothstep)
 //   Q_LS,k = K_ls w_k g(p_k - p_LS),  k's row += Q_LS,k,  LS's row -= their sum
+// Where the section's dissipation goes (outputs of role dissipation-part,
+// adding up to its energy op's): the meter-in edge Q_in dp_edge, the
+// compensator Q_in (p_P - p_load - dp_edge), the meter-out edge
+// Q_out (p_other - p_T) and the load-sense orifices.
 // Sources: docs/hydraulics.md.
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -102,6 +109,14 @@ class LsValveSection {
     if (monohydra::outputs(h).add_output(h, &q, &q_out_) != MH_OK ||
         monohydra::outputs(h).add_output(h, &dp, &dp_out_) != MH_OK)
       return MH_ERROR;
+    for (auto [name, index] : {std::pair<const char*, int32_t*>{"P_meter_in", &part_out_[0]},
+                               {"P_compensator", &part_out_[1]},
+                               {"P_meter_out", &part_out_[2]},
+                               {"P_load_sense", &part_out_[3]}}) {
+      mh_output_spec spec = monohydra::output_spec(name, "W");
+      spec.role = MH_ROLE_DISSIPATION_PART;
+      if (monohydra::outputs(h).add_output(h, &spec, index) != MH_OK) return MH_ERROR;
+    }
     return MH_OK;
   }
 
@@ -120,7 +135,14 @@ class LsValveSection {
     const D& other = f.to_a ? b : a;
     const D zero = D::constant(0.0);
     if (post_) {
-      f.edge = smooth_max(p - D::input(y[x_], kX), zero, w_p_);
+      // Throttled to the higher of p_X and this section's own load: while the
+      // LS line lags below the load, the compensator cannot raise the
+      // pressure (without it the edge passed flow P -> load uphill, creating
+      // energy). The load enters 4 smoothings down, so that where it is p_X
+      // (the highest load's section at rest) the rounding moves the drop by
+      // 0.06 of a smoothing only and flow sharing holds.
+      const D x = D::input(y[x_], kX);
+      f.edge = smooth_max(p - smooth_max(x, load - D::constant(4.0 * w_p_), w_p_), zero, w_p_);
     } else {
       f.edge = smooth_max(smooth_min(p - load, D::constant(dp_c_), w_p_), zero, w_p_);
     }
@@ -154,6 +176,8 @@ class LsValveSection {
     });
     eval.outputs[q_out_] = f.in.v;
     eval.outputs[dp_out_] = f.edge.v;
+    const Parts parts = dissipation_parts(eval, f);
+    for (size_t i = 0; i < parts.size(); ++i) eval.outputs[part_out_[i]] = parts[i];
     return MH_OK;
   }
 
@@ -185,6 +209,22 @@ class LsValveSection {
     return MH_OK;
   }
 
+  // The energy op's dissipation by where it happens (W): meter-in edge,
+  // compensator, meter-out edge, load-sense orifices. The edge takes its
+  // drop dp_edge but never more than the whole drop P -> load (with post
+  // compensation the section of the highest load sees p_X a little below its
+  // load, through the load-sense orifice): the compensator has the rest.
+  using Parts = std::array<double, 4>;
+  Parts dissipation_parts(const mh_subsystem_eval& eval, const Flows& f) const {
+    const double* y = eval.y;
+    const int32_t load = f.to_a ? a_ : b_, other = f.to_a ? b_ : a_;
+    const double q_in = f.in.v, drop = y[p_] - y[load];
+    const double edge = q_in * std::fmin(f.edge.v, std::fmax(drop, 0.0));
+    return {
+        edge, q_in * drop - edge, f.out.v * (y[other] - y[t_]),
+        f.ls_a.v * (y[a_] - y[ls_]) + f.ls_b.v * (y[b_] - y[ls_]) + f.ls_t.v * (y[t_] - y[ls_])};
+  }
+
  private:
   const mh_host* host_;
   double c_vd_ = 0.0, dp_c_ = 1e6, k_ls_ = 1e-9, u_ls_ = 0.5, w_p_ = 1e4;
@@ -192,6 +232,7 @@ class LsValveSection {
   OrificeFlow law_;
   Spool spool_;
   int32_t p_ = -1, t_ = -1, a_ = -1, b_ = -1, ls_ = -1, x_ = -1, q_out_ = -1, dp_out_ = -1;
+  std::array<int32_t, 4> part_out_{-1, -1, -1, -1};  // the dissipation parts' outputs
   monohydra::TouchedStates states_;
 };
 
@@ -208,7 +249,8 @@ const mh_component_descriptor LsValveSection::kDescriptor{
     "uncompensated. LS joins the working port as the spool opens (ls_opening, default 0.5 V; "
     "ls_flow_coefficient, default 1e-9), T in neutral. Options also: smoothing_pressure (Pa, "
     "default 1e4), transition_pressure (Pa, default 2e5). Outputs q (m^3/s, meter-in), dp_edge "
-    "(Pa)."};
+    "(Pa), and the dissipated power by where it happens (W, role dissipation-part): "
+    "P_meter_in, P_compensator, P_meter_out, P_load_sense."};
 
 }  // namespace
 

@@ -101,6 +101,11 @@ typedef struct mh_port_spec {
   "control-signal" /* a control input's actual value (a valve spool): reports \
                       shade where |value| exceeds 1 % of max(|range_min|,     \
                       |range_max|) */
+#define MH_ROLE_DISSIPATION_PART                                                   \
+  "dissipation-part" /* an output (W) that is a share of its instance's dissipated \
+                        power (the energy op's): its outputs with this role add up \
+                        to it, and reports break the instance's dissipation down   \
+                        by them */
 
 /* A state of a subsystem instance (add_state). */
 typedef struct mh_state_spec {

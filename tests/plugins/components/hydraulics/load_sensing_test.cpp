@@ -189,9 +189,13 @@ TEST(LoadSensingJacobians, MatchCentralDifferences) {
       worst = std::max(worst, jacobian_error(*f.instance, e));
     }
   }
-  // 1e-5, not the 1e-6 of the other components: the limiters' rounded
-  // corners (curvature 1/w) leave the differences' own truncation at 2e-6.
-  EXPECT_LT(worst, 1e-5);
+  // 1e-5 would do for the limiters' rounded corners (curvature 1/w: the
+  // differences' own truncation, 2e-6), but a post-compensated section shut
+  // by its compensator (supply 1.2 MPa below p_X) depends on its far lower
+  // load through two nested roundings: entries of 1e-18 beside 1e-9 in one
+  // row, which central differences resolve to 2.4e-4 of the 1e-8 floor. A
+  // wrong derivative is off by O(1).
+  EXPECT_LT(worst, 5e-4);
   std::printf("[ measured ] load-sensing jacobians: max relative error %.3g\n", worst);
 }
 
