@@ -181,6 +181,47 @@ TEST_F(HydraulicReport, ALoadSensingPumpsPressureIsDrawnAgainstItsLoadPlusItsMar
   EXPECT_EQ(svgs("fig-pressures").find("plot-load-sensing"), std::string::npos);
 }
 
+// Two post-compensated sections (their meter-in flows written as s and Fs)
+// and a pump (q written as sdot) add the flow-sharing panel: each section,
+// their sum and the pump, for every run. One section alone, or sections
+// compensated upstream, share nothing: no panel.
+TEST_F(HydraulicReport, PostCompensatedSectionsAddAFlowSharingPanel) {
+  auto with_sections = [this](const std::vector<std::string>& compensations) {
+    ModelFile m = file;
+    const char* columns[] = {"s", "Fs"};
+    for (size_t i = 0; i < compensations.size(); ++i) {
+      SubsystemSpec v;
+      v.name = "section" + std::to_string(i);
+      v.type = "ls-valve-section";
+      v.options["compensation"].kind = OptionValue::Kind::string;
+      v.options["compensation"].text = compensations[i];
+      v.output_names["q"] = columns[i];
+      m.subsystems.push_back(v);
+    }
+    SubsystemSpec pump;
+    pump.name = "pump";
+    pump.type = "variable-pump";
+    pump.output_names["q"] = "sdot";
+    m.subsystems.push_back(pump);
+    std::string all, caption;
+    for (const auto& f : cli::report_figures(m, c, open, "#d8c8f0"))
+      if (f.id == "fig-actuators") {
+        for (const auto& svg : f.svgs)
+          if (svg.find("id=\"plot-flow-sharing\"") != std::string::npos) all += svg;
+        caption = f.caption;
+      }
+    return std::make_pair(all, caption);
+  };
+  const auto [svg, caption] = with_sections({"post", "post"});
+  ASSERT_FALSE(svg.empty());
+  EXPECT_EQ(count(svg, "class=\"series\""), 8u);  // two sections, their sum, the pump; two runs
+  EXPECT_NE(svg.find("<title>sum of the sections penalty</title>"), std::string::npos) << svg;
+  EXPECT_NE(svg.find("<title>sdot (pump) double-step</title>"), std::string::npos);
+  EXPECT_NE(caption.find("each of the 2 post-compensated"), std::string::npos) << caption;
+  EXPECT_TRUE(with_sections({"post"}).first.empty());
+  EXPECT_TRUE(with_sections({"pre", "pre"}).first.empty());
+}
+
 TEST_F(HydraulicReport, PressuresAreTheStatesInPascalOfEveryRunInMegapascal) {
   const std::string svg = svgs("fig-pressures");
   EXPECT_EQ(count(svg, "class=\"series\""), 6u);  // p1..p3 for each run; not U

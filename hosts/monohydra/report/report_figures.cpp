@@ -69,6 +69,59 @@ struct Plotter {
   }
 };
 
+// Flow sharing (docs/hydraulics.md, ls-valve-section): the written meter-in
+// flow q of every post-compensated section, their sum and each pump's
+// delivered flow q, in l/min, for every run; returns the sections drawn.
+size_t flow_sharing_panel(const ModelFile& file, const Comparison& c,
+                          const std::vector<size_t>& runs, const Plotter& p,
+                          std::vector<std::string>& svgs) {
+  auto output_column = [](const SubsystemSpec& s, const std::string& local) {
+    const auto it = s.output_names.find(local);
+    return it == s.output_names.end() ? s.name + "." + local : it->second;  // "": hidden
+  };
+  std::vector<std::string> sections, pumps;
+  for (const SubsystemSpec& s : file.subsystems) {
+    const auto compensation = s.options.find("compensation");
+    if (s.type == "ls-valve-section" && compensation != s.options.end() &&
+        compensation->second.text == "post")
+      sections.push_back(output_column(s, "q"));
+    else if (s.type == "variable-pump")
+      pumps.push_back(output_column(s, "q"));
+  }
+  constexpr double kToLitresPerMinute = 6e4;
+  std::vector<PlotSeries> series;
+  size_t drawn = 0;
+  for (size_t r : runs) {
+    const RunRecord& run = c.runs[r];
+    PlotSeries sum;
+    size_t k = 0;
+    for (const std::string& col : sections) {
+      if (col.empty() || run.column(col) < 0) continue;
+      PlotSeries q = p.series(r, col, kToLitresPerMinute, col + " " + run.label, palette(k++));
+      if (sum.x.empty()) {
+        sum = q;
+      } else {
+        for (size_t i = 0; i < sum.y.size(); ++i) sum.y[i] += q.y[i];
+      }
+      series.push_back(std::move(q));
+    }
+    drawn = std::max(drawn, k);
+    if (k < 2) continue;  // one section shares with nobody
+    sum.label = "sum of the sections " + run.label;
+    sum.colour = "#000000";
+    series.push_back(std::move(sum));
+    for (const std::string& col : pumps)
+      if (!col.empty() && run.column(col) >= 0)
+        series.push_back(
+            p.series(r, col, kToLitresPerMinute, col + " (pump) " + run.label, "#888888"));
+  }
+  if (drawn < 2) return 0;
+  svgs.push_back(svg_plot(
+      p.spec("plot-flow-sharing", "Flow sharing: the sections' meter-in flows", "Q (l/min)"),
+      series));
+  return drawn;
+}
+
 }  // namespace
 
 const std::vector<std::string>& report_figure_ids() {
@@ -225,6 +278,14 @@ std::vector<ReportFigure> report_figures(const ModelFile& file, const Comparison
                         "left out."
                       : "The written outputs in m, N and W: strokes and forces of the actuators "
                         "and hydraulic power. Colour: the output; line style: the run.";
+      const size_t sharing = flow_sharing_panel(file, c, runs, p, f.svgs);
+      if (sharing > 0)
+        f.caption +=
+            " The last panel: flow sharing, the meter-in flow of each of the " +
+            std::to_string(sharing) +
+            " post-compensated valve sections, their sum and the pump's delivery (l/min): "
+            "where the levers ask for more than the pump gives, the sum meets the pump's flow "
+            "and every section slows in proportion to its opening.";
     }
     figs.push_back(f);
   }
