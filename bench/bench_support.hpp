@@ -63,6 +63,15 @@ inline std::string tree(int arms) {
   return text + kFooter;
 }
 
+// A shipped model by file name, or a generated mechanism: chain:N or tree:N
+// (N bodies, N odd for the tree), as mh_profile and mh_step_costs take them.
+inline ModelFile bench_model(const std::string& what) {
+  if (what.rfind("chain:", 0) == 0) return parse_model_text(chain(std::stoi(what.substr(6))), what);
+  if (what.rfind("tree:", 0) == 0)
+    return parse_model_text(tree((std::stoi(what.substr(5)) - 1) / 2), what);
+  return shipped_model(what);
+}
+
 // Per-step counters of a run of `steps` steps in all the benchmark's iterations.
 // Work per step: Newton iterations, tangents, passes of the kinematics (the
 // target is at most 6) and residual evaluations.

@@ -28,13 +28,7 @@ int main(int argc, char** argv) {
       throw std::runtime_error("newton: expected full or modified, got '" + newton + "'");
     if (output != "none" && output != "every-step" && output != "10ms")
       throw std::runtime_error("output: expected none, every-step or 10ms, got '" + output + "'");
-    ModelFile file;
-    if (what.rfind("chain:", 0) == 0)
-      file = parse_model_text(bench::chain(std::stoi(what.substr(6))), what);
-    else if (what.rfind("tree:", 0) == 0)
-      file = parse_model_text(bench::tree((std::stoi(what.substr(5)) - 1) / 2), what);
-    else
-      file = bench::shipped_model(what);
+    ModelFile file = bench::bench_model(what);
     file.solver.newton = newton == "modified" ? NewtonKind::modified : NewtonKind::full;
     bool known = false;
     for (LinearSolverKind kind : {LinearSolverKind::klu, LinearSolverKind::umfpack,
