@@ -7,6 +7,7 @@
 #include <benchmark/benchmark.h>
 
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include "monohydra/core/model_file.hpp"
@@ -70,6 +71,21 @@ inline ModelFile bench_model(const std::string& what) {
   if (what.rfind("tree:", 0) == 0)
     return parse_model_text(tree((std::stoi(what.substr(5)) - 1) / 2), what);
   return shipped_model(what);
+}
+
+// The solver choices mh_profile and mh_step_costs take by name (full|modified,
+// klu|umfpack|dense|auto); throws std::runtime_error naming what it expected.
+inline void choose_solver(ModelFile& file, const std::string& newton, const std::string& linear) {
+  if (newton != "full" && newton != "modified")
+    throw std::runtime_error("newton: expected full or modified, got '" + newton + "'");
+  file.solver.newton = newton == "modified" ? NewtonKind::modified : NewtonKind::full;
+  for (LinearSolverKind kind : {LinearSolverKind::klu, LinearSolverKind::umfpack,
+                                LinearSolverKind::dense, LinearSolverKind::automatic})
+    if (linear == to_string(kind)) {
+      file.solver.linear = kind;
+      return;
+    }
+  throw std::runtime_error("linear: expected klu, umfpack, dense or auto, got '" + linear + "'");
 }
 
 // Per-step counters of a run of `steps` steps in all the benchmark's iterations.

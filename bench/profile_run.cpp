@@ -24,22 +24,10 @@ int main(int argc, char** argv) {
     const std::string output = argc >= 5 ? argv[4] : "none";
     const std::string newton = argc >= 6 ? argv[5] : "full";
     const std::string linear = argc >= 7 ? argv[6] : "klu";
-    if (newton != "full" && newton != "modified")
-      throw std::runtime_error("newton: expected full or modified, got '" + newton + "'");
     if (output != "none" && output != "every-step" && output != "10ms")
       throw std::runtime_error("output: expected none, every-step or 10ms, got '" + output + "'");
     ModelFile file = bench::bench_model(what);
-    file.solver.newton = newton == "modified" ? NewtonKind::modified : NewtonKind::full;
-    bool known = false;
-    for (LinearSolverKind kind : {LinearSolverKind::klu, LinearSolverKind::umfpack,
-                                  LinearSolverKind::dense, LinearSolverKind::automatic})
-      if (linear == to_string(kind)) {
-        file.solver.linear = kind;
-        known = true;
-      }
-    if (!known)
-      throw std::runtime_error("linear: expected klu, umfpack, dense or auto, got '" + linear +
-                               "'");
+    bench::choose_solver(file, newton, linear);
     Simulation sim(file, bench::plugins(), RunChoices{argv[2], "", {}, std::stod(argv[3])});
     const CsvLayout layout(sim, OutputSettings{},
                            output == "10ms" ? std::optional<double>(0.01) : std::nullopt);

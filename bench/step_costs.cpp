@@ -38,21 +38,9 @@ int main(int argc, char** argv) {
     const std::string linear = argc >= 7 ? argv[6] : "klu";
     const int every = argc >= 8 ? std::stoi(argv[7]) : 1;
     if (every < 1) throw std::runtime_error("EVERY: expected a positive number of steps");
-    if (newton != "full" && newton != "modified")
-      throw std::runtime_error("newton: expected full or modified, got '" + newton + "'");
     if (!(t_from >= 0.0 && t_to > t_from)) throw std::runtime_error("expected 0 <= T_FROM < T_TO");
     ModelFile file = bench::bench_model(argv[1]);
-    file.solver.newton = newton == "modified" ? NewtonKind::modified : NewtonKind::full;
-    bool known = false;
-    for (LinearSolverKind kind : {LinearSolverKind::klu, LinearSolverKind::umfpack,
-                                  LinearSolverKind::dense, LinearSolverKind::automatic})
-      if (linear == to_string(kind)) {
-        file.solver.linear = kind;
-        known = true;
-      }
-    if (!known)
-      throw std::runtime_error("linear: expected klu, umfpack, dense or auto, got '" + linear +
-                               "'");
+    bench::choose_solver(file, newton, linear);
     Simulation sim(file, bench::plugins(), RunChoices{argv[2], "", {}, t_to});
     sim.start();
     const double half_step = 0.5 * file.solver.dt;

@@ -23,7 +23,11 @@ namespace {
 constexpr double kL = 10.0, kRho = 850.0, kFluid = 1.5e9, kWall = 1e9;
 constexpr double kP0 = 1e6, kStep = 1e5, kT0 = 1e-3;
 
-std::string line_model(int segments, double viscosity, double dt = 2e-5, double t_end = 0.08) {
+// A 10 m line between a pressure source at a (1 MPa, stepping by `step` at
+// 1 ms, over `ramp` s) and a closed end, with `extra` options on the hose.
+std::string line_model(int segments, double viscosity, double dt = 2e-5, double t_end = 0.08,
+                       double step = kStep, double ramp = 0.0, const std::string& extra = "") {
+  const std::string high = std::to_string(kP0 + step);
   return R"(units: {length: m, mass: kg, time: s, angle: rad}
 name: line
 gravity: [0, 0, 0]
@@ -31,12 +35,13 @@ bodies:
   - {name: slider, parent: ground, joint: {type: prismatic, at: [0, 0, 0], axis: [1, 0, 0]},
      mass: 1.0, com: [0, 0, 0], inertia: [1, 1, 1]}
 subsystems:
-  - {name: pump, type: pressure-source, ports: {p: inlet}, pressure: [[0, 1e6], [0.001, 1e6], [0.001, 1.1e6], [1, 1.1e6]]}
+  - {name: pump, type: pressure-source, ports: {p: inlet}, pressure: [[0, 1e6], [0.001, 1e6], [)" +
+         std::to_string(kT0 + ramp) + ", " + high + "], [1, " + high + R"(]]}
   - {name: hose, type: hose, ports: {a: inlet, b: closed}, length: 10, inner_diameter: 0.012,
      density: 850, viscosity: )" +
          std::to_string(viscosity) +
          R"(, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9, segments: )" +
-         std::to_string(segments) + R"(, initial_pressure: 1e6}
+         std::to_string(segments) + ", initial_pressure: 1e6" + extra + R"(}
   - {name: gauge, type: pressure-sensor, ports: {a: closed}}   # takes no flow: a closed end
 nodes: {inlet: p_in, closed: p_end}
 formulation: open-loop
@@ -142,28 +147,9 @@ TEST(Hose, TheTangentHoldsEntriesLinearInTheSegments) {
   EXPECT_NEAR(static_cast<double>(n200) / n100, 2.0, 0.02);
 }
 
-// A line between a pressure source at a and a closed end, its source
-// stepping by `step` at 1 ms, with `extra` options on the hose.
+// The line of 20 segments, its source stepping by `step` over 0.5 ms, for 60 ms.
 std::string stepped_line(double step, const std::string& extra, double viscosity = 0.03) {
-  return R"(units: {length: m, mass: kg, time: s, angle: rad}
-name: line
-gravity: [0, 0, 0]
-bodies:
-  - {name: slider, parent: ground, joint: {type: prismatic, at: [0, 0, 0], axis: [1, 0, 0]},
-     mass: 1.0, com: [0, 0, 0], inertia: [1, 1, 1]}
-subsystems:
-  - {name: pump, type: pressure-source, ports: {p: inlet}, pressure: [[0, 1e6], [0.001, 1e6], [0.0015, )" +
-         std::to_string(1e6 + step) + "], [1, " + std::to_string(1e6 + step) + R"(]]}
-  - {name: hose, type: hose, ports: {a: inlet, b: closed}, length: 10, inner_diameter: 0.012,
-     density: 850, viscosity: )" +
-         std::to_string(viscosity) + R"(, bulk_modulus: 1e9, fluid_bulk_modulus: 1.5e9,
-     segments: 20, initial_pressure: 1e6)" +
-         extra + R"(}
-  - {name: gauge, type: pressure-sensor, ports: {a: closed}}
-nodes: {inlet: p_in, closed: p_end}
-formulation: open-loop
-solver: {dt: 2e-5, t_end: 0.06}
-)";
+  return line_model(20, viscosity, 2e-5, 0.06, step, 5e-4, extra);
 }
 
 // What enters at a, p_a q_1 integrated over the run (trapezoidal, as the
