@@ -930,8 +930,8 @@ machines whose times differ 2x); times are this machine's.
 ### The default configuration
 
 Full Newton stays the default, because it is the fastest configuration that
-passes every accuracy test. Modified Newton, made the default at de31dcd,
-failed 28 tests, 20 of them physics: the energy and constraint bounds of the
+passes every accuracy test. Modified Newton, tried as the default (the
+measurements of de31dcd), failed 28 tests, 20 of them physics: the energy and constraint bounds of the
 free mechanisms, the formulations' agreement on the four-bar, the
 quick-return and both excavators. On the free four-bar (double-step, 10 s)
 its peak energy drift is 47.7 J at the shipped tol_position = 1e-7, against
