@@ -73,12 +73,18 @@ inline ModelFile bench_model(const std::string& what) {
   return shipped_model(what);
 }
 
-// The solver choices mh_profile and mh_step_costs take by name (full|modified,
-// klu|umfpack|dense|auto); throws std::runtime_error naming what it expected.
+// The solver choices mh_profile and mh_step_costs take by name
+// (full|per-step|modified, klu|umfpack|dense|auto); throws std::runtime_error
+// naming what it expected.
 inline void choose_solver(ModelFile& file, const std::string& newton, const std::string& linear) {
-  if (newton != "full" && newton != "modified")
-    throw std::runtime_error("newton: expected full or modified, got '" + newton + "'");
-  file.solver.newton = newton == "modified" ? NewtonKind::modified : NewtonKind::full;
+  bool known = false;
+  for (NewtonKind kind : {NewtonKind::full, NewtonKind::per_step, NewtonKind::modified})
+    if (newton == to_string(kind)) {
+      file.solver.newton = kind;
+      known = true;
+    }
+  if (!known)
+    throw std::runtime_error("newton: expected full, per-step or modified, got '" + newton + "'");
   for (LinearSolverKind kind : {LinearSolverKind::klu, LinearSolverKind::umfpack,
                                 LinearSolverKind::dense, LinearSolverKind::automatic})
     if (linear == to_string(kind)) {

@@ -310,7 +310,7 @@ struct NewtonState {
   Eigen::VectorXd dx;
   Eigen::VectorXd dx_trial, dx_correction;  // the line search's (solver.line_search)
   std::unique_ptr<LinearSolver> linear_solver;
-  TangentReuse reuse;     // full or modified Newton (solver.newton)
+  TangentReuse reuse;     // full, per-step or modified Newton (solver.newton)
   int real_time_cap = 0;  // real-time mode: Newton iterations per step at most (0: off)
   std::chrono::steady_clock::time_point step_deadline{};  // real-time mode: wall clock
   StepStats stats;
@@ -595,6 +595,19 @@ struct Simulation::Engine {
 // Writes the instance's signals (option_signal, option_signal_port) at `ev`:
 // before every call that reads them (evaluate, jacobian, coupling_jacobian,
 // energy, accept), so each sees the values of its own time and states.
+// The model file's Newton kind as the tangent's reuse rule.
+inline TangentReuse::Mode reuse_mode(NewtonKind kind) {
+  switch (kind) {
+    case NewtonKind::modified:
+      return TangentReuse::Mode::modified;
+    case NewtonKind::per_step:
+      return TangentReuse::Mode::per_step;
+    case NewtonKind::full:
+      break;
+  }
+  return TangentReuse::Mode::full;
+}
+
 inline void refresh_signals(SubsystemInstance& s, const mh_subsystem_eval& ev) {
   if (s.signals_begin != s.signals_end)
     s.host->engine->signals.refresh(s.signals_begin, s.signals_end, ev.t, ev.y);

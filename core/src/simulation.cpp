@@ -35,6 +35,12 @@ static SolverSettings checked_settings(const ModelFile& file, const RunChoices& 
   if (!(s.t_end >= 0.0) || !std::isfinite(s.t_end))
     throw InputError(s.mark, "solver.t_end",
                      "expected a non-negative, finite end time (s), got " + short_number(s.t_end));
+  // A model file's line_search: on makes full Newton its default; settings
+  // made in code must say so themselves.
+  if (s.line_search && s.newton != NewtonKind::full)
+    throw InputError(s.mark, "solver.line_search",
+                     std::string("expected off with newton: ") + to_string(s.newton) +
+                         " (the line search damps full Newton only)");
   return s;
 }
 
@@ -273,7 +279,7 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
     output_units_.push_back(v.unit);
   }
   e.build_pattern();  // and the linear solver the model chose analyses it
-  e.solver.reuse.enable(e.settings.newton == NewtonKind::modified);
+  e.solver.reuse.set_mode(reuse_mode(e.settings.newton));
   e.size_derivatives();
   e.size_explicit();
   e.size_coupling();

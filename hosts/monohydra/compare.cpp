@@ -121,6 +121,8 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
   }
   // --explicit-stability over the file's solver.explicit_stability.
   if (o.explicit_stability) file.solver.explicit_stability = *o.explicit_stability;
+  // A case study of the paper runs with the paper's Newton (paper-reference.yaml).
+  if (job.study != nullptr && job.study->newton) file.solver.newton = *job.study->newton;
   PluginRegistry registry;
   try {
     host::load_model_plugins(file, registry);

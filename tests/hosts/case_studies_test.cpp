@@ -26,6 +26,9 @@ TEST(CaseStudies, TheShippedFileHoldsThePapersNumbers) {
   EXPECT_EQ(fb.report_dir, "out/fourbar");
   EXPECT_EQ(fb.formulations, (std::vector<std::string>{"double-step", "penalty"}));
   EXPECT_EQ(fb.paper.integrator, "trapezoidal");
+  // The paper's Newton-Raphson factors a tangent at every iteration (Eq. 37).
+  EXPECT_EQ(fb.newton, NewtonKind::full);
+  EXPECT_EQ(qr.newton, NewtonKind::full);
   EXPECT_EQ(fb.paper.run("double-step", "trapezoidal")->coordinates, "z3 throughout");
   EXPECT_EQ(fb.paper.run("double-step", "bdf2"), nullptr);  // the paper ran trapezoidal only
   EXPECT_EQ(*fb.paper.max_actuator_work, 982.95);
@@ -95,6 +98,20 @@ TEST(CaseStudies, MistakesNameTheFileLineAndField) {
                               "     paper: {peak_drift: \"0.84\"}}\n");
   EXPECT_THROW(cli::load_case_studies(text.string()), InputError);
   EXPECT_THROW(cli::load_case_studies("/no/such/file.yaml"), InputError);
+  const fs::path newton = write("newton.yaml",
+                                "case_studies:\n"
+                                "  - {name: a, model: a.yaml, report: r, formulations: [x],\n"
+                                "     newton: quasi}\n");
+  try {
+    cli::load_case_studies(newton.string());
+    FAIL() << "no error";
+  } catch (const InputError& err) {
+    const std::string what = err.what();
+    EXPECT_EQ(what.rfind(newton.string() + ":3:", 0), 0u) << what;
+    EXPECT_NE(what.find("case_studies[0].newton: expected full, per-step or modified"),
+              std::string::npos)
+        << what;
+  }
 }
 
 TEST(CaseStudies, AModelIsFoundByItsFileNotItsSpelling) {

@@ -450,6 +450,11 @@ TEST(Compare, DefaultJobComparesBothCaseStudiesWithThePapersNumbersBeside) {
     EXPECT_TRUE(fs::exists(report)) << report;
     EXPECT_NE(r.output.find("  " + report.string()), std::string::npos) << r.output;
     EXPECT_TRUE(fs::exists(dir / "out" / name / "penalty.csv"));
+    // With the paper's Newton (paper-reference.yaml), not the models' default.
+    for (const char* run : {"double-step", "penalty"}) {
+      const std::string meta = read_text(dir / "out" / name / (std::string(run) + ".meta.json"));
+      EXPECT_NE(meta.find("\"newton\": \"full\""), std::string::npos) << name << ' ' << run;
+    }
   }
   // Double-step's own partition, beside the paper's (Sect. 6.1).
   EXPECT_EQ(fourbar.cell("coordinates in use", "double-step"), "z3 throughout");

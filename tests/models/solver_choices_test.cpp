@@ -1,11 +1,12 @@
 // The solver's choices (solver.linear, solver.newton, solver.line_search)
 // change how the step's equations are solved, not which: on both case
-// studies, every linear solver gives KLU's trajectory to round-off, modified
-// Newton gives full Newton's within the Newton tolerances (on a free
-// mechanism, with no hydraulics to damp its error, only with a tolerance near
-// round-off), and the line
-// search leaves it as it is; on a stiff relief circuit where full Newton
-// cycles, the line search converges to the valve's closed-form pressure.
+// studies, every linear solver gives KLU's trajectory to round-off; per-step
+// Newton (the default) gives full Newton's within the Newton tolerances with
+// one tangent per step, also on free mechanisms; modified Newton gives full
+// Newton's within the tolerances (on a free mechanism, with no hydraulics to
+// damp its error, only with a tolerance near round-off), and the line search
+// leaves it as it is; on a stiff relief circuit where full Newton cycles, the
+// line search converges to the valve's closed-form pressure.
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
@@ -93,9 +94,34 @@ TEST(SolverChoices, UmfpackAndDenseLuGiveKlusCaseStudyTrajectoriesToRoundOff) {
   }
 }
 
+TEST(SolverChoices, PerStepNewtonGivesFullNewtonsCaseStudyTrajectoriesWithOneTangentPerStep) {
+  for (const Case& c : kCases) {
+    const Trajectory full =
+        run(c.model, c.formulation, [](SolverSettings& s) { s.newton = NewtonKind::full; });
+    const Trajectory per_step =
+        run(c.model, c.formulation, [](SolverSettings& s) { s.newton = NewtonKind::per_step; });
+    const Gap g = gap(full, per_step);
+    const std::string what = std::string(c.model) + " " + c.formulation;
+    // Both solve every step to the same increment tolerance, and per-step
+    // Newton's accepted iterate is a fast chord's (rate ~1e-2): the
+    // coordinates stay within a tenth of the tolerance (1e-7 rad) over the
+    // 10 s, the pressures within 1e-7 of their magnitude.
+    EXPECT_LT(g.z, 1e-8) << what;
+    EXPECT_LT(g.y_rel, 1e-7) << what;
+    // One tangent a step (a second only where the chord contracts slowly),
+    // against full Newton's one per iteration, for at most a quarter of an
+    // iteration more per step.
+    EXPECT_GE(per_step.tangents, 1.0) << what;
+    EXPECT_LT(per_step.tangents, 1.01) << what;
+    EXPECT_GT(full.tangents, 1.5) << what;
+    EXPECT_LT(per_step.iterations, full.iterations + 0.25) << what;
+  }
+}
+
 TEST(SolverChoices, ModifiedNewtonGivesFullNewtonsCaseStudyTrajectoriesWithinTheTolerances) {
   for (const Case& c : kCases) {
-    const Trajectory full = run(c.model, c.formulation, [](SolverSettings&) {});
+    const Trajectory full =
+        run(c.model, c.formulation, [](SolverSettings& s) { s.newton = NewtonKind::full; });
     const Trajectory modified =
         run(c.model, c.formulation, [](SolverSettings& s) { s.newton = NewtonKind::modified; });
     const Gap g = gap(full, modified);
@@ -118,9 +144,14 @@ TEST(SolverChoices, ModifiedNewtonGivesFullNewtonsCaseStudyTrajectoriesWithinThe
 TEST(SolverChoices, LineSearchLeavesTheCaseStudiesAsFullNewtonSolvesThem) {
   for (const Case& c : kCases) {
     const Trajectory full = run(
-        c.model, c.formulation, [](SolverSettings&) {}, 2.0);
+        c.model, c.formulation, [](SolverSettings& s) { s.newton = NewtonKind::full; }, 2.0);
     const Trajectory damped = run(
-        c.model, c.formulation, [](SolverSettings& s) { s.line_search = true; }, 2.0);
+        c.model, c.formulation,
+        [](SolverSettings& s) {
+          s.newton = NewtonKind::full;
+          s.line_search = true;
+        },
+        2.0);
     const Gap g = gap(full, damped);
     const std::string what = std::string(c.model) + " " + c.formulation;
     // Every full increment passes the monotonicity test here: the same
@@ -136,6 +167,7 @@ TEST(SolverChoices, LineSearchSolvesAStiffReliefCircuitWherePlainNewtonCycles) {
                            long& retries) {
     ModelFile file = load_model_file(source_path("tests/fixtures/check/stiff-relief.yaml"));
     file.solver.line_search = line_search;
+    file.solver.newton = NewtonKind::full;
     file.solver.max_step_halvings = halvings;
     Simulation sim(file, build_plugins());
     sim.start();
@@ -173,7 +205,8 @@ TEST(SolverChoices, LineSearchSolvesAStiffReliefCircuitWherePlainNewtonCycles) {
 
 // A falling chain of 16 beams, where the tangent changes fast (the bench's
 // chain): modified Newton keeps its energy balance as full Newton does, and
-// still factors on fewer than half of the steps.
+// still factors on fewer than half of the steps; per-step Newton keeps it too,
+// factoring once a step.
 TEST(SolverChoices, ModifiedNewtonKeepsAFallingChainsEnergyBalanceAsFullNewtonDoes) {
   std::string text = "units: {length: m, mass: kg, time: s, angle: deg}\nbodies:\n";
   for (int j = 0; j < 16; ++j)
@@ -201,6 +234,10 @@ TEST(SolverChoices, ModifiedNewtonKeepsAFallingChainsEnergyBalanceAsFullNewtonDo
   };
   const Result full = run_chain(NewtonKind::full);
   const Result modified = run_chain(NewtonKind::modified);
+  const Result per_step = run_chain(NewtonKind::per_step);
+  EXPECT_NEAR(per_step.ke, full.ke, 1e-6 * full.ke);
+  EXPECT_LT(per_step.drift, 1.01 * full.drift);
+  EXPECT_NEAR(per_step.tangents, 1.0, 1e-9);
   EXPECT_GT(full.ke, 100.0);  // it falls: over 100 J of kinetic energy
   EXPECT_NEAR(modified.ke, full.ke, 1e-4 * full.ke);
   // The trapezoidal rule's own energy error (about 1e-4 of the kinetic
@@ -240,6 +277,9 @@ TEST(SolverChoices, ModifiedNewtonNeedsARoundOffToleranceToHoldAFreeFourBarsEner
   const double full = peak_drift(NewtonKind::full, 1e-7);
   EXPECT_LT(full, 0.02);  // J, of a kinetic energy up to 11 kJ
   EXPECT_LT(peak_drift(NewtonKind::modified, 1e-13), 1.1 * full);
+  // Per-step Newton, the default, needs no such tolerance: its tangent is a
+  // step's motion from exact, so its error is of the order of full Newton's.
+  EXPECT_LT(peak_drift(NewtonKind::per_step, 1e-7), 1.1 * full);
 }
 
 }  // namespace

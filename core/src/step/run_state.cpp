@@ -55,6 +55,8 @@ void Simulation::Engine::find_state_parts() {
 // What makes a state of this run one of another: the plugins, the step, the
 // Newton variant and the names of everything the state holds.
 std::string Simulation::Engine::run_key() const {
+  // Full and per-step Newton keep no factorization from step to step: a state
+  // of one restores into the other.
   std::string key = formulation_name + '|' + integrator_name + '|' + short_number(settings.dt) +
                     (settings.newton == NewtonKind::modified ? "|modified" : "|full");
   for (const auto& name : registry.coordinate_names) key += '|' + name;
@@ -242,6 +244,7 @@ void Simulation::Engine::restore_state(const RunState& from) {
   eval.counters = from.counters;
   solver.stats = from.last_step;
   solver.reuse = from.reuse;
+  solver.reuse.set_mode(reuse_mode(settings.newton));  // this run's kind, not the saved one's
   if (from.reuse.keeps_factorization()) {
     // The factors modified Newton kept, made again from the same values.
     bool factored = from.kept_tangent.size() == tangent_ws.values.size();

@@ -104,7 +104,8 @@ class Reader {
   }
 
   CaseStudy study(const YAML::Node& node, const std::string& field, const fs::path& dir) const {
-    keys(node, field, {"name", "model", "report", "formulations", "control_shading", "paper"});
+    keys(node, field,
+         {"name", "model", "report", "formulations", "control_shading", "newton", "paper"});
     CaseStudy s;
     s.name = text(node, "name", field, true);
     const fs::path model = text(node, "model", field, true);
@@ -126,6 +127,15 @@ class Reader {
         s.control_shading.find_first_not_of("0123456789abcdefABCDEF", 1) == std::string::npos;
     if (!hex)
       fail(node["control_shading"], field + ".control_shading", "expected a colour #rrggbb");
+    const std::string newton = text(node, "newton", field, false);
+    if (!newton.empty()) {
+      for (NewtonKind kind : {NewtonKind::full, NewtonKind::per_step, NewtonKind::modified})
+        if (newton == to_string(kind)) s.newton = kind;
+      if (!s.newton)
+        fail(node["newton"], field + ".newton",
+             "expected full, per-step or modified (as a model file's solver.newton), got '" +
+                 newton + "'");
+    }
     s.paper = paper(node["paper"], field + ".paper");
     return s;
   }

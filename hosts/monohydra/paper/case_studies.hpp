@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "monohydra/core/model_file.hpp"
+
 namespace mh::cli {
 
 // What the paper reports for one formulation on one case study.
@@ -40,6 +42,10 @@ struct CaseStudy {
   std::string report_dir;                 // as written: relative to the working directory
   std::vector<std::string> formulations;  // compared, in order
   std::string control_shading;  // "#rrggbb": the paper's colour where a control signal is on
+  // The paper's Newton (its Newton-Raphson factors a tangent at every
+  // iteration), in place of the model file's: its iteration counts stand
+  // beside ours. Unset: the model file's.
+  std::optional<NewtonKind> newton;
   PaperNumbers paper;
 };
 

@@ -925,21 +925,24 @@ TEST(ModelFileErrors, LinearSolverAndNewtonChoicesAreNamedOrRefusedWithTheChoice
                "dense LU for a dense tangent, KLU otherwise), got 'lapack'");
   expect_error(valid_body("solver: {linear: [klu]}\n"), 8, "solver.linear", "expected a string");
   expect_error(valid_body("solver: {newton: quasi}\n"), 8, "solver.newton",
-               "expected full or modified");
+               "expected full, per-step or modified");
   const ModelFile defaults = parse_model_text(valid_body(""), kLabel);
   EXPECT_EQ(defaults.solver.linear, LinearSolverKind::klu);
-  EXPECT_EQ(defaults.solver.newton, NewtonKind::full);
+  EXPECT_EQ(defaults.solver.newton, NewtonKind::per_step);
   for (LinearSolverKind kind : {LinearSolverKind::klu, LinearSolverKind::umfpack,
                                 LinearSolverKind::dense, LinearSolverKind::automatic}) {
     const ModelFile f = parse_model_text(
         valid_body("solver: {linear: " + std::string(to_string(kind)) + "}\n"), kLabel);
     EXPECT_EQ(f.solver.linear, kind) << to_string(kind);
   }
-  EXPECT_EQ(parse_model_text(valid_body("solver: {newton: modified}\n"), kLabel).solver.newton,
-            NewtonKind::modified);
+  for (NewtonKind kind : {NewtonKind::full, NewtonKind::per_step, NewtonKind::modified}) {
+    const ModelFile f = parse_model_text(
+        valid_body("solver: {newton: " + std::string(to_string(kind)) + "}\n"), kLabel);
+    EXPECT_EQ(f.solver.newton, kind) << to_string(kind);
+  }
 }
 
-TEST(ModelFileErrors, LineSearchIsOffByDefaultOnWhenAskedAndRefusedWithModifiedNewton) {
+TEST(ModelFileErrors, LineSearchIsOffByDefaultOnWhenAskedWithFullNewtonAndRefusedWithAnyOther) {
   EXPECT_FALSE(parse_model_text(valid_body(""), kLabel).solver.line_search);
   EXPECT_TRUE(
       parse_model_text(valid_body("solver: {line_search: on}\n"), kLabel).solver.line_search);
@@ -949,6 +952,14 @@ TEST(ModelFileErrors, LineSearchIsOffByDefaultOnWhenAskedAndRefusedWithModifiedN
                "expected on or off");
   expect_error(valid_body("solver: {newton: modified, line_search: on}\n"), 8, "solver.line_search",
                "expected off with newton: modified");
+  expect_error(valid_body("solver: {newton: per-step, line_search: on}\n"), 8, "solver.line_search",
+               "expected off with newton: per-step");
+  // Without a newton key, line_search: on makes full Newton the default,
+  // whichever order the keys come in.
+  for (const char* body :
+       {"solver: {line_search: on}\n", "solver: {line_search: on, newton: full}\n",
+        "solver: {newton: full, line_search: on}\n"})
+    EXPECT_EQ(parse_model_text(valid_body(body), kLabel).solver.newton, NewtonKind::full) << body;
 }
 
 TEST(ModelFileErrors, OutputSettingsAreReadOrRefusedAtTheirLine) {

@@ -95,6 +95,38 @@ TEST(RunState, ModifiedNewtonRestoredIteratesOnTheKeptFactorizationToTheLastBit)
   EXPECT_THROW(full.restore_state(saved), RunStateError);
 }
 
+// Full and per-step Newton keep no factorization between steps: a state of
+// either restores into a run of the other, which goes on in its own kind (a
+// tangent at every iteration, or one per step).
+TEST(RunState, FullAndPerStepNewtonStatesRestoreIntoEachOthersRunsWhichKeepTheirOwnKind) {
+  ModelFile file = load_model_file(test::source_path("models/fourbar.yaml"));
+  file.solver.newton = NewtonKind::per_step;
+  Simulation per_step(file, test::build_plugins(), "penalty");
+  file.solver.newton = NewtonKind::full;
+  Simulation full(file, test::build_plugins(), "penalty");
+  per_step.start();
+  full.start();
+  for (int k = 0; k < 1005; ++k) {  // the valve opened at 1 s: steps of two iterations or more
+    per_step.step();
+    full.step();
+  }
+  const RunState from_per_step = per_step.save_state();
+  const RunState from_full = full.save_state();
+  full.restore_state(from_per_step);
+  per_step.restore_state(from_full);
+  int full_iterations = 0, per_step_iterations = 0;
+  for (int k = 0; k < 30; ++k) {
+    full.step();
+    per_step.step();
+    EXPECT_EQ(full.last_step().tangents, full.last_step().iterations) << k;
+    EXPECT_EQ(per_step.last_step().tangents, 1) << k;
+    full_iterations += full.last_step().iterations;
+    per_step_iterations += per_step.last_step().iterations;
+  }
+  EXPECT_GT(full_iterations, 30);  // so the kinds differ on these steps
+  EXPECT_GT(per_step_iterations, 30);
+}
+
 TEST(RunState, AStateOfAnotherFormulationIsRefusedNamingBoth) {
   const ModelFile file = load_model_file(test::source_path("models/fourbar.yaml"));
   Simulation a(file, test::build_plugins(), "double-step");

@@ -187,7 +187,7 @@ TEST(TimeStepAllocationFree, StepsWithImportedFmusAllocateNothing) {
       "  - {name: c, type: fmu, fmu: '" + dir +
       "/pi.fmu', setpoint: 1, measurement: d.y, kp: 2, ki: 1, output_max: 1.5}\n"
       "solver: {dt: 0.001, t_end: 2}\n";
-  for (const NewtonKind newton : {NewtonKind::full, NewtonKind::modified}) {
+  for (const NewtonKind newton : {NewtonKind::full, NewtonKind::per_step, NewtonKind::modified}) {
     ModelFile file = parse_model_text(model, "fmus.yaml");
     file.solver.newton = newton;
     Simulation sim(file, test::build_plugins());
@@ -226,6 +226,9 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"double-pendulum.yaml", "open-loop", NewtonKind::full},
                       Case{"double-pendulum.yaml", "open-loop", NewtonKind::modified},
                       Case{"excavator.yaml", "", NewtonKind::full},
+                      Case{"fourbar.yaml", "double-step", NewtonKind::per_step},
+                      Case{"quickreturn.yaml", "penalty", NewtonKind::per_step},
+                      Case{"excavator.yaml", "", NewtonKind::per_step},
                       Case{"fourbar.yaml", "penalty", NewtonKind::full, true},
                       Case{"quickreturn.yaml", "double-step", NewtonKind::full, true},
                       // Increments shortened at every valve opening: up to 12 residuals

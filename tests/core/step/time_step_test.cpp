@@ -30,6 +30,7 @@ TEST(TrapezoidalStep, NewtonConvergesQuadraticallyOnAPendulum) {
   // two iterations, the second already at round-off, too few to see the order.
   ModelFile file = parse_model_text(kPendulum, "pendulum.yaml");
   file.solver.dt = 0.1;
+  file.solver.newton = NewtonKind::full;  // a tangent at every iterate
   Simulation sim(file, test::build_plugins());
   sim.start();
   sim.step();
@@ -46,6 +47,45 @@ TEST(TrapezoidalStep, NewtonConvergesQuadraticallyOnAPendulum) {
   }
   EXPECT_GE(quadratic_pairs, 1);
   EXPECT_LE(inc.back(), 1.0);
+}
+
+// Per-step Newton (the default) factors the tangent once, at the prediction:
+// its first increment is full Newton's to the bit, and the later ones are
+// chord steps on that tangent, contracting linearly at a rate of the order of
+// the first increment (far below the 1/2 at which it would refactor).
+TEST(TrapezoidalStep, PerStepNewtonTakesFullNewtonsFirstIncrementThenContractsOnOneTangent) {
+  ModelFile file = parse_model_text(kPendulum, "pendulum.yaml");
+  file.solver.dt = 0.1;
+  file.solver.newton = NewtonKind::full;
+  Simulation full(file, test::build_plugins());
+  file.solver.newton = NewtonKind::per_step;
+  Simulation per_step(file, test::build_plugins());
+  full.start();
+  per_step.start();
+  full.step();
+  per_step.step();
+  const auto& f = full.last_step().increment_norms;
+  const auto& p = per_step.last_step().increment_norms;
+  ASSERT_GE(p.size(), 3u);
+  EXPECT_EQ(p[0], f[0]);
+  EXPECT_EQ(per_step.last_step().tangents, 1);
+  EXPECT_EQ(full.last_step().tangents, full.last_step().iterations);
+  for (size_t h = 0; h + 1 < p.size(); ++h) {
+    if (p[h + 1] * 1e-14 < 1e-15) break;  // round-off
+    const double rate = p[h + 1] / p[h];
+    ::testing::Test::RecordProperty("rate" + std::to_string(h), test::scientific(rate));
+    EXPECT_LT(rate, 0.05) << "iteration " << h;
+  }
+  // The second increment is a chord step from full Newton's first iterate on a
+  // tangent |dx_1| away from it: full Newton's second to within that distance
+  // (here 1e-3 rad). The third is where the kinds part: full Newton's is the
+  // square of the second (round-off), the chord's a fixed fraction of it.
+  ASSERT_GE(f.size(), 3u);
+  EXPECT_NEAR(p[1], f[1], 1e-2 * f[1]);
+  EXPECT_GT(p[2], 100.0 * f[2]);
+  EXPECT_LE(p.back(), 1.0);
+  // Both solve the same step to the same tolerance (1e-14 rad).
+  EXPECT_NEAR(per_step.z()[0], full.z()[0], 1e-13);
 }
 
 TEST(TrapezoidalStep, AFailedStepNamesItsTimeStepAndUnknownAndKeepsTheLastState) {
@@ -97,11 +137,13 @@ namespace {
 
 // solver.max_step_halvings: a step whose Newton iteration fails is retried as
 // two halves. With two Newton iterations allowed, the four-bar's steps at the
-// valve's opening (which need three) fail; halving them lets the run through,
-// and the result stays within the trapezoidal rule's error of the normal run.
+// valve's opening (which need three with full Newton) fail; halving them lets
+// the run through, and the result stays within the trapezoidal rule's error of
+// the normal run.
 TEST(TimeStep, AFailedStepIsRetriedAsTwoHalvesUpToTheModelsLimit) {
   ModelFile file = load_model_file(test::source_path("models/fourbar.yaml"));
   file.solver.t_end = 1.5;  // the valve opens at 1 s
+  file.solver.newton = NewtonKind::full;
   Simulation reference(file, test::build_plugins());
   const RunSummary ref = run(reference, nullptr);
   ASSERT_FALSE(ref.failed) << ref.failure;

@@ -73,11 +73,12 @@ struct InputSpec {
   SourceMark mark;
 };
 
-// How Newton treats its tangent: `full` assembles and factors it at every
-// iteration; `modified` keeps the factorization across iterations and steps
-// while the iteration contracts fast enough (newton_solve.cpp).
-enum class NewtonKind { full, modified };
-const char* to_string(NewtonKind kind);  // "full", "modified"
+// How Newton treats its tangent (tangent_reuse.hpp): `full` assembles and
+// factors it at every iteration; `per_step` once per step, at the prediction,
+// for all of the step's iterations; `modified` keeps the factorization across
+// iterations and steps while the iteration contracts fast enough.
+enum class NewtonKind { full, modified, per_step };
+const char* to_string(NewtonKind kind);  // "full", "modified", "per-step"
 
 struct SolverSettings {
   double dt = 1e-3;            // s
@@ -86,9 +87,12 @@ struct SolverSettings {
   int max_step_halvings = 0;   // a failed step is retried as two halves, this deep at most
   double tol_position = 1e-7;  // rad or m: Newton increment tolerance on coordinates
   LinearSolverKind linear = LinearSolverKind::klu;  // the tangent's linear solver
-  NewtonKind newton = NewtonKind::full;
+  // The fastest kind that passes every accuracy test (docs/performance.md);
+  // the paper's comparison pins full Newton (models/paper-reference.yaml).
+  NewtonKind newton = NewtonKind::per_step;
   // solver.line_search: the time step's Newton damped (newton.hpp's
-  // NewtonDamping): off by default, so that results stay as they are.
+  // NewtonDamping): off by default, so that results stay as they are. It
+  // damps full Newton only: on, it makes full Newton the default.
   bool line_search = false;
   // An explicit integrator's step beyond its stability bound (explicit_stability.hpp).
   ExplicitStabilityPolicy explicit_stability = ExplicitStabilityPolicy::warn;

@@ -1,13 +1,19 @@
-// Modified Newton (solver.newton: modified): when the Newton loop
-// (newton_solve.cpp) must assemble and factor the tangent anew, and when the
-// factorization of an earlier iteration or step may serve. Full Newton
-// factors at every iteration. The convergence test stays the increment's
-// (|dx_i| <= tol_i): an iteration that contracts at rate theta leaves an error
-// of at most theta / (1 - theta) |dx|, so a factorization is kept only while
-// theta <= 1/2, where that bound is |dx| itself.
+// When the Newton loop (newton_solve.cpp) must assemble and factor the
+// tangent anew (solver.newton). `full` factors at every iteration. `per-step`
+// (the default) factors once per step, at the integrator's prediction, and
+// keeps that factorization for the step's further iterations: its first
+// increment is full Newton's, and a later one is a chord step on a tangent a
+// step's motion away from exact, so the iteration contracts at a rate of the
+// order of the step's own increments. `modified` keeps the factorization
+// across steps too, while the iteration contracts fast enough. The
+// convergence test stays the increment's (|dx_i| <= tol_i): an iteration that
+// contracts at rate theta leaves an error of at most theta / (1 - theta) |dx|,
+// so a factorization is kept only while theta <= 1/2, where that bound is
+// |dx| itself.
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 
 #include "monohydra/integrator.h"
 
@@ -20,14 +26,18 @@ class TangentReuse {
   // Iterations of one step on one factorization before it is refreshed.
   static constexpr int kMaxIterationsPerTangent = 4;
 
-  void enable(bool modified) { modified_ = modified; }
+  enum class Mode : uint8_t { full, modified, per_step };
+
+  void set_mode(Mode mode) { mode_ = mode; }
+  Mode mode() const { return mode_; }
 
   // Before an iteration: must the tangent be assembled and factored? Always
-  // for full Newton; for modified Newton when there is no factorization, the
-  // step's map coefficients (dt, the integrator's method) differ from those it
-  // was made at, or the last increments asked for it.
+  // for full Newton; at a step's first iteration for per-step Newton; for
+  // both kinds that keep one when there is no factorization, the step's map
+  // coefficients (dt, the integrator's method) differ from those it was made
+  // at, or the last increments asked for it.
   bool needs_tangent(const mh_step_coefficients& c) const {
-    return !modified_ || full_step_ || !valid_ || refresh_ ||
+    return mode_ == Mode::full || full_step_ || !valid_ || refresh_ ||
            changed(c.dxd_dx_second, at_.dxd_dx_second) ||
            changed(c.dxdd_dx_second, at_.dxdd_dx_second) ||
            changed(c.dxd_dx_first, at_.dxd_dx_first);
@@ -41,6 +51,7 @@ class TangentReuse {
     ++factorizations_;
   }
   void begin_step() {
+    if (mode_ == Mode::per_step) refresh_ = true;  // a fresh tangent at the prediction
     previous_ = -1.0;
     on_this_tangent_ = 0;
     stale_used_ = false;
@@ -51,7 +62,7 @@ class TangentReuse {
   // its prediction with a fresh tangent at every iteration (full Newton)?
   // Then the next begin_step() starts that attempt.
   bool retry_with_full_newton() {
-    if (!modified_ || !stale_used_) return false;
+    if (mode_ == Mode::full || !stale_used_) return false;
     retry_full_ = true;
     invalidate();
     return true;
@@ -81,7 +92,7 @@ class TangentReuse {
   // latest rate measured, of this step or an earlier one).
   bool converged(double worst) const {
     if (!(worst <= 1.0)) return false;
-    if (!modified_ || last_fresh_ || rate_ <= kMaxRate) return true;
+    if (mode_ == Mode::full || last_fresh_ || rate_ <= kMaxRate) return true;
     return rate_ < 1.0 && rate_ / (1.0 - rate_) * worst <= 1.0;
   }
   // A failed step, a restarted integrator, a redefined x: the next iteration
@@ -91,8 +102,9 @@ class TangentReuse {
     rate_ = 0.0;
   }
   long factorizations() const { return factorizations_; }
-  // A factorization is kept for the next step (run_state.cpp saves it).
-  bool keeps_factorization() const { return modified_ && valid_; }
+  // A factorization is kept for the next step (run_state.cpp saves it):
+  // modified Newton's only, as per-step Newton makes a new one at every step.
+  bool keeps_factorization() const { return mode_ == Mode::modified && valid_; }
 
  private:
   // The step h = t_{k+1} - t_k carries round-off from step to step (t = k
@@ -101,7 +113,7 @@ class TangentReuse {
     return !(std::abs(now - then) <= 1e-9 * std::abs(then));
   }
 
-  bool modified_ = false;
+  Mode mode_ = Mode::full;  // one byte, where a bool `modified` was (run_state_bytes.cpp)
   bool valid_ = false;
   bool refresh_ = false;
   bool full_step_ = false;          // this step factors at every iteration (a retry)

@@ -1,11 +1,19 @@
 // solver: the time step, end time, Newton iteration limit, position
 // tolerance, how often a failed step may be halved, the linear solver and
-// full or modified Newton, and whether its increments are damped.
+// full, per-step or modified Newton, and whether its increments are damped.
 #include "parser.hpp"
 
 namespace mh {
 const char* to_string(NewtonKind kind) {
-  return kind == NewtonKind::modified ? "modified" : "full";
+  switch (kind) {
+    case NewtonKind::modified:
+      return "modified";
+    case NewtonKind::per_step:
+      return "per-step";
+    case NewtonKind::full:
+      break;
+  }
+  return "full";
 }
 }  // namespace mh
 
@@ -54,16 +62,20 @@ SolverSettings Parser::solver(const YAML::Node& node) const {
            "LU for a dense tangent, KLU otherwise), got '" +
                name + "'");
   }
-  if (auto newton = map.get("newton")) {
+  const auto newton = map.get("newton");
+  if (newton) {
     const std::string name = string(*newton, "solver.newton");
-    if (name == "full") {
-      settings.newton = NewtonKind::full;
-    } else if (name == "modified") {
-      settings.newton = NewtonKind::modified;
-    } else {
-      fail(*newton, "solver.newton",
-           "expected full or modified (Newton that keeps its factorization), got '" + name + "'");
+    bool known = false;
+    for (NewtonKind kind : {NewtonKind::full, NewtonKind::per_step, NewtonKind::modified}) {
+      if (name != to_string(kind)) continue;
+      settings.newton = kind;
+      known = true;
     }
+    if (!known)
+      fail(*newton, "solver.newton",
+           "expected full, per-step or modified (a tangent at every iteration, once per step, or "
+           "kept across steps), got '" +
+               name + "'");
   }
   if (auto search = map.get("line_search")) {
     const std::string name = string(*search, "solver.line_search");
@@ -74,11 +86,14 @@ SolverSettings Parser::solver(const YAML::Node& node) const {
                name + "'");
     settings.line_search = name == "on";
     // The damped step tests an increment with the factorization it came
-    // from; modified Newton's undo of a diverging increment needs the residual
-    // of the iterate it returns to, which the test has overwritten.
-    if (settings.line_search && settings.newton == NewtonKind::modified)
+    // from; a kept factorization's undo of a diverging increment needs the
+    // residual of the iterate it returns to, which the test has overwritten.
+    // So it damps full Newton, which it makes the default.
+    if (settings.line_search && newton && settings.newton != NewtonKind::full)
       fail(*search, "solver.line_search",
-           "expected off with newton: modified (the line search damps full Newton only)");
+           std::string("expected off with newton: ") + to_string(settings.newton) +
+               " (the line search damps full Newton only)");
+    if (settings.line_search) settings.newton = NewtonKind::full;
   }
   if (auto stability = map.get("explicit_stability")) {
     const std::string name = string(*stability, "solver.explicit_stability");
