@@ -178,6 +178,12 @@ struct SubsystemInstance {
   // Its rows' derivatives in its points' motion (k x 3P, row-major) and its
   // point forces' in its states (3P x k, column-major): subsystem_coupling.cpp.
   std::vector<double> dR_dp, dR_dv, dF_dy, dF_dydot;
+  // Where those couplings go in the tangent, found once (size_coupling):
+  // its state rows in the mechanical columns (k x n_m, row-major) and the
+  // mechanical rows in its state columns (k x n_m, a state's column by
+  // column); -1 where the pattern has no entry (a coordinate that moves none
+  // of its points).
+  std::vector<int> rows_in_mech, mech_in_cols;
   size_t signals_begin = 0, signals_end = 0;  // its signals in Signals::list (option_signal)
 };
 
@@ -346,7 +352,7 @@ struct CouplingWorkspace {
   Eigen::MatrixXd map_dr_dQ;                                          // n_m x N
   Eigen::Matrix<double, 3, Eigen::Dynamic> point_jp, point_jv;        // 3 x N
   Eigen::Matrix<double, 3, Eigen::Dynamic> point_dp_dx, point_dv_dx;  // 3 x n_m
-  Eigen::VectorXd dQ_dy;                                              // N
+  Eigen::Matrix<double, Eigen::Dynamic, 3> dr_dF;  // n_m x 3: dr/dQ' J_p^T of one point
 };
 
 // An instance's part of a snapshot (run_state.cpp), found after setup.

@@ -326,6 +326,18 @@ void fill_columns_factored(const Model& model, const Data& data, DynamicsDerivat
   }
 }
 
+// The last body on both paths to the ground (kGround when none): parents
+// precede children, so the larger index steps up until the two meet.
+int last_common_body(const Model& model, int a, int b) {
+  while (a != b) {
+    if (a > b)
+      a = model.bodies[a].parent;
+    else
+      b = model.bodies[b].parent;
+  }
+  return a;
+}
+
 }  // namespace
 
 DynamicsDerivativesWorkspace::DynamicsDerivativesWorkspace(const Model& model) {
@@ -412,9 +424,13 @@ void dynamics_derivatives(const Model& model, const Data& data, const Eigen::Vec
   if (!ws.zero_unrelated) {
     for (const PointForceTerm& f : forces) {
       if (f.point.body == kGround || f.other.body == kGround) continue;
-      for (int k = f.other.body; k != kGround; k = model.bodies[k].parent)
-        for (int i = f.point.body; i != kGround; i = model.bodies[i].parent) {
-          if (is_ancestor_or_self(model, i, k) || is_ancestor_or_self(model, k, i)) continue;
+      // The pairs of bodies on the two paths to the ground where neither is
+      // the other's ancestor: both below the paths' last common body (one
+      // on both paths lies on one root path with every body of either, so
+      // its pairs are ancestor pairs, the fill's).
+      const int common = last_common_body(model, f.point.body, f.other.body);
+      for (int k = f.other.body; k != common; k = model.bodies[k].parent)
+        for (int i = f.point.body; i != common; i = model.bodies[i].parent) {
           K(i, k) = 0.0;
           C(i, k) = 0.0;
         }

@@ -35,7 +35,7 @@ void Simulation::Engine::size_coupling() {
   coupling.point_jv.setZero(3, N);
   coupling.point_dp_dx.setZero(3, n_m);
   coupling.point_dv_dx.setZero(3, n_m);
-  coupling.dQ_dy.setZero(N);
+  coupling.dr_dF.setZero(n_m, 3);
   for (Eigen::VectorXd* v : {&eval.z_iterate, &eval.zd_iterate, &tangent_ws.z_base,
                              &tangent_ws.zd_base, &eval.kin_z, &eval.kin_zd})
     v->setZero(N);
@@ -46,6 +46,15 @@ void Simulation::Engine::size_coupling() {
     s.dR_dv.assign(k * n3, 0.0);
     s.dF_dy.assign(n3 * k, 0.0);
     s.dF_dydot.assign(n3 * k, 0.0);
+    s.rows_in_mech.assign(s.points.empty() ? 0 : k * static_cast<size_t>(n_m), -1);
+    s.mech_in_cols.assign(s.points.empty() ? 0 : k * static_cast<size_t>(n_m), -1);
+    if (s.points.empty()) continue;
+    for (size_t a = 0; a < k; ++a)
+      for (int c = 0; c < n_m; ++c) {
+        const size_t at = a * static_cast<size_t>(n_m) + static_cast<size_t>(c);
+        s.rows_in_mech[at] = tangent_ws.pattern->slot(n_m + s.touched[a], c);
+        s.mech_in_cols[at] = tangent_ws.pattern->slot(c, n_m + s.touched[a]);
+      }
   }
 }
 
@@ -177,14 +186,13 @@ mh_status Simulation::Engine::couple_subsystems(double t_eval) {
     if (s.points.empty()) continue;
     // Outside the pattern (a coordinate that moves none of its points) the
     // entries are structurally zero and have no slot.
-    for (int a : s.touched)
-      for (int c = 0; c < n_m; ++c) {
-        const int below = tangent_ws.pattern->slot(n_m + a, c);
-        if (below < 0) continue;
-        if (tangent_ws.mech_column_given[static_cast<size_t>(c)] != 0)
-          tangent_ws.values[static_cast<size_t>(below)] = 0.0;
-        tangent_ws.values[static_cast<size_t>(tangent_ws.pattern->slot(c, n_m + a))] = 0.0;
-      }
+    for (size_t e = 0; e < s.rows_in_mech.size(); ++e) {
+      const int below = s.rows_in_mech[e];
+      if (below < 0) continue;
+      if (tangent_ws.mech_column_given[e % static_cast<size_t>(n_m)] != 0)
+        tangent_ws.values[static_cast<size_t>(below)] = 0.0;
+      tangent_ws.values[static_cast<size_t>(s.mech_in_cols[e])] = 0.0;
+    }
   }
   derivs.saved_outputs = registry.outputs;
   const double dydot_dy = cf.dxd_dx_first;
@@ -237,10 +245,10 @@ mh_status Simulation::Engine::couple_subsystems(double t_eval) {
       coupling.point_dv_dx.noalias() += coupling.point_jp * coupling.map_dzd_total;
       // The instance's rows in the mechanical columns.
       for (size_t row = 0; row < k; ++row) {
-        const int state = s.touched[row];
+        const int* slots = s.rows_in_mech.data() + row * static_cast<size_t>(n_m);
         for (int c = 0; c < n_m; ++c) {
           if (tangent_ws.mech_column_given[static_cast<size_t>(c)] == 0) continue;  // differenced
-          const int slot = tangent_ws.pattern->slot(n_m + state, c);
+          const int slot = slots[c];
           if (slot < 0) continue;  // c moves none of its points
           double d = 0.0;
           for (int i = 0; i < 3; ++i)
@@ -249,17 +257,16 @@ mh_status Simulation::Engine::couple_subsystems(double t_eval) {
           tangent_ws.values[static_cast<size_t>(slot)] += d;
         }
       }
-      // The mechanical rows in the instance's state columns.
+      // The mechanical rows in the instance's state columns: dr/dQ' J_p^T,
+      // formed once per point, times each state's dF.
+      coupling.dr_dF.noalias() = coupling.map_dr_dQ * coupling.point_jp.transpose();
       for (size_t b = 0; b < k; ++b) {
         const Eigen::Vector3d dF(s.dF_dy[b * n3 + 3 * a], s.dF_dy[b * n3 + 3 * a + 1],
                                  s.dF_dy[b * n3 + 3 * a + 2]);
-        coupling.dQ_dy.noalias() = coupling.point_jp.transpose() * dF;
-        for (int rr = 0; rr < n_m; ++rr) {
-          const int slot = tangent_ws.pattern->slot(rr, n_m + s.touched[b]);
-          if (slot >= 0)
-            tangent_ws.values[static_cast<size_t>(slot)] +=
-                coupling.map_dr_dQ.row(rr).dot(coupling.dQ_dy);
-        }
+        const int* slots = s.mech_in_cols.data() + b * static_cast<size_t>(n_m);
+        for (int rr = 0; rr < n_m; ++rr)
+          if (slots[rr] >= 0)
+            tangent_ws.values[static_cast<size_t>(slots[rr])] += coupling.dr_dF.row(rr).dot(dF);
       }
     }
   }
