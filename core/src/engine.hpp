@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "monohydra/core/articulated_solve.hpp"
 #include "monohydra/core/constraint_derivatives.hpp"
 #include "monohydra/core/constraints.hpp"
 #include "monohydra/core/data.hpp"
@@ -316,6 +317,9 @@ struct NewtonState {
   Eigen::VectorXd dx;
   Eigen::VectorXd dx_trial, dx_correction;  // the line search's (solver.line_search)
   std::unique_ptr<LinearSolver> linear_solver;
+  // solver.newton: articulated: Newton's matrix is dxdd_dx M', factored by
+  // the articulated-body recursion at every iterate (articulated_solve.hpp).
+  std::unique_ptr<ArticulatedWorkspace> articulated;
   TangentReuse reuse;     // full, per-step or modified Newton (solver.newton)
   int real_time_cap = 0;  // real-time mode: Newton iterations per step at most (0: off)
   std::chrono::steady_clock::time_point step_deadline{};  // real-time mode: wall clock
@@ -490,6 +494,10 @@ struct Simulation::Engine {
   void size_derivatives();
   mh_status mechanics_derivatives(const mh_mech_derivatives_request& rq);
 
+  // solver.newton: articulated (simulation.cpp): refused where it does not
+  // apply, else its workspace.
+  void size_articulated();
+
   // subsystem_coupling.cpp
   void size_coupling();
   mh_status read_mechanics_map();
@@ -608,6 +616,8 @@ inline TangentReuse::Mode reuse_mode(NewtonKind kind) {
       return TangentReuse::Mode::modified;
     case NewtonKind::per_step:
       return TangentReuse::Mode::per_step;
+    case NewtonKind::articulated:
+      return TangentReuse::Mode::approximate;
     case NewtonKind::full:
       break;
   }

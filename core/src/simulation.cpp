@@ -280,9 +280,34 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
   }
   e.build_pattern();  // and the linear solver the model chose analyses it
   e.solver.reuse.set_mode(reuse_mode(e.settings.newton));
+  if (e.settings.newton == NewtonKind::articulated) e.size_articulated();
   e.size_derivatives();
   e.size_explicit();
   e.size_coupling();
+}
+
+// solver.newton: articulated takes dxdd_dx M' for Newton's matrix: only where
+// that is the tangent's leading part and every unknown is a coordinate.
+void Simulation::Engine::size_articulated() {
+  const auto refuse = [&](const std::string& why) {
+    throw InputError(settings.mark, "solver.newton",
+                     "expected full, per-step or modified here: articulated " + why);
+  };
+  const auto has = [&](const char* id) {
+    return formulation.ops.get_extension != nullptr &&
+           formulation.ops.get_extension(formulation.self, id) != nullptr;
+  };
+  if (!has(MH_EXT_COORDINATE_UNKNOWNS) || !has(MH_EXT_EQUATIONS_OF_MOTION))
+    refuse(
+        "needs a formulation whose rows are the tree's equations of motion M' zdd = Q' "
+        "(Eq. 12, e.g. open-loop); formulation '" +
+        formulation_name + "' does not declare " + MH_EXT_EQUATIONS_OF_MOTION);
+  if (n_s > 0)
+    refuse("solves for the joint coordinates alone, and this model has " + std::to_string(n_s) +
+           " subsystem state" + (n_s == 1 ? "" : "s") + " (e.g. '" +
+           states.state_info[0].qualified + "')");
+  if (explicit_method) refuse("is for implicit integrators: '" + integrator_name + "' is explicit");
+  solver.articulated = std::make_unique<ArticulatedWorkspace>(model);
 }
 
 Simulation::~Simulation() = default;

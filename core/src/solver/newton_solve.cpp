@@ -28,14 +28,33 @@ class StepProblem final : public NewtonProblem {
   }
   bool needs_setup() override { return e_.solver.reuse.needs_tangent(e_.map_ws.map.coefficients); }
   void setup() override {
-    e_.check(e_.assemble_tangent(t_eval_), "tangent assembly");
-    if (!e_.solver.linear_solver->factor(e_.tangent_ws.values.data()))
-      e_.fail_step(e_.solver.linear_solver->error());
+    if (e_.solver.articulated) {
+      // dxdd_dx M' at the iterate: its kinematics are the last residual's
+      // (x = z, the formulation's MH_EXT_COORDINATE_UNKNOWNS).
+      e_.kinematics_at(e_.x.data(), e_.xd.data());
+      if (!(e_.map_ws.map.coefficients.dxdd_dx_second > 0.0))
+        e_.fail_step(
+            "solver.newton: articulated needs the integrator's map to tie the "
+            "accelerations to the coordinates (dxdd_dx > 0)");
+      if (!articulated_factor(e_.model, e_.data, *e_.solver.articulated))
+        e_.fail_step(
+            "the mass matrix M' is singular (a joint whose subtree has no inertia about "
+            "its axis): solver.newton: articulated cannot factor it");
+    } else {
+      e_.check(e_.assemble_tangent(t_eval_), "tangent assembly");
+      if (!e_.solver.linear_solver->factor(e_.tangent_ws.values.data()))
+        e_.fail_step(e_.solver.linear_solver->error());
+    }
     e_.solver.reuse.factored(e_.map_ws.map.coefficients);
     ++e_.solver.stats.tangents;
   }
   void solve(const Eigen::VectorXd& f, Eigen::VectorXd& du) override {
     du = -f;
+    if (e_.solver.articulated) {  // (dxdd_dx M')^-1, Eq. (37) with the mass matrix for the tangent
+      articulated_solve(e_.model, *e_.solver.articulated, du);
+      du /= e_.map_ws.map.coefficients.dxdd_dx_second;
+      return;
+    }
     e_.solver.linear_solver->solve(du.data());
   }
   void add(const Eigen::VectorXd& du) override { e_.x += du; }

@@ -262,12 +262,15 @@ mh_status coordinates(const mh_formulation* f, const mh_coordinate_buffers* out)
 }
 
 // The unknowns are the coordinates, coupled as the mechanics couple them
-// (MH_EXT_COORDINATE_UNKNOWNS): the host's tangent is sparse for trees. Its
-// state saves and loads (MH_EXT_STATE).
+// (MH_EXT_COORDINATE_UNKNOWNS): the host's tangent is sparse for trees. The
+// rows are Eq. (12) alone (MH_EXT_EQUATIONS_OF_MOTION): the host may solve
+// Newton's system by the articulated-body recursion. Its state saves and
+// loads (MH_EXT_STATE).
 const char kCoordinateUnknowns = 1;
 const void* get_extension(const mh_formulation*, const char* id) noexcept {
   if (id == nullptr) return nullptr;
   if (std::strcmp(id, MH_EXT_COORDINATE_UNKNOWNS) == 0) return &kCoordinateUnknowns;
+  if (std::strcmp(id, MH_EXT_EQUATIONS_OF_MOTION) == 0) return &kCoordinateUnknowns;
   if (std::strcmp(id, MH_EXT_STATE) == 0)
     return monohydra::state_extension<mh_formulation, OpenLoop>();
   return nullptr;

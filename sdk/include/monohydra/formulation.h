@@ -123,6 +123,14 @@ typedef struct mh_coordinate_buffers {
  * whatever was written there before). Without it the block is dense. */
 #define MH_EXT_COORDINATE_UNKNOWNS "monohydra.coordinate-unknowns/1"
 
+/* Formulation extension (any non-NULL pointer when it holds; with
+ * MH_EXT_COORDINATE_UNKNOWNS): the rows are the equations of motion of the
+ * tree, r = M'(x) xdd - Q'(x, xd) (Eq. 12) with nothing added, so that
+ * dr/dxdd = M'. The host may then take the integrator's dxdd_dx times M' as
+ * Newton's matrix and solve it by the articulated-body recursion in O(N)
+ * (solver.newton: articulated) instead of assembling the tangent. */
+#define MH_EXT_EQUATIONS_OF_MOTION "monohydra.equations-of-motion/1"
+
 typedef struct mh_formulation {
   uint32_t struct_size; /* sizeof(mh_formulation) of the plugin's SDK */
   const mh_component_descriptor* descriptor;

@@ -925,7 +925,7 @@ TEST(ModelFileErrors, LinearSolverAndNewtonChoicesAreNamedOrRefusedWithTheChoice
                "dense LU for a dense tangent, KLU otherwise), got 'lapack'");
   expect_error(valid_body("solver: {linear: [klu]}\n"), 8, "solver.linear", "expected a string");
   expect_error(valid_body("solver: {newton: quasi}\n"), 8, "solver.newton",
-               "expected full, per-step or modified");
+               "expected full, per-step, modified or articulated");
   const ModelFile defaults = parse_model_text(valid_body(""), kLabel);
   EXPECT_EQ(defaults.solver.linear, LinearSolverKind::klu);
   EXPECT_EQ(defaults.solver.newton, NewtonKind::per_step);
@@ -935,7 +935,8 @@ TEST(ModelFileErrors, LinearSolverAndNewtonChoicesAreNamedOrRefusedWithTheChoice
         valid_body("solver: {linear: " + std::string(to_string(kind)) + "}\n"), kLabel);
     EXPECT_EQ(f.solver.linear, kind) << to_string(kind);
   }
-  for (NewtonKind kind : {NewtonKind::full, NewtonKind::per_step, NewtonKind::modified}) {
+  for (NewtonKind kind :
+       {NewtonKind::full, NewtonKind::per_step, NewtonKind::modified, NewtonKind::articulated}) {
     const ModelFile f = parse_model_text(
         valid_body("solver: {newton: " + std::string(to_string(kind)) + "}\n"), kLabel);
     EXPECT_EQ(f.solver.newton, kind) << to_string(kind);

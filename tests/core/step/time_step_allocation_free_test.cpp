@@ -229,6 +229,7 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"fourbar.yaml", "double-step", NewtonKind::per_step},
                       Case{"quickreturn.yaml", "penalty", NewtonKind::per_step},
                       Case{"excavator.yaml", "", NewtonKind::per_step},
+                      Case{"double-pendulum.yaml", "open-loop", NewtonKind::articulated},
                       Case{"fourbar.yaml", "penalty", NewtonKind::full, true},
                       Case{"quickreturn.yaml", "double-step", NewtonKind::full, true},
                       // Increments shortened at every valve opening: up to 12 residuals

@@ -76,9 +76,12 @@ struct InputSpec {
 // How Newton treats its tangent (tangent_reuse.hpp): `full` assembles and
 // factors it at every iteration; `per_step` once per step, at the prediction,
 // for all of the step's iterations; `modified` keeps the factorization across
-// iterations and steps while the iteration contracts fast enough.
-enum class NewtonKind { full, modified, per_step };
-const char* to_string(NewtonKind kind);  // "full", "modified", "per-step"
+// iterations and steps while the iteration contracts fast enough;
+// `articulated` assembles none and takes the mass matrix, factored by the
+// articulated-body recursion at every iterate, as Newton's matrix (a tree's
+// equations of motion only).
+enum class NewtonKind { full, modified, per_step, articulated };
+const char* to_string(NewtonKind kind);  // "full", "modified", "per-step", "articulated"
 
 struct SolverSettings {
   double dt = 1e-3;            // s

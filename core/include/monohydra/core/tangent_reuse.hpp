@@ -9,7 +9,9 @@
 // convergence test stays the increment's (|dx_i| <= tol_i): an iteration that
 // contracts at rate theta leaves an error of at most theta / (1 - theta) |dx|,
 // so a factorization is kept only while theta <= 1/2, where that bound is
-// |dx| itself.
+// |dx| itself. `approximate` (solver.newton: articulated) makes a matrix that
+// is not the tangent at every iteration, and converges only when its
+// increment is far below the tolerance (kApproximateIncrement).
 #pragma once
 
 #include <cmath>
@@ -25,8 +27,11 @@ class TangentReuse {
   static constexpr double kMaxRate = 0.5;
   // Iterations of one step on one factorization before it is refreshed.
   static constexpr int kMaxIterationsPerTangent = 4;
+  // An approximate matrix's iteration converges when its increment is at
+  // most this fraction of the tolerance.
+  static constexpr double kApproximateIncrement = 1e-4;
 
-  enum class Mode : uint8_t { full, modified, per_step };
+  enum class Mode : uint8_t { full, modified, per_step, approximate };
 
   void set_mode(Mode mode) { mode_ = mode; }
   Mode mode() const { return mode_; }
@@ -37,7 +42,7 @@ class TangentReuse {
   // coefficients (dt, the integrator's method) differ from those it was made
   // at, or the last increments asked for it.
   bool needs_tangent(const mh_step_coefficients& c) const {
-    return mode_ == Mode::full || full_step_ || !valid_ || refresh_ ||
+    return mode_ == Mode::full || mode_ == Mode::approximate || full_step_ || !valid_ || refresh_ ||
            changed(c.dxd_dx_second, at_.dxd_dx_second) ||
            changed(c.dxdd_dx_second, at_.dxdd_dx_second) ||
            changed(c.dxd_dx_first, at_.dxd_dx_first);
@@ -46,7 +51,7 @@ class TangentReuse {
     at_ = c;
     valid_ = true;
     refresh_ = false;
-    fresh_ = true;
+    fresh_ = mode_ != Mode::approximate;  // an approximate matrix's increment is never Newton's
     on_this_tangent_ = 0;
     ++factorizations_;
   }
@@ -62,14 +67,19 @@ class TangentReuse {
   // its prediction with a fresh tangent at every iteration (full Newton)?
   // Then the next begin_step() starts that attempt.
   bool retry_with_full_newton() {
-    if (mode_ == Mode::full || !stale_used_) return false;
+    // (An approximate matrix has no exact one to fall back on.)
+    if (mode_ == Mode::full || mode_ == Mode::approximate || !stale_used_) return false;
     retry_full_ = true;
     invalidate();
     return true;
   }
   // The increment came from a kept factorization and grew: the iteration
   // diverges; the caller undoes it and the next iteration factors anew.
-  bool diverging() const { return !last_fresh_ && previous_increase_; }
+  // (An approximate matrix is made anew at every iteration: undoing would
+  // repeat the same increment.)
+  bool diverging() const {
+    return mode_ != Mode::approximate && !last_fresh_ && previous_increase_;
+  }
   // After an iteration's increment, as max_i |dx_i| / tol_i.
   void increment(double worst) {
     ++on_this_tangent_;
@@ -92,6 +102,12 @@ class TangentReuse {
   // latest rate measured, of this step or an earlier one).
   bool converged(double worst) const {
     if (!(worst <= 1.0)) return false;
+    // An approximate matrix leaves theta / (1 - theta) of its last increment
+    // (theta: its contraction rate, 1e-3 on a swinging double pendulum), and
+    // the same error every step, which the trapezoidal rule's rates (2/h,
+    // 4/h^2) accumulate in the velocities: its last increment must be far
+    // below the tolerance (measured: tests/models/solver_choices_test.cpp).
+    if (mode_ == Mode::approximate) return worst <= kApproximateIncrement;
     if (mode_ == Mode::full || last_fresh_ || rate_ <= kMaxRate) return true;
     return rate_ < 1.0 && rate_ / (1.0 - rate_) * worst <= 1.0;
   }

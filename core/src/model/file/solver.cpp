@@ -10,6 +10,8 @@ const char* to_string(NewtonKind kind) {
       return "modified";
     case NewtonKind::per_step:
       return "per-step";
+    case NewtonKind::articulated:
+      return "articulated";
     case NewtonKind::full:
       break;
   }
@@ -66,15 +68,17 @@ SolverSettings Parser::solver(const YAML::Node& node) const {
   if (newton) {
     const std::string name = string(*newton, "solver.newton");
     bool known = false;
-    for (NewtonKind kind : {NewtonKind::full, NewtonKind::per_step, NewtonKind::modified}) {
+    for (NewtonKind kind :
+         {NewtonKind::full, NewtonKind::per_step, NewtonKind::modified, NewtonKind::articulated}) {
       if (name != to_string(kind)) continue;
       settings.newton = kind;
       known = true;
     }
     if (!known)
       fail(*newton, "solver.newton",
-           "expected full, per-step or modified (a tangent at every iteration, once per step, or "
-           "kept across steps), got '" +
+           "expected full, per-step, modified or articulated (a tangent at every iteration, once "
+           "per step, kept across steps, or the mass matrix's articulated-body factorization in "
+           "its place), got '" +
                name + "'");
   }
   if (auto search = map.get("line_search")) {
