@@ -437,6 +437,7 @@ struct Simulation::Engine {
   // A new state of the run; returns its index.
   int add_state_record(const VariableInfo& info, double initial, double abs_tolerance);
   mh_status evaluate_mechanics(uint32_t flags, double t_eval, const double* zq, const double* zdq);
+  mh_status evaluate_loads(uint32_t flags, double t_eval, const double* zq, const double* zdq);
   // forward_kinematics at (zq, zdq) unless `data` holds them already; counted.
   void kinematics_at(const double* zq, const double* zdq);
   // phi, phi_z, phi_dot_zd at the kinematics in `data`, unless they hold them already.

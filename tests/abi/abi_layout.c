@@ -2,6 +2,7 @@
  * records; abi_layout_test.cpp checks C++ sees the same layout. */
 #include <stddef.h>
 
+#include "monohydra/inverse_dynamics.h"
 #include "monohydra/monohydra.h"
 #include "monohydra/sparsity.h"
 #include "monohydra/visual.h"
@@ -63,6 +64,7 @@ const abi_layout mh_c_layouts[] = {
     LAYOUT(mh_visual_service),
     LAYOUT(mh_sparsity_service),
     LAYOUT(mh_mechanical_pattern_service),
+    LAYOUT(mh_inverse_dynamics_service),
 };
 const size_t mh_c_layout_count = sizeof(mh_c_layouts) / sizeof(mh_c_layouts[0]);
 const size_t mh_c_offset_host_get_service = offsetof(mh_host, get_service);

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <string>
 
+#include "monohydra/inverse_dynamics.h"
 #include "monohydra/monohydra.h"
 #include "monohydra/sparsity.h"
 #include "monohydra/visual.h"
@@ -66,6 +67,7 @@ TEST(AbiLayout, CAndCxxSeeTheSameSizesAndAlignments) {
       CXX_LAYOUT(mh_visual_service),
       CXX_LAYOUT(mh_sparsity_service),
       CXX_LAYOUT(mh_mechanical_pattern_service),
+      CXX_LAYOUT(mh_inverse_dynamics_service),
   };
   ASSERT_EQ(mh_c_layout_count, sizeof(cxx) / sizeof(cxx[0]));
   for (size_t i = 0; i < mh_c_layout_count; ++i) {

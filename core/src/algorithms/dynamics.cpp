@@ -59,44 +59,52 @@ void apply_body_moment(Data& data, int body, const Eigen::Vector3d& tau_W) {
   data.tau_W[body] += tau_W;
 }
 
+namespace {
+
+// Body j's Mbar_j (Eq. 9) as (m, c, I_O) in data.m_sum, c_sum, I_sum and its
+// Qbar_j - Mbar_j Zdot0_j (Eqs. 10, 11) in data.Q_sum: its own terms, before
+// any subtree sum.
+void body_terms(const Model& model, Data& data, int j) {
+  const Body& body = model.bodies[j];
+  const double m = body.mass;
+  const Eigen::Vector3d& g = data.g_W[j];
+  const Eigen::Matrix3d J = world_inertia(body, data.R_W_B[j]);
+  const Eigen::Vector3d sdot = data.Z[j].head<3>();
+  const Eigen::Vector3d omega = data.Z[j].tail<3>();
+  const Eigen::Vector3d gdot = sdot + omega.cross(g);  // Eq. (6)
+
+  // Eq. (9): Mbar_j = D_j^T M_j D_j = [m I, -m g~; m g~, J - m g~ g~], kept as
+  // (m, c = m g, I_O = J - m g~ g~), with -g~ g~ = |g|^2 I - g g^T.
+  const Eigen::Vector3d c = m * g;
+  Eigen::Matrix3d I_O = J - c * g.transpose();
+  I_O.diagonal().array() += c.dot(g);
+
+  // Eq. (10): Qbar_j = D_j^T (Q_j - M_j e_j). Zdot here is the plain time
+  // derivative of Z (Eq. 5, d_j = bdot_j zd_j), and then Eq. (7)'s velocity
+  // term is e_j = Ddot_j Z_j = [omega x gdot; 0]. Eq. (10) as printed has
+  // omega x (omega x g) in its place; the two differ by omega x sdot, which is
+  // not zero in general (e.g. a pendulum whose axis misses the world origin).
+  const Eigen::Vector3d f_net = data.f_W[j] - m * omega.cross(gdot);
+  const Eigen::Vector3d tau = data.tau_W[j] - omega.cross(J * omega) + g.cross(f_net);
+
+  // Eq. (11): Qbar - Mbar T Rdot_d zd, per body, with Mbar [a; alpha] =
+  // [m a - c x alpha; c x a + I_O alpha].
+  const Eigen::Vector3d a0 = data.Zdot0[j].head<3>();
+  const Eigen::Vector3d alpha0 = data.Zdot0[j].tail<3>();
+  Vector6d& Qs = data.Q_sum[j];
+  Qs.head<3>() = f_net - (m * a0 - c.cross(alpha0));
+  Qs.tail<3>() = tau - (c.cross(a0) + I_O * alpha0);
+  data.m_sum[j] = m;
+  data.c_sum[j] = c;
+  data.I_sum[j] = I_O;
+}
+
+}  // namespace
+
 void mass_matrix_and_forces(const Model& model, Data& data) {
   check_data("mass_matrix_and_forces", model, data);
   const int n = model.num_bodies();
-
-  for (int j = 0; j < n; ++j) {
-    const Body& body = model.bodies[j];
-    const double m = body.mass;
-    const Eigen::Vector3d& g = data.g_W[j];
-    const Eigen::Matrix3d J = world_inertia(body, data.R_W_B[j]);
-    const Eigen::Vector3d sdot = data.Z[j].head<3>();
-    const Eigen::Vector3d omega = data.Z[j].tail<3>();
-    const Eigen::Vector3d gdot = sdot + omega.cross(g);  // Eq. (6)
-
-    // Eq. (9): Mbar_j = D_j^T M_j D_j = [m I, -m g~; m g~, J - m g~ g~], kept as
-    // (m, c = m g, I_O = J - m g~ g~), with -g~ g~ = |g|^2 I - g g^T.
-    const Eigen::Vector3d c = m * g;
-    Eigen::Matrix3d I_O = J - c * g.transpose();
-    I_O.diagonal().array() += c.dot(g);
-
-    // Eq. (10): Qbar_j = D_j^T (Q_j - M_j e_j). Zdot here is the plain time
-    // derivative of Z (Eq. 5, d_j = bdot_j zd_j), and then Eq. (7)'s velocity
-    // term is e_j = Ddot_j Z_j = [omega x gdot; 0]. Eq. (10) as printed has
-    // omega x (omega x g) in its place; the two differ by omega x sdot, which is
-    // not zero in general (e.g. a pendulum whose axis misses the world origin).
-    const Eigen::Vector3d f_net = data.f_W[j] - m * omega.cross(gdot);
-    const Eigen::Vector3d tau = data.tau_W[j] - omega.cross(J * omega) + g.cross(f_net);
-
-    // Eq. (11): Qbar - Mbar T Rdot_d zd, per body, with Mbar [a; alpha] =
-    // [m a - c x alpha; c x a + I_O alpha].
-    const Eigen::Vector3d a0 = data.Zdot0[j].head<3>();
-    const Eigen::Vector3d alpha0 = data.Zdot0[j].tail<3>();
-    Vector6d& Qs = data.Q_sum[j];
-    Qs.head<3>() = f_net - (m * a0 - c.cross(alpha0));
-    Qs.tail<3>() = tau - (c.cross(a0) + I_O * alpha0);
-    data.m_sum[j] = m;
-    data.c_sum[j] = c;
-    data.I_sum[j] = I_O;
-  }
+  for (int j = 0; j < n; ++j) body_terms(model, data, j);
 
   // T^T (...) of Eq. (12): accumulate each body's terms into all its ancestors.
   // Children follow their parents, so a backward sweep finishes every subtree
@@ -129,6 +137,36 @@ void mass_matrix_and_forces(const Model& model, Data& data) {
     }
     data.Q[k] = data.b[k].dot(data.Q_sum[k]);  // Eq. (12)
   }
+}
+
+void inverse_dynamics(const Model& model, Data& data, const Eigen::Ref<const Eigen::VectorXd>& zdd,
+                      Eigen::Ref<Eigen::VectorXd> r) {
+  check_data("inverse_dynamics", model, data);
+  const int n = model.num_bodies();
+  if (zdd.size() != n || r.size() != n)
+    throw std::invalid_argument("inverse_dynamics: zdd and r: expected " + std::to_string(n) +
+                                " entries, got " + std::to_string(zdd.size()) + " and " +
+                                std::to_string(r.size()));
+  for (int j = 0; j < n; ++j) {
+    body_terms(model, data, j);
+    // The part of Zdot_j that zdd makes, T R_d zdd (Eq. 5 less Zdot0), and
+    // Mbar_j of it less the body's Qbar - Mbar Zdot0: its share of Eq. (12).
+    const int p = model.bodies[j].parent;
+    data.A_zdd[j] = data.b[j] * zdd[j];
+    if (p != kGround) data.A_zdd[j] += data.A_zdd[p];
+    const Eigen::Vector3d a = data.A_zdd[j].head<3>();
+    const Eigen::Vector3d alpha = data.A_zdd[j].tail<3>();
+    const Eigen::Vector3d& c = data.c_sum[j];
+    Vector6d& h = data.Q_sum[j];
+    h.head<3>() = data.m_sum[j] * a - c.cross(alpha) - h.head<3>();
+    h.tail<3>() = c.cross(a) + data.I_sum[j] * alpha - h.tail<3>();
+  }
+  // R_d^T T^T of Eq. (12): subtree sums, then each joint's projection.
+  for (int j = n - 1; j >= 0; --j) {
+    const int p = model.bodies[j].parent;
+    if (p != kGround) data.Q_sum[p] += data.Q_sum[j];
+  }
+  for (int j = 0; j < n; ++j) r[j] = data.b[j].dot(data.Q_sum[j]);
 }
 
 double kinetic_energy(const Model& model, const Data& data) {

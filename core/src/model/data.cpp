@@ -21,6 +21,7 @@ Data::Data(const Model& model) {
   c_sum.assign(nb, Eigen::Vector3d::Zero());
   I_sum.assign(nb, Eigen::Matrix3d::Zero());
   Q_sum.assign(nb, Vector6d::Zero());
+  A_zdd.assign(nb, Vector6d::Zero());
   M = Eigen::MatrixXd::Zero(n, n);
   Q = Eigen::VectorXd::Zero(n);
   z = Eigen::VectorXd::Zero(n);

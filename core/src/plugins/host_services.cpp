@@ -13,6 +13,7 @@
 #include "engine.hpp"
 #include "monohydra/core/dynamics.hpp"
 #include "monohydra/core/kinematics.hpp"
+#include "monohydra/inverse_dynamics.h"
 #include "monohydra/model_folder.h"
 #include "monohydra/sparsity.h"
 #include "monohydra/visual.h"
@@ -456,6 +457,39 @@ mh_status host_evaluate_mechanics(const mh_host* host, const mh_mech_request* re
   return s;
 }
 
+// M' zdd - Q' in O(N) (inverse_dynamics.h).
+mh_status host_inverse_dynamics(const mh_host* host, const mh_mech_request* request,
+                                const double* zdd, double* r) {
+  InstanceHost* hp = live(host, "inverse_dynamics");
+  if (hp == nullptr) return MH_ERROR;
+  InstanceHost& h = *hp;
+  mh_mech_request rq = read_struct(request);
+  Simulation::Engine& e = *h.engine;
+  const bool empty = e.N == 0;
+  if (empty) {
+    rq.z = rq.z != nullptr ? rq.z : empty_array();
+    rq.zd = rq.zd != nullptr ? rq.zd : empty_array();
+    zdd = zdd != nullptr ? zdd : empty_array();
+  }
+  if (h.role != InstanceHost::Role::formulation || request == nullptr || rq.z == nullptr ||
+      rq.zd == nullptr || zdd == nullptr || (r == nullptr && !empty)) {
+    host_log(host, MH_LOG_ERROR, "inverse_dynamics: for a formulation, with z, zd, zdd and r");
+    return MH_ERROR;
+  }
+  if ((rq.flags & ~(MH_EVAL_DYNAMICS | MH_EVAL_SUBSYSTEMS)) != 0) {
+    host_log(host, MH_LOG_ERROR,
+             "inverse_dynamics: flags: expected MH_EVAL_SUBSYSTEMS at most (the dynamics are "
+             "implied; constraints are evaluate_mechanics's)");
+    return MH_ERROR;
+  }
+  const mh_status s = e.evaluate_loads(rq.flags | MH_EVAL_DYNAMICS, rq.t, rq.z, rq.zd);
+  if (!status_ok(s)) return s;
+  if (empty) return MH_OK;
+  inverse_dynamics(e.model, e.data, Eigen::Map<const Eigen::VectorXd>(zdd, e.N),
+                   Eigen::Map<Eigen::VectorXd>(r, e.N));
+  return MH_OK;
+}
+
 mh_status host_mech_derivatives(const mh_host* host, const mh_mech_derivatives_request* request,
                                 mh_mech_derivatives* result) {
   InstanceHost* hp = live(host, "mech_derivatives");
@@ -769,6 +803,8 @@ constexpr mh_visual_service kVisual{sizeof(mh_visual_service), host_add_visual};
 constexpr mh_sparsity_service kSparsity{sizeof(mh_sparsity_service), host_declare_entries};
 constexpr mh_mechanical_pattern_service kMechanicalPattern{sizeof(mh_mechanical_pattern_service),
                                                            host_mechanical_pattern};
+constexpr mh_inverse_dynamics_service kInverseDynamics{sizeof(mh_inverse_dynamics_service),
+                                                       host_inverse_dynamics};
 constexpr mh_signals_service kSignals{sizeof(mh_signals_service), host_option_signal,
                                       host_option_signal_port};
 
@@ -795,6 +831,8 @@ const void* host_get_service(const mh_host* host, const char* id) {
   if (std::strcmp(id, MH_SERVICE_SPARSITY) == 0) return subsystem ? &kSparsity : nullptr;
   if (std::strcmp(id, MH_SERVICE_MECHANICAL_PATTERN) == 0)
     return formulation ? &kMechanicalPattern : nullptr;
+  if (std::strcmp(id, MH_SERVICE_INVERSE_DYNAMICS) == 0)
+    return formulation ? &kInverseDynamics : nullptr;
   return nullptr;
 }
 
@@ -921,6 +959,18 @@ void Simulation::Engine::kinematics_at(const double* zq, const double* zdq) {
 
 mh_status Simulation::Engine::evaluate_mechanics(uint32_t flags, double t_eval, const double* zq,
                                                  const double* zdq) {
+  const mh_status st = evaluate_loads(flags, t_eval, zq, zdq);
+  if (!status_ok(st)) return st;
+  if ((flags & MH_EVAL_DYNAMICS) != 0) mass_matrix_and_forces(model, data);
+  if ((flags & MH_EVAL_CONSTRAINTS) != 0)
+    constraints_at_kinematics((flags & MH_EVAL_POSITIONS_ONLY) == 0);
+  return MH_OK;
+}
+
+// The kinematics at (zq, zdq) and, for the dynamics or the iterate, the
+// subsystems' forces on the bodies (and their rows).
+mh_status Simulation::Engine::evaluate_loads(uint32_t flags, double t_eval, const double* zq,
+                                             const double* zdq) {
   kinematics_at(zq, zdq);
   // The iterate's rows only inside a residual call (rows_target set); any
   // other evaluation leaves them alone.
@@ -937,9 +987,6 @@ mh_status Simulation::Engine::evaluate_mechanics(uint32_t flags, double t_eval, 
       eval.zd_iterate = data.zd;
     }
   }
-  if ((flags & MH_EVAL_DYNAMICS) != 0) mass_matrix_and_forces(model, data);
-  if ((flags & MH_EVAL_CONSTRAINTS) != 0)
-    constraints_at_kinematics((flags & MH_EVAL_POSITIONS_ONLY) == 0);
   return MH_OK;
 }
 

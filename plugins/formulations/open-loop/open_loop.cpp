@@ -2,12 +2,12 @@
 // All N joint coordinates z are second-order Newton unknowns; the host's
 // integrator ties zd and zdd at the step's end to them (the trapezoidal rule,
 // Eqs. 32-34, by default), and the residual is Eq. (39) without constraints
-// and without its dt^2/4 factor: r = M'(z) zdd - Q'(z, zd). Its tangent is
-// analytic (the host's mech_derivatives): dr/dz = K, dr/dzd = C,
-// dr/dzdd = M'. The product M' zdd, the copy of M' the tangent keeps and
-// the tangent's blocks are computed on the mechanical block's pattern
-// (sparsity.h, mechanical_pattern/1): O(N) for a tree of bounded depth,
-// where the dense blocks cost N^2 per call.
+// and without its dt^2/4 factor: r = M'(z) zdd - Q'(z, zd), which a host with
+// the inverse_dynamics service computes in O(N) without M' (a chain's M' is
+// dense: N^2 to form, as much again to multiply). Its tangent is analytic
+// (the host's mech_derivatives): dr/dz = K, dr/dzd = C, dr/dzdd = M', and
+// M' and the tangent's blocks are copied on the mechanical block's pattern
+// (sparsity.h, mechanical_pattern/1): O(N) for a tree of bounded depth.
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <algorithm>
@@ -19,6 +19,7 @@
 #include "monohydra/cpp/formulation_plugin.hpp"
 #include "monohydra/cpp/services.hpp"
 #include "monohydra/cpp/state.hpp"
+#include "monohydra/inverse_dynamics.h"
 #include "monohydra/monohydra.h"
 #include "monohydra/sparsity.h"
 
@@ -30,11 +31,13 @@ using VectorMap = Eigen::Map<Eigen::VectorXd>;
 struct OpenLoop {
   const mh_host* host = nullptr;
   const mh_mechanism_service* mech = nullptr;  // found once, at create
+  // The host's M' zdd - Q' in O(N) (inverse_dynamics.h), found at setup;
+  // NULL: formed from evaluate_mechanics's M' and Q'.
+  const mh_inverse_dynamics_service* inverse = nullptr;
   int N = 0;
   double t0 = 0.0;
   double tol = 1e-7;
   Eigen::VectorXd z, zd, zdd;  // accepted (z0, zd0 and their accelerations after start)
-  Eigen::MatrixXd M_last;      // M' of the last residual call: the tangent's dr/dzdd
   // The mechanical pattern, asked for at the first residual (the host builds
   // it after setup); left empty by a host without the service: dense.
   bool pattern_asked = false;
@@ -70,6 +73,8 @@ mh_status setup(const mh_formulation* f) noexcept {
       return MH_ERROR;
     }
     s.N = static_cast<int>(info.num_coordinates);
+    s.inverse = static_cast<const mh_inverse_dynamics_service*>(
+        s.host->get_service(s.host, MH_SERVICE_INVERSE_DYNAMICS));
     s.t0 = info.t0;
     s.tol = info.position_tolerance;
     if (monohydra::options(s.host).option_number(s.host, "tolerance", 0, s.tol, &s.tol) != MH_OK)
@@ -79,7 +84,6 @@ mh_status setup(const mh_formulation* f) noexcept {
     s.z = ConstVectorMap(info.z0, s.N);
     s.zd = ConstVectorMap(info.zd0, s.N);
     s.zdd.setZero(s.N);
-    s.M_last.setZero(s.N, s.N);
     // The unknowns: every z_i, second order, in the coordinates' order.
     for (int i = 0; i < s.N; ++i) {
       const mh_unknown_spec spec = monohydra::unknown_spec(
@@ -143,6 +147,10 @@ mh_status residual(const mh_formulation* f, const mh_unknown_values* at, double*
   const double* xd = at->xd;
   const double* xdd = at->xdd;
   return monohydra::guarded_op<OpenLoop>(f, "residual", [&](OpenLoop& s) {
+    if (s.inverse != nullptr) {
+      const mh_mech_request rq{sizeof(rq), MH_EVAL_SUBSYSTEMS, t, x, xd};
+      return s.inverse->inverse_dynamics(s.host, &rq, xdd, r);
+    }
     const mh_mech_request rq{sizeof(rq), MH_EVAL_DYNAMICS | MH_EVAL_SUBSYSTEMS, t, x, xd};
     mh_mech_result rs{};
     rs.struct_size = sizeof(rs);
@@ -153,25 +161,23 @@ mh_status residual(const mh_formulation* f, const mh_unknown_values* at, double*
     if (!s.pattern_asked) ask_pattern(s);
     if (s.row_index.empty()) {
       rows.noalias() = M * ConstVectorMap(xdd, s.N);
-      s.M_last = M;
-    } else {  // M' is zero off the pattern; M_last was made zero there
+    } else {  // M' is zero off the pattern
       rows.setZero();
       for (int c = 0; c < s.N; ++c)
         for (int32_t k = s.column_start[static_cast<size_t>(c)];
-             k < s.column_start[static_cast<size_t>(c) + 1]; ++k) {
-          const int i = s.row_index[static_cast<size_t>(k)];
-          rows[i] += M(i, c) * xdd[c];
-          s.M_last(i, c) = M(i, c);
-        }
+             k < s.column_start[static_cast<size_t>(c) + 1]; ++k)
+          rows[s.row_index[static_cast<size_t>(k)]] +=
+              M(s.row_index[static_cast<size_t>(k)], c) * xdd[c];
     }
     rows -= ConstVectorMap(rs.Q, s.N);
     return st;
   });
 }
 
-// The analytic tangent at the last residual call: dr/dz = K = d(M' zdd - Q')/dz,
+// The analytic tangent at the iterate: dr/dz = K = d(M' zdd - Q')/dz,
 // dr/dzd = C = -dQ'/dzd (the host's recursions, subsystem forces included),
-// dr/dzdd = M'. Without mech_derivatives the host differences every column.
+// dr/dzdd = M' (one evaluate_mechanics). Without mech_derivatives the host
+// differences every column.
 mh_status tangent(const mh_formulation* f, const mh_unknown_values* at,
                   const mh_tangent_blocks* blocks) noexcept {
   const double t = at->t;
@@ -184,6 +190,13 @@ mh_status tangent(const mh_formulation* f, const mh_unknown_values* at,
   uint8_t* column_given = blocks->column_given;
   return monohydra::guarded_op<OpenLoop>(f, "tangent", [&](OpenLoop& s) {
     if (!monohydra::has_mech_derivatives(*s.mech)) return MH_OK;
+    const mh_mech_request mrq{sizeof(mrq), MH_EVAL_DYNAMICS, t, x, xd};
+    mh_mech_result rs{};
+    rs.struct_size = sizeof(rs);
+    const mh_status mst = s.mech->evaluate_mechanics(s.host, &mrq, &rs);
+    if (mst >= MH_DISCARD) return mst;
+    const Eigen::Map<const Eigen::MatrixXd> M(rs.M, s.N, s.N);
+    if (!s.pattern_asked) ask_pattern(s);
     mh_mech_derivatives_request rq{};
     rq.struct_size = sizeof(rq);
     rq.flags = MH_DERIV_DYNAMICS;
@@ -200,7 +213,7 @@ mh_status tangent(const mh_formulation* f, const mh_unknown_values* at,
     if (s.row_index.empty()) {
       MatrixMap(dr_dx, s.N, s.N) = ConstMatrixMap(d.K, s.N, s.N);
       MatrixMap(dr_dxd, s.N, s.N) = ConstMatrixMap(d.C, s.N, s.N);
-      MatrixMap(dr_dxdd, s.N, s.N) = s.M_last;
+      MatrixMap(dr_dxdd, s.N, s.N) = M;
     } else {  // the host reads the blocks on the pattern only
       for (int c = 0; c < s.N; ++c)
         for (int32_t k = s.column_start[static_cast<size_t>(c)];
@@ -210,7 +223,7 @@ mh_status tangent(const mh_formulation* f, const mh_unknown_values* at,
               static_cast<size_t>(c) * static_cast<size_t>(s.N) + static_cast<size_t>(i);
           dr_dx[e] = d.K[e];
           dr_dxd[e] = d.C[e];
-          dr_dxdd[e] = s.M_last(i, c);
+          dr_dxdd[e] = M(i, c);
         }
     }
     std::fill(column_given, column_given + s.N, uint8_t{1});

@@ -369,6 +369,34 @@ TEST(OpenLoopDynamics, KineticEnergyEqualsHalfZdTransposeMassMatrixZd) {
   }
 }
 
+// inverse_dynamics's O(N) recursion gives Eq. (12)'s M' zdd - Q' with every
+// velocity term and an applied point force: the same equations summed in
+// another order, so to round-off. It leaves data.M and data.Q as they were.
+TEST(OpenLoopDynamics, InverseDynamicsOnRandomTreesEqualsMassMatrixTimesZddLessForces) {
+  for (unsigned seed : kSeeds) {
+    const RandomCase c = random_case(seed);
+    const int n = c.model.num_coordinates();
+    Rng rng(seed + 1000u);
+    const Eigen::VectorXd zdd = random_vector(rng, n, -5.0, 5.0);
+    Data data(c.model);
+    semirecursive(c.model, data, c.z, c.zd, c.load);
+    const Eigen::VectorXd expected = data.M * zdd - data.Q;
+    const Eigen::MatrixXd M = data.M;
+    Eigen::VectorXd r(n);
+    inverse_dynamics(c.model, data, zdd, r);
+    const double scale =
+        (data.M * zdd).lpNorm<Eigen::Infinity>() + data.Q.lpNorm<Eigen::Infinity>();
+    EXPECT_LT((r - expected).lpNorm<Eigen::Infinity>(), 1e-13 * scale) << seed;
+    EXPECT_EQ(data.M, M) << seed;
+  }
+  Data data(random_case(kSeeds[0]).model);
+  Eigen::VectorXd short_r(1);
+  EXPECT_THROW(inverse_dynamics(
+                   random_case(kSeeds[0]).model, data,
+                   Eigen::VectorXd::Zero(random_case(kSeeds[0]).model.num_coordinates()), short_r),
+               std::invalid_argument);
+}
+
 // At rest with gravity only, Q' is the gravity generalized force -dV/dz
 // (fourth-order difference of potential_energy, h = 1e-3: 1e-9 relative).
 TEST(OpenLoopDynamics, ForcesAtRestEqualMinusPotentialEnergyGradient) {

@@ -41,6 +41,7 @@ struct Data {
   std::vector<Eigen::Vector3d> c_sum;  // composite first moment, sum of m g
   std::vector<Eigen::Matrix3d> I_sum;  // composite inertia about the world origin
   std::vector<Vector6d> Q_sum;         // composite of Qbar - Mbar Zdot0 (Eqs. 10, 11)
+  std::vector<Vector6d> A_zdd;         // T R_d zdd: inverse_dynamics' accelerations
   Eigen::MatrixXd M;                   // M' (N x N), Eq. (12)
   Eigen::VectorXd Q;                   // Q' (N), Eq. (12)
 

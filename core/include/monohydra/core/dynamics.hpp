@@ -23,6 +23,15 @@ void apply_body_moment(Data& data, int body, const Eigen::Vector3d& tau_W);
 // (Eq. 12) into data.M and data.Q, from the kinematics and applied loads in data.
 void mass_matrix_and_forces(const Model& model, Data& data);
 
+// r = M' zdd - Q' (Eq. 12) in O(N), without forming M': each body's Mbar_j
+// times its acceleration from zdd (T R_d zdd) less its Qbar_j - Mbar_j Zdot0_j,
+// summed over subtrees and projected on each joint's b (the recursion of
+// Newton-Euler inverse dynamics in the semirecursive form). Uses data's
+// m_sum, c_sum, I_sum, Q_sum and A_zdd as workspace: data.M and data.Q are
+// not touched (they keep the last mass_matrix_and_forces).
+void inverse_dynamics(const Model& model, Data& data, const Eigen::Ref<const Eigen::VectorXd>& zdd,
+                      Eigen::Ref<Eigen::VectorXd> r);
+
 // Kinetic energy 1/2 zd^T M' zd, computed body by body from Eq. (6).
 double kinetic_energy(const Model& model, const Data& data);
 // Gravitational potential energy -sum m_j gravity . g_j (zero at the world origin).
