@@ -74,19 +74,20 @@ inline ModelFile bench_model(const std::string& what) {
 }
 
 // The solver choices mh_profile and mh_step_costs take by name
-// (full|per-step|modified|articulated, klu|umfpack|dense|auto); throws std::runtime_error
+// (auto|full|per-step|modified|articulated, klu|umfpack|dense|auto); throws
+// std::runtime_error
 // naming what it expected.
 inline void choose_solver(ModelFile& file, const std::string& newton, const std::string& linear) {
   bool known = false;
-  for (NewtonKind kind :
-       {NewtonKind::full, NewtonKind::per_step, NewtonKind::modified, NewtonKind::articulated})
+  for (NewtonKind kind : {NewtonKind::full, NewtonKind::per_step, NewtonKind::modified,
+                          NewtonKind::articulated, NewtonKind::automatic})
     if (newton == to_string(kind)) {
       file.solver.newton = kind;
       known = true;
     }
   if (!known)
-    throw std::runtime_error("newton: expected full, per-step, modified or articulated, got '" +
-                             newton + "'");
+    throw std::runtime_error(
+        "newton: expected auto, full, per-step, modified or articulated, got '" + newton + "'");
   for (LinearSolverKind kind : {LinearSolverKind::klu, LinearSolverKind::umfpack,
                                 LinearSolverKind::dense, LinearSolverKind::automatic})
     if (linear == to_string(kind)) {

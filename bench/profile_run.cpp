@@ -3,7 +3,7 @@
 // given simulated time, writing its CSV to /dev/null every step, every 10 ms
 // or not at all.
 //   mh_profile MODEL.yaml|chain:N|tree:N FORMULATION T_END [none|every-step|10ms]
-//              [per-step|full|modified] [klu|umfpack|dense|auto]
+//              [auto|per-step|full|modified|articulated] [klu|umfpack|dense|auto]
 #include <fstream>
 #include <iostream>
 #include <optional>
@@ -16,13 +16,14 @@ int main(int argc, char** argv) {
   using namespace mh;
   if (argc < 4 || argc > 7) {
     std::cerr << "usage: mh_profile MODEL.yaml|chain:N|tree:N FORMULATION T_END "
-                 "[none|every-step|10ms] [per-step|full|modified] [klu|umfpack|dense|auto]\n";
+                 "[none|every-step|10ms] [auto|per-step|full|modified|articulated] "
+                 "[klu|umfpack|dense|auto]\n";
     return 2;
   }
   try {
     const std::string what = argv[1];
     const std::string output = argc >= 5 ? argv[4] : "none";
-    const std::string newton = argc >= 6 ? argv[5] : "per-step";
+    const std::string newton = argc >= 6 ? argv[5] : "auto";
     const std::string linear = argc >= 7 ? argv[6] : "klu";
     if (output != "none" && output != "every-step" && output != "10ms")
       throw std::runtime_error("output: expected none, every-step or 10ms, got '" + output + "'");

@@ -7,7 +7,8 @@
 // speed), and the counters are dumped after every step (or every EVERY
 // steps), one file each, whose totals bench/performance.py reads (mean and
 // largest).
-//   mh_step_costs MODEL.yaml|chain:N|tree:N FORMULATION T_FROM T_TO [per-step|full|modified]
+//   mh_step_costs MODEL.yaml|chain:N|tree:N FORMULATION T_FROM T_TO
+//   [auto|per-step|full|modified|articulated]
 //                 [klu|umfpack|dense|auto] [EVERY]
 #if __has_include(<valgrind/callgrind.h>)
 #include <valgrind/callgrind.h>
@@ -29,12 +30,12 @@ int main(int argc, char** argv) {
   using namespace mh;
   if (argc < 5 || argc > 8) {
     std::cerr << "usage: mh_step_costs MODEL.yaml|chain:N|tree:N FORMULATION T_FROM T_TO "
-                 "[per-step|full|modified] [klu|umfpack|dense|auto] [EVERY]\n";
+                 "[auto|per-step|full|modified|articulated] [klu|umfpack|dense|auto] [EVERY]\n";
     return 2;
   }
   try {
     const double t_from = std::stod(argv[3]), t_to = std::stod(argv[4]);
-    const std::string newton = argc >= 6 ? argv[5] : "per-step";
+    const std::string newton = argc >= 6 ? argv[5] : "auto";
     const std::string linear = argc >= 7 ? argv[6] : "klu";
     const int every = argc >= 8 ? std::stoi(argv[7]) : 1;
     if (every < 1) throw std::runtime_error("EVERY: expected a positive number of steps");

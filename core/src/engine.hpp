@@ -495,8 +495,10 @@ struct Simulation::Engine {
   void size_derivatives();
   mh_status mechanics_derivatives(const mh_mech_derivatives_request& rq);
 
-  // solver.newton: articulated (simulation.cpp): refused where it does not
-  // apply, else its workspace.
+  // solver.newton: articulated and auto (simulation.cpp): refused where it
+  // does not apply, else its workspace; auto's choice.
+  std::string articulated_refusal() const;
+  NewtonKind automatic_newton() const;
   void size_articulated();
 
   // subsystem_coupling.cpp
@@ -619,6 +621,8 @@ inline TangentReuse::Mode reuse_mode(NewtonKind kind) {
       return TangentReuse::Mode::per_step;
     case NewtonKind::articulated:
       return TangentReuse::Mode::approximate;
+    case NewtonKind::automatic:  // resolved at setup; per-step until then
+      return TangentReuse::Mode::per_step;
     case NewtonKind::full:
       break;
   }

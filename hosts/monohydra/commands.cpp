@@ -337,6 +337,7 @@ int run_prepared(PreparedRun& prepared, const RunRequest& request, const std::st
     std::cerr << "monohydra: " << s.failure << '\n';
     return 2;
   }
+  const bool articulated = sim.settings().newton == NewtonKind::articulated;
   report << "model:        " << prepared.file.model.name << " (" << request.model_path << ")\n"
          << "formulation:  " << sim.formulation_name() << "\n"
          << "integrator:   " << sim.integrator_name() << "\n"
@@ -354,11 +355,13 @@ int run_prepared(PreparedRun& prepared, const RunRequest& request, const std::st
                  ? "stability:    " + stability_text(sim.explicit_stability()) + " (" +
                        stability_cost_text(sim.explicit_stability()) + ")\n"
                  : std::string())
-         << "solver:       " << to_string(sim.settings().linear) << ", "
+         << "solver:       "
+         << (articulated ? std::string() : std::string(to_string(sim.settings().linear)) + ", ")
          << to_string(sim.settings().newton) << " Newton"
          << (sim.settings().line_search ? " with line search, " : ", ")
          << (s.steps > 0 ? static_cast<double>(s.tangents) / static_cast<double>(s.steps) : 0.0)
-         << " tangents factored per step\n"
+         << (articulated ? " articulated-body factorizations of M' per step (no tangent)\n"
+                         : " tangents factored per step\n")
          << "peak |drift|: " << s.max_abs_drift << " J\n"
          << "wall time:    " << s.wall_seconds << " s\n";
   if (s.real_time) print_real_time(report, s, request.real_time_cap);

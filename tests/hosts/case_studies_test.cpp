@@ -108,8 +108,9 @@ TEST(CaseStudies, MistakesNameTheFileLineAndField) {
   } catch (const InputError& err) {
     const std::string what = err.what();
     EXPECT_EQ(what.rfind(newton.string() + ":3:", 0), 0u) << what;
-    EXPECT_NE(what.find("case_studies[0].newton: expected full, per-step or modified"),
-              std::string::npos)
+    EXPECT_NE(
+        what.find("case_studies[0].newton: expected auto, full, per-step, modified or articulated"),
+        std::string::npos)
         << what;
   }
 }

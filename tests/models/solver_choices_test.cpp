@@ -386,6 +386,27 @@ TEST(SolverChoices, ArticulatedNewtonIsAsAccurateAsFullNewtonOnTheDoublePendulum
   EXPECT_LT(articulated_error, 1e-8);
 }
 
+// solver.newton: auto (the default) picks articulated Newton where it applies
+// and the tree is deep (more than 6 mechanical entries a coordinate: a chain
+// of 8 or more), per-step Newton otherwise; the run's settings say which.
+TEST(SolverChoices, AutoNewtonIsArticulatedOnDeepChainsAndPerStepElsewhere) {
+  const auto chosen = [](const ModelFile& file, const std::string& formulation) {
+    Simulation sim(file, build_plugins(), RunChoices{formulation, "", {}, {}});
+    return sim.settings().newton;
+  };
+  EXPECT_EQ(parse_model_text(beam_chain(8), "chain.yaml").solver.newton, NewtonKind::automatic);
+  EXPECT_EQ(chosen(parse_model_text(beam_chain(4), "chain.yaml"), ""), NewtonKind::per_step);
+  EXPECT_EQ(chosen(parse_model_text(beam_chain(8), "chain.yaml"), ""), NewtonKind::articulated);
+  EXPECT_EQ(chosen(parse_model_text(beam_chain(64), "chain.yaml"), ""), NewtonKind::articulated);
+  for (const char* model : {"double-pendulum.yaml", "maxwell-pendulum.yaml", "fourbar.yaml"})
+    EXPECT_EQ(chosen(load_model_file(source_path(std::string("models/") + model)), ""),
+              NewtonKind::per_step)
+        << model;
+  // A deep chain under a formulation without the equations of motion.
+  EXPECT_EQ(chosen(parse_model_text(beam_chain(16), "chain.yaml"), "penalty"),
+            NewtonKind::per_step);
+}
+
 // Where M' is not the tangent's leading part, or not all the unknowns are
 // coordinates, it is refused at setup with the reason, at solver.newton.
 TEST(SolverChoices, ArticulatedNewtonIsRefusedWhereItDoesNotApply) {
@@ -400,9 +421,10 @@ TEST(SolverChoices, ArticulatedNewtonIsRefusedWhereItDoesNotApply) {
     return std::string("accepted");
   };
   const std::string ds = refusal("fourbar-free.yaml", "double-step");
-  EXPECT_NE(ds.find("solver.newton: expected full, per-step or modified here: articulated needs "
-                    "a formulation whose rows are the tree's equations of motion"),
-            std::string::npos)
+  EXPECT_NE(
+      ds.find("solver.newton: expected auto, full, per-step or modified here: articulated needs "
+              "a formulation whose rows are the tree's equations of motion"),
+      std::string::npos)
       << ds;
   EXPECT_NE(ds.find("formulation 'double-step' does not declare "
                     "monohydra.equations-of-motion/1"),

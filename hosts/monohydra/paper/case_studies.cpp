@@ -129,11 +129,13 @@ class Reader {
       fail(node["control_shading"], field + ".control_shading", "expected a colour #rrggbb");
     const std::string newton = text(node, "newton", field, false);
     if (!newton.empty()) {
-      for (NewtonKind kind : {NewtonKind::full, NewtonKind::per_step, NewtonKind::modified})
+      for (NewtonKind kind : {NewtonKind::full, NewtonKind::per_step, NewtonKind::modified,
+                              NewtonKind::articulated, NewtonKind::automatic})
         if (newton == to_string(kind)) s.newton = kind;
       if (!s.newton)
         fail(node["newton"], field + ".newton",
-             "expected full, per-step or modified (as a model file's solver.newton), got '" +
+             "expected auto, full, per-step, modified or articulated (as a model file's "
+             "solver.newton), got '" +
                  newton + "'");
     }
     s.paper = paper(node["paper"], field + ".paper");

@@ -925,10 +925,10 @@ TEST(ModelFileErrors, LinearSolverAndNewtonChoicesAreNamedOrRefusedWithTheChoice
                "dense LU for a dense tangent, KLU otherwise), got 'lapack'");
   expect_error(valid_body("solver: {linear: [klu]}\n"), 8, "solver.linear", "expected a string");
   expect_error(valid_body("solver: {newton: quasi}\n"), 8, "solver.newton",
-               "expected full, per-step, modified or articulated");
+               "expected auto, full, per-step, modified or articulated");
   const ModelFile defaults = parse_model_text(valid_body(""), kLabel);
   EXPECT_EQ(defaults.solver.linear, LinearSolverKind::klu);
-  EXPECT_EQ(defaults.solver.newton, NewtonKind::per_step);
+  EXPECT_EQ(defaults.solver.newton, NewtonKind::automatic);
   for (LinearSolverKind kind : {LinearSolverKind::klu, LinearSolverKind::umfpack,
                                 LinearSolverKind::dense, LinearSolverKind::automatic}) {
     const ModelFile f = parse_model_text(
@@ -936,7 +936,8 @@ TEST(ModelFileErrors, LinearSolverAndNewtonChoicesAreNamedOrRefusedWithTheChoice
     EXPECT_EQ(f.solver.linear, kind) << to_string(kind);
   }
   for (NewtonKind kind :
-       {NewtonKind::full, NewtonKind::per_step, NewtonKind::modified, NewtonKind::articulated}) {
+       {NewtonKind::full, NewtonKind::per_step, NewtonKind::modified, NewtonKind::articulated,
+        NewtonKind::automatic}) {
     const ModelFile f = parse_model_text(
         valid_body("solver: {newton: " + std::string(to_string(kind)) + "}\n"), kLabel);
     EXPECT_EQ(f.solver.newton, kind) << to_string(kind);

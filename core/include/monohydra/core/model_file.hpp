@@ -79,9 +79,11 @@ struct InputSpec {
 // iterations and steps while the iteration contracts fast enough;
 // `articulated` assembles none and takes the mass matrix, factored by the
 // articulated-body recursion at every iterate, as Newton's matrix (a tree's
-// equations of motion only).
-enum class NewtonKind { full, modified, per_step, articulated };
-const char* to_string(NewtonKind kind);  // "full", "modified", "per-step", "articulated"
+// equations of motion only); `automatic` is articulated where it applies to a
+// deep tree and per-step otherwise, decided when the run is set up.
+enum class NewtonKind { full, modified, per_step, articulated, automatic };
+// "full", "modified", "per-step", "articulated", "auto"
+const char* to_string(NewtonKind kind);
 
 struct SolverSettings {
   double dt = 1e-3;            // s
@@ -91,8 +93,9 @@ struct SolverSettings {
   double tol_position = 1e-7;  // rad or m: Newton increment tolerance on coordinates
   LinearSolverKind linear = LinearSolverKind::klu;  // the tangent's linear solver
   // The fastest kind that passes every accuracy test (docs/performance.md);
-  // the paper's comparison pins full Newton (models/paper-reference.yaml).
-  NewtonKind newton = NewtonKind::per_step;
+  // the paper's comparison pins full Newton (models/paper-reference.yaml). A
+  // Simulation's settings() hold the kind `automatic` chose.
+  NewtonKind newton = NewtonKind::automatic;
   // solver.line_search: the time step's Newton damped (newton.hpp's
   // NewtonDamping): off by default, so that results stay as they are. It
   // damps full Newton only: on, it makes full Newton the default.

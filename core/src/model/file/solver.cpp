@@ -1,6 +1,7 @@
 // solver: the time step, end time, Newton iteration limit, position
 // tolerance, how often a failed step may be halved, the linear solver and
-// full, per-step or modified Newton, and whether its increments are damped.
+// which Newton (full, per-step, modified, articulated or auto), and whether
+// its increments are damped.
 #include "parser.hpp"
 
 namespace mh {
@@ -12,6 +13,8 @@ const char* to_string(NewtonKind kind) {
       return "per-step";
     case NewtonKind::articulated:
       return "articulated";
+    case NewtonKind::automatic:
+      return "auto";
     case NewtonKind::full:
       break;
   }
@@ -68,17 +71,18 @@ SolverSettings Parser::solver(const YAML::Node& node) const {
   if (newton) {
     const std::string name = string(*newton, "solver.newton");
     bool known = false;
-    for (NewtonKind kind :
-         {NewtonKind::full, NewtonKind::per_step, NewtonKind::modified, NewtonKind::articulated}) {
+    for (NewtonKind kind : {NewtonKind::full, NewtonKind::per_step, NewtonKind::modified,
+                            NewtonKind::articulated, NewtonKind::automatic}) {
       if (name != to_string(kind)) continue;
       settings.newton = kind;
       known = true;
     }
     if (!known)
       fail(*newton, "solver.newton",
-           "expected full, per-step, modified or articulated (a tangent at every iteration, once "
-           "per step, kept across steps, or the mass matrix's articulated-body factorization in "
-           "its place), got '" +
+           "expected auto, full, per-step, modified or articulated (a tangent at every iteration, "
+           "once per step, kept across steps, or the mass matrix's articulated-body "
+           "factorization in its place; auto: articulated for a deep tree, else per-step), got "
+           "'" +
                name + "'");
   }
   if (auto search = map.get("line_search")) {
@@ -93,7 +97,8 @@ SolverSettings Parser::solver(const YAML::Node& node) const {
     // from; a kept factorization's undo of a diverging increment needs the
     // residual of the iterate it returns to, which the test has overwritten.
     // So it damps full Newton, which it makes the default.
-    if (settings.line_search && newton && settings.newton != NewtonKind::full)
+    if (settings.line_search && newton && settings.newton != NewtonKind::full &&
+        settings.newton != NewtonKind::automatic)
       fail(*search, "solver.line_search",
            std::string("expected off with newton: ") + to_string(settings.newton) +
                " (the line search damps full Newton only)");
