@@ -935,9 +935,8 @@ TEST(ModelFileErrors, LinearSolverAndNewtonChoicesAreNamedOrRefusedWithTheChoice
         valid_body("solver: {linear: " + std::string(to_string(kind)) + "}\n"), kLabel);
     EXPECT_EQ(f.solver.linear, kind) << to_string(kind);
   }
-  for (NewtonKind kind :
-       {NewtonKind::full, NewtonKind::per_step, NewtonKind::modified, NewtonKind::articulated,
-        NewtonKind::automatic}) {
+  for (NewtonKind kind : {NewtonKind::full, NewtonKind::per_step, NewtonKind::modified,
+                          NewtonKind::articulated, NewtonKind::automatic}) {
     const ModelFile f = parse_model_text(
         valid_body("solver: {newton: " + std::string(to_string(kind)) + "}\n"), kLabel);
     EXPECT_EQ(f.solver.newton, kind) << to_string(kind);
