@@ -1,12 +1,20 @@
 // One step of generated mechanisms as they grow: the open chain of N beams
 // (targets: 150 us per step at N = 64, 5 ms at N = 256) and a tree of
 // bounded depth (one base, N/2 arms of two beams; target: linear in N), with
-// every linear solver (auto: by the tangent's density) and modified Newton. A new simulation starts
-// every simulated second (untimed), so every N is measured over the same motion;
-// the energy error at that second, |KE + PE| (both relative to t = 0, J), is
-// the accuracy simbody_chain_bench.cpp's peer reports beside its own. The
-// chain goes on to N = 1024 (the peer's largest) and 2000 with the default
-// linear solver and auto, the tree to 257.
+// per-step Newton (a tangent factored once a step), full Newton (one at every
+// iteration, the paper's) and modified Newton (kept across steps), under every
+// linear solver (auto: by the tangent's density); and articulated Newton (no
+// tangent: the articulated-body recursion solves for the increment) and the
+// default, solver.newton: auto, which is articulated Newton on the chains
+// measured here from N = 8 (more than 6 tangent entries a coordinate,
+// docs/model-format.md) and per-step Newton on the trees and shorter chains.
+// A new simulation starts every simulated second (untimed), so every N is
+// measured over the same motion; the energy error at that second, |KE + PE|
+// (both relative to t = 0, J), is the accuracy simbody_chain_bench.cpp's peer
+// reports beside its own. The chain goes on to N = 1024 (the peer's largest)
+// and 2000 with the default linear solver and auto, the tree to 257, under
+// every Newton kind: at N = 2000 a tangent-based step takes a few seconds
+// (and as long again to set up), 5-10 s a benchmark.
 #include <cmath>
 #include <memory>
 
@@ -57,7 +65,7 @@ void add(const std::string& kind, int n, LinearSolverKind linear, NewtonKind new
 }
 
 const int registered = [] {
-  for (NewtonKind newton : {NewtonKind::full, NewtonKind::modified})
+  for (NewtonKind newton : {NewtonKind::per_step, NewtonKind::full, NewtonKind::modified})
     for (LinearSolverKind linear : {LinearSolverKind::klu, LinearSolverKind::umfpack,
                                     LinearSolverKind::dense, LinearSolverKind::automatic}) {
       // KLU (the default) and auto (dense LU for the chain's dense tangent,
@@ -68,6 +76,12 @@ const int registered = [] {
       for (int n : {5, 9, 17, 33, 65, 129, 257})
         if (main || n <= 33) add("tree", n, linear, newton);
     }
+  // No tangent to factor: the linear solver is not used, KLU names the run.
+  for (NewtonKind newton : {NewtonKind::articulated, NewtonKind::automatic}) {
+    for (int n : {2, 4, 8, 16, 32, 64, 128, 256, 1024, 2000})
+      add("chain", n, LinearSolverKind::klu, newton);
+    for (int n : {5, 9, 17, 33, 65, 129, 257}) add("tree", n, LinearSolverKind::klu, newton);
+  }
   return 0;
 }();
 

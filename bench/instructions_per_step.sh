@@ -2,8 +2,10 @@
 # Instructions per time step of a case study, from callgrind: the difference
 # of two runs (T1 and T2 simulated seconds at dt = 1 ms) divided by the steps
 # between them, so that loading, parsing and start-up cancel out.
+# NEWTON is mh_profile's: per-step (what the default, auto, runs on the case
+# studies), full (the paper's) or modified, or auto, articulated.
 #   bench/instructions_per_step.sh PROFILE_BINARY MODEL FORMULATION NEWTON [T1 T2]
-# e.g. bench/instructions_per_step.sh build/bin/mh_profile fourbar.yaml penalty modified
+# e.g. bench/instructions_per_step.sh build/bin/mh_profile fourbar.yaml penalty per-step
 set -eu
 bin=$(realpath "$1"); model=$2; formulation=$3; newton=$4
 t1=${5:-0.5}; t2=${6:-1.5}

@@ -36,7 +36,9 @@ int main(int argc, char** argv) {
     RunOptions options;
     options.layout = &layout;
     const RunSummary s = run(sim, output == "none" ? nullptr : &csv, options);
-    std::cout << s.steps << " steps, " << s.iterations << " Newton iterations\n";
+    // The kind the run resolved (auto picks one at setup): bench/performance.py reads it.
+    std::cout << s.steps << " steps, " << s.iterations << " Newton iterations, "
+              << to_string(sim.settings().newton) << " Newton\n";
     if (s.failed) {
       std::cerr << "mh_profile: " << s.failure << '\n';
       return 1;
