@@ -1,6 +1,8 @@
 // M' x = y in O(N) (articulated_solve.hpp).
 #include "monohydra/core/articulated_solve.hpp"
 
+#include "monohydra/core/dynamics.hpp"
+
 namespace mh {
 
 ArticulatedWorkspace::ArticulatedWorkspace(const Model& model)
@@ -11,33 +13,10 @@ ArticulatedWorkspace::ArticulatedWorkspace(const Model& model)
       pA(static_cast<size_t>(model.num_bodies()), Vector6d::Zero()),
       A(static_cast<size_t>(model.num_bodies()), Vector6d::Zero()) {}
 
-namespace {
-
-// Mbar_j of Eq. (9) at the world origin: [m I, -c~; c~, I_O] with c = m g and
-// I_O = J - m g~ g~ (as mass_matrix_and_forces forms it).
-Matrix6d body_mass(const Body& body, const Data& data, int j) {
-  const double m = body.mass;
-  const Eigen::Vector3d c = m * data.g_W[static_cast<size_t>(j)];
-  const Eigen::Matrix3d& R = data.R_W_B[static_cast<size_t>(j)];
-  Eigen::Matrix3d I_O =
-      R * body.inertia_B * R.transpose() - c * data.g_W[static_cast<size_t>(j)].transpose();
-  I_O.diagonal().array() += c.dot(data.g_W[static_cast<size_t>(j)]);
-  Eigen::Matrix3d c_x;
-  c_x << 0.0, -c.z(), c.y(), c.z(), 0.0, -c.x(), -c.y(), c.x(), 0.0;
-  Matrix6d M;
-  M.topLeftCorner<3, 3>() = m * Eigen::Matrix3d::Identity();
-  M.topRightCorner<3, 3>() = -c_x;
-  M.bottomLeftCorner<3, 3>() = c_x;
-  M.bottomRightCorner<3, 3>() = I_O;
-  return M;
-}
-
-}  // namespace
-
 bool articulated_factor(const Model& model, const Data& data, ArticulatedWorkspace& ws) {
   const int n = model.num_bodies();
   for (int j = 0; j < n; ++j)
-    ws.IA[static_cast<size_t>(j)] = body_mass(model.bodies[static_cast<size_t>(j)], data, j);
+    ws.IA[static_cast<size_t>(j)] = body_mass_matrix(model, data, j);  // Eq. (9)
   // Children follow their parents: a backward sweep completes every subtree
   // before it is passed on.
   for (int j = n - 1; j >= 0; --j) {

@@ -34,6 +34,15 @@ Eigen::Matrix3d world_inertia(const Body& body, const Eigen::Matrix3d& R_W_B) {
   return R_W_B * body.inertia_B * R_W_B.transpose();
 }
 
+// Eq. (9): Mbar_j = D_j^T M_j D_j = [m I, -m g~; m g~, J - m g~ g~], kept as
+// (m, c = m g, I_O = J - m g~ g~), with -g~ g~ = |g|^2 I - g g^T.
+Eigen::Matrix3d origin_inertia(const Eigen::Matrix3d& J, const Eigen::Vector3d& c,
+                               const Eigen::Vector3d& g) {
+  Eigen::Matrix3d I_O = J - c * g.transpose();
+  I_O.diagonal().array() += c.dot(g);
+  return I_O;
+}
+
 }  // namespace
 
 void reset_applied_forces(const Model& model, Data& data) {
@@ -73,11 +82,8 @@ void body_terms(const Model& model, Data& data, int j) {
   const Eigen::Vector3d omega = data.Z[j].tail<3>();
   const Eigen::Vector3d gdot = sdot + omega.cross(g);  // Eq. (6)
 
-  // Eq. (9): Mbar_j = D_j^T M_j D_j = [m I, -m g~; m g~, J - m g~ g~], kept as
-  // (m, c = m g, I_O = J - m g~ g~), with -g~ g~ = |g|^2 I - g g^T.
   const Eigen::Vector3d c = m * g;
-  Eigen::Matrix3d I_O = J - c * g.transpose();
-  I_O.diagonal().array() += c.dot(g);
+  const Eigen::Matrix3d I_O = origin_inertia(J, c, g);  // Eq. (9)
 
   // Eq. (10): Qbar_j = D_j^T (Q_j - M_j e_j). Zdot here is the plain time
   // derivative of Z (Eq. 5, d_j = bdot_j zd_j), and then Eq. (7)'s velocity
@@ -100,6 +106,20 @@ void body_terms(const Model& model, Data& data, int j) {
 }
 
 }  // namespace
+
+Matrix6d body_mass_matrix(const Model& model, const Data& data, int j) {
+  const Body& body = model.bodies[j];
+  const Eigen::Vector3d& g = data.g_W[j];
+  const Eigen::Vector3d c = body.mass * g;
+  Eigen::Matrix3d c_x;
+  c_x << 0.0, -c.z(), c.y(), c.z(), 0.0, -c.x(), -c.y(), c.x(), 0.0;
+  Matrix6d M;
+  M.topLeftCorner<3, 3>() = body.mass * Eigen::Matrix3d::Identity();
+  M.topRightCorner<3, 3>() = -c_x;
+  M.bottomLeftCorner<3, 3>() = c_x;
+  M.bottomRightCorner<3, 3>() = origin_inertia(world_inertia(body, data.R_W_B[j]), c, g);
+  return M;
+}
 
 void mass_matrix_and_forces(const Model& model, Data& data) {
   check_data("mass_matrix_and_forces", model, data);

@@ -19,6 +19,10 @@ void apply_point_force(Data& data, int body, const Eigen::Vector3d& p_W,
 // Adds a pure moment (world frame, N m) to `body`.
 void apply_body_moment(Data& data, int body, const Eigen::Vector3d& tau_W);
 
+// Body j's Mbar_j (Eq. 9) at the world origin, [m I, -c~; c~, I_O] with
+// c = m g and I_O = J - m g~ g~, from the kinematics in data.
+Matrix6d body_mass_matrix(const Model& model, const Data& data, int j);
+
 // M' = R_d^T T^T Mbar T R_d and Q' = R_d^T T^T (Qbar - Mbar T Rdot_d zd)
 // (Eq. 12) into data.M and data.Q, from the kinematics and applied loads in data.
 void mass_matrix_and_forces(const Model& model, Data& data);
