@@ -66,7 +66,10 @@ inline std::filesystem::path scratch_root() {
   return std::filesystem::temp_directory_path() / ("monohydra-test-" + std::to_string(::getpid()));
 }
 struct ScratchCleanup {
-  ScratchCleanup() = default;
+  // GoogleTest's singleton made first, so that it is destroyed after this
+  // (statics die in the reverse order of their construction): asking a
+  // destroyed one whether the tests passed is undefined (clang's ASan stops there).
+  ScratchCleanup() { ::testing::UnitTest::GetInstance(); }
   ScratchCleanup(const ScratchCleanup&) = delete;
   ScratchCleanup& operator=(const ScratchCleanup&) = delete;
   ~ScratchCleanup() {
