@@ -17,7 +17,8 @@ function(monohydra_add_plugin target)
   # module is not linked against the ASan/UBSan runtime: the instrumented
   # executable that dlopens it provides those symbols, so --no-undefined would
   # fail there. GCC links the runtime into the module and keeps the check.
-  if(NOT (MONOHYDRA_SANITIZE AND CMAKE_CXX_COMPILER_ID MATCHES "Clang"))
+  if(NOT (MONOHYDRA_SANITIZE AND (CMAKE_C_COMPILER_ID MATCHES "Clang" OR
+                                   CMAKE_CXX_COMPILER_ID MATCHES "Clang")))
     target_link_options(${target} PRIVATE -Wl,--no-undefined)
   endif()
 endfunction()

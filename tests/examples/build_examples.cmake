@@ -27,6 +27,16 @@ if(SANITIZE)
   foreach(kind EXE SHARED MODULE)
     list(APPEND sanitize_flags "-DCMAKE_${kind}_LINKER_FLAGS=${flags}")
   endforeach()
+  # The same compilers (one ASan runtime in a process), and the SDK's plugin
+  # function told so: with clang a module takes the runtime from its host.
+  list(APPEND sanitize_flags "-DCMAKE_C_COMPILER=${C_COMPILER}"
+       "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}" -DMONOHYDRA_SANITIZE=ON)
+  # clang puts UBSan's C++ runtime, which the library's code calls, only into
+  # programs linked as C++: the embedding example is a C program.
+  if(CXX_COMPILER MATCHES "clang")
+    list(TRANSFORM sanitize_flags REPLACE "^(-DCMAKE_EXE_LINKER_FLAGS=.*)$"
+         "\\1 -fsanitize-link-c++-runtime -lstdc++")
+  endif()
 endif()
 get_filename_component(cmake_bin ${CMAKE_COMMAND} DIRECTORY)
 set(ctest ${cmake_bin}/ctest)
