@@ -17,17 +17,22 @@
 
 namespace mh::bench {
 
+namespace paths {
+extern const char* const source_dir;  // the source tree (build_paths.cpp)
+extern const char* const plugin_dir;  // this build's shipped plugins
+}  // namespace paths
+
 inline const PluginRegistry& plugins() {
   static const std::unique_ptr<PluginRegistry> r = [] {
     auto p = std::make_unique<PluginRegistry>();
-    p->scan({MH_PLUGIN_DIR});
+    p->scan({paths::plugin_dir});
     return p;
   }();
   return *r;
 }
 
 inline ModelFile shipped_model(const std::string& name) {
-  return load_model_file(std::string(MH_SOURCE_DIR) + "/models/" + name);
+  return load_model_file(std::string(paths::source_dir) + "/models/" + name);
 }
 
 // A body of the generated mechanisms: a 0.1 m, 1 kg beam hinged about z.

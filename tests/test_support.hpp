@@ -7,6 +7,7 @@
 #include <string>
 #include <utility>
 
+#include "build_paths.hpp"
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/plugin_registry.hpp"
 #include "monohydra/subsystem.h"
@@ -17,7 +18,7 @@ namespace mh::test {
 inline const PluginRegistry& build_plugins() {
   static const std::unique_ptr<PluginRegistry> registry = [] {
     auto r = std::make_unique<PluginRegistry>();
-    r->scan({MH_PLUGIN_DIR});
+    r->scan({mh::test::paths::plugin_dir});
     return r;
   }();
   return *registry;
@@ -32,7 +33,7 @@ inline const PluginRegistry& build_plugins_with(const std::string& library) {
   if (registry == nullptr) {
     auto r = std::make_unique<PluginRegistry>();
     r->load(library);
-    r->scan({MH_PLUGIN_DIR});
+    r->scan({mh::test::paths::plugin_dir});
     registry = std::move(r);
   }
   return *registry;
@@ -50,7 +51,7 @@ inline std::string load_error(const std::string& path) {
 }
 
 inline std::string source_path(const std::string& relative) {
-  return std::string(MH_SOURCE_DIR) + "/" + relative;
+  return std::string(mh::test::paths::source_dir) + "/" + relative;
 }
 
 // The example model a subsystem component of this build declares (its

@@ -19,6 +19,7 @@
 #include <system_error>
 #include <vector>
 
+#include "build_tree.hpp"
 #include "commands.hpp"
 #include "fmu_describe.h"
 #include "fmu_package.hpp"
@@ -41,11 +42,11 @@ fs::path fmu_binary() {
       if (fs::is_regular_file(p, ec)) return p;
     }
   }
-  fs::path built = MONOHYDRA_FMU_BUILD_PATH;
+  fs::path built = build_tree::fmu_binary;
   if (fs::is_regular_file(built, ec)) return built;
   throw std::runtime_error(std::string("the FMU binary monohydra-fmu.so is not installed (looked "
                                        "beside this program and in ") +
-                           MONOHYDRA_FMU_BUILD_PATH + ")");
+                           build_tree::fmu_binary + ")");
 }
 
 // A staging folder that removes itself.

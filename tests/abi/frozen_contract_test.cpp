@@ -14,11 +14,12 @@
 #include <vector>
 
 #include "abi/contract_record.h"
+#include "build_paths.hpp"
 
 namespace {
 
 std::string frozen_dir() {
-  return std::string(MH_SOURCE_DIR) + "/tests/abi/sdk-3.0";
+  return std::string(mh::test::paths::source_dir) + "/tests/abi/sdk-3.0";
 }
 
 // The two tables list the same entries in the same order (one list compiled

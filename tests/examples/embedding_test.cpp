@@ -12,6 +12,8 @@
 #include <sstream>
 #include <string>
 
+#include "build_paths.hpp"
+
 namespace {
 
 std::string read_file(const std::filesystem::path& path) {
@@ -33,24 +35,26 @@ std::string output_of(const std::string& command, int& code) {
 }
 
 TEST(EmbeddingExample, ItsCsvIsMonohydraRunsByteForByteWithNoPluginPathSet) {
-  const auto root = std::filesystem::path(MH_BINARY_DIR) / "test-scratch" / "embedding-example";
+  const auto root =
+      std::filesystem::path(mh::test::paths::binary_dir) / "test-scratch" / "embedding-example";
   std::filesystem::remove_all(root);
   std::filesystem::create_directories(root);
-  std::filesystem::create_directory_symlink(std::string(MH_SOURCE_DIR) + "/models",
+  std::filesystem::create_directory_symlink(std::string(mh::test::paths::source_dir) + "/models",
                                             root / "models");
   int code = -1;
-  const std::string said = output_of("cd '" + root.string() + "' && env -u MONOHYDRA_PLUGIN_PATH " +
-                                         MH_EXAMPLES_DIR + "/embedding/fourbar_embedded",
-                                     code);
+  const std::string said =
+      output_of("cd '" + root.string() + "' && env -u MONOHYDRA_PLUGIN_PATH " +
+                    mh::test::paths::examples_dir + "/embedding/fourbar_embedded",
+                code);
   ASSERT_EQ(code, 0) << said;
   EXPECT_NE(said.find("snapshot at t = 5 s: 100 steps after it repeat to the bit"),
             std::string::npos)
       << said;
   const std::string reference = (root / "reference.csv").string();
-  const std::string ran =
-      output_of("env -u MONOHYDRA_PLUGIN_PATH " + std::string(MH_EXECUTABLE) + " run " +
-                    MH_SOURCE_DIR + "/models/fourbar.yaml --out " + reference,
-                code);
+  const std::string ran = output_of(
+      "env -u MONOHYDRA_PLUGIN_PATH " + std::string(mh::test::paths::executable) + " run " +
+          mh::test::paths::source_dir + "/models/fourbar.yaml --out " + reference,
+      code);
   ASSERT_EQ(code, 0) << ran;
   const std::string embedded = read_file(root / "out" / "embedding" / "fourbar.csv");
   EXPECT_EQ(std::count(embedded.begin(), embedded.end(), '\n'), 10002);

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <string>
 
+#include "build_paths.hpp"
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/plugin_registry.hpp"
 #include "monohydra/core/simulation.hpp"
@@ -21,7 +22,8 @@ namespace {
 
 // The build's plugins and the example gas-accumulator.
 const PluginRegistry& plugins() {
-  return test::build_plugins_with(std::string(MH_EXAMPLES_DIR) + "/accumulator/gas-accumulator.so");
+  return test::build_plugins_with(std::string(mh::test::paths::examples_dir) +
+                                  "/accumulator/gas-accumulator.so");
 }
 
 // A free slider (no mechanics to speak of) and a node n: the accumulator

@@ -12,6 +12,7 @@
 #include <sstream>
 #include <string>
 
+#include "build_paths.hpp"
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/plugin_registry.hpp"
 #include "monohydra/core/simulation.hpp"
@@ -22,7 +23,7 @@ namespace {
 
 // The build's plugins and the example lagrange-baumgarte.
 const PluginRegistry& plugins() {
-  return test::build_plugins_with(std::string(MH_EXAMPLES_DIR) +
+  return test::build_plugins_with(std::string(mh::test::paths::examples_dir) +
                                   "/lagrange-baumgarte/lagrange-baumgarte.so");
 }
 

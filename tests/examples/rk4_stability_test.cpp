@@ -12,6 +12,7 @@
 #include <complex>
 #include <string>
 
+#include "build_paths.hpp"
 #include "hosts/cli_runner.hpp"
 #include "monohydra/core/explicit_stability.hpp"
 #include "monohydra/core/model_file.hpp"
@@ -24,7 +25,7 @@ namespace {
 
 // The build's plugins and the example rk4.
 const PluginRegistry& plugins() {
-  return test::build_plugins_with(std::string(MH_EXAMPLES_DIR) + "/rk4/rk4.so");
+  return test::build_plugins_with(std::string(mh::test::paths::examples_dir) + "/rk4/rk4.so");
 }
 
 // RK4's amplification polynomial R(z) = 1 + z + z^2/2 + z^3/6 + z^4/24.
@@ -240,7 +241,8 @@ TEST(ExplicitStability, TheCheckDoesNotChangeTheRun) {
 // As a user sees it: compare's line under the table, and run stopped by
 // --explicit-stability error.
 TEST(ExplicitStability, CompareSaysItUnderTheTableAndRunStopsOnError) {
-  const std::string env = "MONOHYDRA_PLUGIN_PATH=" + std::string(MH_EXAMPLES_DIR) + "/rk4 ";
+  const std::string env =
+      "MONOHYDRA_PLUGIN_PATH=" + std::string(mh::test::paths::examples_dir) + "/rk4 ";
   const std::string model = test::source_path("models/fourbar.yaml");
   const auto at_1ms = mh::test::run_cli(
       "compare " + model + " --formulations double-step --integrators trapezoidal,rk4 --t-end 0.01",

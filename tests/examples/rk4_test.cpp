@@ -12,6 +12,7 @@
 #include <complex>
 #include <string>
 
+#include "build_paths.hpp"
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/plugin_registry.hpp"
 #include "monohydra/core/simulation.hpp"
@@ -22,7 +23,7 @@ namespace {
 
 // The build's plugins and the example rk4.
 const PluginRegistry& plugins() {
-  return test::build_plugins_with(std::string(MH_EXAMPLES_DIR) + "/rk4/rk4.so");
+  return test::build_plugins_with(std::string(mh::test::paths::examples_dir) + "/rk4/rk4.so");
 }
 
 constexpr double kMass = 2.0;        // kg

@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "build_paths.hpp"
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/run_state.hpp"
 #include "monohydra/core/simulation.hpp"
@@ -30,12 +31,12 @@ void expect_restored_run_repeats(const PluginRegistry& plugins, const RunChoices
 TEST(ExampleSnapshots, AnExplicitRk4RunRestoredRepeatsItsStepsToTheLastBit) {
   // 0.1 ms: rk4 is stable on the four-bar there (rk4_stability_test.cpp).
   expect_restored_run_repeats(
-      test::build_plugins_with(std::string(MH_EXAMPLES_DIR) + "/rk4/rk4.so"),
+      test::build_plugins_with(std::string(mh::test::paths::examples_dir) + "/rk4/rk4.so"),
       RunChoices{"double-step", "rk4", 1e-4, 1.02}, 9950, 150);
 }
 
 TEST(ExampleSnapshots, ALagrangeBaumgarteRunRestoredRepeatsItsStepsToTheLastBit) {
-  expect_restored_run_repeats(test::build_plugins_with(std::string(MH_EXAMPLES_DIR) +
+  expect_restored_run_repeats(test::build_plugins_with(std::string(mh::test::paths::examples_dir) +
                                                        "/lagrange-baumgarte/lagrange-baumgarte.so"),
                               RunChoices{"lagrange-baumgarte", "", std::nullopt, 1.05}, 990, 50);
 }

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "build_paths.hpp"
 #include "monohydra/core/input_error.hpp"
 #include "test_support.hpp"
 
@@ -60,7 +61,7 @@ TEST(CaseStudies, TheShippedFileHoldsThePapersNumbers) {
 }
 
 fs::path write(const std::string& name, const std::string& text) {
-  const fs::path p = fs::path(MH_BINARY_DIR) / "case_studies_test" / name;
+  const fs::path p = fs::path(mh::test::paths::binary_dir) / "case_studies_test" / name;
   fs::create_directories(p.parent_path());
   std::ofstream(p) << text;
   return p;

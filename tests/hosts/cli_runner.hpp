@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "build_paths.hpp"
+
 namespace mh::test {
 
 struct CliResult {
@@ -27,7 +29,8 @@ inline CliResult run_cli(const std::string& args, const std::string& env = "",
                          const std::string& cwd = "") {
   std::string cmd;
   if (!cwd.empty()) cmd = "cd '" + cwd + "' && ";
-  cmd += "MONOHYDRA_PLUGIN_PATH= " + env + MH_EXECUTABLE + std::string(" ") + args + " 2>&1";
+  cmd += "MONOHYDRA_PLUGIN_PATH= " + env + mh::test::paths::executable + std::string(" ") + args +
+         " 2>&1";
   CliResult r;
   FILE* pipe = popen(cmd.c_str(), "r");
   if (pipe == nullptr) return r;
@@ -57,7 +60,7 @@ inline bool have_program(const std::string& name) {
 }
 
 inline std::string shipped_model(const std::string& name) {
-  return std::string(MH_SOURCE_DIR) + "/models/" + name;
+  return std::string(mh::test::paths::source_dir) + "/models/" + name;
 }
 
 // This test process's scratch folder; removed at exit when every test

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <string>
 
+#include "build_paths.hpp"
 #include "cli_runner.hpp"
 
 namespace mh::test {
@@ -77,9 +78,10 @@ TEST(RunStream, WritesTheRowsOfOutOnStandardOutputAndTheSummaryOnStandardError) 
   const std::string m = shipped_model("fourbar.yaml") + " --t-end 0.2";
   ASSERT_EQ(run_cli("run " + m + " --out " + (dir / "out.csv").string()).code, 0);
   // In a subshell: run_shell's own 2>&1 comes after it and must not join the two.
-  const CliResult streamed = run_shell(
-      std::string("(MONOHYDRA_PLUGIN_PATH= ") + MH_EXECUTABLE + " run " + m + " --stream > " +
-      (dir / "stream.csv").string() + " 2> " + (dir / "summary.txt").string() + ")");
+  const CliResult streamed =
+      run_shell(std::string("(MONOHYDRA_PLUGIN_PATH= ") + mh::test::paths::executable + " run " +
+                m + " --stream > " + (dir / "stream.csv").string() + " 2> " +
+                (dir / "summary.txt").string() + ")");
   ASSERT_EQ(streamed.code, 0) << read_text(dir / "summary.txt");
   EXPECT_EQ(read_text(dir / "stream.csv"), read_text(dir / "out.csv"));
   EXPECT_NE(read_text(dir / "summary.txt").find("steps:        200 of 200"), std::string::npos);

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "build_paths.hpp"
 #include "cli_runner.hpp"
 #include "monohydra/core/linearization.hpp"
 
@@ -35,7 +36,8 @@ Eigen::MatrixXd matrix(const YAML::Node& rows, size_t cols) {
 }
 
 TEST(LinearizeCommand, WritesYamlWhoseMatricesHaveTheSizesOfTheirNames) {
-  const auto dir = std::filesystem::path(MH_BINARY_DIR) / "test-scratch" / "linearize";
+  const auto dir =
+      std::filesystem::path(mh::test::paths::binary_dir) / "test-scratch" / "linearize";
   std::filesystem::create_directories(dir);
   const std::string out = (dir / "fourbar.yaml").string();
   std::filesystem::remove(out);

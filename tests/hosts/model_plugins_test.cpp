@@ -8,6 +8,7 @@
 #include <fstream>
 #include <string>
 
+#include "build_paths.hpp"
 #include "cli_runner.hpp"
 
 namespace {
@@ -15,14 +16,16 @@ namespace {
 using mh::test::CliResult;
 using mh::test::run_cli;
 
-const std::string kClashLibrary = std::string(MH_CLASH_PLUGIN_DIR) + "/clashing_ids.so";
-const std::string kShippedPenalty = std::string(MH_PLUGIN_DIR) + "/monohydra-penalty.so";
+const std::string kClashLibrary =
+    std::string(mh::test::paths::clash_plugin_dir) + "/clashing_ids.so";
+const std::string kShippedPenalty =
+    std::string(mh::test::paths::plugin_dir) + "/monohydra-penalty.so";
 
 // The shipped four-bar with the clashing library's folder in plugin_paths and
 // `extra` top-level lines.
 std::filesystem::path fourbar_with_clash(const std::string& name, const std::string& extra) {
   const auto path = mh::test::scratch_dir("model-plugins-" + name) / "fourbar.yaml";
-  std::ofstream(path) << "plugin_paths: [" << MH_CLASH_PLUGIN_DIR << "]\n"
+  std::ofstream(path) << "plugin_paths: [" << mh::test::paths::clash_plugin_dir << "]\n"
                       << extra << mh::test::read_text(mh::test::shipped_model("fourbar.yaml"));
   return path;
 }
@@ -30,7 +33,7 @@ std::filesystem::path fourbar_with_clash(const std::string& name, const std::str
 // A pendulum hung on the clashing library's own spring, under open-loop.
 std::filesystem::path spring_pendulum(const std::string& extra) {
   const auto path = mh::test::scratch_dir("model-plugins-spring") / "spring.yaml";
-  std::ofstream(path) << "plugin_paths: [" << MH_CLASH_PLUGIN_DIR << "]\n"
+  std::ofstream(path) << "plugin_paths: [" << mh::test::paths::clash_plugin_dir << "]\n"
                       << extra
                       << "units: {length: m, mass: kg, time: s, angle: rad}\n"
                          "gravity: [0, -9.81, 0]\n"
@@ -52,7 +55,8 @@ TEST(ModelPlugins, PluginsWithAModelSearchesItsPluginPathsFirst) {
   const auto model = fourbar_with_clash("search", "");
   const CliResult r = run_cli("plugins --model " + model.string());
   ASSERT_EQ(r.code, 0) << r.output;
-  const auto search = r.output.find(std::string("search path: ") + MH_CLASH_PLUGIN_DIR);
+  const auto search =
+      r.output.find(std::string("search path: ") + mh::test::paths::clash_plugin_dir);
   EXPECT_NE(search, std::string::npos) << r.output;
   EXPECT_NE(r.output.find("subsystem    clash-spring"), std::string::npos) << r.output;
   // Without the model the folder is not searched.
@@ -139,8 +143,9 @@ TEST(ModelPlugins, CompareNamesTheLibraryOfEveryFormulationItRan) {
                          "  integrator   trapezoidal", "  subsystem    "}) {
     const auto line = r.output.find(id);
     ASSERT_NE(line, std::string::npos) << id << "\n" << r.output;
-    EXPECT_NE(r.output.substr(line, r.output.find('\n', line) - line).find(MH_PLUGIN_DIR),
-              std::string::npos)
+    EXPECT_NE(
+        r.output.substr(line, r.output.find('\n', line) - line).find(mh::test::paths::plugin_dir),
+        std::string::npos)
         << id << "\n"
         << r.output;
   }

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "build_paths.hpp"
 #include "cli_runner.hpp"
 #include "monohydra/types.h"
 
@@ -166,8 +167,9 @@ TEST(MonohydraCliReliability, CsvToAFullDeviceExitsOneAndNamesTheFile) {
 }
 
 TEST(MonohydraCliReliability, StdoutToAFullDeviceExitsOne) {
-  const CliResult r = run_shell("( MONOHYDRA_PLUGIN_PATH= " + std::string(MH_EXECUTABLE) + " run " +
-                                model("double-pendulum.yaml") + " --t-end 0.01 >/dev/full )");
+  const CliResult r =
+      run_shell("( MONOHYDRA_PLUGIN_PATH= " + std::string(mh::test::paths::executable) + " run " +
+                model("double-pendulum.yaml") + " --t-end 0.01 >/dev/full )");
   EXPECT_EQ(r.code, 1) << r.output;
   EXPECT_TRUE(contains(r, "monohydra: cannot write to standard output: No space left on device"))
       << r.output;
@@ -175,8 +177,8 @@ TEST(MonohydraCliReliability, StdoutToAFullDeviceExitsOne) {
 
 // Stops a long run with `signal` once its CSV has 200 rows.
 CliResult interrupted_run(const std::string& signal, const std::filesystem::path& csv) {
-  return run_shell("( MONOHYDRA_PLUGIN_PATH= " + std::string(MH_EXECUTABLE) + " run " +
-                   model("double-pendulum.yaml") + " --t-end 1e4 --out " + csv.string() +
+  return run_shell("( MONOHYDRA_PLUGIN_PATH= " + std::string(mh::test::paths::executable) +
+                   " run " + model("double-pendulum.yaml") + " --t-end 1e4 --out " + csv.string() +
                    " & p=$!; for i in $(seq 600); do [ \"$(cat " + csv.string() +
                    " 2>/dev/null | wc -l)\" -ge 200 ] && break; sleep 0.05; done; kill -" + signal +
                    " $p; wait $p )");

@@ -9,6 +9,7 @@
 #include <tuple>
 #include <vector>
 
+#include "build_paths.hpp"
 #include "cli_runner.hpp"
 #include "monohydra/types.h"
 
@@ -18,7 +19,7 @@ using mh::test::CliResult;
 using mh::test::run_cli;
 
 std::string fixture(const std::string& name) {
-  return std::string(MH_CHECK_FIXTURE_DIR) + "/" + name + ".so";
+  return std::string(mh::test::paths::check_fixture_dir) + "/" + name + ".so";
 }
 
 // A pendulum on the faulty spring, swinging through a range of stretches.
@@ -41,7 +42,8 @@ std::string spring_model() {
 }
 
 TEST(PluginCheck, AShippedFormulationPassesEveryCheckOnTheFourBar) {
-  const CliResult r = run_cli("check " + std::string(MH_PLUGIN_DIR) + "/monohydra-penalty.so");
+  const CliResult r =
+      run_cli("check " + std::string(mh::test::paths::plugin_dir) + "/monohydra-penalty.so");
   ASSERT_EQ(r.code, 0) << r.output;
   // The plugin was built against this SDK: its ABI is the header's.
   const std::string abi = "ok    load: ABI " + std::to_string(MH_ABI_VERSION_MAJOR) + "." +
@@ -57,7 +59,8 @@ TEST(PluginCheck, AShippedFormulationPassesEveryCheckOnTheFourBar) {
 }
 
 TEST(PluginCheck, AFormulationForTreesOnlyIsCheckedOnATree) {
-  const CliResult r = run_cli("check " + std::string(MH_PLUGIN_DIR) + "/monohydra-open-loop.so");
+  const CliResult r =
+      run_cli("check " + std::string(mh::test::paths::plugin_dir) + "/monohydra-open-loop.so");
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("double-pendulum.yaml"), std::string::npos) << r.output;
 }
@@ -82,8 +85,8 @@ TEST(PluginCheck, AFormulationWhoseSavedStateForgetsWhatItsNextStepReadsFails) {
 }
 
 TEST(PluginCheck, AFormulationThatCannotSaveItsStateIsSkippedSayingWhy) {
-  const CliResult r =
-      run_cli("check " + std::string(MH_FAULTY_PLUGIN_DIR) + "/crashing_formulation.so");
+  const CliResult r = run_cli("check " + std::string(mh::test::paths::faulty_plugin_dir) +
+                              "/crashing_formulation.so");
   EXPECT_NE(r.output.find("skip  formulation crashing-formulation: a snapshot restored into a "
                           "fresh run repeats its steps: formulation 'crashing-formulation' of "
                           "crashing_formulation.so keeps state between steps and cannot save it "
@@ -95,7 +98,8 @@ TEST(PluginCheck, AFormulationThatCannotSaveItsStateIsSkippedSayingWhy) {
 TEST(PluginCheck, EveryShippedFormulationAndIntegratorPassesTheSnapshotCheck) {
   for (const char* library : {"monohydra-open-loop", "monohydra-double-step", "monohydra-penalty",
                               "monohydra-integrators"}) {
-    const CliResult r = run_cli("check " + std::string(MH_PLUGIN_DIR) + "/" + library + ".so");
+    const CliResult r =
+        run_cli("check " + std::string(mh::test::paths::plugin_dir) + "/" + library + ".so");
     EXPECT_EQ(r.code, 0) << r.output;
     EXPECT_NE(r.output.find("a snapshot restored into a fresh run repeats its steps"),
               std::string::npos)
@@ -188,7 +192,8 @@ TEST(PluginCheck, AFormulationThatLeavesTheMechanismWithoutMovingUnknownsIsRefus
 }
 
 TEST(PluginCheck, AFormulationsOwnBlocksAreComparedAndSaySoWhenTheyPass) {
-  const CliResult r = run_cli("check " + std::string(MH_PLUGIN_DIR) + "/monohydra-penalty.so");
+  const CliResult r =
+      run_cli("check " + std::string(mh::test::paths::plugin_dir) + "/monohydra-penalty.so");
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("ok    formulation penalty: its tangent blocks against differences of "
                           "its residual in x, xd, xdd: 3 of 3 columns given"),
@@ -450,7 +455,8 @@ TEST(PluginCheck, AnExceptionThrownAcrossTheCBoundaryFailsAndTheHostSurvives) {
 }
 
 TEST(PluginCheck, AWrongAbiVersionFailsAtLoadSayingWhichVersions) {
-  const CliResult r = run_cli("check " + std::string(MH_FIXTURE_DIR) + "/mh_fixture_major_one.so");
+  const CliResult r =
+      run_cli("check " + std::string(mh::test::paths::fixture_dir) + "/mh_fixture_major_one.so");
   EXPECT_EQ(r.code, 1) << r.output;
   EXPECT_NE(r.output.find("FAIL  load: "), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("was built for monohydra ABI 1."), std::string::npos) << r.output;
@@ -458,7 +464,7 @@ TEST(PluginCheck, AWrongAbiVersionFailsAtLoadSayingWhichVersions) {
 
 TEST(PluginCheck, ALibraryWithoutTheEntrySymbolFailsAtLoad) {
   const CliResult r =
-      run_cli("check " + std::string(MH_FIXTURE_DIR) + "/mh_fixture_not_a_plugin.so");
+      run_cli("check " + std::string(mh::test::paths::fixture_dir) + "/mh_fixture_not_a_plugin.so");
   EXPECT_EQ(r.code, 1) << r.output;
   EXPECT_NE(r.output.find("FAIL  load: "), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("mh_entry"), std::string::npos) << r.output;
@@ -475,7 +481,8 @@ TEST(PluginCheck, BadArgumentsExitTwoWithTheUsage) {
 // its factory declares; a broken one fails naming it; one without is skipped.
 TEST(PluginCheck, EveryShippedSubsystemIsCheckedOnItsDeclaredExampleModel) {
   for (const char* library : {"monohydra-hydraulics", "monohydra-mechanics"}) {
-    const CliResult r = run_cli("check " + std::string(MH_PLUGIN_DIR) + "/" + library + ".so");
+    const CliResult r =
+        run_cli("check " + std::string(mh::test::paths::plugin_dir) + "/" + library + ".so");
     ASSERT_EQ(r.code, 0) << r.output;
     EXPECT_EQ(r.output.find("skip"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("(declared by " + std::string(library) + ".so), 20 steps"),

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <string>
 
+#include "build_paths.hpp"
 #include "cli_runner.hpp"
 #include "printed_table.hpp"
 
@@ -14,7 +15,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kFaulty = MH_FAULTY_PLUGIN_DIR;
+const std::string kFaulty = mh::test::paths::faulty_plugin_dir;
 // The faulty folder first, then the build's plugins; no probe cache.
 const std::string kEnv = "MONOHYDRA_PROBE_CACHE=off MONOHYDRA_PLUGIN_PATH=" + kFaulty + " ";
 
@@ -104,8 +105,8 @@ TEST(PluginIsolation, SigtermToCompareStopsTheRunInItsProcessAndExits143) {
   const fs::path dir = scratch_dir("sigterm");
   const fs::path csv = dir / "double-step.csv";
   const CliResult r = run_shell(
-      "( MONOHYDRA_PROBE_CACHE=off MONOHYDRA_PLUGIN_PATH= " + std::string(MH_EXECUTABLE) +
-      " compare " + shipped_model("fourbar-free.yaml") +
+      "( MONOHYDRA_PROBE_CACHE=off MONOHYDRA_PLUGIN_PATH= " +
+      std::string(mh::test::paths::executable) + " compare " + shipped_model("fourbar-free.yaml") +
       " --formulations double-step,penalty --t-end 1e4 --report " + dir.string() +
       " & p=$!; for i in $(seq 600); do [ \"$(cat " + csv.string() +
       " 2>/dev/null | wc -l)\" -ge 200 ] && break; sleep 0.05; done; kill -TERM $p; wait $p )");

@@ -12,6 +12,7 @@
 #include <sstream>
 #include <string>
 
+#include "build_paths.hpp"
 #include "cli_runner.hpp"
 
 namespace {
@@ -61,14 +62,14 @@ TEST(ResultSidecar, RunWritesValidJsonNamingTheLibrariesModelHashAndSettings) {
   EXPECT_DOUBLE_EQ(meta.get<double>("settings.dt"), 0.002);
   EXPECT_DOUBLE_EQ(meta.get<double>("settings.t_end"), 0.02);
   EXPECT_EQ(meta.get<int>("settings.max_iterations"), 25);  // the model file's
-  EXPECT_EQ(
-      library_of(meta, "formulation", "double-step"),
-      std::filesystem::weakly_canonical(std::string(MH_PLUGIN_DIR) + "/monohydra-double-step.so")
-          .string());
-  EXPECT_EQ(
-      library_of(meta, "integrator", "trapezoidal"),
-      std::filesystem::weakly_canonical(std::string(MH_PLUGIN_DIR) + "/monohydra-integrators.so")
-          .string());
+  EXPECT_EQ(library_of(meta, "formulation", "double-step"),
+            std::filesystem::weakly_canonical(std::string(mh::test::paths::plugin_dir) +
+                                              "/monohydra-double-step.so")
+                .string());
+  EXPECT_EQ(library_of(meta, "integrator", "trapezoidal"),
+            std::filesystem::weakly_canonical(std::string(mh::test::paths::plugin_dir) +
+                                              "/monohydra-integrators.so")
+                .string());
   EXPECT_FALSE(library_of(meta, "subsystem", "cylinder").empty());
   EXPECT_NE(r.output.find("provenance:   " + sidecar.string()), std::string::npos) << r.output;
 }
@@ -85,10 +86,10 @@ TEST(ResultSidecar, EveryCompareCsvGetsOneNamingItsOwnFormulationsLibrary) {
     ASSERT_NO_THROW(meta = read_json_file(sidecar)) << mh::test::read_text(sidecar);
     EXPECT_EQ(meta.get<std::string>("settings.formulation"), f);
     EXPECT_DOUBLE_EQ(meta.get<double>("settings.t_end"), 0.01);
-    EXPECT_EQ(
-        library_of(meta, "formulation", f),
-        std::filesystem::weakly_canonical(std::string(MH_PLUGIN_DIR) + "/monohydra-" + f + ".so")
-            .string());
+    EXPECT_EQ(library_of(meta, "formulation", f),
+              std::filesystem::weakly_canonical(std::string(mh::test::paths::plugin_dir) +
+                                                "/monohydra-" + f + ".so")
+                  .string());
   }
 }
 

@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "build_paths.hpp"
 #include "cli_runner.hpp"
 #include "results_table.hpp"
 
@@ -69,10 +70,11 @@ pid_t start_sweep(const std::vector<std::string>& args, const fs::path& log) {
     ::dup2(fd, 1);
     ::dup2(fd, 2);
     ::setenv("MONOHYDRA_PLUGIN_PATH", "", 1);
-    std::vector<char*> argv = {const_cast<char*>(MH_EXECUTABLE), const_cast<char*>("sweep")};
+    std::vector<char*> argv = {const_cast<char*>(mh::test::paths::executable),
+                               const_cast<char*>("sweep")};
     for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);
-    ::execv(MH_EXECUTABLE, argv.data());
+    ::execv(mh::test::paths::executable, argv.data());
     ::_exit(127);
   }
   return pid;
@@ -142,7 +144,7 @@ TEST(SweepCommand, ACrashingCaseIsACrashedRowAndTheStudyGoesOn) {
                              "  formulation/name: [double-step, crashing-formulation, penalty]\n");
   const auto r =
       run_cli("sweep " + (dir / "study.yaml").string() + " --out " + (dir / "out").string(),
-              std::string("MONOHYDRA_PLUGIN_PATH=") + MH_FAULTY_PLUGIN_DIR + " ");
+              std::string("MONOHYDRA_PLUGIN_PATH=") + mh::test::paths::faulty_plugin_dir + " ");
   ASSERT_EQ(r.code, 0) << r.output;
   const auto rows = table_without_timing(dir / "out" / "results.csv");
   ASSERT_EQ(rows.size(), 4u);
@@ -178,7 +180,8 @@ TEST(SweepCommand, ThreeMpiRanksGiveTheSameTableAsOneWorker) {
   const auto r = run_shell(
       "MONOHYDRA_PLUGIN_PATH= mpirun --allow-run-as-root --oversubscribe "
       "-np 3 " +
-      std::string(MH_EXECUTABLE) + " sweep " + s + " --out " + (dir / "mpi").string());
+      std::string(mh::test::paths::executable) + " sweep " + s + " --out " +
+      (dir / "mpi").string());
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("on 2 MPI ranks"), std::string::npos) << r.output;
   EXPECT_EQ(table_without_timing(dir / "one" / "results.csv"),
@@ -187,7 +190,7 @@ TEST(SweepCommand, ThreeMpiRanksGiveTheSameTableAsOneWorker) {
 
 TEST(SweepCommand, TheExecutableDoesNotLinkLibmpiSoPlainRunsPayNothingForIt) {
   if (!have_program("ldd")) GTEST_SKIP() << "no ldd";
-  const auto r = run_shell(std::string("ldd ") + MH_EXECUTABLE);
+  const auto r = run_shell(std::string("ldd ") + mh::test::paths::executable);
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("libyaml-cpp"), std::string::npos) << r.output;  // ldd did list
   EXPECT_EQ(r.output.find("libmpi"), std::string::npos) << r.output;

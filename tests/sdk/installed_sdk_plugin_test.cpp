@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "build_paths.hpp"
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/plugin_registry.hpp"
 #include "monohydra/core/run.hpp"
@@ -34,8 +35,8 @@ solver: {dt: 0.01, t_end: 2}
 
 TEST(InstalledSdkPlugin, ThirdPartyCPluginLoadsAndMovesASliderExactly) {
   PluginRegistry registry;
-  registry.load(std::string(MH_SDK_EXAMPLE_DIR) + "/point-load.so");
-  registry.scan({MH_PLUGIN_DIR});
+  registry.load(std::string(mh::test::paths::sdk_example_dir) + "/point-load.so");
+  registry.scan({mh::test::paths::plugin_dir});
   const ComponentInfo& info = registry.find(ComponentKind::subsystem, "point-load");
   EXPECT_EQ(std::string(info.descriptor->vendor), "example.org");
   const ModelFile file = parse_model_text(kSlider, "slider.yaml");

@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "build_tree.hpp"
 #include "mpi_library.h"
 
 namespace mh::cli::sweep {
@@ -74,7 +75,7 @@ MpiTransport::MpiTransport() : lib_(std::make_unique<Library>()) {
   const auto exe_dir = boost::dll::program_location(ec).parent_path();
   std::vector<boost::dll::fs::path> candidates = {
       exe_dir / ".." / "lib" / "monohydra" / MONOHYDRA_MPI_LIBRARY,
-      boost::dll::fs::path(MONOHYDRA_MPI_BUILD_PATH)};
+      boost::dll::fs::path(build_tree::mpi_transport)};
   std::string tried;
   for (const auto& path : candidates) {
     tried += (tried.empty() ? "" : ", ") + path.string();

@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "build_tree.hpp"
 #include "contract_checks.hpp"
 #include "isolated_check.hpp"
 #include "monohydra/core/input_error.hpp"
@@ -75,7 +76,7 @@ std::vector<std::string> models_folders() {
   if (!here.empty())
     out.push_back((here / ".." / "share" / "monohydra" / "models").lexically_normal());
   out.emplace_back(MONOHYDRA_INSTALL_MODELS);
-  out.emplace_back(MONOHYDRA_SOURCE_MODELS);
+  out.emplace_back(build_tree::source_models);
   return out;
 }
 

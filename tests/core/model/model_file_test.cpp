@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "build_paths.hpp"
+
 namespace mh {
 namespace {
 
@@ -68,7 +70,8 @@ void expect_message(const std::string& text, const std::string& message) {
 // --- valid files -------------------------------------------------------------
 
 TEST(ModelFile, LoadsTheDoublePendulum) {
-  const std::string path = std::string(MH_SOURCE_DIR) + "/models/double-pendulum.yaml";
+  const std::string path =
+      std::string(mh::test::paths::source_dir) + "/models/double-pendulum.yaml";
   const ModelFile file = load_model_file(path);
   const Model& m = file.model;
   EXPECT_EQ(file.path, path);
@@ -515,7 +518,7 @@ TEST(ModelFileErrors, PluginsMustMapIdsToLibraryFiles) {
 
 TEST(ModelFile, PluginPathsOfALoadedFileAreRelativeToItsFolder) {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::path(MH_BINARY_DIR) / "model_file_test";
+  const fs::path dir = fs::path(mh::test::paths::binary_dir) / "model_file_test";
   fs::create_directories(dir);
   const fs::path path = dir / "with-plugins.yaml";
   {
@@ -558,7 +561,7 @@ TEST(ModelFile, CutJoints) {
 
 TEST(ModelFile, DocumentationExampleParses) {
   // The first ```yaml block of docs/model-format.md is the complete example.
-  std::ifstream in(std::string(MH_SOURCE_DIR) + "/docs/model-format.md");
+  std::ifstream in(std::string(mh::test::paths::source_dir) + "/docs/model-format.md");
   ASSERT_TRUE(in) << "docs/model-format.md not found";
   std::string line;
   std::string yaml;
@@ -1133,7 +1136,7 @@ TEST(ModelFileLimits, BinaryFileIsRefusedAsNotText) {
 
 TEST(ModelFileLimits, FileCutMidLineIsRefusedAsCutShort) {
   // The double pendulum cut inside its solver line: "t_end: 10" would read as "t_end: 1".
-  std::ifstream in(std::string(MH_SOURCE_DIR) + "/models/double-pendulum.yaml");
+  std::ifstream in(std::string(mh::test::paths::source_dir) + "/models/double-pendulum.yaml");
   std::stringstream ss;
   ss << in.rdbuf();
   const std::string text = ss.str();

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "build_paths.hpp"
 #include "monohydra/core/simulation.hpp"
 #include "test_support.hpp"
 
@@ -20,8 +21,8 @@ TEST(InverseDynamicsService, ARunOnItFollowsOpenLoopAndBadCallsAreRefusedSayingW
   const LogSink sink = [&errors](mh_log_level level, const std::string&, const std::string& msg) {
     if (level == MH_LOG_ERROR) errors.push_back(msg);
   };
-  const std::string fixture =
-      std::string(MH_INVERSE_DYNAMICS_PLUGIN_DIR) + "/inverse_dynamics_formulation.so";
+  const std::string fixture = std::string(mh::test::paths::inverse_dynamics_plugin_dir) +
+                              "/inverse_dynamics_formulation.so";
   Simulation on_service(file, build_plugins_with(fixture), "inverse-dynamics-formulation", sink);
   Simulation open_loop(file, build_plugins(), "open-loop");
   on_service.start();

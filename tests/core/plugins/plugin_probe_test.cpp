@@ -14,6 +14,7 @@
 #include <sstream>
 #include <string>
 
+#include "build_paths.hpp"
 #include "monohydra/core/plugin_registry.hpp"
 #include "test_support.hpp"
 
@@ -22,7 +23,7 @@ namespace fs = std::filesystem;
 namespace mh {
 namespace {
 
-const std::string kFaulty = MH_FAULTY_PLUGIN_DIR;
+const std::string kFaulty = mh::test::paths::faulty_plugin_dir;
 
 // Sets MONOHYDRA_PROBE_CACHE for one test and restores it after.
 class ProbeCacheSetting {
@@ -64,7 +65,8 @@ TEST(PluginProbe, RefusesALibraryThatCrashesInInitNamingTheSignal) {
 // first: one that crashes is refused, naming the phase, and never runs in the
 // host (which would crash at its own exit).
 TEST(PluginProbe, ALibraryWhoseDestructorCrashesIsRefusedBeforeTheHostLoadsIt) {
-  const std::string path = std::string(MH_BOUNDARY_PLUGIN_DIR) + "/crashing_destructor.so";
+  const std::string path =
+      std::string(mh::test::paths::boundary_plugin_dir) + "/crashing_destructor.so";
   EXPECT_EQ(
       load_error(path),
       "'" + path + "' crashed with SIGSEGV during probing, while unloading (its destructors)");
@@ -85,7 +87,7 @@ TEST(PluginProbe, RefusesALibraryCutToHalfItsSize) {
 }
 
 TEST(PluginProbe, KillsALibraryThatHangsInInitAfterTheTimeLimit) {
-  const std::string path = std::string(MH_HANGING_PLUGIN_DIR) + "/hang_in_init.so";
+  const std::string path = std::string(mh::test::paths::hanging_plugin_dir) + "/hang_in_init.so";
   const auto t0 = std::chrono::steady_clock::now();
   const ProbeVerdict v = probe_library(path, std::chrono::milliseconds(300));
   const double seconds =

@@ -8,6 +8,7 @@
 #include <iterator>
 #include <string>
 
+#include "build_paths.hpp"
 #include "test_support.hpp"
 
 namespace mh {
@@ -46,10 +47,10 @@ TEST(PluginRegistry, AByteIdenticalCopyOfALoadedLibraryIsSkipped) {
   const fs::path dir =
       fs::temp_directory_path() / ("mh-registry-copy-" + std::to_string(::getpid()));
   fs::create_directories(dir);
-  fs::copy_file(std::string(MH_PLUGIN_DIR) + "/monohydra-penalty.so", dir / "copy.so",
+  fs::copy_file(std::string(mh::test::paths::plugin_dir) + "/monohydra-penalty.so", dir / "copy.so",
                 fs::copy_options::overwrite_existing);
   PluginRegistry r;
-  r.scan({MH_PLUGIN_DIR, dir.string()});
+  r.scan({mh::test::paths::plugin_dir, dir.string()});
   EXPECT_NO_THROW(r.find(ComponentKind::formulation, "penalty"));
   int offers = 0;
   for (const auto& c : r.components()) offers += c.id == "penalty" ? 1 : 0;
@@ -61,11 +62,11 @@ TEST(PluginRegistry, AByteIdenticalCopyOfALoadedLibraryIsSkipped) {
 // both, until choose() names one; a choice of a library that does not offer
 // the id is refused too.
 TEST(PluginRegistry, AnIdOfferedTwiceNeedsAChoiceOfLibrary) {
-  const std::string shipped =
-      std::filesystem::weakly_canonical(std::string(MH_PLUGIN_DIR) + "/monohydra-penalty.so");
-  const std::string clash = std::string(MH_CLASH_PLUGIN_DIR) + "/clashing_ids.so";
+  const std::string shipped = std::filesystem::weakly_canonical(
+      std::string(mh::test::paths::plugin_dir) + "/monohydra-penalty.so");
+  const std::string clash = std::string(mh::test::paths::clash_plugin_dir) + "/clashing_ids.so";
   PluginRegistry r;
-  r.scan({MH_CLASH_PLUGIN_DIR, MH_PLUGIN_DIR});
+  r.scan({mh::test::paths::clash_plugin_dir, mh::test::paths::plugin_dir});
   try {
     r.find(ComponentKind::formulation, "penalty");
     FAIL() << "expected PluginError";
@@ -83,13 +84,13 @@ TEST(PluginRegistry, AnIdOfferedTwiceNeedsAChoiceOfLibrary) {
   EXPECT_EQ(r.find(ComponentKind::formulation, "penalty").library, shipped);
 
   PluginRegistry wrong;
-  wrong.scan({MH_CLASH_PLUGIN_DIR, MH_PLUGIN_DIR});
+  wrong.scan({mh::test::paths::clash_plugin_dir, mh::test::paths::plugin_dir});
   wrong.choose("double-step", clash);
   EXPECT_THROW(wrong.find(ComponentKind::formulation, "double-step"), PluginError);
 }
 
 TEST(PluginRegistry, RefusesAFileThatIsNotASharedLibrary) {
-  const std::string path = std::string(MH_FIXTURE_DIR) + "/text_file.so";
+  const std::string path = std::string(mh::test::paths::fixture_dir) + "/text_file.so";
   const std::string err = load_error(path);
   EXPECT_NE(err.find("'" + path + "' is not a loadable shared library"), std::string::npos) << err;
   // In the dynamic loader's own words, not an errno.
@@ -100,14 +101,14 @@ TEST(PluginRegistry, RefusesAFileThatIsNotASharedLibrary) {
 // Ids and versions are quoted in model files, results (JSON) and logs: at
 // most 64 bytes of UTF-8 without control characters or spaces.
 TEST(PluginRegistry, RefusesAnIdLongerThanTheHostQuotesWithItsLength) {
-  const std::string path = std::string(MH_BOUNDARY_PLUGIN_DIR) + "/long_id.so";
+  const std::string path = std::string(mh::test::paths::boundary_plugin_dir) + "/long_id.so";
   EXPECT_EQ(load_error(path), "'" + path +
                                   "' offers a subsystem component (number 0) whose descriptor "
                                   "cannot be quoted: its id is 1048575 bytes long (at most 64)");
 }
 
 TEST(PluginRegistry, RefusesAnIdThatIsNotUtf8NamingTheByte) {
-  const std::string path = std::string(MH_BOUNDARY_PLUGIN_DIR) + "/non_utf8_id.so";
+  const std::string path = std::string(mh::test::paths::boundary_plugin_dir) + "/non_utf8_id.so";
   EXPECT_EQ(load_error(path), "'" + path +
                                   "' offers a subsystem component (number 0) whose descriptor "
                                   "cannot be quoted: its id is not valid UTF-8 (byte 7)");
@@ -116,7 +117,8 @@ TEST(PluginRegistry, RefusesAnIdThatIsNotUtf8NamingTheByte) {
 // An id that runs into unmapped memory: the probe's child measures every
 // descriptor text before the host does, so it crashes there and is refused.
 TEST(PluginRegistry, AnIdWithoutItsEndIsMeasuredInTheProbeNotInTheHost) {
-  const std::string path = std::string(MH_BOUNDARY_PLUGIN_DIR) + "/unterminated_id.so";
+  const std::string path =
+      std::string(mh::test::paths::boundary_plugin_dir) + "/unterminated_id.so";
   EXPECT_EQ(load_error(path), "'" + path +
                                   "' crashed with SIGSEGV during probing, listing its components "
                                   "(get_factory, count, descriptor)");
@@ -126,7 +128,7 @@ TEST(PluginRegistry, AnIdWithoutItsEndIsMeasuredInTheProbeNotInTheHost) {
 // which libraries were refused, and why.
 TEST(PluginRegistry, AnUnknownComponentErrorNamesTheLibrariesRefusedAndWhy) {
   PluginRegistry r;
-  r.scan({MH_BOUNDARY_PLUGIN_DIR});
+  r.scan({mh::test::paths::boundary_plugin_dir});
   try {
     r.find(ComponentKind::subsystem, "faulty-spring");
     FAIL() << "found";
@@ -144,7 +146,8 @@ TEST(PluginRegistry, AnUnknownComponentErrorNamesTheLibrariesRefusedAndWhy) {
 }
 
 TEST(PluginRegistry, RefusesALibraryWithoutTheEntrySymbol) {
-  const std::string path = std::string(MH_FIXTURE_DIR) + "/mh_fixture_not_a_plugin.so";
+  const std::string path =
+      std::string(mh::test::paths::fixture_dir) + "/mh_fixture_not_a_plugin.so";
   EXPECT_EQ(load_error(path), "'" + path +
                                   "' is not a monohydra plugin: it does not export the entry "
                                   "symbol 'mh_entry'");
@@ -155,7 +158,7 @@ const std::string kHostAbi =
     std::to_string(MH_ABI_VERSION_MAJOR) + "." + std::to_string(MH_ABI_VERSION_MINOR);
 
 TEST(PluginRegistry, RefusesAPluginOfAnIncompatibleAbiMajorVersion) {
-  const std::string path = std::string(MH_FIXTURE_DIR) + "/mh_fixture_future_abi.so";
+  const std::string path = std::string(mh::test::paths::fixture_dir) + "/mh_fixture_future_abi.so";
   EXPECT_EQ(load_error(path),
             "'" + path + "' was built for monohydra ABI 99.0, this host speaks ABI " + kHostAbi +
                 " (major versions must match: rebuild the plugin against SDK " +
@@ -163,7 +166,7 @@ TEST(PluginRegistry, RefusesAPluginOfAnIncompatibleAbiMajorVersion) {
 }
 
 TEST(PluginRegistry, RefusesAnAbi1PluginNamingBothVersions) {
-  const std::string path = std::string(MH_FIXTURE_DIR) + "/mh_fixture_major_one.so";
+  const std::string path = std::string(mh::test::paths::fixture_dir) + "/mh_fixture_major_one.so";
   EXPECT_EQ(load_error(path),
             "'" + path + "' was built for monohydra ABI 1.1, this host speaks ABI " + kHostAbi +
                 " (major versions must match: rebuild the plugin against SDK " +
@@ -174,7 +177,8 @@ TEST(PluginRegistry, RefusesAnAbi1PluginNamingBothVersions) {
 // built against the frozen 2.0 headers) is refused with both versions and
 // where the migration is described, and never called.
 TEST(PluginRegistry, RefusesAnSdk2PluginNamingBothVersionsAndTheMigrationSection) {
-  const std::string path = std::string(MH_SDK20_PLUGIN_DIR) + "/mh_fixture_sdk20_spring.so";
+  const std::string path =
+      std::string(mh::test::paths::sdk20_plugin_dir) + "/mh_fixture_sdk20_spring.so";
   EXPECT_EQ(load_error(path),
             "'" + path + "' was built for monohydra ABI 2.0, this host speaks ABI " + kHostAbi +
                 " (major versions must match: rebuild the plugin against SDK " +
@@ -182,7 +186,7 @@ TEST(PluginRegistry, RefusesAnSdk2PluginNamingBothVersionsAndTheMigrationSection
                 "; what changed since ABI 2 and how to port it: \"Migrating a 2.x plugin\" in "
                 "docs/sdk.md)");
   PluginRegistry r;
-  r.scan({MH_SDK20_PLUGIN_DIR, MH_PLUGIN_DIR});
+  r.scan({mh::test::paths::sdk20_plugin_dir, mh::test::paths::plugin_dir});
   ASSERT_EQ(r.refusals().size(), 1u);
   EXPECT_THROW(r.find(ComponentKind::subsystem, "sdk20-spring"), PluginError);
 }
@@ -196,16 +200,16 @@ TEST(PluginRegistry, TheMigrationSectionTheRefusalNamesExists) {
 
 TEST(PluginRegistry, ScanRecordsRefusalsAndKeepsGoing) {
   PluginRegistry r;
-  r.scan({MH_FIXTURE_DIR, MH_PLUGIN_DIR});
+  r.scan({mh::test::paths::fixture_dir, mh::test::paths::plugin_dir});
   EXPECT_EQ(r.refusals().size(), 4u);
   EXPECT_NO_THROW(r.find(ComponentKind::formulation, "open-loop"));
 }
 
 TEST(PluginRegistry, RefusesTheSameComponentIdFromASecondLibrary) {
   PluginRegistry r;
-  r.load(std::string(MH_PLUGIN_DIR) + "/monohydra-mechanics.so");
+  r.load(std::string(mh::test::paths::plugin_dir) + "/monohydra-mechanics.so");
   // The same file again is a no-op, not a clash.
-  EXPECT_NO_THROW(r.load(std::string(MH_PLUGIN_DIR) + "/monohydra-mechanics.so"));
+  EXPECT_NO_THROW(r.load(std::string(mh::test::paths::plugin_dir) + "/monohydra-mechanics.so"));
   EXPECT_EQ(r.components().size(), 2u);
 }
 

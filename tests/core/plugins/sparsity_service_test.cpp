@@ -8,6 +8,7 @@
 #include <cmath>
 #include <string>
 
+#include "build_paths.hpp"
 #include "monohydra/core/input_error.hpp"
 #include "monohydra/core/simulation.hpp"
 #include "test_support.hpp"
@@ -27,7 +28,7 @@ solver: {dt: 0.001, t_end: 1}
 )";
 
 std::string fixture(const std::string& variant) {
-  return std::string(MH_SPARSITY_PLUGIN_DIR) + "/exchange_pair_" + variant + ".so";
+  return std::string(mh::test::paths::sparsity_plugin_dir) + "/exchange_pair_" + variant + ".so";
 }
 
 TEST(SparsityService, ADeclaredBlockEntersTheTangentWithItsEntriesAndSolvesTheExchange) {

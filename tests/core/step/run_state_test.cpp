@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "build_paths.hpp"
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/simulation.hpp"
 #include "run_trace.hpp"
@@ -176,8 +177,8 @@ TEST(RunState, BytesAnInstanceRefusesLeaveTheWholeRunAsItWas) {
 
 TEST(RunState, ARunWhoseFormulationCannotSaveIsRefusedNamingIt) {
   const ModelFile file = load_model_file(test::source_path("models/double-pendulum.yaml"));
-  const PluginRegistry& plugins =
-      test::build_plugins_with(std::string(MH_FAULTY_PLUGIN_DIR) + "/crashing_formulation.so");
+  const PluginRegistry& plugins = test::build_plugins_with(
+      std::string(mh::test::paths::faulty_plugin_dir) + "/crashing_formulation.so");
   Simulation run(file, plugins, "crashing-formulation");
   EXPECT_THROW((void)run.save_state(), RunStateError);  // not started
   run.start();

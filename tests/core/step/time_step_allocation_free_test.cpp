@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "build_paths.hpp"
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/run_state.hpp"
 #include "monohydra/core/simulation.hpp"
@@ -87,7 +88,7 @@ TEST(TimeStepAllocationFree, TheCounterSeesAllocationsHereAndInDlopenedLibraries
   EXPECT_GT(allocations(), before);
   EXPECT_EQ(v[99], 1.0);
 
-  void* lib = dlopen(MH_ALLOCATING_LIBRARY, RTLD_NOW | RTLD_LOCAL);
+  void* lib = dlopen(mh::test::paths::allocating_library, RTLD_NOW | RTLD_LOCAL);
   ASSERT_NE(lib, nullptr) << dlerror();
   using Make = void* (*)(int);
   using Release = void (*)(void*);
@@ -173,12 +174,12 @@ TEST(TimeStepAllocationFree, SavingTheRunStateAgainIntoTheSameValueAllocatesNoth
   }
 }
 
-#ifdef MH_FMU_DIR
+#ifdef MH_HAVE_TEST_FMUS
 // Imported FMUs (monohydra-fmu) in the step: the plant with its directional
 // derivatives reading a state, the PI without them (differenced tangent)
 // reading the plant's output, and a snapshot saved again at every step.
 TEST(TimeStepAllocationFree, StepsWithImportedFmusAllocateNothing) {
-  const std::string dir = MH_FMU_DIR;
+  const std::string dir = mh::test::paths::fmu_dir;
   const std::string model =
       "units: {length: m, mass: kg, time: s, angle: rad}\nsubsystems:\n"
       "  - {name: lag, type: first-order-lag, input: [[0, 0], [1, 1]], time_constant: 0.2}\n"

@@ -19,6 +19,7 @@
 static const ::testing::UnitTest* const kUnitTest = ::testing::UnitTest::GetInstance();
 
 #include "../cli_runner.hpp"
+#include "build_paths.hpp"
 #include "fmu_importer.hpp"
 #include "model_description_rules.hpp"
 
@@ -62,7 +63,7 @@ std::unique_ptr<Exported> export_fmu(const std::string& model, const std::string
 // One of the FMUs the build wrote (tests/CMakeLists.txt: mh_test_fmus), unpacked.
 std::unique_ptr<Exported> built_fmu(const std::string& name) {
   auto e = std::make_unique<Exported>();
-  e->fmu = mh::test::unpack(fs::path(MH_TEST_FMUS) / (name + ".fmu"),
+  e->fmu = mh::test::unpack(fs::path(mh::test::paths::exported_fmus) / (name + ".fmu"),
                             mh::test::scratch_dir("fmu-" + name) / "unpacked");
   return e;
 }
@@ -448,7 +449,8 @@ TEST(FailingFmu, ANewtonFailureInDoStepIsAnErrorWithTheEnginesMessage) {
 
 TEST(Fmi2Fmu, GivesTheRunOfTheFmi3Fmu) {
   const fs::path dir = mh::test::scratch_dir("fmu-v2");
-  const Unpacked fmu = mh::test::unpack(fs::path(MH_TEST_FMUS) / "fourbar2.fmu", dir / "unpacked");
+  const Unpacked fmu =
+      mh::test::unpack(fs::path(mh::test::paths::exported_fmus) / "fourbar2.fmu", dir / "unpacked");
   EXPECT_STREQ(fmu.description.child("fmiModelDescription").attribute("fmiVersion").value(), "2.0");
   const auto violations = mh::test::model_description_violations(fmu.description);
   EXPECT_TRUE(violations.empty()) << violations.front();
@@ -483,7 +485,8 @@ TEST(Fmi2Fmu, GivesTheRunOfTheFmi3Fmu) {
 
 TEST(FmuContents, TheBinaryFindsEveryLibraryItNeedsInsideTheFmu) {
   const fs::path dir = mh::test::scratch_dir("fmu-contents");
-  const Unpacked fmu = mh::test::unpack(fs::path(MH_TEST_FMUS) / "fourbar.fmu", dir / "unpacked");
+  const Unpacked fmu =
+      mh::test::unpack(fs::path(mh::test::paths::exported_fmus) / "fourbar.fmu", dir / "unpacked");
   const fs::path bin = fmu.dir / "binaries" / "x86_64-linux";
   EXPECT_TRUE(fs::is_regular_file(fmu.dir / "resources" / "model.yaml"));
   EXPECT_TRUE(fs::is_regular_file(fmu.dir / "resources" / "plugins" / "monohydra-hydraulics.so"));

@@ -19,6 +19,7 @@
 #include <thread>
 #include <vector>
 
+#include "build_paths.hpp"
 #include "monohydra/simulation.h"
 
 namespace {
@@ -31,11 +32,12 @@ using Sim = std::unique_ptr<mhs_simulation, Free>;
 using Snapshot = std::unique_ptr<mhs_snapshot, Free>;
 
 std::string model(const std::string& name) {
-  return std::string(MH_SOURCE_DIR) + "/models/" + name;
+  return std::string(mh::test::paths::source_dir) + "/models/" + name;
 }
 
 std::filesystem::path scratch(const std::string& name) {
-  const auto dir = std::filesystem::path(MH_BINARY_DIR) / "test-scratch" / "simulation" / name;
+  const auto dir =
+      std::filesystem::path(mh::test::paths::binary_dir) / "test-scratch" / "simulation" / name;
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
@@ -88,8 +90,8 @@ std::string rows_until(mhs_simulation* sim, double t_end) {
 // `monohydra run MODEL ARGS --out` 's CSV.
 std::string cli_csv(const std::string& name, const std::string& args, const std::string& tag) {
   const auto out = scratch("cli-" + tag) / "run.csv";
-  const std::string command = std::string(MH_EXECUTABLE) + " run " + model(name) + " " + args +
-                              " --out " + out.string() + " > /dev/null 2>&1";
+  const std::string command = std::string(mh::test::paths::executable) + " run " + model(name) +
+                              " " + args + " --out " + out.string() + " > /dev/null 2>&1";
   EXPECT_EQ(std::system(command.c_str()), 0) << command;
   return read_file(out);
 }
@@ -136,7 +138,7 @@ TEST(EmbeddingRun, AValueSetByItsPathIsTheModelFileWithThatValue) {
   const auto edited = scratch("edited") / "fourbar-9MPa.yaml";
   std::ofstream(edited) << text;
   const auto out = edited.parent_path() / "run.csv";
-  const std::string command = std::string(MH_EXECUTABLE) + " run " + edited.string() +
+  const std::string command = std::string(mh::test::paths::executable) + " run " + edited.string() +
                               " --t-end 2 --out " + out.string() + " > /dev/null 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0) << command;
   Sim sim = open("fourbar.yaml", {{"subsystems/pump/pressure", "9e6"}, {"t_end", "2"}});
@@ -258,9 +260,9 @@ TEST(EmbeddingSnapshot, BytesRestoredInANewProcessContinueIdentically) {
     std::ofstream(dir / "state.bin", std::ios::binary)
         .write(static_cast<const char*>(bytes), static_cast<std::streamsize>(size));
     const std::string here = rows_until(sim.get(), 10.0);
-    const std::string command = std::string(MH_RESUME_SNAPSHOT) + " " + model("fourbar.yaml") +
-                                " " + formulation + " " + (dir / "state.bin").string() + " 10 > " +
-                                (dir / "rows.csv").string();
+    const std::string command =
+        std::string(mh::test::paths::resume_snapshot) + " " + model("fourbar.yaml") + " " +
+        formulation + " " + (dir / "state.bin").string() + " 10 > " + (dir / "rows.csv").string();
     ASSERT_EQ(std::system(command.c_str()), 0) << command;
     EXPECT_EQ(read_file(dir / "rows.csv"), here) << formulation;
   }
@@ -350,7 +352,8 @@ TEST(EmbeddingInputs, AnotherCycleSetFromCodeIsTheModelWithThatTable) {
   mhs_simulation* raw = nullptr;
   const mhs_setting two_s = {"t_end", "2"};
   ASSERT_LE(mhs_open_text(text.c_str(), "other-cycle.yaml",
-                          (std::string(MH_SOURCE_DIR) + "/models").c_str(), &two_s, 1, &raw),
+                          (std::string(mh::test::paths::source_dir) + "/models").c_str(), &two_s, 1,
+                          &raw),
             MHS_WARNING)
       << mhs_message(raw);
   Sim tabled(raw);
@@ -447,7 +450,8 @@ TEST(EmbeddingBadCalls, InputsRefuseOtherValuesNaNAndOutOfRangeSettingNone) {
   text.replace(text.find(range), range.size(), range + "\n    out_of_range: clamp");
   mhs_simulation* raw = nullptr;
   ASSERT_LE(mhs_open_text(text.c_str(), "clamp.yaml",
-                          (std::string(MH_SOURCE_DIR) + "/models").c_str(), nullptr, 0, &raw),
+                          (std::string(mh::test::paths::source_dir) + "/models").c_str(), nullptr,
+                          0, &raw),
             MHS_WARNING)
       << mhs_message(raw);
   Sim clamps(raw);
@@ -533,7 +537,8 @@ TEST(EmbeddingBadCalls, AModelThatDoesNotOpenIsFatalAndSaysWhy) {
   ASSERT_NE(text_model.find(reference), std::string::npos);
   text_model.replace(text_model.find(reference), reference.size(), "reference: valve_comand");
   EXPECT_EQ(mhs_open_text(text_model.c_str(), "typo.yaml",
-                          (std::string(MH_SOURCE_DIR) + "/models").c_str(), nullptr, 0, &raw),
+                          (std::string(mh::test::paths::source_dir) + "/models").c_str(), nullptr,
+                          0, &raw),
             MHS_FATAL);
   Sim typo(raw);
   EXPECT_NE(std::string(mhs_message(typo.get()))

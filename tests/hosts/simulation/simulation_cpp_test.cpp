@@ -10,12 +10,13 @@
 #include <string>
 #include <vector>
 
+#include "build_paths.hpp"
 #include "monohydra/simulation.hpp"
 
 namespace {
 
 std::string model(const std::string& name) {
-  return std::string(MH_SOURCE_DIR) + "/models/" + name;
+  return std::string(mh::test::paths::source_dir) + "/models/" + name;
 }
 
 // The same PI (kp 600 V/m, ki 500 V/(m s), +-10 V with back-calculation) in

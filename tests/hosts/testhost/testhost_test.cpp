@@ -13,20 +13,22 @@
 #include <stdexcept>
 #include <string>
 
+#include "build_paths.hpp"
+
 namespace {
 
 namespace th = monohydra::testhost;
 
 std::string fixture(const std::string& name) {
-  return std::string(MH_CHECK_FIXTURE_DIR) + "/" + name + ".so";
+  return std::string(mh::test::paths::check_fixture_dir) + "/" + name + ".so";
 }
 
-const th::Model kPendulum =
-    th::Model::file(std::string(MH_SOURCE_DIR) + "/tests/fixtures/check/spring-pendulum.yaml");
+const th::Model kPendulum = th::Model::file(std::string(mh::test::paths::source_dir) +
+                                            "/tests/fixtures/check/spring-pendulum.yaml");
 
 th::CheckOptions search_build() {
   th::CheckOptions o;
-  o.search_path = {MH_PLUGIN_DIR};
+  o.search_path = {mh::test::paths::plugin_dir};
   return o;
 }
 
@@ -44,7 +46,7 @@ const th::Check* about(const th::CheckReport& r, const std::string& what) {
 }
 
 TEST(TestHost, RunsASoundSpringAndItsSeriesConserveEnergy) {
-  const th::Host host(fixture("sound"), "faulty-spring", {MH_PLUGIN_DIR});
+  const th::Host host(fixture("sound"), "faulty-spring", {mh::test::paths::plugin_dir});
   EXPECT_EQ(host.kind(), th::Kind::subsystem);
   EXPECT_EQ(host.version(), "0.0.1");
   const th::Series s = host.run(kPendulum, 1000);
@@ -70,7 +72,7 @@ TEST(TestHost, RunsASoundSpringAndItsSeriesConserveEnergy) {
 
 TEST(TestHost, MeasuresTheTangentErrorOfASoundAndABrokenJacobian) {
   const th::TangentComparison sound =
-      th::Host(fixture("sound"), "faulty-spring", {MH_PLUGIN_DIR}).tangent(kPendulum);
+      th::Host(fixture("sound"), "faulty-spring", {mh::test::paths::plugin_dir}).tangent(kPendulum);
   ASSERT_TRUE(sound.failure.empty()) << sound.failure;
   EXPECT_TRUE(sound.ok);
   EXPECT_LT(sound.max_error, 1e-6);
@@ -79,7 +81,8 @@ TEST(TestHost, MeasuresTheTangentErrorOfASoundAndABrokenJacobian) {
   // assembled tangent shows beside c_a M' at the coarse step: -k off at
   // z1's diagonal (the entry's differences are 173.4, the analytic 93.4).
   const th::CheckReport broken =
-      th::Host(fixture("wrong_jacobian"), "faulty-spring", {MH_PLUGIN_DIR}).check(kPendulum);
+      th::Host(fixture("wrong_jacobian"), "faulty-spring", {mh::test::paths::plugin_dir})
+          .check(kPendulum);
   const th::Check* t = find(broken, "subsystem faulty-spring: analytic tangent");
   ASSERT_NE(t, nullptr);
   EXPECT_EQ(t->verdict, th::Check::Verdict::failed);
@@ -91,11 +94,11 @@ TEST(TestHost, MeasuresTheTangentErrorOfASoundAndABrokenJacobian) {
 
 TEST(TestHost, ASoundSpringPassesEveryCheckAndBrokenOnesFailAsValues) {
   const th::CheckReport sound =
-      th::Host(fixture("sound"), "faulty-spring", {MH_PLUGIN_DIR}).check(kPendulum);
+      th::Host(fixture("sound"), "faulty-spring", {mh::test::paths::plugin_dir}).check(kPendulum);
   EXPECT_TRUE(sound.passed());
   EXPECT_GE(sound.checks.size(), 5u);
   for (const char* broken : {"failing_create", "missing_evaluate", "throwing"}) {
-    const th::Host host(fixture(broken), "faulty-spring", {MH_PLUGIN_DIR});
+    const th::Host host(fixture(broken), "faulty-spring", {mh::test::paths::plugin_dir});
     EXPECT_FALSE(host.create_destroy(kPendulum).empty()) << broken;
     const th::CheckReport r = host.check(kPendulum);
     EXPECT_FALSE(r.passed()) << broken;
@@ -110,7 +113,7 @@ TEST(TestHost, ASoundSpringPassesEveryCheckAndBrokenOnesFailAsValues) {
 
 TEST(TestHost, ALibraryItCannotLoadOrAnIdItLacksThrowsWithTheReason) {
   try {
-    th::Host host(std::string(MH_CHECK_FIXTURE_DIR) + "/no-such.so", "x");
+    th::Host host(std::string(mh::test::paths::check_fixture_dir) + "/no-such.so", "x");
     FAIL() << "loaded a library that does not exist";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("no-such.so"), std::string::npos) << e.what();

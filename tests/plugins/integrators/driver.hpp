@@ -18,6 +18,7 @@
 #include <utility>
 #include <vector>
 
+#include "build_paths.hpp"
 #include "fake_host.hpp"
 #include "monohydra/cpp/unknowns.hpp"
 #include "monohydra/entry.h"
@@ -37,7 +38,7 @@ class IntegratorLibrary {
 
  private:
   IntegratorLibrary() {
-    const std::string path = std::string(MH_PLUGIN_DIR) + "/monohydra-integrators.so";
+    const std::string path = std::string(mh::test::paths::plugin_dir) + "/monohydra-integrators.so";
     handle_ = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
     if (handle_ == nullptr) throw std::runtime_error("dlopen " + path + ": " + dlerror());
     entry_ = static_cast<const mh_plugin_entry*>(dlsym(handle_, MH_ENTRY_SYMBOL));

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "build_paths.hpp"
 #include "hosts/cli_runner.hpp"
 #include "monohydra/core/run_state.hpp"
 #include "monohydra/core/simulation.hpp"
@@ -23,9 +24,9 @@
 namespace mh {
 namespace {
 
-#ifdef MH_FMU_DIR
+#ifdef MH_HAVE_TEST_FMUS
 std::string fmu_file(const std::string& name) {
-  return std::string(MH_FMU_DIR) + "/" + name + ".fmu";
+  return std::string(mh::test::paths::fmu_dir) + "/" + name + ".fmu";
 }
 
 // A model of subsystems only (no bodies: key), dt = 1 ms.
@@ -317,7 +318,7 @@ void expect_refused(const std::string& fmu_path, const std::string& reason) {
 }
 
 TEST(FmuImport, RefusesAMissingFile) {
-  expect_refused(std::string(MH_FMU_DIR) + "/absent.fmu", "it does not exist");
+  expect_refused(std::string(mh::test::paths::fmu_dir) + "/absent.fmu", "it does not exist");
 }
 TEST(FmuImport, RefusesAFileThatIsNotAZip) {
   expect_refused(fmu_file("not_a_zip"), "it is not a zip archive");
