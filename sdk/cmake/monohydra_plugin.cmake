@@ -13,12 +13,13 @@ function(monohydra_add_plugin target)
     VISIBILITY_INLINES_HIDDEN ON)
   target_link_options(${target} PRIVATE
     -Wl,--version-script=${CMAKE_CURRENT_FUNCTION_LIST_DIR}/plugin.map)
-  # In monohydra's own sanitizer build (MONOHYDRA_SANITIZE) with clang, a
-  # module is not linked against the ASan/UBSan runtime: the instrumented
-  # executable that dlopens it provides those symbols, so --no-undefined would
-  # fail there. GCC links the runtime into the module and keeps the check.
-  if(NOT (MONOHYDRA_SANITIZE AND (CMAKE_C_COMPILER_ID MATCHES "Clang" OR
-                                   CMAKE_CXX_COMPILER_ID MATCHES "Clang")))
+  # In monohydra's own sanitizer builds (MONOHYDRA_SANITIZE,
+  # MONOHYDRA_SANITIZE_THREAD) with clang, a module is not linked against the
+  # sanitizers' runtime: the instrumented executable that dlopens it provides
+  # those symbols, so --no-undefined would fail there. GCC links the runtime
+  # into the module and keeps the check.
+  if(NOT ((MONOHYDRA_SANITIZE OR MONOHYDRA_SANITIZE_THREAD) AND
+          (CMAKE_C_COMPILER_ID MATCHES "Clang" OR CMAKE_CXX_COMPILER_ID MATCHES "Clang")))
     target_link_options(${target} PRIVATE -Wl,--no-undefined)
   endif()
 endfunction()
