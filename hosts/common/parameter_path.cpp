@@ -149,6 +149,27 @@ std::string check_path(const YAML::Node& root, const std::string& path) {
   return walk(YAML::Clone(root), split_path(path), nullptr);
 }
 
+std::optional<YAML::Node> value_at(const YAML::Node& root, const std::string& path) {
+  YAML::Node node;
+  node.reset(root);
+  for (const std::string& seg : split_path(path)) {
+    YAML::Node child;
+    if (node.IsMap()) {
+      const YAML::Node& map = node;
+      if (!map[seg]) return std::nullopt;
+      child.reset(map[seg]);
+    } else if (node.IsSequence()) {
+      const long index = find_item(node, seg);
+      if (index < 0) return std::nullopt;
+      child.reset(node[static_cast<std::size_t>(index)]);
+    } else {
+      return std::nullopt;
+    }
+    node.reset(child);
+  }
+  return node;
+}
+
 void set_path(YAML::Node& root, const std::string& path, const YAML::Node& value) {
   const std::string reason = walk(root, split_path(path), &value);
   if (!reason.empty()) throw std::invalid_argument(path + ": " + reason);

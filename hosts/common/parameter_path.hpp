@@ -8,6 +8,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,11 @@ std::vector<std::string> split_path(const std::string& path);
 // solver/max_iterations, solver/max_step_halvings, solver/tol_position) and
 // the name or an option of formulation and integrator.
 std::string check_path(const YAML::Node& root, const std::string& path);
+
+// The node the file writes at `path` (with its mark), by the same walk;
+// none when the file writes nothing there (a solver setting or a component
+// option it leaves out, or a path that is not in the model).
+std::optional<YAML::Node> value_at(const YAML::Node& root, const std::string& path);
 
 // Sets the value at `path` in `root` (normalizing formulation and integrator
 // first). Throws std::invalid_argument with check_path's reason.

@@ -48,7 +48,7 @@ const char* kUsage =
     "                          plugins: choices), its components and ABI version, and every\n"
     "                          id that two libraries offer\n"
     "  run MODEL.yaml [--formulation NAME] [--integrator NAME] [--dt S] [--t-end S]\n"
-    "                 [--out FILE.csv | --stream] [--output-interval S]\n"
+    "                 [--set PATH=VALUE]... [--out FILE.csv | --stream] [--output-interval S]\n"
     "                 [--real-time [--newton-cap N]] [--inputs FILE.csv|-]\n"
     "                 [--save-state FILE [--at T]] [--resume FILE] [LIMITS]\n"
     "                          simulate MODEL.yaml; CSV columns: t, z1..zN, states,\n"
@@ -60,7 +60,9 @@ const char* kUsage =
     "                          columns late (s) and unconverged (|dx|/tol); --inputs sets\n"
     "                          the model's inputs from t,NAME,... rows or from name=value\n"
     "                          lines on stdin (-); --stream writes the rows to stdout;\n"
-    "                          --save-state writes a checkpoint that --resume goes on from\n"
+    "                          --save-state writes a checkpoint that --resume goes on from;\n"
+    "                          --set PATH=VALUE sets a value of the model by its path\n"
+    "                          (bodies/boom/mass=250; run, validate and compare)\n"
     "  run MODEL.yaml --report DIR [--formulation NAME] [--integrator NAME]\n"
     "                 [--dt S] [--t-end S] [LIMITS]\n"
     "                          the run's report: DIR/report.html (the animated 3D view and\n"
@@ -137,7 +139,8 @@ std::optional<int> parse_run_args(const std::vector<std::string>& args, const ch
   app.add_option("MODEL.yaml", models, "the model file");
   app.add_option("--formulation", request.formulation, "replaces the model file's formulation");
   app.add_option("--integrator", request.integrator, "replaces the model file's integrator");
-  const StepOverrideOptions overrides(app, true, true);
+  StepOverrideOptions overrides(app, true, true);
+  overrides.add_settings(app);
   if (out != nullptr) app.add_option("--out", *out, "write the results to FILE.csv");
   auto* interval_opt =
       app.add_option("--output-interval", interval, "write rows at multiples of S (s) only");
@@ -276,6 +279,7 @@ int run_prepared(PreparedRun& prepared, const RunRequest& request, const std::st
     provenance.output_interval = request.output_interval;
     provenance.real_time_cap = request.real_time_cap;
     provenance.plugins = prepared.used;
+    provenance.set = request.overrides.set;
     if (!write_sidecar(out_path, provenance)) return 2;
   }
   // Inputs from outside and checkpoints: read and checked before any step.

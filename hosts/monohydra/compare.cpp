@@ -99,7 +99,7 @@ std::string interval_text(const std::vector<PlotInterval>& intervals) {
 int run_comparison(const CompareJob& job, std::ostream& out) {
   ModelFile file;
   try {
-    file = load_model_file(job.model_path);
+    file = host::load_model_file(job.model_path, job.overrides.set);
   } catch (const InputError& err) {
     std::cerr << "monohydra: " << err.what() << '\n';
     return 2;
@@ -181,6 +181,7 @@ int run_comparison(const CompareJob& job, std::ostream& out) {
         provenance.solver.t_end =
             runs.back().dt > 0.0 ? runs.back().t_end : o.t_end.value_or(file.solver.t_end);
         provenance.plugins = used;
+        provenance.set = job.overrides.set;
         provenance.stability = &runs.back().stability;
         if (!write_sidecar(csv, provenance)) return 2;
       }
@@ -278,7 +279,8 @@ int compare(const std::vector<std::string>& args) {
   app.add_option("--report", job.report_dir,
                  "write DIR/report.html with the paper's figures and each run's CSV (with its "
                  "NAME.meta.json), named after what varies");
-  const StepOverrideOptions overrides(app, true, true);
+  StepOverrideOptions overrides(app, true, true);
+  overrides.add_settings(app);
   if (const auto code = parse_subcommand(app, args)) return *code;
   if (!overrides.read(job.overrides)) return 2;
   if (models.size() > 1) {

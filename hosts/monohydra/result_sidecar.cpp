@@ -105,7 +105,13 @@ bool write_sidecar(const std::string& result, const ResultProvenance& p) {
     << (p.output_interval ? json_number(*p.output_interval) : std::string("null")) << ",\n"
     << "    \"real_time_newton_cap\": "
     << (p.real_time_cap > 0 ? std::to_string(p.real_time_cap) : std::string("null")) << ",\n"
-    << "    \"explicit_stability\": " << json_string(to_string(p.solver.explicit_stability)) << "\n"
+    << "    \"explicit_stability\": " << json_string(to_string(p.solver.explicit_stability))
+    << ",\n"
+    << "    \"set\": [";
+  for (size_t i = 0; i < p.set.size(); ++i)
+    j << (i == 0 ? "" : ", ") << "{\"path\": " << json_string(p.set[i].path)
+      << ", \"value\": " << json_string(p.set[i].value) << "}";
+  j << "]\n"
     << "  },\n"
     << "  \"explicit_stability\": ";
   if (p.stability != nullptr && p.stability->checks > 0) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "model_plugins.hpp"
+#include "model_settings.hpp"
 #include "monohydra/core/model_file.hpp"
 
 namespace mh::cli {
@@ -20,6 +21,7 @@ struct ResultProvenance {
   std::optional<double> output_interval;  // --output-interval, when given
   int real_time_cap = 0;                  // --real-time's Newton cap (0: off)
   std::vector<host::UsedComponent> plugins;
+  std::vector<host::PathSetting> set;  // --set PATH=VALUE, in order
   // An explicit integrator's stability check, once the run has made it
   // (null, or no checks: "explicit_stability": null).
   const ExplicitStability* stability = nullptr;

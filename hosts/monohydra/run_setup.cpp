@@ -4,6 +4,7 @@
 
 #include "cli_support.hpp"
 #include "model_plugins.hpp"
+#include "model_settings.hpp"
 #include "monohydra/core/run.hpp"
 
 namespace mh::cli {
@@ -11,7 +12,7 @@ namespace mh::cli {
 std::unique_ptr<PreparedRun> prepare_run(const RunRequest& request) {
   auto p = std::make_unique<PreparedRun>();
   try {
-    p->file = load_model_file(request.model_path);
+    p->file = host::load_model_file(request.model_path, request.overrides.set);
   } catch (const InputError& err) {
     std::cerr << "monohydra: " << err.what() << '\n';
     return nullptr;

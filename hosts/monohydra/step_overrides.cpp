@@ -33,7 +33,25 @@ StepOverrideOptions::StepOverrideOptions(CLI::App& app, bool limits, bool stabil
         "(default, or solver: explicit_stability) or is not checked");
 }
 
+void StepOverrideOptions::add_settings(CLI::App& app) {
+  set_opt_ = app.add_option("--set", set_,
+                            "PATH=VALUE: set a value of the model by its path "
+                            "(bodies/boom/mass=250, subsystems/valve/flow_coefficient=2e-8, "
+                            "gravity/1=-9.81); repeatable")
+                 ->take_all()
+                 ->allow_extra_args(false);
+}
+
 bool StepOverrideOptions::read(StepOverrides& into, bool positive) const {
+  if (set_opt_ != nullptr)
+    for (const std::string& text : set_) {
+      try {
+        into.set.push_back(host::parse_setting(text));
+      } catch (const std::invalid_argument& err) {
+        std::cerr << "monohydra: --set " << err.what() << '\n';
+        return false;
+      }
+    }
   for (const auto& [opt, flag, text, target] :
        {std::tuple{dt_opt_, "--dt", &dt_, &into.dt},
         std::tuple{t_end_opt_, "--t-end", &t_end_, &into.t_end}}) {

@@ -360,3 +360,56 @@ TEST(MonohydraCliReliability, StateColumnNamedLikeACoordinateIsRefused) {
 }
 
 }  // namespace
+
+namespace {
+
+std::string file_text(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+}  // namespace
+
+// --set is the model file as if it wrote the value: the same rows to the
+// byte as a copy of the file edited by hand, and the sidecar says what was set.
+TEST(MonohydraCliSet, ARunWithSetIsTheRunOfTheFileEditedToTheSameValue) {
+  const auto dir = temp_dir() / "set";
+  std::filesystem::create_directories(dir);
+  std::string text = file_text(model("fourbar.yaml"));
+  const std::size_t at = text.find("mass: 50");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, 8, "mass: 57.5");
+  const auto edited = dir / "fourbar-edited.yaml";
+  std::ofstream(edited) << text;
+  const auto a = dir / "set.csv";
+  const auto b = dir / "edited.csv";
+  const auto c = dir / "nominal.csv";
+  const CliResult set = run_cli("run " + model("fourbar.yaml") +
+                                " --t-end 0.2 --set bodies/body3/mass=57.5 --out " + a.string());
+  ASSERT_EQ(set.code, 0) << set.output;
+  ASSERT_EQ(run_cli("run " + edited.string() + " --t-end 0.2 --out " + b.string()).code, 0);
+  ASSERT_EQ(run_cli("run " + model("fourbar.yaml") + " --t-end 0.2 --out " + c.string()).code, 0);
+  EXPECT_EQ(file_text(a), file_text(b));
+  EXPECT_NE(file_text(a), file_text(c));  // and the value acts
+  EXPECT_NE(file_text(dir / "set.meta.json")
+                .find(R"("set": [{"path": "bodies/body3/mass", "value": "57.5"}])"),
+            std::string::npos);
+}
+
+TEST(MonohydraCliSet, APathTheModelDoesNotHaveOrANonNumberIsRefusedNamingFileAndPath) {
+  const CliResult missing =
+      run_cli("run " + model("fourbar.yaml") + " --set subsystems/V9/bulk_modulus=1e9");
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_TRUE(contains(missing,
+                       "fourbar.yaml: --set subsystems/V9/bulk_modulus=1e9: no item "
+                       "named 'V9' in subsystems (it has"))
+      << missing.output;
+  const CliResult word = run_cli("validate " + model("fourbar.yaml") + " --set gravity/1=down");
+  EXPECT_EQ(word.code, 1);
+  EXPECT_TRUE(contains(word, "--set gravity/1=down: expected a number")) << word.output;
+  const CliResult malformed = run_cli("run " + model("fourbar.yaml") + " --set gravity");
+  EXPECT_EQ(malformed.code, 2);
+  EXPECT_TRUE(contains(malformed, "--set expects PATH=VALUE")) << malformed.output;
+}

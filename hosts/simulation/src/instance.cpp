@@ -1,19 +1,17 @@
 #include "instance.hpp"
 
-#include <yaml-cpp/yaml.h>
-
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <mutex>
 #include <stdexcept>
 
 #include "model_plugins.hpp"
+#include "model_settings.hpp"
 #include "monohydra/core/input_error.hpp"
+#include "monohydra/core/model_text.hpp"
 #include "monohydra/core/run_limits.hpp"
-#include "parameter_path.hpp"
 
 namespace mh::embed {
 
@@ -37,19 +35,11 @@ double seconds(const std::string& path, const std::string& text) {
   return v;
 }
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::invalid_argument("cannot read the model file '" + path + "'");
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 }  // namespace
 
 Instance::Instance(const OpenRequest& request) {
   RunChoices choices;
-  std::vector<std::pair<std::string, std::string>> paths;
+  std::vector<host::PathSetting> paths;
   for (const auto& [path, value] : request.settings) {
     if (path == "formulation")
       choices.formulation = value;
@@ -60,7 +50,7 @@ Instance::Instance(const OpenRequest& request) {
     else if (path == "t_end")
       choices.t_end = seconds(path, value);
     else
-      paths.emplace_back(path, value);
+      paths.push_back({path, value});
   }
   const bool from_file = !request.path.empty();
   const std::string label = from_file ? request.path : request.label;
@@ -70,25 +60,19 @@ Instance::Instance(const OpenRequest& request) {
     file_ = from_file ? load_model_file(request.path)
                       : parse_model_text(request.text, label, base_dir.empty() ? "." : base_dir);
   } else {
-    // Values by path are set in the model's tree before the parser reads it,
-    // as sweep sets them, so a bad value gets the parser's own checks.
-    YAML::Node root;
+    // Values by path are set in the model's text before the parser reads it,
+    // as run --set sets them, so a bad value gets the parser's own checks at
+    // the line that holds it.
+    const std::string text = from_file ? read_model_text(request.path) : request.text;
+    host::SetText set;
     try {
-      root = YAML::Load(from_file ? read_text(request.path) : request.text);
-    } catch (const YAML::Exception& err) {
-      throw std::invalid_argument(label + ": not YAML: " + err.what());
+      set = host::apply_settings(text, label, paths);
+    } catch (const std::invalid_argument& err) {
+      throw std::invalid_argument(std::string("setting ") + err.what());
     }
-    for (const auto& [path, value] : paths) {
-      try {
-        host::set_path(root, path, YAML::Load(value));
-      } catch (const std::exception& err) {
-        throw std::invalid_argument("setting '" + path + "': " + err.what());
-      }
-    }
-    YAML::Emitter out;
-    out << root;
-    file_ = parse_model_text(out.c_str(), label + " (with the settings)",
-                             base_dir.empty() ? "." : base_dir);
+    file_ =
+        parse_model_text(set.text, label + (set.rewritten ? " (as the settings rewrote it)" : ""),
+                         base_dir.empty() ? "." : base_dir);
   }
   {
     const std::lock_guard<std::mutex> lock(open_mutex());

@@ -14,6 +14,7 @@
 #include <string>
 #include <system_error>
 
+#include "monohydra/core/model_text.hpp"
 #include "parser.hpp"
 
 namespace mh {
@@ -212,7 +213,7 @@ ModelFile parse_model_text(const std::string& yaml_text, const std::string& file
 // A model file is a regular text file of at most 64 MiB that ends with a line
 // break: /dev/zero, a FIFO or a binary are refused before yaml-cpp reads them
 // (it would grow without bound), and a file cut mid-line is caught.
-ModelFile load_model_file(const std::string& path) {
+std::string read_model_text(const std::string& path) {
   SourceMark mark;
   mark.file = path;
   std::error_code ec;
@@ -250,9 +251,13 @@ ModelFile load_model_file(const std::string& path) {
                      "the file does not end with a line break, so it may have been cut short "
                      "(end its last line with one)");
   }
-  fs::path base = file.parent_path();
+  return text;
+}
+
+ModelFile load_model_file(const std::string& path) {
+  fs::path base = fs::path(path).parent_path();
   if (base.empty()) base = ".";
-  return parse_model_text(text, path, base.string());
+  return parse_model_text(read_model_text(path), path, base.string());
 }
 
 }  // namespace mh
