@@ -18,6 +18,7 @@
 #include "monohydra/sparsity.h"
 #include "monohydra/visual.h"
 #include "plugins/abi_struct.hpp"
+#include "plugins/log_text.hpp"
 
 namespace mh {
 namespace {
@@ -76,7 +77,7 @@ void host_log(const mh_host* host, mh_log_level level, const char* message) {
   InstanceHost* hp = live(host, "log");
   if (hp == nullptr) return;
   InstanceHost& h = *hp;
-  const std::string msg = message != nullptr ? message : "";
+  const std::string msg = log_text(message);
   if (level >= MH_LOG_ERROR) h.engine->last_plugin_error = h.source + ": " + msg;
   if (h.engine->log) h.engine->log(level, h.source, msg);
 }
