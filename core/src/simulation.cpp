@@ -2,10 +2,14 @@
 // the tangent's pattern analysed once; then the accessors of the results.
 #include "monohydra/core/simulation.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <utility>
 
 #include "engine.hpp"
+#include "monohydra/core/dynamics.hpp"
 #include "monohydra/core/kinematics.hpp"
 
 namespace mh {
@@ -392,6 +396,68 @@ double Simulation::set_input(int k, double value) {
   if (engine_->accepted.started && value != before) signals.jump_pending = true;
   return value;
 }
+namespace {
+
+// KE and PE of the accepted state under the engine's model (energy_balance.cpp's terms).
+// A Data of its own: the engine's holds the last evaluation's kinematics.
+std::pair<double, double> mechanical_energy(const Simulation::Engine& e) {
+  Data data(e.model);
+  forward_kinematics(e.model, data, e.accepted.z, e.accepted.zd);
+  return {mh::kinetic_energy(e.model, data), mh::potential_energy(e.model, data)};
+}
+
+// The change of the model `change` makes, with the energy balance's
+// references moved by its jump and the kept factorization dropped.
+template <class Change>
+void change_in_place(Simulation::Engine& e, Change&& change) {
+  if (!e.accepted.started) {
+    change();
+    return;
+  }
+  const auto [ke_before, pe_before] = mechanical_energy(e);
+  change();
+  const auto [ke_after, pe_after] = mechanical_energy(e);
+  e.energy.ke0 += ke_after - ke_before;
+  e.energy.pe0 += pe_after - pe_before;
+  e.energy.ke = ke_after;
+  e.energy.pe = pe_after;
+  e.solver.reuse.invalidate();  // modified Newton's factorization is of the old model
+}
+
+}  // namespace
+
+void Simulation::set_body_inertia(int body, double mass, const Eigen::Vector3d& com_B,
+                                  const Eigen::Matrix3d& inertia_B) {
+  Engine& e = *engine_;
+  if (body < 0 || body >= e.model.num_bodies())
+    throw std::invalid_argument("body " + std::to_string(body) + ": the model has " +
+                                std::to_string(e.model.num_bodies()) + " bodies");
+  const std::string name = "body '" + e.model.bodies[static_cast<size_t>(body)].name + "'";
+  if (!std::isfinite(mass) || !(mass > 0.0))
+    throw std::invalid_argument(name + ": expected a positive finite mass (kg), got " +
+                                short_number(mass));
+  if (!com_B.allFinite())
+    throw std::invalid_argument(name + ": expected a finite centre of mass (m)");
+  if (!inertia_B.allFinite() || !inertia_B.isApprox(inertia_B.transpose(), 1e-12) ||
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(inertia_B, Eigen::EigenvaluesOnly)
+              .eigenvalues()
+              .minCoeff() < -1e-12 * inertia_B.norm())
+    throw std::invalid_argument(name +
+                                ": expected a finite, symmetric, positive semi-definite inertia "
+                                "(kg m^2)");
+  change_in_place(e, [&] {
+    Body& b = e.model.bodies[static_cast<size_t>(body)];
+    b.mass = mass;
+    b.com_B = com_B;
+    b.inertia_B = inertia_B;
+  });
+}
+
+void Simulation::set_gravity(const Eigen::Vector3d& gravity) {
+  if (!gravity.allFinite()) throw std::invalid_argument("gravity: expected finite values (m/s^2)");
+  change_in_place(*engine_, [&] { engine_->model.gravity = gravity; });
+}
+
 double Simulation::time() const {
   return engine_->accepted.t;
 }

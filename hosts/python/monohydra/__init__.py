@@ -246,6 +246,16 @@ class Simulation:
         declared range, unless the input clamps."""
         self._run.set(self._index(name), float(value))
 
+    def set_parameter(self, path: str, value: float) -> None:
+        """Changes a value of the model in place, before start or between
+        steps, without opening it again: a body's mass, centre of mass or
+        inertia, or gravity, by its path ("bodies/body3/mass", "gravity/1"),
+        in the model file's units. The run goes on from its state as a run
+        of the changed model. Refused (InputError), nothing changed: a path
+        the model does not have, a component's option (open the model with
+        options={path: value} instead), a value the model file refuses."""
+        self._run.set_parameter(str(path), float(value))
+
     def value(self, name: str) -> float:
         """Any variable's value at the last accepted step, by name."""
         return self._run.get(self._index(name))

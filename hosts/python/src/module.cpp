@@ -153,6 +153,12 @@ class Run {
       return sim_.warning();
     });
   }
+  void set_parameter(const std::string& path, double value) {
+    as_input([&] {
+      sim_.set_parameter(path, value);
+      return 0;
+    });
+  }
   std::vector<std::string> row_names() const {
     return as_input([&] { return sim_.row_names(); });
   }
@@ -224,6 +230,7 @@ PYBIND11_MODULE(_monohydra, m) {
       .def("find", &Run::find, py::arg("name"))
       .def("get", &Run::get, py::arg("index"))
       .def("set", &Run::set, py::arg("index"), py::arg("value"))
+      .def("set_parameter", &Run::set_parameter, py::arg("path"), py::arg("value"))
       .def("row_names", &Run::row_names)
       .def("header", &Run::header)
       .def("snapshot", &Run::snapshot)

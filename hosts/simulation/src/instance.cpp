@@ -12,6 +12,7 @@
 #include "monohydra/core/input_error.hpp"
 #include "monohydra/core/model_text.hpp"
 #include "monohydra/core/run_limits.hpp"
+#include "parameter_path.hpp"
 
 namespace mh::embed {
 
@@ -53,27 +54,26 @@ Instance::Instance(const OpenRequest& request) {
       paths.push_back({path, value});
   }
   const bool from_file = !request.path.empty();
-  const std::string label = from_file ? request.path : request.label;
-  const std::string base_dir =
+  label_ = from_file ? request.path : request.label;
+  base_dir_ =
       from_file ? std::filesystem::path(request.path).parent_path().string() : request.base_dir;
-  if (paths.empty()) {
-    file_ = from_file ? load_model_file(request.path)
-                      : parse_model_text(request.text, label, base_dir.empty() ? "." : base_dir);
-  } else {
+  if (base_dir_.empty()) base_dir_ = ".";
+  text_ = from_file ? read_model_text(request.path) : request.text;
+  std::string label = label_;
+  if (!paths.empty()) {
     // Values by path are set in the model's text before the parser reads it,
     // as run --set sets them, so a bad value gets the parser's own checks at
     // the line that holds it.
-    const std::string text = from_file ? read_model_text(request.path) : request.text;
     host::SetText set;
     try {
-      set = host::apply_settings(text, label, paths);
+      set = host::apply_settings(text_, label_, paths);
     } catch (const std::invalid_argument& err) {
       throw std::invalid_argument(std::string("setting ") + err.what());
     }
-    file_ =
-        parse_model_text(set.text, label + (set.rewritten ? " (as the settings rewrote it)" : ""),
-                         base_dir.empty() ? "." : base_dir);
+    text_ = set.text;
+    if (set.rewritten) label += " (as the settings rewrote it)";
   }
+  file_ = parse_model_text(text_, label, base_dir_);
   {
     const std::lock_guard<std::mutex> lock(open_mutex());
     host::load_model_plugins(file_, registry_);
@@ -93,6 +93,53 @@ Instance::Instance(const OpenRequest& request) {
   layout_ = std::make_unique<CsvLayout>(*sim_, file_.output, std::nullopt);
   check_column_names(file_, *sim_);
   make_variables();
+}
+
+void Instance::set_parameter(const std::string& path, const std::string& value) {
+  const std::vector<std::string> parts = host::split_path(path);
+  const bool body_value = parts.size() >= 3 && parts[0] == "bodies" &&
+                          (parts[2] == "mass" || parts[2] == "com" || parts[2] == "inertia");
+  const bool gravity = parts.size() <= 2 && parts[0] == "gravity";
+  if (!body_value && !gravity)
+    throw std::invalid_argument(
+        path +
+        ": not a value that changes during a run; in place change a body's mass, com "
+        "and inertia, and gravity (" +
+        (parts[0] == "subsystems" ? std::string("a component's options are read when it is set "
+                                                "up: open the model with this setting")
+                                  : std::string("open the model with this setting")) +
+        ")");
+  const host::SetText set = host::apply_settings(text_, label_, {{path, value}});
+  ModelFile changed;
+  try {
+    changed = parse_model_text(set.text, label_ + " (with " + path + "=" + value + ")", base_dir_);
+  } catch (const InputError& err) {
+    throw std::invalid_argument(err.what());
+  }
+  Model& model = file_.model;
+  if (changed.model.bodies.size() != model.bodies.size())
+    throw std::invalid_argument(path + ": the changed model has other bodies");
+  // Everything is checked before anything changes.
+  std::vector<int> bodies;
+  for (size_t j = 0; j < model.bodies.size(); ++j) {
+    const Body& a = model.bodies[j];
+    const Body& b = changed.model.bodies[j];
+    if (a.mass != b.mass || a.com_B != b.com_B || a.inertia_B != b.inertia_B)
+      bodies.push_back(static_cast<int>(j));
+  }
+  for (const int j : bodies) {
+    const Body& b = changed.model.bodies[static_cast<size_t>(j)];
+    sim_->set_body_inertia(j, b.mass, b.com_B, b.inertia_B);
+    Body& kept = model.bodies[static_cast<size_t>(j)];
+    kept.mass = b.mass;
+    kept.com_B = b.com_B;
+    kept.inertia_B = b.inertia_B;
+  }
+  if (changed.model.gravity != model.gravity) {
+    sim_->set_gravity(changed.model.gravity);
+    model.gravity = changed.model.gravity;
+  }
+  text_ = set.text;
 }
 
 void Instance::make_variables() {

@@ -51,11 +51,23 @@ class Instance {
   // The row's text (the header when `header`), in a buffer reused call to call.
   const std::string& row_text(bool header) const;
 
+  // A value of the model changed in place, before start or between steps
+  // (mhs_set_parameter): a body's mass, centre of mass or inertia, or
+  // gravity, by its path as settings address it ("bodies/body3/mass",
+  // "bodies/body3/com/0", "gravity/1"), the value as the model file would
+  // write it (in its units). The model file's parser reads the changed text,
+  // so a value is checked and derived (an inertia from a shape) as when
+  // opening. Throws std::invalid_argument naming the path; nothing changes.
+  void set_parameter(const std::string& path, const std::string& value);
+
   // Warnings the plugins logged during the current call (cleared by each call).
   std::string warnings;
 
  private:
   void make_variables();
+
+  std::string text_;  // the model's text with every setting so far
+  std::string label_, base_dir_;
 
   ModelFile file_;
   PluginRegistry registry_;

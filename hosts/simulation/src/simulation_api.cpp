@@ -3,6 +3,7 @@
 // and a message, and keeps the rule that a failed step leaves the run at its
 // last accepted state until a snapshot is restored.
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -321,6 +322,24 @@ MHS_API mhs_status mhs_set(mhs_simulation* sim, const uint32_t* indices, size_t 
     if (!clamped.empty()) {
       sim->message = "mhs_set: " + clamped + " (out_of_range: clamp)";
       return MHS_WARNING;
+    }
+    return MHS_OK;
+  });
+}
+
+MHS_API mhs_status mhs_set_parameter(mhs_simulation* sim, const char* path, double value) {
+  return guarded(sim, [&](Instance& in) -> mhs_status {
+    if (path == nullptr) return refuse(sim, "mhs_set_parameter: path is NULL");
+    if (!std::isfinite(value))
+      return refuse(sim, std::string("mhs_set_parameter: ") + path +
+                             ": expected a finite value, got " + short_number(value));
+    // The shortest text that reads back as the same double.
+    char text[32];
+    const auto written = std::to_chars(text, text + sizeof text, value);
+    try {
+      in.set_parameter(path, std::string(text, written.ptr));
+    } catch (const std::invalid_argument& err) {
+      return refuse(sim, std::string("mhs_set_parameter: ") + err.what());
     }
     return MHS_OK;
   });

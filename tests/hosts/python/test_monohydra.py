@@ -221,3 +221,23 @@ def test_sweep_returns_the_study_table(tmp_path):
     assert table["formulation/name"][1] == "penalty"
     with pytest.raises(monohydra.InputError, match="no-such-study.yaml"):
         monohydra.sweep(tmp_path / "no-such-study.yaml")
+
+
+def test_a_mass_set_in_place_is_the_model_opened_with_it():
+    opened = monohydra.Simulation(model("fourbar.yaml"), t_end=1.0,
+                                  options={"bodies/body3/mass": 57.5}).run()
+    sim = monohydra.Simulation(model("fourbar.yaml"), t_end=1.0)
+    sim.set_parameter("bodies/body3/mass", 57.5)
+    changed = sim.run()
+    assert np.array_equal(changed["z1"], opened["z1"])
+    assert np.array_equal(changed["p1"], opened["p1"])
+    nominal = monohydra.Simulation(model("fourbar.yaml"), t_end=1.0).run()
+    assert not np.array_equal(changed["z1"], nominal["z1"])
+
+
+def test_a_component_option_or_a_bad_mass_set_in_place_raises_input_error():
+    sim = monohydra.Simulation(model("fourbar.yaml"))
+    with pytest.raises(monohydra.InputError, match="set up: open the model"):
+        sim.set_parameter("subsystems/valve/flow_coefficient", 3e-8)
+    with pytest.raises(monohydra.InputError, match=r"bodies\[2\].mass"):
+        sim.set_parameter("bodies/body3/mass", -1.0)

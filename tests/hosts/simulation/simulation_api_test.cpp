@@ -772,3 +772,157 @@ TEST(EmbeddingLinearization, RefusesNullHandlesUnknownIndicesInputsAndARunNotSta
 }
 
 }  // namespace
+
+namespace {
+
+// The values of every coordinate, rate and state of the accepted state.
+std::vector<double> motion(mhs_simulation* sim) {
+  uint32_t count = 0;
+  EXPECT_EQ(mhs_variable_count(sim, &count), MHS_OK);
+  std::vector<uint32_t> indices;
+  for (uint32_t i = 0; i < count; ++i) {
+    mhs_variable_info info{};
+    info.struct_size = sizeof info;
+    EXPECT_EQ(mhs_variable(sim, i, &info), MHS_OK);
+    if (info.kind == MHS_COORDINATE || info.kind == MHS_COORDINATE_RATE || info.kind == MHS_STATE)
+      indices.push_back(i);
+  }
+  std::vector<double> values(indices.size());
+  EXPECT_EQ(mhs_get(sim, indices.data(), indices.size(), values.data()), MHS_OK);
+  return values;
+}
+
+// One column of the row at the accepted state, by name.
+double row_value(mhs_simulation* sim, const std::string& column) {
+  uint32_t columns = 0;
+  EXPECT_EQ(mhs_row_size(sim, &columns), MHS_OK);
+  std::vector<double> row(columns);
+  EXPECT_EQ(mhs_row(sim, row.data(), row.size()), MHS_OK) << mhs_message(sim);
+  for (uint32_t c = 0; c < columns; ++c) {
+    const char* name = nullptr;
+    EXPECT_EQ(mhs_row_name(sim, c, &name), MHS_OK);
+    if (column == name) return row[c];
+  }
+  ADD_FAILURE() << "no column " << column;
+  return std::nan("");
+}
+
+void advance_to(mhs_simulation* sim, double t) {
+  ASSERT_TRUE(ok(mhs_advance(sim, t))) << mhs_message(sim);
+}
+
+}  // namespace
+
+TEST(EmbeddingParameters, AMassSetBeforeStartIsTheModelOpenedWithItToTheByte) {
+  Sim sim = open("fourbar.yaml", {{"t_end", "1"}});
+  ASSERT_EQ(mhs_set_parameter(sim.get(), "bodies/body3/mass", 57.5), MHS_OK)
+      << mhs_message(sim.get());
+  ASSERT_EQ(mhs_set_parameter(sim.get(), "gravity/1", -9.80665), MHS_OK) << mhs_message(sim.get());
+  EXPECT_EQ(api_csv(sim.get()),
+            cli_csv("fourbar.yaml",
+                    "--t-end 1 --set bodies/body3/mass=57.5 --set gravity/1=-9.80665", "set"));
+}
+
+// Between steps: the run goes on as the model opened with the new mass and
+// restored from the state the change was made at (the hydraulics included).
+TEST(EmbeddingParameters, AMassChangedBetweenStepsGoesOnAsTheChangedModelFromTheSameState) {
+  Sim changed = open("fourbar.yaml");
+  advance_to(changed.get(), 2.0);
+  mhs_snapshot* raw = nullptr;
+  ASSERT_EQ(mhs_snapshot_new(changed.get(), &raw), MHS_OK);
+  const Snapshot at2(raw);
+  ASSERT_EQ(mhs_save(changed.get(), at2.get()), MHS_OK) << mhs_message(changed.get());
+  const std::vector<double> before = motion(changed.get());
+  ASSERT_EQ(mhs_set_parameter(changed.get(), "bodies/body3/mass", 80.0), MHS_OK)
+      << mhs_message(changed.get());
+  EXPECT_EQ(motion(changed.get()), before);  // the state itself does not jump
+  advance_to(changed.get(), 4.0);
+
+  Sim reopened = open("fourbar.yaml", {{"bodies/body3/mass", "80"}});
+  ASSERT_EQ(mhs_restore(reopened.get(), at2.get()), MHS_OK) << mhs_message(reopened.get());
+  advance_to(reopened.get(), 4.0);
+  EXPECT_EQ(motion(changed.get()), motion(reopened.get()));
+
+  Sim nominal = open("fourbar.yaml");
+  advance_to(nominal.get(), 4.0);
+  EXPECT_NE(motion(changed.get()), motion(nominal.get()));  // and the mass acts
+}
+
+// Under gravity alone a uniform beam's motion does not depend on its mass:
+// both links made three times heavier mid-run move on as before, and the
+// energy balance's references follow the jump, so drift stays the
+// integration's. One link alone changes the motion.
+TEST(EmbeddingParameters, ScalingEveryMassMidRunLeavesAPendulumsMotionAndItsDriftAlone) {
+  Sim nominal = open("double-pendulum.yaml");
+  Sim scaled = open("double-pendulum.yaml");
+  Sim one = open("double-pendulum.yaml");
+  for (auto* sim : {nominal.get(), scaled.get(), one.get()}) advance_to(sim, 1.0);
+  const double drift_before = row_value(scaled.get(), "drift");
+  ASSERT_EQ(mhs_set_parameter(scaled.get(), "bodies/link1/mass", 3.0), MHS_OK);
+  ASSERT_EQ(mhs_set_parameter(scaled.get(), "bodies/link2/mass", 3.0), MHS_OK);
+  ASSERT_EQ(mhs_set_parameter(one.get(), "bodies/link2/mass", 3.0), MHS_OK);
+  EXPECT_NEAR(row_value(scaled.get(), "drift"), drift_before, 1e-12);
+  for (auto* sim : {nominal.get(), scaled.get(), one.get()}) advance_to(sim, 2.0);
+  const std::vector<double> a = motion(nominal.get());
+  const std::vector<double> b = motion(scaled.get());
+  const std::vector<double> c = motion(one.get());
+  ASSERT_EQ(a.size(), b.size());
+  double largest = 0.0, one_link = 0.0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    largest = std::max(largest, std::abs(a[i] - b[i]));
+    one_link = std::max(one_link, std::abs(a[i] - c[i]));
+  }
+  EXPECT_LT(largest, 1e-9);
+  EXPECT_GT(one_link, 1e-2);
+  // Drift from the nominal run's, three times over (every energy scaled).
+  EXPECT_NEAR(row_value(scaled.get(), "drift") - drift_before,
+              3.0 * (row_value(nominal.get(), "drift") - drift_before), 1e-6);
+}
+
+// g four times larger and dt half: the same dimensionless scheme, so the
+// same path at twice the speed (z'(t) = z(2t)).
+TEST(EmbeddingParameters, FourTimesTheGravityRunsAPendulumsPathAtTwiceTheSpeed) {
+  Sim nominal = open("double-pendulum.yaml", {{"dt", "0.001"}});
+  Sim strong = open("double-pendulum.yaml", {{"dt", "0.0005"}});
+  ASSERT_EQ(mhs_set_parameter(strong.get(), "gravity/1", -4 * 9.81), MHS_OK)
+      << mhs_message(strong.get());
+  advance_to(nominal.get(), 1.0);
+  advance_to(strong.get(), 0.5);
+  uint32_t z1 = 0, z2 = 0;
+  ASSERT_EQ(mhs_find(nominal.get(), "z1", &z1), MHS_OK);
+  ASSERT_EQ(mhs_find(nominal.get(), "z2", &z2), MHS_OK);
+  for (const uint32_t i : {z1, z2}) {
+    double a = 0.0, b = 0.0;
+    ASSERT_EQ(mhs_get(nominal.get(), &i, 1, &a), MHS_OK);
+    ASSERT_EQ(mhs_get(strong.get(), &i, 1, &b), MHS_OK);
+    EXPECT_NEAR(a, b, 1e-8);
+    EXPECT_GT(std::abs(a), 0.1);
+  }
+}
+
+TEST(EmbeddingParameters, WhatCannotChangeInPlaceIsRefusedNamingItAndNothingChanges) {
+  Sim sim = open("fourbar.yaml");
+  Sim nominal = open("fourbar.yaml");
+  advance_to(sim.get(), 0.5);
+  advance_to(nominal.get(), 0.5);
+  const auto refusal = [&](const char* path, double value) {
+    EXPECT_EQ(mhs_set_parameter(sim.get(), path, value), MHS_ERROR) << path;
+    return std::string(mhs_message(sim.get()));
+  };
+  EXPECT_NE(refusal("subsystems/V1/bulk_modulus", 1e9)
+                .find("subsystems/V1/bulk_modulus: not a value that changes during a run"),
+            std::string::npos);
+  EXPECT_NE(refusal("subsystems/V1/bulk_modulus", 1e9)
+                .find("a component's options are read when it is set up"),
+            std::string::npos);
+  EXPECT_NE(refusal("bodies/body9/mass", 1.0).find("no item named 'body9' in bodies"),
+            std::string::npos);
+  EXPECT_NE(refusal("bodies/body3/mass", -1.0).find("bodies[2].mass: expected a positive"),
+            std::string::npos);
+  EXPECT_NE(refusal("gravity/1", std::nan("")).find("expected a finite value"), std::string::npos);
+  EXPECT_EQ(mhs_set_parameter(sim.get(), nullptr, 1.0), MHS_ERROR);
+  EXPECT_EQ(mhs_set_parameter(nullptr, "gravity/1", 1.0), MHS_ERROR);
+  advance_to(sim.get(), 1.0);
+  advance_to(nominal.get(), 1.0);
+  EXPECT_EQ(motion(sim.get()), motion(nominal.get()));
+}

@@ -164,6 +164,21 @@ class Simulation {
   // Why set_input(k, value) would refuse the value ("" when it would not).
   std::string input_refusal(int k, double value) const;
 
+  // A body's inertial values and gravity changed in place, before start() or
+  // between steps, without opening the model again (a payload picked up, a
+  // parameter being identified): the run goes on as a run of the model with
+  // these values from the accepted state on, the step after the change
+  // starting from the accelerations before it, as a snapshot restored into a
+  // model opened with them would. The energy balance's references move by
+  // the change's own jump in kinetic and potential energy, so that drift
+  // stays the integration's. Refused with std::invalid_argument naming the
+  // value: a body index out of range, a mass that is not positive and
+  // finite, a non-finite centre of mass, gravity or inertia, an inertia that
+  // is not symmetric positive semi-definite.
+  void set_body_inertia(int body, double mass, const Eigen::Vector3d& com_B,
+                        const Eigen::Matrix3d& inertia_B);
+  void set_gravity(const Eigen::Vector3d& gravity);
+
   // Energy balance, all relative to t = 0: kinetic and potential energy of the
   // bodies, work W done on them by subsystem forces (trapezoidal integral of
   // the power), drift = KE + PE - W.

@@ -28,7 +28,7 @@ extern "C" {
 #endif
 
 #define MHS_API_VERSION_MAJOR 1u
-#define MHS_API_VERSION_MINOR 1u /* 1.1: mhs_linearize and its accessors */
+#define MHS_API_VERSION_MINOR 2u /* 1.1: mhs_linearize; 1.2: mhs_set_parameter */
 
 #if defined(__GNUC__) || defined(__clang__)
 #define MHS_API __attribute__((visibility("default")))
@@ -135,6 +135,19 @@ MHS_API mhs_status mhs_get(const mhs_simulation* sim, const uint32_t* indices, s
  * message names it). */
 MHS_API mhs_status mhs_set(mhs_simulation* sim, const uint32_t* indices, size_t count,
                            const double* values);
+
+/* (1.2) Changes a value of the model in place, before mhs_start or between
+ * two steps, without opening the model again: a body's mass, centre of mass
+ * or inertia, or gravity, by its path as settings address it
+ * ("bodies/body3/mass", "bodies/body3/com/0", "gravity/1"), in the units the
+ * model file declares. The model file's parser checks the value and derives
+ * from it what it derives when opening (the inertia of a shape from its
+ * mass). The run goes on from its accepted state as a run of the changed
+ * model; the energy balance's references move by the change's own jump.
+ * MHS_ERROR and nothing changed: a path the model does not have, one that is
+ * not such a value (a component's options are read when it is set up: open
+ * the model with the setting), a value the file's parser refuses. */
+MHS_API mhs_status mhs_set_parameter(mhs_simulation* sim, const char* path, double value);
 
 /* The rows `monohydra run` writes for this model (its output: columns and
  * interval; every column at every step when it has none). */

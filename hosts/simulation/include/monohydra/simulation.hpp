@@ -117,6 +117,11 @@ class Simulation {
     return value;
   }
   void set(uint32_t index, double value) { check(mhs_set(get(), &index, 1, &value)); }
+  // A body's mass, centre of mass or inertia, or gravity, changed in place
+  // (mhs_set_parameter): "bodies/body3/mass", "gravity/1".
+  void set_parameter(const std::string& path, double value) {
+    check(mhs_set_parameter(get(), path.c_str(), value));
+  }
 
   // The row's column names, and whether the last step is one the run writes
   // a row at (t = 0 and every output interval).
