@@ -6,6 +6,7 @@
 #include <exception>
 #include <stdexcept>
 #include <utility>
+#include <vector>
 
 #include "monohydra/cpp/number_text.hpp"
 
@@ -33,9 +34,11 @@ const char* mode_name(Mode m) {
   return "?";
 }
 
-// An FMU state: a snapshot of the run.
+// An FMU state: a snapshot of the run and the tunable parameters' values
+// (the snapshot holds the run's state, not the model's values).
 struct FmuState {
   mhs_snapshot* snapshot = nullptr;
+  std::vector<double> tunable;  // in the order of the variables
 };
 
 }  // namespace
@@ -287,7 +290,7 @@ Status CoSimulation::set(const std::uint32_t* vrs, std::size_t n, const double* 
     if (v == nullptr) return Status::error;
     if (v->causality == Causality::output || v->causality == Causality::independent)
       return error("fmi3SetFloat64", "'" + v->name + "' is an output: it cannot be set");
-    if (v->causality == Causality::parameter && mode_ == Mode::step)
+    if (v->causality == Causality::parameter && !v->tunable && mode_ == Mode::step)
       return error("fmi3SetFloat64", "the parameter '" + v->name +
                                          "' is fixed: it is set before the end of initialisation");
     if (!std::isfinite(values[k]))
@@ -297,7 +300,14 @@ Status CoSimulation::set(const std::uint32_t* vrs, std::size_t n, const double* 
   Status worst = Status::ok;
   for (std::size_t k = 0; k < n; ++k) {
     const FmuVariable& v = variables_[vrs[k]];
-    if (v.causality == Causality::parameter) {
+    if (v.causality == Causality::parameter && mode_ == Mode::step) {  // tunable (above)
+      if (parameters_[v.value_reference] == values[k]) continue;
+      row_valid_ = false;
+      const Status s =
+          from_api(mhs_set_parameter(sim_, v.path.c_str(), values[k]), "fmi3SetFloat64");
+      if (s >= Status::error) return s;
+      parameters_[v.value_reference] = values[k];
+    } else if (v.causality == Causality::parameter) {
       if (parameters_[v.value_reference] != values[k]) restart_ = true;
       parameters_[v.value_reference] = values[k];
     } else if (mode_ == Mode::step) {
@@ -332,6 +342,9 @@ Status CoSimulation::get_state(void** state) {
     }
   }
   const Status s = from_api(mhs_save(sim_, fmu_state->snapshot), "fmi3GetFMUState");
+  fmu_state->tunable.clear();
+  for (const FmuVariable& v : variables_)
+    if (v.tunable) fmu_state->tunable.push_back(parameters_[v.value_reference]);
   if (*state == nullptr) {
     if (s >= Status::error) {
       mhs_snapshot_free(fmu_state->snapshot);
@@ -352,8 +365,21 @@ Status CoSimulation::set_state(void* state) {
     if (s >= Status::error) return s;
   }
   row_valid_ = false;
-  const Status s =
-      from_api(mhs_restore(sim_, static_cast<FmuState*>(state)->snapshot), "fmi3SetFMUState");
+  const auto* fmu_state = static_cast<const FmuState*>(state);
+  // The tunable values first: the snapshot then puts the run's own state
+  // (its energy balance included) back over what changing them moved.
+  std::size_t k = 0;
+  for (const FmuVariable& v : variables_) {
+    if (!v.tunable) continue;
+    if (k >= fmu_state->tunable.size())
+      return error("fmi3SetFMUState", "the state is of another FMU");
+    const double value = fmu_state->tunable[k++];
+    if (value == parameters_[v.value_reference]) continue;
+    const Status t = from_api(mhs_set_parameter(sim_, v.path.c_str(), value), "fmi3SetFMUState");
+    if (t >= Status::error) return t;
+    parameters_[v.value_reference] = value;
+  }
+  const Status s = from_api(mhs_restore(sim_, fmu_state->snapshot), "fmi3SetFMUState");
   if (s < Status::error && mode_ == Mode::error) mode_ = Mode::step;
   return s;
 }
@@ -367,34 +393,55 @@ Status CoSimulation::free_state(void** state) {
   return Status::ok;
 }
 
+// Serialized, a state is the count of tunable values (8 bytes), the values
+// (8 bytes each), then the snapshot's bytes (mhs_snapshot_bytes).
 Status CoSimulation::serialized_size(void* state, std::size_t* size) {
   if (state == nullptr || size == nullptr)
     return error("fmi3SerializedFMUStateSize", "FMUState or size is NULL");
+  const auto* fmu_state = static_cast<FmuState*>(state);
   const void* bytes = nullptr;
-  return from_api(mhs_snapshot_bytes(sim_, static_cast<FmuState*>(state)->snapshot, &bytes, size),
-                  "fmi3SerializedFMUStateSize");
+  std::size_t snapshot_size = 0;
+  const Status s = from_api(mhs_snapshot_bytes(sim_, fmu_state->snapshot, &bytes, &snapshot_size),
+                            "fmi3SerializedFMUStateSize");
+  if (s < Status::error)
+    *size = sizeof(std::uint64_t) + fmu_state->tunable.size() * sizeof(double) + snapshot_size;
+  return s;
 }
 
 Status CoSimulation::serialize(void* state, std::uint8_t* bytes, std::size_t size) {
   if (state == nullptr || bytes == nullptr)
     return error("fmi3SerializeFMUState", "FMUState or serializedState is NULL");
+  const auto* fmu_state = static_cast<FmuState*>(state);
   const void* own = nullptr;
   std::size_t own_size = 0;
-  const Status s =
-      from_api(mhs_snapshot_bytes(sim_, static_cast<FmuState*>(state)->snapshot, &own, &own_size),
-               "fmi3SerializeFMUState");
+  const Status s = from_api(mhs_snapshot_bytes(sim_, fmu_state->snapshot, &own, &own_size),
+                            "fmi3SerializeFMUState");
   if (s >= Status::error) return s;
-  if (size != own_size)
-    return error("fmi3SerializeFMUState", "the buffer has " + std::to_string(size) +
-                                              " bytes, the state " + std::to_string(own_size) +
-                                              " (fmi3SerializedFMUStateSize)");
-  std::memcpy(bytes, own, size);
+  const std::uint64_t count = fmu_state->tunable.size();
+  const std::size_t head = sizeof count + count * sizeof(double);
+  if (size != head + own_size)
+    return error("fmi3SerializeFMUState",
+                 "the buffer has " + std::to_string(size) + " bytes, the state " +
+                     std::to_string(head + own_size) + " (fmi3SerializedFMUStateSize)");
+  std::memcpy(bytes, &count, sizeof count);
+  if (count > 0)
+    std::memcpy(bytes + sizeof count, fmu_state->tunable.data(), count * sizeof(double));
+  std::memcpy(bytes + head, own, own_size);
   return s;
 }
 
 Status CoSimulation::deserialize(const std::uint8_t* bytes, std::size_t size, void** state) {
   if (bytes == nullptr || state == nullptr)
     return error("fmi3DeserializeFMUState", "serializedState or FMUState is NULL");
+  std::size_t tunable = 0;
+  for (const FmuVariable& v : variables_) tunable += v.tunable ? 1 : 0;
+  std::uint64_t count = 0;
+  if (size >= sizeof count) std::memcpy(&count, bytes, sizeof count);
+  if (size < sizeof count || count != tunable || size - sizeof count < tunable * sizeof(double))
+    return error("fmi3DeserializeFMUState", "the bytes are not a state of this FMU (" +
+                                                std::to_string(tunable) +
+                                                " tunable values, then the run's state)");
+  const std::size_t head = sizeof count + tunable * sizeof(double);
   auto* fmu_state = static_cast<FmuState*>(*state);
   const bool fresh = fmu_state == nullptr;
   if (fresh) {
@@ -404,8 +451,13 @@ Status CoSimulation::deserialize(const std::uint8_t* bytes, std::size_t size, vo
       return from_api(MHS_ERROR, "fmi3DeserializeFMUState");
     }
   }
-  const Status s = from_api(mhs_snapshot_read(sim_, fmu_state->snapshot, bytes, size),
+  const Status s = from_api(mhs_snapshot_read(sim_, fmu_state->snapshot, bytes + head, size - head),
                             "fmi3DeserializeFMUState");
+  if (s < Status::error) {
+    fmu_state->tunable.resize(tunable);
+    if (tunable > 0)
+      std::memcpy(fmu_state->tunable.data(), bytes + sizeof count, tunable * sizeof(double));
+  }
   if (fresh) {
     if (s >= Status::error) {
       mhs_snapshot_free(fmu_state->snapshot);

@@ -67,7 +67,8 @@ void default_experiment(std::ostream& out, const Description& d) {
 // The attributes a variable's kind decides (FMI 3.0 Table 18 / FMI 2.0 p. 49:
 // only allowed causality, variability and initial combinations).
 std::string variability(const FmuVariable& v) {
-  return v.causality == Causality::parameter ? "fixed" : "continuous";
+  if (v.causality != Causality::parameter) return "continuous";
+  return v.tunable ? "tunable" : "fixed";
 }
 
 std::string header_attributes(const Description& d) {

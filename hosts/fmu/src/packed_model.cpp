@@ -47,7 +47,11 @@ void add_items(const YAML::Node& list, const char* key, std::vector<FmuVariable>
       v.name = std::string(key) + "." + item_name + "." + option;
       v.path = std::string(key) + "/" + item_name + "/" + option;
       v.start = value;
-      v.description = "the model file's " + v.path + " (its units: the model's units:)";
+      // A body's mass changes between steps (mhs_set_parameter); the other
+      // options are read when the model is set up.
+      v.tunable = std::string(key) == "bodies" && option == "mass";
+      v.description = "the model file's " + v.path + " (its units: the model's units:)" +
+                      (v.tunable ? "; tunable: set between steps, the run goes on with it" : "");
       out.push_back(std::move(v));
     }
   }

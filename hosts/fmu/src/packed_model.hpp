@@ -25,6 +25,7 @@ struct FmuVariable {
   std::string description;      // what it is, for the modelDescription
   std::string path;             // a parameter's path in the model ("subsystems/valve/area")
   double start = 0.0;           // inputs and parameters
+  bool tunable = false;         // a parameter set between steps too (a body's mass)
   double min = 1.0, max = 0.0;  // min > max: no range
   std::uint32_t index = 0;      // a row column (output) or an mhs variable (input)
 };

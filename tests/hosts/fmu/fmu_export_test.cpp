@@ -347,6 +347,59 @@ TEST_F(ExportedFmu, AParameterSetBeforeInitialisationIsTheRunsValue) {
   EXPECT_NE(log.all().find("fixed"), std::string::npos) << log.all();
 }
 
+// A body's mass is tunable: set in Step Mode it acts from that step on, an
+// FMU state holds it (restoring one puts the mass back with the run), and
+// the same change gives the same run to the bit.
+TEST_F(ExportedFmu, ATunableMassSetInStepModeActsAndAStateRestoresItWithTheRun) {
+  const Unpacked& fmu = fourbar_->fmu;
+  const std::string description = mh::test::read_text(fmu.dir / "modelDescription.xml");
+  EXPECT_NE(description.find("name=\"bodies.body3.mass\""), std::string::npos);
+  const std::size_t mass_at = description.find("name=\"bodies.body3.mass\"");
+  const std::size_t mass_end = description.find("/>", mass_at);
+  EXPECT_NE(description.substr(mass_at, mass_end - mass_at).find("variability=\"tunable\""),
+            std::string::npos);
+  LogRecord log;
+  Instance nominal(*fourbar_, log);
+  const std::vector<double> unchanged = run_to(nominal, fmu, 0.0, 4.0, 1e-2);
+
+  Instance in(*fourbar_, log);
+  run_to(in, fmu, 0.0, 2.0, 1e-2);
+  fmi3FMUState at2 = nullptr;
+  ASSERT_EQ(fourbar_->f().fmi3GetFMUState(in.get(), &at2), fmi3OK) << log.all();
+  const fmi3ValueReference mass = fmu.vr.at("bodies.body3.mass");
+  ASSERT_EQ(in.set(mass, 80.0), fmi3OK) << log.all();
+  const std::vector<double> heavier = run_to(in, fmu, 2.0, 4.0, 1e-2);
+  EXPECT_NE(heavier, unchanged);
+  EXPECT_EQ(in.get({mass})[0], 80.0);
+
+  ASSERT_EQ(fourbar_->f().fmi3SetFMUState(in.get(), at2), fmi3OK) << log.all();
+  EXPECT_EQ(in.get({mass})[0], 50.0);
+  EXPECT_EQ(run_to(in, fmu, 2.0, 4.0, 1e-2), unchanged);  // the state put the mass back
+
+  // Serialized and read back into a new instance, the state carries it too.
+  ASSERT_EQ(fourbar_->f().fmi3SetFMUState(in.get(), at2), fmi3OK) << log.all();
+  ASSERT_EQ(in.set(mass, 80.0), fmi3OK) << log.all();
+  fmi3FMUState heavy = nullptr;
+  ASSERT_EQ(fourbar_->f().fmi3GetFMUState(in.get(), &heavy), fmi3OK) << log.all();
+  size_t size = 0;
+  ASSERT_EQ(fourbar_->f().fmi3SerializedFMUStateSize(in.get(), heavy, &size), fmi3OK);
+  std::vector<fmi3Byte> bytes(size);
+  ASSERT_EQ(fourbar_->f().fmi3SerializeFMUState(in.get(), heavy, bytes.data(), size), fmi3OK);
+  Instance fresh(*fourbar_, log);
+  fmi3FMUState read = nullptr;
+  ASSERT_EQ(fourbar_->f().fmi3DeserializeFMUState(fresh.get(), bytes.data(), size, &read), fmi3OK)
+      << log.all();
+  ASSERT_EQ(fourbar_->f().fmi3SetFMUState(fresh.get(), read), fmi3OK) << log.all();
+  EXPECT_EQ(fresh.get({mass})[0], 80.0);
+  EXPECT_EQ(run_to(fresh, fmu, 2.0, 4.0, 1e-2), heavier);  // to the bit
+  // Bytes cut short of the tunable values are not a state of this FMU.
+  fmi3FMUState cut = nullptr;
+  EXPECT_EQ(fourbar_->f().fmi3DeserializeFMUState(fresh.get(), bytes.data(), 4, &cut), fmi3Error);
+  EXPECT_NE(log.all().find("not a state of this FMU"), std::string::npos) << log.all();
+  for (fmi3FMUState* s : {&at2, &heavy}) fourbar_->f().fmi3FreeFMUState(in.get(), s);
+  fourbar_->f().fmi3FreeFMUState(fresh.get(), &read);
+}
+
 TEST_F(ExportedFmu, BadCallsReturnErrorsAndSayWhy) {
   const Fmi3Functions& f = fourbar_->f();
   fmi3ValueReference vr = 2;
