@@ -25,6 +25,7 @@
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/plugin_registry.hpp"
 #include "monohydra/core/run.hpp"
+#include "monohydra/core/sensor_sampler.hpp"
 #include "monohydra/core/simulation.hpp"
 #include "monohydra/cpp/number_text.hpp"
 #include "result_sidecar.hpp"
@@ -48,7 +49,8 @@ const char* kUsage =
     "                          plugins: choices), its components and ABI version, and every\n"
     "                          id that two libraries offer\n"
     "  run MODEL.yaml [--formulation NAME] [--integrator NAME] [--dt S] [--t-end S]\n"
-    "                 [--set PATH=VALUE]... [--out FILE.csv | --stream] [--output-interval S]\n"
+    "                 [--set PATH=VALUE]... [--sensors-out FILE.csv [--seed N]]\n"
+    "                 [--out FILE.csv | --stream] [--output-interval S]\n"
     "                 [--real-time [--newton-cap N]] [--inputs FILE.csv|-]\n"
     "                 [--save-state FILE [--at T]] [--resume FILE] [LIMITS]\n"
     "                          simulate MODEL.yaml; CSV columns: t, z1..zN, states,\n"
@@ -63,6 +65,8 @@ const char* kUsage =
     "                          --save-state writes a checkpoint that --resume goes on from;\n"
     "                          --set PATH=VALUE sets a value of the model by its path\n"
     "                          (bodies/boom/mass=250; run, validate and compare)\n"
+    "                          --sensors-out FILE.csv [--seed N] writes what the model's\n"
+    "                          sensors: read (docs/model-format.md)\n"
     "  run MODEL.yaml --report DIR [--formulation NAME] [--integrator NAME]\n"
     "                 [--dt S] [--t-end S] [LIMITS]\n"
     "                          the run's report: DIR/report.html (the animated 3D view and\n"
@@ -153,6 +157,8 @@ std::optional<int> parse_run_args(const std::vector<std::string>& args, const ch
       "stop when one plugin call has not returned within S s, naming it (default 60; 0: never)");
   std::string save_at;
   CLI::Option* at_opt = nullptr;
+  std::string sensors_out_path, seed_text;
+  CLI::Option* seed_opt = nullptr;
   if (out != nullptr) {
     app.add_option("--save-state", request.save_state,
                    "write the whole run state to FILE at --at T (default: the end), for --resume");
@@ -164,6 +170,11 @@ std::optional<int> parse_run_args(const std::vector<std::string>& args, const ch
                    "name=value from standard input, each applied at the next step");
     app.add_flag("--stream", request.stream,
                  "write each row to standard output as it is computed (the summary to stderr)");
+    app.add_option("--sensors-out", sensors_out_path,
+                   "write what the model's sensors: read to FILE.csv (t and one column per "
+                   "sensor, an empty field where it took no sample)");
+    seed_opt = app.add_option("--seed", seed_text,
+                              "with --sensors-out: the seed of the sensors' noise (default 1)");
     app.add_option("--report", request.report_dir,
                    "write DIR/report.html (the 3D view and the figures, as compare --report) "
                    "and the run's CSV in DIR");
@@ -228,6 +239,21 @@ std::optional<int> parse_run_args(const std::vector<std::string>& args, const ch
       std::cerr << "monohydra: --at expects a positive time (s), got '" << save_at << "'\n";
       return 2;
     }
+  }
+  request.sensors_out = sensors_out_path;
+  if (seed_opt != nullptr && seed_opt->count() > 0) {
+    if (request.sensors_out.empty()) {
+      std::cerr << "monohydra: --seed applies to --sensors-out only\n";
+      return 2;
+    }
+    const bool digits = !seed_text.empty() && seed_text.size() <= 19 &&
+                        seed_text.find_first_not_of("0123456789") == std::string::npos;
+    if (!digits) {
+      std::cerr << "monohydra: --seed expects a whole number from 0 to 10^19 - 1, got '"
+                << seed_text << "'\n";
+      return 2;
+    }
+    request.seed = std::stoull(seed_text);
   }
   if (request.stream && out != nullptr && !out->empty()) {
     std::cerr << "monohydra: --stream writes the rows to standard output: give --out or "
@@ -319,11 +345,49 @@ int run_prepared(PreparedRun& prepared, const RunRequest& request, const std::st
   options.layout = prepared.layout.get();
   options.real_time_cap = request.real_time_cap;
   if (!request.resume.empty()) options.resume = &resumed;
-  if (feed) options.before_step = [&feed](Simulation& s) { feed->apply(s); };
-  if (save_step > 0)
-    options.after_step = [&](const Simulation& s) {
-      if (s.step_index() == save_step) save_checkpoint(s, request.save_state);
-    };
+  // What the sensors read: at the run's first state (before its first step)
+  // and after every step.
+  std::optional<SensorSampler> sensors;
+  std::ofstream sensors_csv;
+  bool sensors_started = false;
+  if (!request.sensors_out.empty()) {
+    if (prepared.file.sensors.empty()) {
+      std::cerr << "monohydra: --sensors-out: " << request.model_path
+                << " has no sensors: (docs/model-format.md)\n";
+      return 2;
+    }
+    sensors.emplace(sim, prepared.file.sensors, request.seed);
+    const fs::path parent = fs::path(request.sensors_out).parent_path();
+    std::error_code ec;
+    if (!parent.empty()) fs::create_directories(parent, ec);
+    sensors_csv.open(request.sensors_out);
+    if (!sensors_csv) {
+      std::cerr << "monohydra: cannot write '" << request.sensors_out << "'\n";
+      return 2;
+    }
+    sensors->header(sensors_csv);
+    ResultProvenance sensor_provenance = provenance;
+    sensor_provenance.model_path = request.model_path;
+    sensor_provenance.formulation = sim.formulation_name();
+    sensor_provenance.integrator = sim.integrator_name();
+    sensor_provenance.solver = sim.settings();
+    sensor_provenance.plugins = prepared.used;
+    sensor_provenance.set = request.overrides.set;
+    sensor_provenance.sensor_seed = request.seed;
+    if (!write_sidecar(request.sensors_out, sensor_provenance)) return 2;
+  }
+  const auto read_sensors = [&](const Simulation& s) {
+    if (sensors && sensors->sample(s)) sensors->row(sensors_csv, s.time());
+  };
+  options.before_step = [&](Simulation& s) {
+    if (!sensors_started) read_sensors(s);
+    sensors_started = true;
+    if (feed) feed->apply(s);
+  };
+  options.after_step = [&](const Simulation& s) {
+    read_sensors(s);
+    if (save_step > 0 && s.step_index() == save_step) save_checkpoint(s, request.save_state);
+  };
   std::ostream* rows = request.stream ? &std::cout : out_path.empty() ? nullptr : &csv;
   const RunSummary s = mh::run(sim, rows, options);
   std::ostream& report = request.stream ? std::cerr : std::cout;
@@ -582,7 +646,8 @@ int run(const std::vector<std::string>& args) {
         {!request.inputs.empty(), "--inputs"},
         {request.stream, "--stream"},
         {!request.save_state.empty(), "--save-state"},
-        {!request.resume.empty(), "--resume"}};
+        {!request.resume.empty(), "--resume"},
+        {!request.sensors_out.empty(), "--sensors-out"}};
     for (const auto& [given, name] : refused)
       if (given) {
         std::cerr << "monohydra: run --report takes no " << name

@@ -111,7 +111,9 @@ bool write_sidecar(const std::string& result, const ResultProvenance& p) {
   for (size_t i = 0; i < p.set.size(); ++i)
     j << (i == 0 ? "" : ", ") << "{\"path\": " << json_string(p.set[i].path)
       << ", \"value\": " << json_string(p.set[i].value) << "}";
-  j << "]\n"
+  j << "],\n"
+    << "    \"sensor_seed\": "
+    << (p.sensor_seed ? std::to_string(*p.sensor_seed) : std::string("null")) << "\n"
     << "  },\n"
     << "  \"explicit_stability\": ";
   if (p.stability != nullptr && p.stability->checks > 0) {

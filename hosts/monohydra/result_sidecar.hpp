@@ -21,7 +21,8 @@ struct ResultProvenance {
   std::optional<double> output_interval;  // --output-interval, when given
   int real_time_cap = 0;                  // --real-time's Newton cap (0: off)
   std::vector<host::UsedComponent> plugins;
-  std::vector<host::PathSetting> set;  // --set PATH=VALUE, in order
+  std::vector<host::PathSetting> set;             // --set PATH=VALUE, in order
+  std::optional<unsigned long long> sensor_seed;  // --sensors-out's file: its noise's seed
   // An explicit integrator's stability check, once the run has made it
   // (null, or no checks: "explicit_stability": null).
   const ExplicitStability* stability = nullptr;

@@ -6,6 +6,7 @@
 #include "model_plugins.hpp"
 #include "model_settings.hpp"
 #include "monohydra/core/run.hpp"
+#include "monohydra/core/sensor_sampler.hpp"
 
 namespace mh::cli {
 
@@ -50,6 +51,11 @@ std::unique_ptr<PreparedRun> prepare_run(const RunRequest& request) {
     p->columns = p->layout->names().size();
     check_column_names(p->file, *p->sim);
     p->used = host::used_components(p->file, p->registry, request.formulation, request.integrator);
+    // The sensors' columns; their rates and delays too when this run reads them.
+    if (!request.sensors_out.empty() && !p->file.sensors.empty())
+      SensorSampler(*p->sim, p->file.sensors, request.seed);
+    else
+      SensorSampler::check_columns(*p->sim, p->file.sensors);
     p->steps = check_run_settings(p->file, p->sim->settings(), o.limits,
                                   request.csv ? p->columns : 0, origins, p->layout->every_steps());
   } catch (const InputError& err) {

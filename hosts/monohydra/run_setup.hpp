@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -35,6 +36,8 @@ struct RunRequest {
   std::string inputs;                     // --inputs FILE.csv, or "-": standard input
   bool stream = false;                    // --stream: rows to standard output as computed
   std::string report_dir;                 // --report DIR: the run's report.html and CSV there
+  std::string sensors_out;                // --sensors-out FILE.csv: what the sensors read
+  std::uint64_t seed = 1;                 // --seed N: the sensors' noise
 };
 
 struct PreparedRun {

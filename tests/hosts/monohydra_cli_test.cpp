@@ -413,3 +413,73 @@ TEST(MonohydraCliSet, APathTheModelDoesNotHaveOrANonNumberIsRefusedNamingFileAnd
   EXPECT_EQ(malformed.code, 2);
   EXPECT_TRUE(contains(malformed, "--set expects PATH=VALUE")) << malformed.output;
 }
+
+// The shipped four-bar's sensors made noiseless read the run's own columns at
+// their rates: the readings against the run's CSV, row by row; an empty field
+// where a sensor took none.
+TEST(MonohydraCliSensors, SensorsOutWritesEachSensorsReadingsAtItsRateBesideTheRun) {
+  const auto dir = temp_dir() / "sensors";
+  std::filesystem::create_directories(dir);
+  const CliResult r = run_cli("run " + model("fourbar.yaml") +
+                              " --t-end 0.05 --set sensors/z1/noise=0 --set sensors/p2/noise=0"
+                              " --out " +
+                              (dir / "run.csv").string() + " --sensors-out " +
+                              (dir / "sensors.csv").string() + " --seed 42");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto run = read_lines(dir / "run.csv");
+  const auto sensors = read_lines(dir / "sensors.csv");
+  ASSERT_EQ(sensors.size(), run.size());  // a row per step: crank has every one
+  EXPECT_EQ(sensors[0], "t,z1,p1,p2,p3");
+  const auto fields = [](const std::string& line) {
+    std::vector<std::string> out;
+    std::stringstream s(line);
+    for (std::string f; std::getline(s, f, ',');) out.push_back(f);
+    if (!line.empty() && line.back() == ',') out.emplace_back();
+    return out;
+  };
+  const std::vector<std::string> header = fields(run[0]);
+  const auto column = [&](const std::string& name) {
+    return static_cast<size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+  };
+  for (size_t i = 1; i < run.size(); ++i) {
+    const auto s = fields(sensors[i]);
+    const auto v = fields(run[i]);
+    ASSERT_EQ(s.size(), 5u) << sensors[i];
+    EXPECT_EQ(s[0], v[column("t")]);
+    EXPECT_EQ(s[1], v[column("z1")]);
+    EXPECT_EQ(s[3], (i - 1) % 10 == 0 ? v[column("p2")] : "") << sensors[i];
+    if ((i - 1) % 10 == 0) {  // p1 with its noise: near, not equal
+      EXPECT_NE(s[2], v[column("p1")]);
+      EXPECT_NEAR(std::stod(s[2]), std::stod(v[column("p1")]), 5 * 3.8e4);
+    }
+  }
+  EXPECT_NE(file_text(dir / "sensors.meta.json").find("\"sensor_seed\": 42"), std::string::npos);
+}
+
+TEST(MonohydraCliSensors, BadSensorsAndFlagsAreRefusedNamingWhat) {
+  const auto path = temp_dir() / "bad-sensors";
+  std::filesystem::create_directories(path);
+  const CliResult column =
+      run_cli("validate " + model("fourbar.yaml") + " --set sensors/p1/measures=p9");
+  EXPECT_EQ(column.code, 1);
+  EXPECT_TRUE(contains(column, "sensors[1].measures: unknown column 'p9'")) << column.output;
+  const auto unwritten = path / "none.csv";
+  const CliResult none = run_cli("run " + model("double-pendulum.yaml") +
+                                 " --t-end 0.01 --sensors-out " + unwritten.string());
+  EXPECT_EQ(none.code, 2);
+  EXPECT_TRUE(contains(none, "has no sensors:")) << none.output;
+  EXPECT_FALSE(std::filesystem::exists(unwritten));
+  // A 1 kHz encoder does not fit a 2 ms step: refused when read, not otherwise.
+  const CliResult coarse =
+      run_cli("run " + model("fourbar.yaml") + " --t-end 0.01 --dt 0.002 --sensors-out " +
+              (path / "coarse.csv").string());
+  EXPECT_EQ(coarse.code, 2);
+  EXPECT_TRUE(contains(coarse,
+                       "sensors[0].rate: expected a rate whose period 1/rate is a whole "
+                       "number of steps dt = 0.002 s, got 1000 Hz"))
+      << coarse.output;
+  EXPECT_EQ(run_cli("validate " + model("fourbar.yaml") + " --dt 0.002").code, 0);
+  const CliResult seed = run_cli("run " + model("fourbar.yaml") + " --seed 3");
+  EXPECT_EQ(seed.code, 2);
+  EXPECT_TRUE(contains(seed, "--seed applies to --sensors-out only")) << seed.output;
+}

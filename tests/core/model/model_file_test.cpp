@@ -649,7 +649,7 @@ TEST(ModelFileErrors, UnknownTopLevelKey) {
       valid_body("solvr: {dt: 0.01}\n"),
       "model.yaml:8:1: solvr: unknown key 'solvr' (expected one of: units, name, "
       "gravity, plugin_paths, plugins, bodies, cut_joints, subsystems, formulation, "
-      "integrator, compare, solver, planar, assembly, nodes, equilibrium, output, inputs)");
+      "integrator, compare, solver, planar, assembly, nodes, equilibrium, output, inputs, sensors)");
 }
 
 TEST(ModelFileErrors, UnknownBodyKey) {

@@ -63,6 +63,22 @@ struct ComponentChoice {
 // a co-simulation master) that component options take in place of a time
 // table (a valve's reference: NAME). Until something sets it, it follows its
 // table, or holds its initial value.
+struct InputSpec;
+
+// sensors: an instrument on the machine (docs/model-format.md): it reads a
+// column `run` writes, sampled at its rate, late by its delay, offset by its
+// bias and with white noise of its standard deviation, each in the SI unit
+// of that column whatever the file's units: say.
+struct SensorSpec {
+  std::string name;
+  std::string measures;  // a result column: z1, p2, U, a named state or output
+  double noise = 0.0;    // standard deviation
+  double rate = 0.0;     // Hz; 0: every step
+  double delay = 0.0;    // s
+  double bias = 0.0;
+  SourceMark mark, measures_mark, rate_mark, delay_mark;
+};
+
 struct InputSpec {
   std::string name;
   std::string unit;             // as declared (informative; the value is SI)
@@ -163,7 +179,8 @@ struct ModelFile {
   // host solves at t = 0 so that the system starts at rest.
   std::vector<std::string> equilibrium_free;
   std::vector<SourceMark> equilibrium_marks;
-  std::vector<InputSpec> inputs;  // inputs:, in file order
+  std::vector<InputSpec> inputs;    // inputs:, in file order
+  std::vector<SensorSpec> sensors;  // sensors:, in file order
 };
 
 // Reads and validates a model file. Throws InputError.

@@ -182,6 +182,8 @@ class Parser {
   OutputSettings output(const YAML::Node& node) const;
   // inputs.cpp
   std::vector<InputSpec> inputs(const YAML::Node& node) const;
+  // sensors.cpp
+  std::vector<SensorSpec> sensors(const YAML::Node& node) const;
 
   // values.cpp
   void check_unique(std::map<std::string, SourceMark>& seen, const std::string& value,

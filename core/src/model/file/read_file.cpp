@@ -30,7 +30,7 @@ ModelFile Parser::parse(const YAML::Node& root, const std::string& base_dir) {
   const MapView top(*this, root, "",
                     {"units", "name", "gravity", "plugin_paths", "plugins", "bodies", "cut_joints",
                      "subsystems", "formulation", "integrator", "compare", "solver", "planar",
-                     "assembly", "nodes", "equilibrium", "output", "inputs"});
+                     "assembly", "nodes", "equilibrium", "output", "inputs", "sensors"});
   ModelFile file;
   file.path = file_;
   {
@@ -94,6 +94,7 @@ ModelFile Parser::parse(const YAML::Node& root, const std::string& base_dir) {
   if (auto compare_node = top.get("compare")) parse_compare(*compare_node, file);
   file.output.mark = mark(root);
   if (auto output_node = top.get("output")) file.output = output(*output_node);
+  if (auto sensors_node = top.get("sensors")) file.sensors = sensors(*sensors_node);
   file.solver.mark = mark(root);
   if (auto solver_node = top.get("solver")) file.solver = solver(*solver_node);
   return file;
