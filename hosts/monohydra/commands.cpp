@@ -350,12 +350,7 @@ int run_prepared(PreparedRun& prepared, const RunRequest& request, const std::st
   std::optional<SensorSampler> sensors;
   std::ofstream sensors_csv;
   bool sensors_started = false;
-  if (!request.sensors_out.empty()) {
-    if (prepared.file.sensors.empty()) {
-      std::cerr << "monohydra: --sensors-out: " << request.model_path
-                << " has no sensors: (docs/model-format.md)\n";
-      return 2;
-    }
+  if (!request.sensors_out.empty()) {  // prepare_run refused a model without sensors
     sensors.emplace(sim, prepared.file.sensors, request.seed);
     const fs::path parent = fs::path(request.sensors_out).parent_path();
     std::error_code ec;

@@ -18,6 +18,11 @@ std::unique_ptr<PreparedRun> prepare_run(const RunRequest& request) {
     std::cerr << "monohydra: " << err.what() << '\n';
     return nullptr;
   }
+  if (!request.sensors_out.empty() && p->file.sensors.empty()) {
+    std::cerr << "monohydra: --sensors-out: " << request.model_path
+              << " has no sensors: (docs/model-format.md)\n";
+    return nullptr;
+  }
   try {
     host::load_model_plugins(p->file, p->registry);
   } catch (const InputError& err) {

@@ -464,11 +464,13 @@ TEST(MonohydraCliSensors, BadSensorsAndFlagsAreRefusedNamingWhat) {
   EXPECT_EQ(column.code, 1);
   EXPECT_TRUE(contains(column, "sensors[1].measures: unknown column 'p9'")) << column.output;
   const auto unwritten = path / "none.csv";
-  const CliResult none = run_cli("run " + model("double-pendulum.yaml") +
-                                 " --t-end 0.01 --sensors-out " + unwritten.string());
+  const auto rows = path / "rows.csv";
+  const CliResult none = run_cli("run " + model("double-pendulum.yaml") + " --t-end 0.01 --out " +
+                                 rows.string() + " --sensors-out " + unwritten.string());
   EXPECT_EQ(none.code, 2);
   EXPECT_TRUE(contains(none, "has no sensors:")) << none.output;
-  EXPECT_FALSE(std::filesystem::exists(unwritten));
+  EXPECT_FALSE(std::filesystem::exists(unwritten));  // nothing half written
+  EXPECT_FALSE(std::filesystem::exists(rows));
   // A 1 kHz encoder does not fit a 2 ms step: refused when read, not otherwise.
   const CliResult coarse =
       run_cli("run " + model("fourbar.yaml") + " --t-end 0.01 --dt 0.002 --sensors-out " +
