@@ -645,11 +645,11 @@ TEST(ModelFileErrors, NonSiUnits) {
 }
 
 TEST(ModelFileErrors, UnknownTopLevelKey) {
-  expect_message(
-      valid_body("solvr: {dt: 0.01}\n"),
-      "model.yaml:8:1: solvr: unknown key 'solvr' (expected one of: units, name, "
-      "gravity, plugin_paths, plugins, bodies, cut_joints, subsystems, formulation, "
-      "integrator, compare, solver, planar, assembly, nodes, equilibrium, output, inputs, sensors)");
+  expect_message(valid_body("solvr: {dt: 0.01}\n"),
+                 "model.yaml:8:1: solvr: unknown key 'solvr' (expected one of: units, name, "
+                 "gravity, plugin_paths, plugins, bodies, cut_joints, subsystems, formulation, "
+                 "integrator, compare, solver, planar, assembly, nodes, equilibrium, output, "
+                 "inputs, sensors)");
 }
 
 TEST(ModelFileErrors, UnknownBodyKey) {
