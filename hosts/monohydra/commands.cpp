@@ -296,18 +296,17 @@ int run_prepared(PreparedRun& prepared, const RunRequest& request, const std::st
       return 2;
     }
   }
+  // What produced the results, for the sidecars of the CSV and the readings.
   ResultProvenance provenance;
-  if (!out_path.empty()) {
-    provenance.model_path = request.model_path;
-    provenance.formulation = sim.formulation_name();
-    provenance.integrator = sim.integrator_name();
-    provenance.solver = sim.settings();
-    provenance.output_interval = request.output_interval;
-    provenance.real_time_cap = request.real_time_cap;
-    provenance.plugins = prepared.used;
-    provenance.set = request.overrides.set;
-    if (!write_sidecar(out_path, provenance)) return 2;
-  }
+  provenance.model_path = request.model_path;
+  provenance.formulation = sim.formulation_name();
+  provenance.integrator = sim.integrator_name();
+  provenance.solver = sim.settings();
+  provenance.output_interval = request.output_interval;
+  provenance.real_time_cap = request.real_time_cap;
+  provenance.plugins = prepared.used;
+  provenance.set = request.overrides.set;
+  if (!out_path.empty() && !write_sidecar(out_path, provenance)) return 2;
   // Inputs from outside and checkpoints: read and checked before any step.
   std::optional<InputFeed> feed;
   RunState resumed;
@@ -362,12 +361,6 @@ int run_prepared(PreparedRun& prepared, const RunRequest& request, const std::st
     }
     sensors->header(sensors_csv);
     ResultProvenance sensor_provenance = provenance;
-    sensor_provenance.model_path = request.model_path;
-    sensor_provenance.formulation = sim.formulation_name();
-    sensor_provenance.integrator = sim.integrator_name();
-    sensor_provenance.solver = sim.settings();
-    sensor_provenance.plugins = prepared.used;
-    sensor_provenance.set = request.overrides.set;
     sensor_provenance.sensor_seed = request.seed;
     if (!write_sidecar(request.sensors_out, sensor_provenance)) return 2;
   }
