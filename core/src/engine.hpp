@@ -379,6 +379,47 @@ struct SnapshotParts {
   RunState before;  // the run as it was, while restore_state loads
 };
 
+// Forward sensitivities (forward_sensitivities.cpp): the parameters, one
+// integrator instance per parameter that carries its column's history
+// through the same map, the columns at the accepted state, and the
+// workspaces of a step's differences, sized when they are asked for.
+struct SensitivityState {
+  bool active = false;
+  std::vector<ParameterDirection> params;
+  std::vector<double> steps;  // per parameter: its value's difference step
+  std::vector<IntegratorProxy> shadows;
+  std::vector<StepMapState> shadow_maps;
+  // Per parameter (columns): the unknowns', at the accepted state.
+  Eigen::MatrixXd dx, dxd, dxdd;            // n x k
+  Eigen::MatrixXd dz, dzd, dzdd;            // N x k
+  Eigen::MatrixXd dy;                       // n_s x k: dx's states
+  Eigen::MatrixXd doutputs;                 // n_o x k
+  std::vector<char> output_differentiated;  // n_o
+  // The formulation converges on Phi(z) = 0 (its multipliers iterated): the
+  // step's linear system is bordered by Phi_z.
+  bool bordered = false;
+  Eigen::MatrixXd border, border_solved, schur;  // n x m, n x m, m x m
+  Eigen::PartialPivLU<Eigen::MatrixXd> schur_lu;
+  mh_state_extension formulation_state{};
+  std::vector<unsigned char> before_step, after_step;  // the formulation's state bytes
+  // A step's work.
+  Eigen::VectorXd xs, xds, xdds;  // the converged iterate, before accept corrects it
+  Eigen::VectorXd xq, xdq, xddq, rp, rm, col, outputs_saved, y_saved, ydot_saved;
+  Eigen::VectorXd xp, xdp, xddp, xm, xdm, xddm;
+  Eigen::VectorXd zp, zdp, zddp, zm, zdm, zddm, outp, outm;
+  Eigen::MatrixXd rhs;            // n x k
+  Eigen::VectorXd mu, mu_solved;  // m: the border's multipliers of one column
+  double t_eval = 0.0;            // the step's evaluation time (an event's left limit)
+  // The model's values a parameter's difference moves, as they were.
+  struct BodyValues {
+    double mass = 0.0;
+    Eigen::Vector3d com = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
+  };
+  std::vector<BodyValues> saved_bodies;
+  Eigen::Vector3d saved_gravity = Eigen::Vector3d::Zero();
+};
+
 struct Simulation::Engine {
   explicit Engine(const Model& source) : model(source), data(model) {}
   const ModelFile* file = nullptr;
@@ -399,6 +440,7 @@ struct Simulation::Engine {
   std::string integrator_name;
   std::unique_ptr<InstanceHost> integrator_host;  // outlives the instance
   IntegratorProxy integrator;
+  const ComponentInfo* integrator_info = nullptr;  // its factory (the registry outlives the run)
   bool explicit_method = false;
   mh_explicit_method explicit_ops{};
   // Subsystems and their states (the last n_s unknowns).
@@ -429,6 +471,7 @@ struct Simulation::Engine {
   EnergyBalance energy;
   AcceptedPoint accepted;
   SnapshotParts snapshot;
+  SensitivityState sens;
 
   // host_services.cpp
   void make_host(InstanceHost& h, const std::string& source, const OptionMap* options,
@@ -528,7 +571,8 @@ struct Simulation::Engine {
   void newton_solve(double t_eval, double t_next);
 
   // time_step.cpp
-  void start();
+  void start();      // start_run(), with the sensitivities' initial columns when tracked
+  void start_run();  // the consistent initial state
   void step_once();
   void find_state_parts();
   std::string run_key() const;
@@ -537,7 +581,22 @@ struct Simulation::Engine {
   void advance(double t_to, int halvings_left);
   void attempt(double t_next);
   void prepare_step(double t_next, double h);
-  void accept_step(double t_next, bool event, double h);
+  void accept_step(double t_next, bool event, double h, double t_eval);
+
+  // forward_sensitivities.cpp
+  void track_sensitivities(const std::vector<ParameterDirection>& parameters);
+  // The model's values moved by `amount` times parameter j's direction, and
+  // back as they were.
+  void perturb_parameter(size_t j, double amount);
+  void restore_parameter(size_t j);
+  double difference_step(size_t j, const Eigen::VectorXd& at, double largest_move) const;
+  void start_sensitivities();  // start_run() at p +- step, then at p: the initial columns
+  void restart_shadow(size_t j);
+  void save_formulation_state(std::vector<unsigned char>& into);
+  void load_formulation_state(const std::vector<unsigned char>& from);
+  void sensitivities_before_accept(double t_eval, double t_next, double h);
+  void replay_accept(size_t j, double amount, double t_next, bool plus);
+  void sensitivities_after_accept(double t_next, uint32_t flags, bool event);
 
   // energy_balance.cpp
   // The subsystems' stored energy and dissipated power at the accepted state;

@@ -235,6 +235,7 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
   }));
   if (!e.integrator) throw_setup_failure(e, file.integrator.mark, iwho);
   mark_destroy(e.integrator, *e.integrator_host);
+  e.integrator_info = iinfo;
   const mh_integrator& in = e.integrator.ops;
   if (in.explicit_method != nullptr) {
     // An explicit method's own operations, read as this host's (abi_struct.hpp).
@@ -456,6 +457,29 @@ void Simulation::set_body_inertia(int body, double mass, const Eigen::Vector3d& 
 void Simulation::set_gravity(const Eigen::Vector3d& gravity) {
   if (!gravity.allFinite()) throw std::invalid_argument("gravity: expected finite values (m/s^2)");
   change_in_place(*engine_, [&] { engine_->model.gravity = gravity; });
+}
+
+void Simulation::track_sensitivities(const std::vector<ParameterDirection>& parameters) {
+  engine_->track_sensitivities(parameters);
+}
+int Simulation::num_sensitivities() const {
+  return engine_->sens.active ? static_cast<int>(engine_->sens.params.size()) : 0;
+}
+const Eigen::MatrixXd& Simulation::coordinate_sensitivities() const {
+  return engine_->sens.dz;
+}
+const Eigen::MatrixXd& Simulation::coordinate_rate_sensitivities() const {
+  return engine_->sens.dzd;
+}
+const Eigen::MatrixXd& Simulation::state_sensitivities() const {
+  return engine_->sens.dy;
+}
+const Eigen::MatrixXd& Simulation::output_sensitivities() const {
+  return engine_->sens.doutputs;
+}
+bool Simulation::output_differentiated(int i) const {
+  const auto& d = engine_->sens.output_differentiated;
+  return i >= 0 && static_cast<size_t>(i) < d.size() && d[static_cast<size_t>(i)] != 0;
 }
 
 double Simulation::time() const {

@@ -2,6 +2,7 @@
  * records; abi_layout_test.cpp checks C++ sees the same layout. */
 #include <stddef.h>
 
+#include "monohydra/constrained.h"
 #include "monohydra/inverse_dynamics.h"
 #include "monohydra/monohydra.h"
 #include "monohydra/sparsity.h"

@@ -84,6 +84,14 @@ std::string Simulation::Engine::unknown_name(int i) const {
 // zdd0); the subsystem rates ydot0 that make every state row vanish at t = 0;
 // the integrator started from them.
 void Simulation::Engine::start() {
+  if (sens.active) {
+    start_sensitivities();  // forward_sensitivities.cpp: start_run() three times per parameter
+    return;
+  }
+  start_run();
+}
+
+void Simulation::Engine::start_run() {
   accepted.t = 0.0;
   accepted.step = 0;
   accepted.attempt_t = 0.0;
@@ -229,7 +237,7 @@ void Simulation::Engine::attempt(double t_next) {
 
   if (explicit_method) {
     explicit_attempt(t_eval, h);  // explicit_step.cpp: no map, no Newton over x
-    accept_step(t_next, event, h);
+    accept_step(t_next, event, h, t_eval);
     return;
   }
   prepare_step(t_next, h);
@@ -243,7 +251,7 @@ void Simulation::Engine::attempt(double t_next) {
     prepare_step(t_next, h);
     newton_solve(t_eval, t_next);
   }
-  accept_step(t_next, event, h);
+  accept_step(t_next, event, h, t_eval);
 }
 
 // The integrator's map and prediction for the step to t_next, told to the
@@ -274,7 +282,8 @@ void Simulation::Engine::formulation_begin_step(const mh_step_coefficients& coef
 
 // The last residual call evaluated the converged iterate: its rates, the
 // subsystems' rows, powers and outputs are the step's.
-void Simulation::Engine::accept_step(double t_next, bool event, double h) {
+void Simulation::Engine::accept_step(double t_next, bool event, double h, double t_eval) {
+  if (sens.active) sensitivities_before_accept(t_eval, t_next, h);
   uint32_t flags = 0;
   check(in_flight(*formulation_host, InstanceHost::Op::accept,
                   [&] {
@@ -341,6 +350,7 @@ void Simulation::Engine::accept_step(double t_next, bool event, double h) {
           "integrator", integrator_name, "accept");
   }
   measure_mechanism();
+  if (sens.active) sensitivities_after_accept(t_next, flags, event);
 }
 
 void Simulation::Engine::rates_after_jump() {

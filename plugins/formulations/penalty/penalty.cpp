@@ -23,6 +23,7 @@
 
 #include "constraint_terms.hpp"
 #include "initial_accelerations.hpp"
+#include "monohydra/constrained.h"
 #include "monohydra/cpp/formulation_plugin.hpp"
 #include "monohydra/cpp/services.hpp"
 #include "monohydra/cpp/state.hpp"
@@ -498,11 +499,15 @@ mh_status write_outputs(const mh_formulation* f, double* outputs, uint32_t num_o
 
 // The unknowns are the coordinates, coupled as the mechanics couple them
 // (MH_EXT_COORDINATE_UNKNOWNS): the host's tangent is sparse for trees. Its
-// state saves and loads (MH_EXT_STATE).
+// state saves and loads (MH_EXT_STATE). A converged step holds Phi(z) = 0,
+// the multipliers of Eq. (19) having made it so
+// (MH_EXT_CONSTRAINED_AT_CONVERGENCE: a differentiated step is bordered by
+// Phi_z).
 const char kCoordinateUnknowns = 1;
 const void* get_extension(const mh_formulation*, const char* id) noexcept {
   if (id == nullptr) return nullptr;
   if (std::strcmp(id, MH_EXT_COORDINATE_UNKNOWNS) == 0) return &kCoordinateUnknowns;
+  if (std::strcmp(id, MH_EXT_CONSTRAINED_AT_CONVERGENCE) == 0) return &kCoordinateUnknowns;
   if (std::strcmp(id, MH_EXT_STATE) == 0)
     return monohydra::state_extension<mh_formulation, Penalty>();
   return nullptr;

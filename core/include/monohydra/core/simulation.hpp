@@ -14,6 +14,7 @@
 
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/plugin_registry.hpp"
+#include "monohydra/core/sensitivities.hpp"
 #include "monohydra/core/sparse_pattern.hpp"
 #include "monohydra/types.h"
 
@@ -178,6 +179,28 @@ class Simulation {
   void set_body_inertia(int body, double mass, const Eigen::Vector3d& com_B,
                         const Eigen::Matrix3d& inertia_B);
   void set_gravity(const Eigen::Vector3d& gravity);
+
+  // Forward sensitivities (sensitivities.hpp, docs/identification.md): from
+  // start() on, every accepted step also carries d/dp of the coordinates,
+  // their rates, the states and the outputs for each parameter given, by
+  // differentiating the discrete step: the converged tangent, factored once,
+  // solves one right-hand side per parameter; the integrator's history is
+  // differentiated by an instance of its own per parameter, the formulation's
+  // corrections at accept by differences along the solved direction. Before
+  // start() only. Refused (std::invalid_argument naming why): an explicit
+  // integrator, solver.newton: articulated, a subsystem that keeps state of
+  // its own (an accept operation), a formulation that cannot save its state,
+  // a body index out of range.
+  void track_sensitivities(const std::vector<ParameterDirection>& parameters);
+  int num_sensitivities() const;  // k: 0 when none are tracked
+  // At the accepted state, one column per parameter.
+  const Eigen::MatrixXd& coordinate_sensitivities() const;       // N x k: dz/dp
+  const Eigen::MatrixXd& coordinate_rate_sensitivities() const;  // N x k: dzd/dp
+  const Eigen::MatrixXd& state_sensitivities() const;            // n_s x k: dy/dp
+  const Eigen::MatrixXd& output_sensitivities() const;           // n_o x k
+  // Whether output i's column is differentiated (a formulation's outputs of
+  // its own iteration, such as penalty's multipliers, are not).
+  bool output_differentiated(int i) const;
 
   // Energy balance, all relative to t = 0: kinetic and potential energy of the
   // bodies, work W done on them by subsystem forces (trapezoidal integral of

@@ -1,0 +1,36 @@
+// Forward sensitivities of a run with respect to parameters of its model:
+// d(state)/d(p) carried along with the run by differentiating the discrete
+// step (docs/identification.md). A parameter is named by its path, as
+// `--set` names it; the host translates it into how it moves the values the
+// engine can change in place (this struct), the core differentiates the
+// step along that direction.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+namespace mh {
+
+struct ParameterDirection {
+  std::string path;    // e.g. "bodies/body3/mass", "gravity/1"
+  double value = 0.0;  // its value in the model, in the file's units
+  // d(value in the engine)/d(path's value): what a unit change of the
+  // path's value moves. Mass in kg, centre of mass in m, inertia in kg m^2,
+  // gravity in m/s^2 (a mass in a file whose shapes derive the inertia from
+  // it moves both). Initial coordinates are not among them yet: a
+  // formulation reads the assembled z0 when it is set up.
+  struct BodyChange {
+    int body = 0;
+    double mass = 0.0;
+    Eigen::Vector3d com = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
+  };
+  std::vector<BodyChange> bodies;
+  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
+  // The step of the value the engine's directional differences take (0: a
+  // millionth of max(|value|, 1)).
+  double step = 0.0;
+};
+
+}  // namespace mh

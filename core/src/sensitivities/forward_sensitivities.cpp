@@ -1,0 +1,503 @@
+// Forward sensitivities by differentiating the discrete step (sensitivities.hpp,
+// docs/identification.md). A step maps the accepted state and the
+// parameters p to the next accepted state in three parts, each
+// differentiated here as it is computed:
+//  - the integrator's map (Eq. 33): xd = c_v x + xd_off(history), xdd = c_a
+//    x + xdd_off(history), the offsets linear in the history: an instance of
+//    the same integrator per parameter, fed that parameter's column instead
+//    of the state, gives the column's offsets exactly;
+//  - Newton's solution of r(x, xd(x), xdd(x); p) = 0 (Eq. 37): J S = -(dr/dp
+//    + dr/dxd dxd_off + dr/dxdd dxdd_off), J the tangent at the converged
+//    iterate, factored once for every parameter; the right-hand side is the
+//    residual's derivative along (xd_off, xdd_off, p) with x held, by central
+//    differences (the residual is all the ABI gives of a plugin's
+//    dependence on p). A formulation that iterates multipliers until Phi(z)
+//    = 0 (MH_EXT_CONSTRAINED_AT_CONVERGENCE: penalty's augmented Lagrangian,
+//    Eq. 19) converges on the constraints, not on frozen multipliers: its
+//    system is bordered by Phi_z, so that Phi_z S = 0;
+//  - the formulation's accept (penalty's projections, Eqs. 20-21; a new
+//    choice of independent coordinates) and the coordinates and outputs it
+//    writes: central differences of the same step replayed from the
+//    formulation's saved state at x +- eps S (the ABI's step: begin_step,
+//    residual, accept, coordinates, write_outputs), the run's own state
+//    restored after.
+// A time event's jump in the state rates (rates_after_jump) is differenced
+// the same way. The initial columns are differences of start() itself.
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "engine.hpp"
+#include "monohydra/constrained.h"
+#include "monohydra/core/kinematics.hpp"
+#include "monohydra/core/plugin_registry.hpp"
+
+namespace mh {
+
+namespace {
+
+// Each column's rates from its x column and its offsets, as rates_of does
+// for the state (Eq. 33 without the history it differentiates away).
+void column_rates(const std::vector<uint8_t>& kinds, const mh_step_coefficients& c,
+                  const Eigen::VectorXd& dx, const StepMapState& map,
+                  Eigen::Ref<Eigen::VectorXd> dxd, Eigen::Ref<Eigen::VectorXd> dxdd) {
+  for (Eigen::Index i = 0; i < dx.size(); ++i) {
+    switch (kinds[static_cast<size_t>(i)]) {
+      case MH_UNKNOWN_SECOND_ORDER:
+        dxd[i] = c.dxd_dx_second * dx[i] + map.xd_off[i];
+        dxdd[i] = c.dxdd_dx_second * dx[i] + map.xdd_off[i];
+        break;
+      case MH_UNKNOWN_FIRST_ORDER:
+        dxd[i] = c.dxd_dx_first * dx[i] + map.xd_off[i];
+        dxdd[i] = 0.0;
+        break;
+      default:
+        dxd[i] = 0.0;
+        dxdd[i] = 0.0;
+        break;
+    }
+  }
+}
+
+}  // namespace
+
+// Parameter j's difference step now: its own, unless that would move an
+// unknown along the column by more than `largest_move` of its size (at
+// least 1). Two bounds, measured on the four-bar (largest error against
+// whole runs, of the largest sensitivity, over 6 s):
+//  - the replayed accept: 1e-7. Penalty's projections solve with W +
+//    Phi_z^T alpha Phi_z / c_a, ill-conditioned by design: 1e-9 gave 1.4e-3
+//    from round-off;
+//  - the residual's right-hand side and a time event's state rates: 1e-9.
+//    The right-hand side moves the rates by the map's offsets, some 2/h
+//    times the column: where the cylinder comes to rest after the valve
+//    closes, its friction is steep in the rate, and 1e-7 missed by 2.3e-3.
+constexpr double kLargestMove = 1e-7;
+constexpr double kLargestRateMove = 1e-9;
+
+double Simulation::Engine::difference_step(size_t j, const Eigen::VectorXd& at,
+                                           double largest_move) const {
+  const auto cj = static_cast<Eigen::Index>(j);
+  double ratio = 0.0;
+  for (int i = 0; i < n; ++i)
+    ratio = std::max(ratio, std::abs(sens.dx(i, cj)) / std::max(std::abs(at[i]), 1.0));
+  const double step = sens.steps[j];
+  return ratio * step > largest_move ? largest_move / ratio : step;
+}
+
+void Simulation::Engine::track_sensitivities(const std::vector<ParameterDirection>& parameters) {
+  if (accepted.started)
+    throw std::invalid_argument("sensitivities are tracked from start(): ask for them before it");
+  if (explicit_method)
+    throw std::invalid_argument("integrator '" + integrator_name +
+                                "' is explicit: forward sensitivities differentiate an implicit "
+                                "step's Newton solution (use trapezoidal, bdf2 or "
+                                "generalized-alpha)");
+  if (settings.newton == NewtonKind::articulated)
+    throw std::invalid_argument(
+        "solver.newton: articulated assembles no tangent, and sensitivities solve with it: use "
+        "full, per-step or modified Newton");
+  for (const SubsystemInstance& s : subsystems)
+    if (s.api.ops.accept != nullptr)
+      throw std::invalid_argument("subsystem '" + s.spec->name + "' (" + s.spec->type +
+                                  ") keeps state of its own between steps (an accept operation), "
+                                  "which sensitivities do not carry");
+  const void* ext = formulation.ops.get_extension == nullptr
+                        ? nullptr
+                        : in_flight(*formulation_host, InstanceHost::Op::get_extension, [&] {
+                            return formulation.ops.get_extension(formulation.self, MH_EXT_STATE);
+                          });
+  const mh_state_extension state = read_struct(static_cast<const mh_state_extension*>(ext));
+  if (state.size == nullptr || state.save == nullptr || state.load == nullptr)
+    throw std::invalid_argument("formulation '" + formulation_name + "' cannot save its state (" +
+                                MH_EXT_STATE +
+                                "): sensitivities replay its accept from the state before it");
+  for (const ParameterDirection& p : parameters) {
+    for (const ParameterDirection::BodyChange& b : p.bodies)
+      if (b.body < 0 || b.body >= model.num_bodies())
+        throw std::invalid_argument(p.path + ": body " + std::to_string(b.body) +
+                                    " is not one of the model's " +
+                                    std::to_string(model.num_bodies()));
+    if (!std::isfinite(p.value) || !(p.step >= 0.0))
+      throw std::invalid_argument(p.path + ": expected a finite value and a step of 0 or more");
+  }
+  sens = SensitivityState{};
+  const size_t k = parameters.size();
+  if (k == 0) return;
+  sens.params = parameters;
+  for (const ParameterDirection& p : parameters)
+    sens.steps.push_back(p.step > 0.0 ? p.step : 1e-6 * std::max(std::abs(p.value), 1.0));
+  sens.formulation_state = state;
+  const uint64_t bytes = in_flight(*formulation_host, InstanceHost::Op::get_extension,
+                                   [&] { return state.size(formulation.self); });
+  sens.before_step.resize(bytes);
+  sens.after_step.resize(bytes);
+
+  // One instance of the run's integrator per parameter, set up as the run's.
+  mh_integrator_problem problem{};
+  problem.struct_size = sizeof(problem);
+  problem.num_unknowns = static_cast<uint32_t>(n);
+  problem.kinds = registry.kinds.data();
+  problem.t0 = 0.0;
+  problem.dt = settings.dt;
+  sens.shadow_maps.resize(k);
+  for (size_t j = 0; j < k; ++j) {
+    const mh_integrator* made = integrator_info->integrator_factory.create(
+        static_cast<const mh_integrator_factory*>(integrator_info->factory),
+        &integrator_host->table, integrator_name.c_str());
+    if (made == nullptr)
+      throw std::invalid_argument("integrator '" + integrator_name +
+                                  "' could not make an instance for a parameter's sensitivities" +
+                                  (last_plugin_error.empty() ? "" : ": " + last_plugin_error));
+    sens.shadows.emplace_back(made);
+    IntegratorProxy& shadow = sens.shadows.back();
+    mark_destroy(shadow, *integrator_host);
+    const mh_status st = normalized(in_flight(*integrator_host, InstanceHost::Op::setup, [&] {
+      return shadow.ops.setup(shadow.self, &problem);
+    }));
+    if (!status_ok(st))
+      throw std::invalid_argument(status_reason(
+          st, "integrator '" + integrator_name + "' setup of a sensitivity's instance"));
+    StepMapState& map = sens.shadow_maps[j];
+    for (Eigen::VectorXd* v : {&map.x_pred, &map.xd_off, &map.xdd_off}) v->setZero(n);
+    map.map.struct_size = sizeof(map.map);
+    map.map.num_unknowns = static_cast<uint32_t>(n);
+    map.map.coefficients.struct_size = sizeof(map.map.coefficients);
+    map.map.x_predicted = map.x_pred.data();
+    map.map.xd_offset = map.xd_off.data();
+    map.map.xdd_offset = map.xdd_off.data();
+  }
+  const auto cols = static_cast<Eigen::Index>(k);
+  for (Eigen::MatrixXd* mtx : {&sens.dx, &sens.dxd, &sens.dxdd, &sens.rhs}) mtx->setZero(n, cols);
+  for (Eigen::MatrixXd* mtx : {&sens.dz, &sens.dzd, &sens.dzdd}) mtx->setZero(N, cols);
+  sens.doutputs.setZero(n_o, cols);
+  sens.dy.setZero(n_s, cols);
+  for (Eigen::VectorXd* v :
+       {&sens.xs, &sens.xds, &sens.xdds, &sens.xq, &sens.xdq, &sens.xddq, &sens.rp, &sens.rm,
+        &sens.col, &sens.xp, &sens.xdp, &sens.xddp, &sens.xm, &sens.xdm, &sens.xddm})
+    v->setZero(n);
+  for (Eigen::VectorXd* v : {&sens.zp, &sens.zdp, &sens.zddp, &sens.zm, &sens.zdm, &sens.zddm})
+    v->setZero(N);
+  for (Eigen::VectorXd* v : {&sens.outputs_saved, &sens.outp, &sens.outm}) v->setZero(n_o);
+  sens.y_saved.setZero(n_s);
+  sens.ydot_saved.setZero(n_s);
+
+  sens.bordered =
+      m > 0 && formulation.ops.get_extension != nullptr &&
+      in_flight(*formulation_host, InstanceHost::Op::get_extension, [&] {
+        return formulation.ops.get_extension(formulation.self, MH_EXT_CONSTRAINED_AT_CONVERGENCE);
+      }) != nullptr;
+  if (sens.bordered && !tangent_ws.coordinate_unknowns)
+    throw std::invalid_argument("formulation '" + formulation_name + "' declares " +
+                                MH_EXT_CONSTRAINED_AT_CONVERGENCE + " without " +
+                                MH_EXT_COORDINATE_UNKNOWNS +
+                                ": its unknowns must be the coordinates Phi_z is of");
+  if (sens.bordered) {
+    sens.border.setZero(n, m);
+    sens.border_solved.setZero(n, m);
+    sens.schur.setZero(m, m);
+    sens.schur_lu = Eigen::PartialPivLU<Eigen::MatrixXd>(m);
+    sens.mu.setZero(m);
+    sens.mu_solved.setZero(m);
+  }
+  // The formulation's outputs of its own iteration (the multipliers) follow
+  // no differentiable map of the columns when it converges on Phi = 0.
+  sens.output_differentiated.assign(static_cast<size_t>(n_o), 1);
+  for (int i = 0; i < n_o; ++i) {
+    const std::string& q = registry.output_info[static_cast<size_t>(i)].qualified;
+    if (sens.bordered && q.substr(0, q.find('.')) == formulation_name)
+      sens.output_differentiated[static_cast<size_t>(i)] = 0;
+  }
+  sens.saved_bodies.resize(static_cast<size_t>(model.num_bodies()));
+  sens.active = true;
+}
+
+void Simulation::Engine::perturb_parameter(size_t j, double amount) {
+  const ParameterDirection& p = sens.params[j];
+  for (const ParameterDirection::BodyChange& c : p.bodies) {
+    Body& b = model.bodies[static_cast<size_t>(c.body)];
+    sens.saved_bodies[static_cast<size_t>(c.body)] = {b.mass, b.com_B, b.inertia_B};
+  }
+  for (const ParameterDirection::BodyChange& c : p.bodies) {
+    Body& b = model.bodies[static_cast<size_t>(c.body)];
+    b.mass += amount * c.mass;
+    b.com_B += amount * c.com;
+    b.inertia_B += amount * c.inertia;
+  }
+  sens.saved_gravity = model.gravity;
+  model.gravity += amount * p.gravity;
+}
+
+void Simulation::Engine::restore_parameter(size_t j) {
+  for (const ParameterDirection::BodyChange& c : sens.params[j].bodies) {
+    Body& b = model.bodies[static_cast<size_t>(c.body)];
+    const SensitivityState::BodyValues& v = sens.saved_bodies[static_cast<size_t>(c.body)];
+    b.mass = v.mass;
+    b.com_B = v.com;
+    b.inertia_B = v.inertia;
+  }
+  model.gravity = sens.saved_gravity;
+}
+
+// The initial columns: start() at p + eps and p - eps, then at p (the run's
+// own start, last). start() is deterministic, and begins from the same
+// states each time (the equilibrium it solves for moves with p).
+void Simulation::Engine::start_sensitivities() {
+  const Eigen::VectorXd y0 = states.y;
+  const size_t k = sens.params.size();
+  for (size_t j = 0; j < k; ++j) {
+    const double h = sens.steps[j];
+    for (const double sign : {1.0, -1.0}) {
+      perturb_parameter(j, sign * h);
+      states.y = y0;
+      start_run();
+      restore_parameter(j);
+      const bool plus = sign > 0.0;
+      (plus ? sens.xp : sens.xm) = x;
+      (plus ? sens.xdp : sens.xdm) = xd;
+      (plus ? sens.xddp : sens.xddm) = xdd;
+      (plus ? sens.zp : sens.zm) = accepted.z;
+      (plus ? sens.zdp : sens.zdm) = accepted.zd;
+      (plus ? sens.zddp : sens.zddm) = accepted.zdd;
+      (plus ? sens.outp : sens.outm) = registry.outputs;
+    }
+    const auto c = static_cast<Eigen::Index>(j);
+    sens.dx.col(c) = (sens.xp - sens.xm) / (2.0 * h);
+    sens.dxd.col(c) = (sens.xdp - sens.xdm) / (2.0 * h);
+    sens.dxdd.col(c) = (sens.xddp - sens.xddm) / (2.0 * h);
+    sens.dz.col(c) = (sens.zp - sens.zm) / (2.0 * h);
+    sens.dzd.col(c) = (sens.zdp - sens.zdm) / (2.0 * h);
+    sens.dzdd.col(c) = (sens.zddp - sens.zddm) / (2.0 * h);
+    sens.doutputs.col(c) = (sens.outp - sens.outm) / (2.0 * h);
+  }
+  states.y = y0;
+  start_run();
+  for (size_t j = 0; j < k; ++j) restart_shadow(j);
+  sens.dy = sens.dx.bottomRows(n_s);
+  save_formulation_state(sens.before_step);
+}
+
+void Simulation::Engine::restart_shadow(size_t j) {
+  IntegratorProxy& shadow = sens.shadows[j];
+  const auto c = static_cast<Eigen::Index>(j);
+  sens.xq = sens.dx.col(c);
+  sens.xdq = sens.dxd.col(c);
+  sens.xddq = sens.dxdd.col(c);
+  check(in_flight(*integrator_host, InstanceHost::Op::restart,
+                  [&] {
+                    const mh_unknown_values at = monohydra::unknown_values(
+                        accepted.t, static_cast<size_t>(n), sens.xq.data(), sens.xdq.data(),
+                        sens.xddq.data());
+                    return shadow.ops.restart(shadow.self, &at);
+                  }),
+        "integrator", integrator_name, "restart (a sensitivity's instance)");
+}
+
+void Simulation::Engine::save_formulation_state(std::vector<unsigned char>& into) {
+  const mh_state_extension& ext = sens.formulation_state;
+  check(in_flight(*formulation_host, InstanceHost::Op::save_state,
+                  [&] { return ext.save(formulation.self, into.data(), into.size()); }),
+        "formulation save_state (sensitivities)");
+}
+
+void Simulation::Engine::load_formulation_state(const std::vector<unsigned char>& from) {
+  const mh_state_extension& ext = sens.formulation_state;
+  check(in_flight(*formulation_host, InstanceHost::Op::load_state,
+                  [&] { return ext.load(formulation.self, from.data(), from.size()); }),
+        "formulation load_state (sensitivities)");
+}
+
+// At the converged iterate, before the formulation's accept: the columns of
+// the unknowns as Newton's solution moves them (the step's second part).
+void Simulation::Engine::sensitivities_before_accept(double t_eval, double t_next, double h) {
+  sens.t_eval = t_eval;
+  sens.xs = x;
+  sens.xds = xd;
+  sens.xdds = xdd;
+  // The tangent at the converged iterate (a kept factorization may be of an
+  // earlier one; the last residual call was at this one).
+  check(assemble_tangent(t_eval), "tangent assembly (sensitivities)");
+  if (!solver.linear_solver->factor(tangent_ws.values.data()))
+    fail("sensitivities: " + solver.linear_solver->error());
+  solver.reuse.invalidate();  // the factorization is the sensitivities' now
+  const mh_step_coefficients& c = map_ws.map.coefficients;
+  const size_t k = sens.params.size();
+  for (size_t j = 0; j < k; ++j) {
+    IntegratorProxy& shadow = sens.shadows[j];
+    StepMapState& map = sens.shadow_maps[j];
+    check(in_flight(*integrator_host, InstanceHost::Op::begin_step,
+                    [&] { return shadow.ops.begin_step(shadow.self, t_next, h, &map.map); }),
+          "integrator", integrator_name, "begin_step (a sensitivity's instance)");
+    // r's derivative along (0, xd_off, xdd_off, p): x held.
+    const double step = difference_step(j, sens.xs, kLargestRateMove);
+    for (const double sign : {1.0, -1.0}) {
+      for (int i = 0; i < n; ++i) {
+        const auto kind = registry.kinds[static_cast<size_t>(i)];
+        sens.xdq[i] =
+            sens.xds[i] + (kind == MH_UNKNOWN_ALGEBRAIC ? 0.0 : sign * step * map.xd_off[i]);
+        sens.xddq[i] =
+            sens.xdds[i] + (kind == MH_UNKNOWN_SECOND_ORDER ? sign * step * map.xdd_off[i] : 0.0);
+      }
+      perturb_parameter(j, sign * step);
+      const mh_status st =
+          residual_at(t_eval, sens.xs, sens.xdq, sens.xddq, sign > 0.0 ? sens.rp : sens.rm);
+      restore_parameter(j);
+      check(st, "residual evaluation (sensitivities)");
+    }
+    sens.rhs.col(static_cast<Eigen::Index>(j)) = -(sens.rp - sens.rm) / (2.0 * step);
+  }
+  if (sens.bordered) {
+    // [J G^T; G 0] [S; mu] = [b; 0], G = [Phi_z 0]: S = J^-1 b - J^-1 G^T mu,
+    // mu from G S = 0 (m more solves with the same factorization).
+    kinematics_at(sens.xs.data(), sens.xds.data());
+    constraints_at_kinematics(false);
+    sens.border.setZero();
+    sens.border.topRows(N) = cons.phi_z.transpose();
+    for (int i = 0; i < m; ++i) {
+      sens.col = sens.border.col(i);
+      solver.linear_solver->solve(sens.col.data());
+      sens.border_solved.col(i) = sens.col;
+    }
+    sens.schur.noalias() = sens.border.transpose() * sens.border_solved;
+    sens.schur_lu.compute(sens.schur);
+  }
+  for (size_t j = 0; j < k; ++j) {
+    const auto cj = static_cast<Eigen::Index>(j);
+    sens.col = sens.rhs.col(cj);
+    solver.linear_solver->solve(sens.col.data());
+    if (sens.bordered) {
+      sens.mu.noalias() = sens.border.transpose() * sens.col;
+      sens.mu_solved = sens.schur_lu.solve(sens.mu);
+      sens.col.noalias() -= sens.border_solved * sens.mu_solved;
+    }
+    sens.dx.col(cj) = sens.col;
+    column_rates(registry.kinds, c, sens.col, sens.shadow_maps[j], sens.dxd.col(cj),
+                 sens.dxdd.col(cj));
+  }
+  if (!sens.dx.allFinite() || !sens.dxd.allFinite() || !sens.dxdd.allFinite())
+    fail("sensitivities: a column of the step's solution is not finite");
+  // The converged iterate's evaluation again, at p: what accept reads of
+  // the last residual call (and the outputs of the step).
+  check(residual_at(t_eval, sens.xs, sens.xds, sens.xdds, r), "residual evaluation");
+}
+
+// The step replayed from the formulation's state before it, at the
+// converged iterate moved by `amount` along column j and p by as much: what
+// accept leaves of the unknowns, the coordinates and the outputs.
+void Simulation::Engine::replay_accept(size_t j, double amount, double t_next, bool plus) {
+  const auto cj = static_cast<Eigen::Index>(j);
+  load_formulation_state(sens.before_step);
+  Eigen::VectorXd& xq = plus ? sens.xp : sens.xm;
+  Eigen::VectorXd& xdq = plus ? sens.xdp : sens.xdm;
+  Eigen::VectorXd& xddq = plus ? sens.xddp : sens.xddm;
+  xq = sens.xs + amount * sens.dx.col(cj);
+  xdq = sens.xds + amount * sens.dxd.col(cj);
+  xddq = sens.xdds + amount * sens.dxdd.col(cj);
+  perturb_parameter(j, amount);
+  formulation_begin_step(map_ws.map.coefficients, t_next, xq, xdq, xddq);
+  mh_status st = residual_at(sens.t_eval, xq, xdq, xddq, plus ? sens.rp : sens.rm);
+  if (status_ok(st)) {
+    uint32_t flags = 0;
+    st = in_flight(*formulation_host, InstanceHost::Op::accept, [&] {
+      const mh_unknown_buffers values =
+          monohydra::unknown_buffers(static_cast<size_t>(n_m), xq.data(), xdq.data(), xddq.data());
+      return formulation.ops.accept(formulation.self, t_next, &map_ws.map.coefficients, &values,
+                                    &flags);
+    });
+  }
+  if (status_ok(st))
+    st = in_flight(*formulation_host, InstanceHost::Op::coordinates, [&] {
+      const mh_coordinate_buffers out{sizeof(mh_coordinate_buffers), static_cast<uint32_t>(N),
+                                      (plus ? sens.zp : sens.zm).data(),
+                                      (plus ? sens.zdp : sens.zdm).data(),
+                                      (plus ? sens.zddp : sens.zddm).data()};
+      return formulation.ops.coordinates(formulation.self, &out);
+    });
+  if (status_ok(st) && formulation.ops.write_outputs != nullptr)
+    st = in_flight(*formulation_host, InstanceHost::Op::write_outputs, [&] {
+      return formulation.ops.write_outputs(formulation.self, registry.outputs.data(),
+                                           static_cast<uint32_t>(n_o));
+    });
+  restore_parameter(j);
+  check(st, "formulation step replayed for a sensitivity");
+  (plus ? sens.outp : sens.outm) = registry.outputs;
+}
+
+// After the run's own accept (and the integrator's): the formulation's
+// corrections differenced, a time event's jump in the state rates too, and
+// each column handed to its integrator instance as the state was to the
+// run's.
+void Simulation::Engine::sensitivities_after_accept(double t_next, uint32_t flags, bool event) {
+  save_formulation_state(sens.after_step);
+  sens.outputs_saved = registry.outputs;
+  sens.y_saved = states.y;
+  sens.ydot_saved = states.ydot;
+  const size_t k = sens.params.size();
+  for (size_t j = 0; j < k; ++j) {
+    const double step = difference_step(j, sens.xs, kLargestMove);
+    replay_accept(j, step, t_next, true);
+    replay_accept(j, -step, t_next, false);
+    const auto cj = static_cast<Eigen::Index>(j);
+    const double scale = 1.0 / (2.0 * step);
+    sens.dx.col(cj) = (sens.xp - sens.xm) * scale;
+    sens.dxd.col(cj) = (sens.xdp - sens.xdm) * scale;
+    sens.dxdd.col(cj) = (sens.xddp - sens.xddm) * scale;
+    sens.dz.col(cj) = (sens.zp - sens.zm) * scale;
+    sens.dzd.col(cj) = (sens.zdp - sens.zdm) * scale;
+    sens.dzdd.col(cj) = (sens.zddp - sens.zddm) * scale;
+    sens.doutputs.col(cj) = (sens.outp - sens.outm) * scale;
+  }
+  load_formulation_state(sens.after_step);
+  std::swap(sens.before_step, sens.after_step);  // the next step's "before"
+  registry.outputs = sens.outputs_saved;
+  states.y = sens.y_saved;
+  states.ydot = sens.ydot_saved;
+  if (event) {
+    // The state rates' right limit (rates_after_jump), differenced along
+    // each column: y, z, zd moved, the rows solved for ydot again.
+    const Eigen::VectorXd z_acc = accepted.z;
+    const Eigen::VectorXd zd_acc = accepted.zd;
+    for (size_t j = 0; j < k; ++j) {
+      const auto cj = static_cast<Eigen::Index>(j);
+      const double step = difference_step(j, sens.xs, kLargestRateMove);
+      for (const double sign : {1.0, -1.0}) {
+        perturb_parameter(j, sign * step);
+        states.y = sens.y_saved + sign * step * sens.dx.col(cj).tail(n_s);
+        states.ydot = sens.ydot_saved;
+        sens.zp = z_acc + sign * step * sens.dz.col(cj);
+        sens.zdp = zd_acc + sign * step * sens.dzd.col(cj);
+        kinematics_at(sens.zp.data(), sens.zdp.data());
+        solve_initial_rates(std::nextafter(accepted.t, HUGE_VAL));
+        restore_parameter(j);
+        (sign > 0.0 ? sens.rp : sens.rm).tail(n_s) = states.ydot;
+      }
+      sens.dxd.col(cj).tail(n_s) = (sens.rp.tail(n_s) - sens.rm.tail(n_s)) / (2.0 * step);
+    }
+    states.y = sens.y_saved;
+    states.ydot = sens.ydot_saved;
+  }
+  kinematics_at(accepted.z.data(), accepted.zd.data());
+  sens.dy = sens.dx.bottomRows(n_s);
+  const bool restart = event || (flags & MH_ACCEPT_REDEFINED) != 0;
+  for (size_t j = 0; j < k; ++j) {
+    if (restart) {
+      restart_shadow(j);
+      continue;
+    }
+    IntegratorProxy& shadow = sens.shadows[j];
+    const auto cj = static_cast<Eigen::Index>(j);
+    sens.xq = sens.dx.col(cj);
+    sens.xdq = sens.dxd.col(cj);
+    sens.xddq = sens.dxdd.col(cj);
+    check(in_flight(*integrator_host, InstanceHost::Op::accept,
+                    [&] {
+                      const mh_unknown_values at = monohydra::unknown_values(
+                          accepted.t, static_cast<size_t>(n), sens.xq.data(), sens.xdq.data(),
+                          sens.xddq.data());
+                      return shadow.ops.accept(shadow.self, &at);
+                    }),
+          "integrator", integrator_name, "accept (a sensitivity's instance)");
+  }
+}
+
+}  // namespace mh
