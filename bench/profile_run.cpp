@@ -3,21 +3,30 @@
 // given simulated time, writing its CSV to /dev/null every step, every 10 ms
 // or not at all.
 //   mh_profile MODEL.yaml|chain:N|tree:N FORMULATION T_END [none|every-step|10ms]
-//              [auto|per-step|full|modified|articulated] [klu|umfpack|dense|auto]
+//              [auto|per-step|full|modified|articulated] [klu|umfpack|dense|auto] [sens:K]
+// sens:K carries forward sensitivities (sensitivities.hpp) for K parameters:
+// the bodies' masses in order (each moving its inertia in proportion), then
+// gravity's components.
 #include <fstream>
 #include <iostream>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "bench_support.hpp"
 #include "monohydra/core/csv_layout.hpp"
 
 int main(int argc, char** argv) {
   using namespace mh;
+  std::size_t sensitivities = 0;
+  if (argc >= 5 && std::string(argv[argc - 1]).rfind("sens:", 0) == 0) {
+    sensitivities = std::stoul(std::string(argv[argc - 1]).substr(5));
+    --argc;
+  }
   if (argc < 4 || argc > 7) {
     std::cerr << "usage: mh_profile MODEL.yaml|chain:N|tree:N FORMULATION T_END "
                  "[none|every-step|10ms] [auto|per-step|full|modified|articulated] "
-                 "[klu|umfpack|dense|auto]\n";
+                 "[klu|umfpack|dense|auto] [sens:K]\n";
     return 2;
   }
   try {
@@ -30,6 +39,26 @@ int main(int argc, char** argv) {
     ModelFile file = bench::bench_model(what);
     bench::choose_solver(file, newton, linear);
     Simulation sim(file, bench::plugins(), RunChoices{argv[2], "", {}, std::stod(argv[3])});
+    std::vector<ParameterDirection> params;
+    for (std::size_t j = 0; j < file.model.bodies.size() && params.size() < sensitivities; ++j) {
+      const Body& b = file.model.bodies[j];
+      ParameterDirection p;
+      p.path = "bodies/" + b.name + "/mass";
+      p.value = b.mass;
+      p.bodies.push_back({static_cast<int>(j), 1.0, Eigen::Vector3d::Zero(), b.inertia_B / b.mass});
+      params.push_back(p);
+    }
+    for (int i = 0; i < 3 && params.size() < sensitivities; ++i) {
+      ParameterDirection p;
+      p.path = "gravity/" + std::to_string(i);
+      p.value = file.model.gravity[i];
+      p.gravity[i] = 1.0;
+      params.push_back(p);
+    }
+    if (params.size() < sensitivities)
+      throw std::runtime_error("sens:K: the model has " + std::to_string(params.size()) +
+                               " parameters of that kind");
+    if (!params.empty()) sim.track_sensitivities(params);
     const CsvLayout layout(sim, OutputSettings{},
                            output == "10ms" ? std::optional<double>(0.01) : std::nullopt);
     std::ofstream csv("/dev/null");

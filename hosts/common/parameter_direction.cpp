@@ -1,0 +1,92 @@
+#include "parameter_direction.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "model_settings.hpp"
+#include "monohydra/core/input_error.hpp"
+#include "parameter_path.hpp"
+
+namespace mh::host {
+
+namespace {
+
+std::string text_of(double v) {
+  char s[40];
+  std::snprintf(s, sizeof(s), "%.17g", v);
+  return s;
+}
+
+ModelFile parsed_with(const std::string& text, const std::string& label,
+                      const std::string& base_dir, const std::string& path, double value) {
+  const SetText set = apply_settings(text, label, {{path, text_of(value)}});
+  try {
+    return parse_model_text(set.text, label + " (with " + path + "=" + text_of(value) + ")",
+                            base_dir);
+  } catch (const InputError& err) {
+    throw std::invalid_argument(
+        path + ": the model with it moved by a millionth is refused: " + err.what());
+  }
+}
+
+}  // namespace
+
+ParameterDirection parameter_direction(const std::string& text, const std::string& label,
+                                       const std::string& base_dir, const ModelFile& file,
+                                       const std::string& path) {
+  const std::vector<std::string> parts = split_path(path);
+  const bool body_value = parts.size() >= 3 && parts[0] == "bodies" &&
+                          (parts[2] == "mass" || parts[2] == "com" || parts[2] == "inertia");
+  const bool gravity = !parts.empty() && parts[0] == "gravity";
+  if (!body_value && !gravity)
+    throw std::invalid_argument(
+        path +
+        ": not a parameter sensitivities take yet: they take bodies' mass, com and inertia, "
+        "and gravity (bodies/NAME/mass, bodies/NAME/com/I, bodies/NAME/inertia/I, gravity/I)");
+  const YAML::Node root = YAML::Load(text);
+  const std::string why = check_path(root, path);
+  if (!why.empty()) throw std::invalid_argument(path + ": " + why);
+  const std::optional<YAML::Node> node = value_at(root, path);
+  if (!node || !node->IsScalar())
+    throw std::invalid_argument(path + ": the model file writes no number there (" +
+                                (node ? std::string("a list or mapping") : "nothing") +
+                                "): write the value to make it a parameter");
+  double value = 0.0;
+  try {
+    value = node->as<double>();
+  } catch (const YAML::Exception&) {
+    throw std::invalid_argument(path + ": expected a number, the file writes '" + node->Scalar() +
+                                "'");
+  }
+  if (!std::isfinite(value)) throw std::invalid_argument(path + ": its value is not finite");
+  // Central differences of the parsed model: exact for what the parser makes
+  // linear in the value (a shape's inertia in its mass, a unit's factor).
+  const double delta = 1e-6 * std::max(std::abs(value), 1.0);
+  const ModelFile plus = parsed_with(text, label, base_dir, path, value + delta);
+  const ModelFile minus = parsed_with(text, label, base_dir, path, value - delta);
+  ParameterDirection p;
+  p.path = path;
+  p.value = value;
+  const double scale = 1.0 / (2.0 * delta);
+  for (size_t j = 0; j < file.model.bodies.size(); ++j) {
+    const Body& a = plus.model.bodies[j];
+    const Body& b = minus.model.bodies[j];
+    if (a.mass == b.mass && a.com_B == b.com_B && a.inertia_B == b.inertia_B) continue;
+    ParameterDirection::BodyChange c;
+    c.body = static_cast<int>(j);
+    c.mass = (a.mass - b.mass) * scale;
+    c.com = (a.com_B - b.com_B) * scale;
+    c.inertia = (a.inertia_B - b.inertia_B) * scale;
+    p.bodies.push_back(c);
+  }
+  p.gravity = (plus.model.gravity - minus.model.gravity) * scale;
+  if (p.bodies.empty() && p.gravity.isZero(0.0))
+    throw std::invalid_argument(path + ": changing it changes no body and no gravity");
+  return p;
+}
+
+}  // namespace mh::host

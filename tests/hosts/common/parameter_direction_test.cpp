@@ -1,0 +1,69 @@
+// A path as the engine's sensitivities take it (hosts/common/
+// parameter_direction.cpp): a beam's mass moves its inertia as the shape
+// derives it, gravity's component is a unit vector, and paths the engine
+// cannot change in place, or the file does not write, are refused naming
+// the path and why.
+#include "parameter_direction.hpp"
+
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+#include <string>
+
+#include "build_paths.hpp"
+#include "monohydra/core/model_text.hpp"
+
+namespace mh::host {
+namespace {
+
+const std::string& fourbar_path() {
+  static const std::string path = std::string(test::paths::source_dir) + "/models/fourbar.yaml";
+  return path;
+}
+
+std::string refusal(const std::string& path) {
+  const std::string text = read_model_text(fourbar_path());
+  const ModelFile file = parse_model_text(text, "fourbar.yaml", ".");
+  try {
+    (void)parameter_direction(text, "fourbar.yaml", ".", file, path);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ParameterDirection, ABeamsMassMovesItsInertiaAsItsShapeDerivesIt) {
+  const std::string text = read_model_text(fourbar_path());
+  const ModelFile file = parse_model_text(text, "fourbar.yaml", ".");
+  const ParameterDirection p =
+      parameter_direction(text, "fourbar.yaml", ".", file, "bodies/body3/mass");
+  EXPECT_EQ(p.value, 50.0);
+  ASSERT_EQ(p.bodies.size(), 1u);
+  EXPECT_EQ(p.bodies[0].body, 2);
+  EXPECT_NEAR(p.bodies[0].mass, 1.0, 1e-8);
+  // A beam of length L: m L^2 / 12 about its transverse axes.
+  EXPECT_NEAR(p.bodies[0].inertia(2, 2), 2.0 * 2.0 / 12.0, 1e-7);
+  EXPECT_TRUE(p.bodies[0].com.isZero(1e-9));
+  EXPECT_TRUE(p.gravity.isZero(0.0));
+}
+
+TEST(ParameterDirection, AGravityComponentIsAUnitVector) {
+  const std::string text = read_model_text(fourbar_path());
+  const ModelFile file = parse_model_text(text, "fourbar.yaml", ".");
+  const ParameterDirection p = parameter_direction(text, "fourbar.yaml", ".", file, "gravity/1");
+  EXPECT_EQ(p.value, -9.81);
+  EXPECT_TRUE(p.bodies.empty());
+  EXPECT_NEAR(p.gravity.y(), 1.0, 1e-9);
+  EXPECT_NEAR(p.gravity.x(), 0.0, 1e-12);
+}
+
+TEST(ParameterDirection, RefusesWhatTheEngineCannotChangeOrTheFileDoesNotWrite) {
+  EXPECT_NE(refusal("subsystems/valve/flow_coefficient").find("not a parameter sensitivities take"),
+            std::string::npos);
+  EXPECT_NE(refusal("bodies/nobody/mass").find("no item named 'nobody'"), std::string::npos);
+  const std::string com = refusal("bodies/body3/com/0");
+  EXPECT_NE(com.find("bodies/body3/com/0: "), std::string::npos) << com;
+}
+
+}  // namespace
+}  // namespace mh::host
