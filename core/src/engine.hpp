@@ -34,6 +34,7 @@
 #include "monohydra/cpp/number_text.hpp"
 #include "monohydra/cpp/unknowns.hpp"
 #include "monohydra/monohydra.h"
+#include "monohydra/parameters.h"
 #include "plugins/plugin_instance.hpp"
 #include "step/signals.hpp"
 
@@ -418,6 +419,15 @@ struct SensitivityState {
   };
   std::vector<BodyValues> saved_bodies;
   Eigen::Vector3d saved_gravity = Eigen::Vector3d::Zero();
+  // Per parameter: the component option it moves (parameters.h), found
+  // when tracking begins; instance -1: none.
+  struct ComponentOption {
+    int instance = -1;
+    uint32_t index = 0;
+    mh_parameters_extension ext{};
+    double saved = 0.0;
+  };
+  std::vector<ComponentOption> options;
 };
 
 struct Simulation::Engine {
@@ -587,6 +597,7 @@ struct Simulation::Engine {
   void track_sensitivities(const std::vector<ParameterDirection>& parameters);
   // The model's values moved by `amount` times parameter j's direction, and
   // back as they were.
+  SensitivityState::ComponentOption find_component_option(const ParameterDirection& p);
   void perturb_parameter(size_t j, double amount);
   void restore_parameter(size_t j);
   double difference_step(size_t j, const Eigen::VectorXd& at, double largest_move) const;

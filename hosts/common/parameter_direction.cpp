@@ -42,11 +42,13 @@ ParameterDirection parameter_direction(const std::string& text, const std::strin
   const bool body_value = parts.size() >= 3 && parts[0] == "bodies" &&
                           (parts[2] == "mass" || parts[2] == "com" || parts[2] == "inertia");
   const bool gravity = !parts.empty() && parts[0] == "gravity";
-  if (!body_value && !gravity)
+  const bool option = parts.size() == 3 && parts[0] == "subsystems";
+  if (!body_value && !gravity && !option)
     throw std::invalid_argument(
         path +
-        ": not a parameter sensitivities take yet: they take bodies' mass, com and inertia, "
-        "and gravity (bodies/NAME/mass, bodies/NAME/com/I, bodies/NAME/inertia/I, gravity/I)");
+        ": not a parameter sensitivities take: they take bodies' mass, com and inertia, "
+        "gravity, and the options a component changes in place (bodies/NAME/mass, "
+        "bodies/NAME/com/I, bodies/NAME/inertia/I, gravity/I, subsystems/NAME/KEY)");
   const YAML::Node root = YAML::Load(text);
   const std::string why = check_path(root, path);
   if (!why.empty()) throw std::invalid_argument(path + ": " + why);
@@ -63,6 +65,17 @@ ParameterDirection parameter_direction(const std::string& text, const std::strin
                                 "'");
   }
   if (!std::isfinite(value)) throw std::invalid_argument(path + ": its value is not finite");
+  if (option) {
+    // Component options are SI whatever the file's units (docs/model-format.md):
+    // the engine asks the instance whether it changes this one in place.
+    ParameterDirection p;
+    p.path = path;
+    p.value = value;
+    p.subsystem = parts[1];
+    p.key = parts[2];
+    p.option = 1.0;
+    return p;
+  }
   // Central differences of the parsed model: exact for what the parser makes
   // linear in the value (a shape's inertia in its mass, a unit's factor).
   const double delta = 1e-6 * std::max(std::abs(value), 1.0);

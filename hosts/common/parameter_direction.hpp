@@ -16,8 +16,9 @@ namespace mh::host {
 // `text` is the model file's (named `label` in errors, relative paths from
 // `base_dir`), `file` what it parsed to. Refused with std::invalid_argument
 // starting with the path: a path the file does not write, one that is not
-// a number, and one the engine cannot change in place (only bodies' mass,
-// com and inertia, and gravity, are parameters of sensitivities yet).
+// a number, and one that is not a body's mass, com or inertia, gravity, or a
+// component's option (whether the component changes that option in place,
+// the engine asks it when tracking begins).
 ParameterDirection parameter_direction(const std::string& text, const std::string& label,
                                        const std::string& base_dir, const ModelFile& file,
                                        const std::string& path);

@@ -11,12 +11,12 @@ namespace mh::cli {
 // bad input, 128 + N stopped by signal N (130 SIGINT, 143 SIGTERM).
 int plugins(const std::vector<std::string>& args);
 int run(const std::vector<std::string>& args);
-int validate(const std::vector<std::string>& args);   // 0 OK, 1 the error, 2 bad usage
-int compare(const std::vector<std::string>& args);    // compare.cpp
-int linearize(const std::vector<std::string>& args);  // linearize_command.cpp
+int validate(const std::vector<std::string>& args);       // 0 OK, 1 the error, 2 bad usage
+int compare(const std::vector<std::string>& args);        // compare.cpp
+int linearize(const std::vector<std::string>& args);      // linearize_command.cpp
 int sensitivities(const std::vector<std::string>& args);  // sensitivities_command.cpp
-int fmu(const std::vector<std::string>& args);        // fmu_command.cpp
-int run_default();                                    // default_job.cpp
+int fmu(const std::vector<std::string>& args);            // fmu_command.cpp
+int run_default();                                        // default_job.cpp
 int usage(int code);
 
 }  // namespace mh::cli

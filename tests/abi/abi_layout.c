@@ -5,6 +5,7 @@
 #include "monohydra/constrained.h"
 #include "monohydra/inverse_dynamics.h"
 #include "monohydra/monohydra.h"
+#include "monohydra/parameters.h"
 #include "monohydra/sparsity.h"
 #include "monohydra/visual.h"
 

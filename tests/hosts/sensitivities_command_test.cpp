@@ -108,12 +108,19 @@ TEST(SensitivitiesCommand, ColumnsAgreeWithTheDifferenceOfTwoRunsWithTheValueSet
 
 TEST(SensitivitiesCommand, RefusesParametersItCannotTakeNamingThem) {
   const CliResult option = run_cli("sensitivities " + model("fourbar.yaml") +
-                                   " --params subsystems/valve/flow_coefficient --t-end 0.01");
+                                   " --params subsystems/cylinder/length --t-end 0.01");
   EXPECT_EQ(option.code, 2);
-  EXPECT_NE(option.output.find("subsystems/valve/flow_coefficient: not a parameter sensitivities "
-                               "take yet"),
+  EXPECT_NE(option.output.find("subsystems/cylinder/length: subsystem 'cylinder' (cylinder) does "
+                               "not change 'length' in place (its parameters: piston_diameter, "),
             std::string::npos)
       << option.output;
+  const CliResult fixed = run_cli("sensitivities " + model("fourbar.yaml") +
+                                  " --params subsystems/pump/pressure --t-end 0.01");
+  EXPECT_EQ(fixed.code, 2);
+  EXPECT_NE(fixed.output.find("subsystem 'pump' (pressure-source) changes none of its options in "
+                              "place"),
+            std::string::npos)
+      << fixed.output;
   const CliResult missing =
       run_cli("sensitivities " + model("fourbar.yaml") + " --params bodies/boom/mass");
   EXPECT_EQ(missing.code, 2);

@@ -121,12 +121,20 @@ void Simulation::Engine::track_sensitivities(const std::vector<ParameterDirectio
     if (!std::isfinite(p.value) || !(p.step >= 0.0))
       throw std::invalid_argument(p.path + ": expected a finite value and a step of 0 or more");
   }
+  // Each component option by its instance and key, now: none is looked up in the step.
+  std::vector<SensitivityState::ComponentOption> options(parameters.size());
+  for (size_t j = 0; j < parameters.size(); ++j) {
+    const ParameterDirection& p = parameters[j];
+    if (p.subsystem.empty()) continue;
+    options[j] = find_component_option(p);
+  }
   sens = SensitivityState{};
+  sens.options = std::move(options);
   const size_t k = parameters.size();
   if (k == 0) return;
   sens.params = parameters;
   for (const ParameterDirection& p : parameters)
-    sens.steps.push_back(p.step > 0.0 ? p.step : 1e-6 * std::max(std::abs(p.value), 1.0));
+    sens.steps.push_back(p.step > 0.0 ? p.step : 1e-6 * (p.value != 0.0 ? std::abs(p.value) : 1.0));
   sens.formulation_state = state;
   const uint64_t bytes = in_flight(*formulation_host, InstanceHost::Op::get_extension,
                                    [&] { return state.size(formulation.self); });
@@ -212,8 +220,55 @@ void Simulation::Engine::track_sensitivities(const std::vector<ParameterDirectio
   sens.active = true;
 }
 
+// The option `p` names, offered by its instance as a parameter
+// (parameters.h); std::invalid_argument naming what is missing.
+SensitivityState::ComponentOption Simulation::Engine::find_component_option(
+    const ParameterDirection& p) {
+  SensitivityState::ComponentOption found;
+  for (size_t i = 0; i < subsystems.size(); ++i)
+    if (subsystems[i].spec->name == p.subsystem) found.instance = static_cast<int>(i);
+  if (found.instance < 0)
+    throw std::invalid_argument(p.path + ": the model has no subsystem '" + p.subsystem + "'");
+  SubsystemInstance& s = subsystems[static_cast<size_t>(found.instance)];
+  const void* ext = s.api.ops.get_extension == nullptr
+                        ? nullptr
+                        : in_flight(*s.host, InstanceHost::Op::get_extension, [&] {
+                            return s.api.ops.get_extension(s.api.self, MH_EXT_PARAMETERS);
+                          });
+  found.ext = read_struct(static_cast<const mh_parameters_extension*>(ext));
+  const mh_parameters_extension& ops = found.ext;
+  const std::string who = "subsystem '" + p.subsystem + "' (" + s.spec->type + ")";
+  if (ops.count == nullptr || ops.info == nullptr || ops.get == nullptr || ops.set == nullptr)
+    throw std::invalid_argument(p.path + ": " + who +
+                                " changes none of its options in place (it offers no " +
+                                MH_EXT_PARAMETERS + "): they are read when it is set up");
+  const uint32_t count = ops.count(s.api.self);
+  std::string keys;
+  for (uint32_t i = 0; i < count; ++i) {
+    mh_parameter_info info{};
+    info.struct_size = sizeof(info);
+    if (ops.info(s.api.self, i, &info) != MH_OK || info.key == nullptr) continue;
+    if (p.key == info.key) {
+      found.index = i;
+      return found;
+    }
+    keys += (keys.empty() ? "" : ", ") + std::string(info.key);
+  }
+  throw std::invalid_argument(p.path + ": " + who + " does not change '" + p.key +
+                              "' in place (its parameters: " + (keys.empty() ? "none" : keys) +
+                              ")");
+}
+
 void Simulation::Engine::perturb_parameter(size_t j, double amount) {
   const ParameterDirection& p = sens.params[j];
+  SensitivityState::ComponentOption& option = sens.options[j];
+  if (option.instance >= 0) {
+    const SubsystemInstance& s = subsystems[static_cast<size_t>(option.instance)];
+    check(option.ext.get(s.api.self, option.index, &option.saved), "subsystem", s.spec->name,
+          "parameter get");
+    check(option.ext.set(s.api.self, option.index, option.saved + amount * p.option), "subsystem",
+          s.spec->name, "parameter set");
+  }
   for (const ParameterDirection::BodyChange& c : p.bodies) {
     Body& b = model.bodies[static_cast<size_t>(c.body)];
     sens.saved_bodies[static_cast<size_t>(c.body)] = {b.mass, b.com_B, b.inertia_B};
@@ -229,6 +284,12 @@ void Simulation::Engine::perturb_parameter(size_t j, double amount) {
 }
 
 void Simulation::Engine::restore_parameter(size_t j) {
+  const SensitivityState::ComponentOption& option = sens.options[j];
+  if (option.instance >= 0) {
+    const SubsystemInstance& s = subsystems[static_cast<size_t>(option.instance)];
+    check(option.ext.set(s.api.self, option.index, option.saved), "subsystem", s.spec->name,
+          "parameter set");
+  }
   for (const ParameterDirection::BodyChange& c : sens.params[j].bodies) {
     Body& b = model.bodies[static_cast<size_t>(c.body)];
     const SensitivityState::BodyValues& v = sens.saved_bodies[static_cast<size_t>(c.body)];

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 #include <string>
 
 #include "components.hpp"
@@ -37,6 +38,46 @@ class Cylinder {
 
   explicit Cylinder(const mh_host* host) : host_(host) {}
 
+  // Changed in place (parameters.h): the areas and the compliance follow.
+  // A rod diameter that would reach the piston's is refused.
+  static constexpr monohydra::ParameterSpec kParameters[] = {
+      {"piston_diameter", "m", monohydra::kPositive, HUGE_VAL},
+      {"rod_diameter", "m", monohydra::kPositive, HUGE_VAL},
+      {"chamber_bulk_modulus", "Pa", monohydra::kPositive, HUGE_VAL},
+      {"fluid_bulk_modulus", "Pa", monohydra::kPositive, HUGE_VAL},
+      {"efficiency", "1", monohydra::kPositive, 1.0},
+      {"friction_velocity", "m/s", monohydra::kPositive, HUGE_VAL}};
+  double parameter(uint32_t index) const {
+    switch (index) {
+      case 0:
+        return d2_;
+      case 1:
+        return d3_;
+      case 2:
+        return chamber_;
+      case 3:
+        return fluid_;
+      case 4:
+        return efficiency_;
+      default:
+        return v_s_;
+    }
+  }
+  void set_parameter(uint32_t index, double value) {
+    const double d2 = index == 0 ? value : d2_, d3 = index == 1 ? value : d3_;
+    if (!(d3 < d2))
+      throw std::invalid_argument("a rod diameter of " + short_number(d3) +
+                                  " m would not be below the piston diameter " + short_number(d2) +
+                                  " m");
+    d2_ = d2;
+    d3_ = d3;
+    if (index == 2) chamber_ = value;
+    if (index == 3) fluid_ = value;
+    if (index == 4) efficiency_ = value;
+    if (index == 5) v_s_ = value;
+    derive();
+  }
+
   mh_status setup() {
     const mh_host* h = host_;
     double d2 = 0.0, d3 = 0.0, chamber = 0.0, fluid = 0.0;
@@ -58,9 +99,11 @@ class Cylinder {
           ("a rod diameter below the piston diameter " + short_number(d2) + " m").c_str());
     if (!(efficiency_ > 0.0 && efficiency_ <= 1.0))
       return monohydra::options(h).option_error(h, "efficiency", "an efficiency in (0, 1]");
-    a2_ = 0.25 * kPi * d2 * d2;
-    a3_ = 0.25 * kPi * (d2 * d2 - d3 * d3);
-    compliance_ = 1.0 / fluid + 1.0 / chamber;
+    d2_ = d2;
+    d3_ = d3;
+    chamber_ = chamber;
+    fluid_ = fluid;
+    derive();
 
     double xa[3], xb[3];
     if (monohydra::subsystem_setup(h).add_point(h, "a", &point_a_) != MH_OK ||
@@ -380,8 +423,15 @@ class Cylinder {
 
   const mh_host* host_;
   double length_ = 0.0, efficiency_ = 1.0, v_s_ = 0.01;
-  double a2_ = 0.0, a3_ = 0.0;  // piston and rod side areas, m^2
-  double compliance_ = 0.0;     // 1/B_oil + 1/B_c, 1/Pa
+  double a2_ = 0.0, a3_ = 0.0;                                // piston and rod side areas, m^2
+  double compliance_ = 0.0;                                   // 1/B_oil + 1/B_c, 1/Pa
+  double d2_ = 0.0, d3_ = 0.0, chamber_ = 0.0, fluid_ = 0.0;  // the options they derive from
+
+  void derive() {
+    a2_ = 0.25 * kPi * d2_ * d2_;
+    a3_ = 0.25 * kPi * (d2_ * d2_ - d3_ * d3_);
+    compliance_ = 1.0 / fluid_ + 1.0 / chamber_;
+  }
   double s0_ = 0.0, l2_0_ = 0.0, l3_0_ = 0.0;
   int32_t point_a_ = 0, point_b_ = 1;
   int32_t p_a_ = -1, p_b_ = -1, s_out_ = -1, sdot_out_ = -1, force_out_ = -1;

@@ -63,6 +63,9 @@ class Spool {
     monohydra::JacobianBlock(states, d_dydot).add(u_, u_, tau_);
   }
 
+  double time_constant() const { return tau_; }
+  void set_time_constant(double tau) { tau_ = tau; }
+
  private:
   double tau_ = 0.0, limit_ = 10.0;
   monohydra::SignalPort reference_;  // a table, an input or a state of the run

@@ -1,6 +1,7 @@
 // throttle: a fixed orifice between nodes a and b (Eqs. 24-25):
 //   C_vt = C_d A sqrt(2 / rho),   Q_ab = C_vt g(p_a - p_b)   (orifice_flow.hpp)
 //   a's row += Q_ab (leaves a),   b's row -= Q_ab (enters b)
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -23,6 +24,17 @@ class Throttle {
 
   explicit Throttle(const mh_host* host) : host_(host) {}
 
+  // Changed in place (parameters.h): C_vt of Eq. 25 follows.
+  static constexpr monohydra::ParameterSpec kParameters[] = {
+      {"area", "m^2", monohydra::kPositive, HUGE_VAL},
+      {"discharge_coefficient", "1", monohydra::kPositive, HUGE_VAL},
+      {"density", "kg/m^3", monohydra::kPositive, HUGE_VAL}};
+  double parameter(uint32_t index) const { return values_[index]; }
+  void set_parameter(uint32_t index, double value) {
+    values_[index] = value;
+    c_vt_ = values_[1] * values_[0] * std::sqrt(2.0 / values_[2]);  // Eq. 25
+  }
+
   mh_status setup() {
     const mh_host* h = host_;
     double area = 0.0, cd = 0.0, rho = 0.0, p_tr = 0.0;
@@ -34,6 +46,7 @@ class Throttle {
                         "a positive laminar-turbulent transition pressure (Pa)", &p_tr) != MH_OK)
       return MH_ERROR;
     c_vt_ = cd * area * std::sqrt(2.0 / rho);  // Eq. 25
+    values_ = {area, cd, rho};
     law_ = OrificeFlow(p_tr);
     if (add_hydraulic_port(h, "a", MH_PORT_FLOW, kNaN, kNaN, &a_) != MH_OK) return MH_ERROR;
     states_.add(a_);
@@ -64,7 +77,8 @@ class Throttle {
 
  private:
   const mh_host* host_;
-  double c_vt_ = 0.0;  // m^3/(s sqrt(Pa))
+  double c_vt_ = 0.0;               // m^3/(s sqrt(Pa))
+  std::array<double, 3> values_{};  // area, discharge_coefficient, density
   OrificeFlow law_;
   int32_t a_ = -1, b_ = -1, q_out_ = -1;
   monohydra::TouchedStates states_;

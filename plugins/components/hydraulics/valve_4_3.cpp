@@ -29,6 +29,18 @@ class Valve43 {
 
   explicit Valve43(const mh_host* host) : host_(host) {}
 
+  // Changed in place (parameters.h).
+  static constexpr monohydra::ParameterSpec kParameters[] = {
+      {"flow_coefficient", "m^3/(s sqrt(Pa) V)", monohydra::kPositive, HUGE_VAL},
+      {"time_constant", "s", monohydra::kPositive, HUGE_VAL}};
+  double parameter(uint32_t index) const { return index == 0 ? c_vd_ : spool_.time_constant(); }
+  void set_parameter(uint32_t index, double value) {
+    if (index == 0)
+      c_vd_ = value;
+    else
+      spool_.set_time_constant(value);
+  }
+
   mh_status setup() {
     const mh_host* h = host_;
     double p_tr = 0.0;

@@ -5,6 +5,7 @@
 // V_k / B_ek of Eq. 23, and the node row then reads Eq. 22 multiplied by
 // V_k / B_ek: sum(C) dp/dt + sum(outflows) = 0.
 // Optional (off by default): a minimum-pressure limit, gas_release.hpp.
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -25,6 +26,17 @@ class Volume {
 
   explicit Volume(const mh_host* host) : host_(host) {}
 
+  // Changed in place (parameters.h): the capacitance follows.
+  static constexpr monohydra::ParameterSpec kParameters[] = {
+      {"volume", "m^3", monohydra::kPositive, HUGE_VAL},
+      {"bulk_modulus", "Pa", monohydra::kPositive, HUGE_VAL},
+      {"fluid_bulk_modulus", "Pa", monohydra::kPositive, HUGE_VAL}};
+  double parameter(uint32_t index) const { return values_[index]; }
+  void set_parameter(uint32_t index, double value) {
+    values_[index] = value;
+    capacitance_ = values_[0] * (1.0 / values_[2] + 1.0 / values_[1]);
+  }
+
   mh_status setup() {
     const mh_host* h = host_;
     double volume = 0.0, wall = 0.0, fluid = 0.0, tolerance = 0.0;
@@ -41,6 +53,7 @@ class Volume {
     if (gas_.read(h) != MH_OK) return MH_ERROR;
     gas_ = gas_.for_volume(volume);
     capacitance_ = volume * (1.0 / fluid + 1.0 / wall);
+    values_ = {volume, wall, fluid};
     if (add_hydraulic_port(h, "p", MH_PORT_FLOW, initial, tolerance, &p_) != MH_OK) return MH_ERROR;
     states_.add(p_);
     return MH_OK;
@@ -64,8 +77,9 @@ class Volume {
 
  private:
   const mh_host* host_;
-  double capacitance_ = 0.0;  // V (1/B_oil + 1/B_h), m^3/Pa
-  GasRelease gas_;            // off unless minimum_pressure is given
+  double capacitance_ = 0.0;        // V (1/B_oil + 1/B_h), m^3/Pa
+  std::array<double, 3> values_{};  // volume, bulk_modulus, fluid_bulk_modulus
+  GasRelease gas_;                  // off unless minimum_pressure is given
   int32_t p_ = -1;
   monohydra::TouchedStates states_;
 };

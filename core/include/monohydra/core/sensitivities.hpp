@@ -28,8 +28,13 @@ struct ParameterDirection {
   };
   std::vector<BodyChange> bodies;
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
+  // A component's option that it offers as a parameter (monohydra/
+  // parameters.h): the instance's name and the option's key; a unit change
+  // of the path's value moves it by `option` (1: the file writes it in SI).
+  std::string subsystem, key;
+  double option = 0.0;
   // The step of the value the engine's directional differences take (0: a
-  // millionth of max(|value|, 1)).
+  // millionth of the value, or of 1 where it is 0).
   double step = 0.0;
 };
 

@@ -45,6 +45,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <iterator>
 #include <memory>
 #include <new>
 #include <string>
@@ -52,6 +53,8 @@
 #include <utility>
 
 #include "monohydra/cpp/guarded.hpp"
+#include "monohydra/cpp/number_text.hpp"
+#include "monohydra/cpp/parameters.hpp"
 #include "monohydra/cpp/specs.hpp"
 #include "monohydra/entry.h"
 #include "monohydra/subsystem.h"
@@ -110,6 +113,15 @@ struct HasExtension : std::false_type {};
 template <class T>
 struct HasExtension<
     T, std::void_t<decltype(std::declval<T&>().extension(std::declval<const char*>()))>>
+    : std::true_type {};
+
+template <class T, class = void>
+struct HasParameters : std::false_type {};
+template <class T>
+struct HasParameters<T,
+                     std::void_t<decltype(std::size(T::kParameters)),
+                                 decltype(std::declval<const T&>().parameter(std::uint32_t{})),
+                                 decltype(std::declval<T&>().set_parameter(std::uint32_t{}, 0.0))>>
     : std::true_type {};
 
 template <class T, class = void>
@@ -250,10 +262,54 @@ class SubsystemAdapter {
       return nullptr;
     }
   }
+  // parameters.h from T's kParameters, parameter and set_parameter (cpp/parameters.hpp).
+  static const mh_parameters_extension* parameters_extension() noexcept {
+    static const mh_parameters_extension ext{
+        sizeof(mh_parameters_extension),
+        [](const void*) noexcept { return static_cast<uint32_t>(std::size(T::kParameters)); },
+        [](const void*, uint32_t index, mh_parameter_info* info) noexcept {
+          if (index >= std::size(T::kParameters) || info == nullptr) return MH_ERROR;
+          const ParameterSpec& p = T::kParameters[index];
+          info->key = p.key;
+          info->unit = p.unit;
+          info->lower = p.lower;
+          info->upper = p.upper;
+          return MH_OK;
+        },
+        [](const void* instance, uint32_t index, double* value) noexcept {
+          if (index >= std::size(T::kParameters) || value == nullptr) return MH_ERROR;
+          *value = object_of(instance).parameter(index);
+          return MH_OK;
+        },
+        [](const void* instance, uint32_t index, double value) noexcept {
+          const Instance& i = self(static_cast<const mh_subsystem*>(instance));
+          if (index >= std::size(T::kParameters)) {
+            detail::log_failure(i.host, "set parameter", "index out of range");
+            return MH_ERROR;
+          }
+          const ParameterSpec& p = T::kParameters[index];
+          if (!(value >= p.lower && value <= p.upper)) {
+            detail::log_failure(
+                i.host, p.key,
+                (short_number(value) + " is outside the values it takes, [" +
+                 short_number(p.lower) + ", " + short_number(p.upper) + "] " + p.unit)
+                    .c_str());
+            return MH_ERROR;
+          }
+          return guarded(i.host, p.key, [&] {
+            i.object->set_parameter(index, value);
+            return MH_OK;
+          });
+        }};
+    return &ext;
+  }
   static void destroy(const mh_subsystem* s) noexcept {
     delete static_cast<Instance*>(s->plugin_data);
   }
   static const void* get_extension(const mh_subsystem* s, const char* id) noexcept {
+    if constexpr (detail::HasParameters<T>::value) {
+      if (id != nullptr && std::strcmp(id, MH_EXT_PARAMETERS) == 0) return parameters_extension();
+    }
     if constexpr (detail::HasExtension<T>::value) {
       if (id == nullptr) return nullptr;
       try {
