@@ -482,6 +482,26 @@ bool Simulation::output_differentiated(int i) const {
   return i >= 0 && static_cast<size_t>(i) < d.size() && d[static_cast<size_t>(i)] != 0;
 }
 
+void Simulation::set_component_parameter(const std::string& subsystem, const std::string& key,
+                                         double value) {
+  Engine& e = *engine_;
+  ParameterDirection p;
+  p.path = "subsystems/" + subsystem + "/" + key;
+  p.subsystem = subsystem;
+  p.key = key;
+  const SensitivityState::ComponentOption option = e.find_component_option(p);
+  const SubsystemInstance& s = e.subsystems[static_cast<size_t>(option.instance)];
+  e.last_plugin_error.clear();
+  const mh_status st = normalized(in_flight(*s.host, InstanceHost::Op::get_extension, [&] {
+    return option.ext.set(s.api.self, option.index, value);
+  }));
+  if (!status_ok(st))
+    throw std::invalid_argument(
+        p.path + ": " +
+        (e.last_plugin_error.empty() ? "refused by the component" : e.last_plugin_error));
+  e.solver.reuse.invalidate();  // modified Newton's factorization is of the old value
+}
+
 double Simulation::time() const {
   return engine_->accepted.t;
 }

@@ -100,16 +100,30 @@ void Instance::set_parameter(const std::string& path, const std::string& value) 
   const bool body_value = parts.size() >= 3 && parts[0] == "bodies" &&
                           (parts[2] == "mass" || parts[2] == "com" || parts[2] == "inertia");
   const bool gravity = parts.size() <= 2 && parts[0] == "gravity";
-  if (!body_value && !gravity)
-    throw std::invalid_argument(
-        path +
-        ": not a value that changes during a run; in place change a body's mass, com "
-        "and inertia, and gravity (" +
-        (parts[0] == "subsystems" ? std::string("a component's options are read when it is set "
-                                                "up: open the model with this setting")
-                                  : std::string("open the model with this setting")) +
-        ")");
+  const bool option = parts.size() == 3 && parts[0] == "subsystems";
+  if (!body_value && !gravity && !option)
+    throw std::invalid_argument(path +
+                                ": not a value that changes during a run; in place change a "
+                                "body's mass, com and inertia, gravity, and the options a "
+                                "component changes in place (open the model with this setting)");
   const host::SetText set = host::apply_settings(text_, label_, {{path, value}});
+  if (option) {
+    // The component changes it (monohydra/parameters.h) or says why not; the
+    // text follows only once it has.
+    ModelFile changed;
+    try {
+      changed =
+          parse_model_text(set.text, label_ + " (with " + path + "=" + value + ")", base_dir_);
+    } catch (const InputError& err) {
+      throw std::invalid_argument(err.what());
+    }
+    double number = 0.0;
+    for (const SubsystemSpec& spec : changed.subsystems)
+      if (spec.name == parts[1]) number = spec.options.at(parts[2]).number;
+    sim_->set_component_parameter(parts[1], parts[2], number);
+    text_ = set.text;
+    return;
+  }
   ModelFile changed;
   try {
     changed = parse_model_text(set.text, label_ + " (with " + path + "=" + value + ")", base_dir_);

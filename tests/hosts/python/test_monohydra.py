@@ -235,9 +235,19 @@ def test_a_mass_set_in_place_is_the_model_opened_with_it():
     assert not np.array_equal(changed["z1"], nominal["z1"])
 
 
-def test_a_component_option_or_a_bad_mass_set_in_place_raises_input_error():
+def test_a_component_option_set_in_place_is_the_model_opened_with_it():
+    opened = monohydra.Simulation(model("fourbar.yaml"), t_end=1.0,
+                                  options={"subsystems/valve/flow_coefficient": 3e-8}).run()
+    sim = monohydra.Simulation(model("fourbar.yaml"), t_end=1.0)
+    sim.set_parameter("subsystems/valve/flow_coefficient", 3e-8)
+    changed = sim.run()
+    assert np.array_equal(changed["z1"], opened["z1"])
+    assert np.array_equal(changed["p1"], opened["p1"])
+
+
+def test_an_option_read_at_setup_or_a_bad_mass_set_in_place_raises_input_error():
     sim = monohydra.Simulation(model("fourbar.yaml"))
-    with pytest.raises(monohydra.InputError, match="set up: open the model"):
-        sim.set_parameter("subsystems/valve/flow_coefficient", 3e-8)
+    with pytest.raises(monohydra.InputError, match="does not change 'length' in place"):
+        sim.set_parameter("subsystems/cylinder/length", 1.2)
     with pytest.raises(monohydra.InputError, match=r"bodies\[2\].mass"):
         sim.set_parameter("bodies/body3/mass", -1.0)

@@ -179,6 +179,13 @@ class Simulation {
   void set_body_inertia(int body, double mass, const Eigen::Vector3d& com_B,
                         const Eigen::Matrix3d& inertia_B);
   void set_gravity(const Eigen::Vector3d& gravity);
+  // A component's option that it changes in place (monohydra/parameters.h),
+  // before start() or between steps: the run goes on as one of the model
+  // with that value from the accepted state on. Refused with
+  // std::invalid_argument naming why: no subsystem of that name, a
+  // component that does not change that option in place (naming those it
+  // does), a value it refuses (its reason, e.g. the range).
+  void set_component_parameter(const std::string& subsystem, const std::string& key, double value);
 
   // Forward sensitivities (sensitivities.hpp, docs/identification.md): from
   // start() on, every accepted step also carries d/dp of the coordinates,

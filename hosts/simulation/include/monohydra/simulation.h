@@ -144,9 +144,13 @@ MHS_API mhs_status mhs_set(mhs_simulation* sim, const uint32_t* indices, size_t 
  * from it what it derives when opening (the inertia of a shape from its
  * mass). The run goes on from its accepted state as a run of the changed
  * model; the energy balance's references move by the change's own jump.
+ * A component's option too, when the component changes it in place
+ * ("subsystems/valve/flow_coefficient": monohydra/parameters.h of the SDK),
+ * in SI as component options are.
  * MHS_ERROR and nothing changed: a path the model does not have, one that is
- * not such a value (a component's options are read when it is set up: open
- * the model with the setting), a value the file's parser refuses. */
+ * not such a value (an option its component reads only when it is set up:
+ * open the model with the setting), a value the file's parser or the
+ * component refuses (its range, named). */
 MHS_API mhs_status mhs_set_parameter(mhs_simulation* sim, const char* path, double value);
 
 /* The rows `monohydra run` writes for this model (its output: columns and
