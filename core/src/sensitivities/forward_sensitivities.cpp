@@ -480,7 +480,9 @@ void Simulation::Engine::replay_accept(size_t j, double amount, double t_next, b
                                            static_cast<uint32_t>(n_o));
     });
   restore_parameter(j);
-  check(st, "formulation step replayed for a sensitivity");
+  // After the run's own accept: no shorter step can cure it (check() would
+  // retry a step already accepted).
+  if (!status_ok(st)) fail(status_reason(st, "formulation step replayed for a sensitivity"));
   (plus ? sens.outp : sens.outm) = registry.outputs;
 }
 
@@ -516,8 +518,12 @@ void Simulation::Engine::sensitivities_after_accept(double t_next, uint32_t flag
   if (event) {
     // The state rates' right limit (rates_after_jump), differenced along
     // each column: y, z, zd moved, the rows solved for ydot again.
-    const Eigen::VectorXd z_acc = accepted.z;
-    const Eigen::VectorXd zd_acc = accepted.zd;
+    // The accepted z, zd, kept in the replay's buffers (used up by now):
+    // the step allocates nothing.
+    Eigen::VectorXd& z_acc = sens.zm;
+    Eigen::VectorXd& zd_acc = sens.zdm;
+    z_acc = accepted.z;
+    zd_acc = accepted.zd;
     for (size_t j = 0; j < k; ++j) {
       const auto cj = static_cast<Eigen::Index>(j);
       const double step = difference_step(j, sens.xs, kLargestRateMove);

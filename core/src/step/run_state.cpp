@@ -268,6 +268,13 @@ void Simulation::save_state(RunState& into) const {
 }
 
 void Simulation::restore_state(const RunState& from) {
+  // The sensitivities' columns and their integrators' histories are not in
+  // a snapshot: restored under them, the run would go on with columns of
+  // another state.
+  if (engine_->sens.active)
+    throw RunStateError(
+        "this run tracks sensitivities, which a snapshot does not hold: restore into a run "
+        "that tracks none");
   engine_->restore_state(from);
 }
 

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "monohydra/core/model_file.hpp"
+#include "monohydra/core/run_state.hpp"
 #include "monohydra/core/sensitivities.hpp"
 #include "monohydra/core/simulation.hpp"
 #include "test_support.hpp"
@@ -23,9 +24,9 @@
 namespace mh {
 namespace {
 
-// The four-bar with Newton converged to round-off: full Newton, a tight tolerance.
-ModelFile fourbar(double t_end) {
-  ModelFile file = load_model_file(test::source_path("models/fourbar.yaml"));
+// A shipped model with Newton converged to round-off: full Newton, a tight tolerance.
+ModelFile converged(const std::string& name, double t_end) {
+  ModelFile file = load_model_file(test::source_path("models/" + name));
   file.solver.newton = NewtonKind::full;
   // 1e-11 left penalty's multipliers short of Phi = 0 by enough to move the
   // volume's small effect on the coordinates in whole runs by 1.4e-4.
@@ -33,14 +34,17 @@ ModelFile fourbar(double t_end) {
   file.solver.t_end = t_end;
   return file;
 }
+ModelFile fourbar(double t_end) {
+  return converged("fourbar.yaml", t_end);
+}
 
-// body3's mass: a beam, whose inertia the file derives from its mass.
-ParameterDirection body3_mass(const ModelFile& file) {
-  const Body& b = file.model.bodies[2];
+// A body's mass, whose inertia the file derives from it (a shape).
+ParameterDirection mass(const ModelFile& file, size_t body) {
+  const Body& b = file.model.bodies[body];
   ParameterDirection p;
-  p.path = "bodies/body3/mass";
+  p.path = "bodies/" + b.name + "/mass";
   p.value = b.mass;
-  p.bodies.push_back({2, 1.0, Eigen::Vector3d::Zero(), b.inertia_B / b.mass});
+  p.bodies.push_back({static_cast<int>(body), 1.0, Eigen::Vector3d::Zero(), b.inertia_B / b.mass});
   return p;
 }
 ParameterDirection gravity_y() {
@@ -106,14 +110,16 @@ Samples run(const ModelFile& file, const std::string& formulation, long every,
   return out;
 }
 
-void expect_sensitivities_match_whole_runs(const std::string& formulation, double t_end) {
-  const ModelFile file = fourbar(t_end);
-  const std::vector<ParameterDirection> params = {body3_mass(file),
-                                                  gravity_y(),
-                                                  option(file, "V1", "bulk_modulus"),
-                                                  option(file, "valve", "flow_coefficient"),
-                                                  option(file, "valve", "time_constant"),
-                                                  option(file, "cylinder", "piston_diameter")};
+void expect_sensitivities_match_whole_runs(const std::string& model, const std::string& formulation,
+                                           double t_end, size_t body, bool all_options) {
+  const ModelFile file = converged(model, t_end);
+  std::vector<ParameterDirection> params = {mass(file, body), gravity_y(),
+                                            option(file, "valve", "time_constant"),
+                                            option(file, "cylinder", "piston_diameter")};
+  if (all_options) {
+    params.push_back(option(file, "V1", "bulk_modulus"));
+    params.push_back(option(file, "valve", "flow_coefficient"));
+  }
   const long every = 50;
   const Samples tracked = run(file, formulation, every, params);
   for (size_t j = 0; j < params.size(); ++j) {
@@ -149,20 +155,33 @@ void expect_sensitivities_match_whole_runs(const std::string& formulation, doubl
 }
 
 TEST(ForwardSensitivities, DoubleStepFourBarAgreesWithDifferencesOfWholeRuns) {
-  expect_sensitivities_match_whole_runs("double-step", 6.0);
+  expect_sensitivities_match_whole_runs("fourbar.yaml", "double-step", 6.0, 2, true);
 }
 
 // Penalty's multipliers converge on Phi = 0 (its accept's projections
 // differenced, its step bordered by Phi_z): held fixed instead, the
 // columns would be those of a penalty method, far from these.
 TEST(ForwardSensitivities, PenaltyFourBarAgreesWithDifferencesOfWholeRuns) {
-  expect_sensitivities_match_whole_runs("penalty", 6.0);
+  expect_sensitivities_match_whole_runs("fourbar.yaml", "penalty", 6.0, 2, true);
+}
+
+// The quick-return: five bodies, two sliding cut joints, the crank's mass.
+// Not its bulk modulus and flow coefficient yet: there whole runs differenced
+// at 1e-4, 1e-5 and 1e-6 of the value disagree with each other by more than
+// 1e-4 around t = 4.2 s (2.5e-2 and 6e-4 apart), so they cannot judge the
+// columns to that bound (docs/identification.md).
+TEST(ForwardSensitivities, DoubleStepQuickReturnAgreesWithDifferencesOfWholeRuns) {
+  expect_sensitivities_match_whole_runs("quickreturn.yaml", "double-step", 6.0, 3, false);
+}
+
+TEST(ForwardSensitivities, PenaltyQuickReturnAgreesWithDifferencesOfWholeRuns) {
+  expect_sensitivities_match_whole_runs("quickreturn.yaml", "penalty", 6.0, 3, false);
 }
 
 // The two formulations differentiate the same mechanism: their columns agree.
 TEST(ForwardSensitivities, FormulationsAgreeOnTheFourBarsColumns) {
   const ModelFile file = fourbar(2.0);
-  const std::vector<ParameterDirection> params = {body3_mass(file), gravity_y()};
+  const std::vector<ParameterDirection> params = {mass(file, 2), gravity_y()};
   const Samples a = run(file, "double-step", 100, params);
   const Samples b = run(file, "penalty", 100, params);
   ASSERT_EQ(a.derivatives.size(), b.derivatives.size());
@@ -189,6 +208,23 @@ TEST(ForwardSensitivities, RefusedAfterStart) {
     EXPECT_NE(std::string(e.what()).find("before it"), std::string::npos) << e.what();
   }
   EXPECT_EQ(sim.num_sensitivities(), 0);
+}
+
+// A snapshot holds no columns: a run that tracks them refuses to restore
+// one rather than go on with columns of another state.
+TEST(ForwardSensitivities, ARunThatTracksThemRefusesToRestoreASnapshot) {
+  const ModelFile file = fourbar(0.01);
+  Simulation sim(file, test::build_plugins(), "double-step");
+  sim.track_sensitivities({gravity_y()});
+  sim.start();
+  sim.step();
+  const RunState state = sim.save_state();
+  try {
+    sim.restore_state(state);
+    FAIL() << "restored";
+  } catch (const RunStateError& e) {
+    EXPECT_NE(std::string(e.what()).find("tracks sensitivities"), std::string::npos) << e.what();
+  }
 }
 
 // Tracking changes nothing of the run itself beyond Newton's tolerance.
