@@ -45,6 +45,7 @@ __all__ = [
     "Simulation",
     "compare",
     "sweep",
+    "sensitivities",
     "Results",
     "Snapshot",
     "Variable",
@@ -399,3 +400,40 @@ def sweep(study: Union[str, os.PathLike], jobs: Optional[int] = None,
         except ValueError:
             table[name] = cells
     return table
+
+
+def sensitivities(model: Union[str, os.PathLike], params: List[str],
+                  formulation: Optional[str] = None, integrator: Optional[str] = None,
+                  dt: Optional[float] = None, t_end: Optional[float] = None,
+                  options: Optional[Dict[str, object]] = None) -> Dict[str, np.ndarray]:
+    """The forward sensitivities of a run of the model file `model` with
+    respect to `params` (paths as `options` names them: "bodies/body3/mass",
+    "subsystems/valve/flow_coefficient"), as `monohydra sensitivities`
+    computes them (docs/identification.md): one float64 array per column,
+    "t" and "d(NAME)/d(PATH)" for every coordinate, named state and output
+    and every parameter, one entry per step."""
+    if isinstance(params, str) or not params:
+        raise InputError("sensitivities: params is a non-empty list of paths")
+    fd, path = tempfile.mkstemp(prefix="monohydra-sensitivities-", suffix=".csv")
+    os.close(fd)
+    command = [_command_line(), "sensitivities", os.fspath(model), "--params", ",".join(params),
+               "--out", path]
+    for flag, value in (("--formulation", formulation), ("--integrator", integrator),
+                        ("--dt", dt), ("--t-end", t_end)):
+        if value is not None:
+            command += [flag, _text(value)]
+    for key, value in (options or {}).items():
+        command += ["--set", key + "=" + _text(value)]
+    try:
+        done = subprocess.run(command, capture_output=True, text=True)
+        if done.returncode != 0:
+            message = (done.stderr or done.stdout).strip()
+            raise (InputError if done.returncode == 2 else SimulationError)(message)
+        with open(path, newline="", encoding="utf-8") as f:
+            reader = csv.reader(f)
+            names = next(reader)
+            values = np.array([[float(c) for c in row] for row in reader], dtype=np.float64)
+    finally:
+        os.remove(path)
+    values = values.reshape(-1, len(names))
+    return {name: values[:, i] for i, name in enumerate(names)}

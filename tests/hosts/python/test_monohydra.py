@@ -251,3 +251,26 @@ def test_an_option_read_at_setup_or_a_bad_mass_set_in_place_raises_input_error()
         sim.set_parameter("subsystems/cylinder/length", 1.2)
     with pytest.raises(monohydra.InputError, match=r"bodies\[2\].mass"):
         sim.set_parameter("bodies/body3/mass", -1.0)
+
+
+def test_sensitivities_agree_with_two_runs_with_the_value_set():
+    sens = monohydra.sensitivities(model("fourbar.yaml"), ["bodies/body3/mass", "gravity/1"],
+                                   t_end=1.5)
+    column = sens["d(p1)/d(bodies/body3/mass)"]
+    assert sens["t"].shape == column.shape
+    assert "d(z1)/d(gravity/1)" in sens
+    delta = 0.05
+    plus = monohydra.Simulation(model("fourbar.yaml"), t_end=1.5,
+                                options={"bodies/body3/mass": 50.0 + delta}).run()
+    minus = monohydra.Simulation(model("fourbar.yaml"), t_end=1.5,
+                                 options={"bodies/body3/mass": 50.0 - delta}).run()
+    differenced = (plus["p1"] - minus["p1"]) / (2 * delta)
+    largest = np.max(np.abs(differenced))
+    assert largest > 0
+    assert np.max(np.abs(column - differenced)) < 1e-3 * largest
+
+
+def test_sensitivities_of_a_parameter_it_cannot_take_raise_input_error():
+    with pytest.raises(monohydra.InputError, match="does not change 'length' in place"):
+        monohydra.sensitivities(model("fourbar.yaml"), ["subsystems/cylinder/length"], t_end=0.01)
+
