@@ -4,29 +4,23 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <stdexcept>
 
 #include "model_settings.hpp"
 #include "monohydra/core/input_error.hpp"
+#include "monohydra/cpp/number_text.hpp"
 #include "parameter_path.hpp"
 
 namespace mh::host {
 
 namespace {
 
-std::string text_of(double v) {
-  char s[40];
-  std::snprintf(s, sizeof(s), "%.17g", v);
-  return s;
-}
-
 ModelFile parsed_with(const std::string& text, const std::string& label,
                       const std::string& base_dir, const std::string& path, double value) {
-  const SetText set = apply_settings(text, label, {{path, text_of(value)}});
+  const SetText set = apply_settings(text, label, {{path, monohydra::exact_number(value)}});
   try {
-    return parse_model_text(set.text, label + " (with " + path + "=" + text_of(value) + ")",
-                            base_dir);
+    return parse_model_text(
+        set.text, label + " (with " + path + "=" + monohydra::exact_number(value) + ")", base_dir);
   } catch (const InputError& err) {
     throw std::invalid_argument(
         path + ": the model with it moved by a millionth is refused: " + err.what());

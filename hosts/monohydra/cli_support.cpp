@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 
 namespace mh::cli {
 
@@ -21,6 +22,15 @@ std::optional<ExplicitStabilityPolicy> parse_stability_option(const std::string&
   if (parse_explicit_stability(text, policy)) return policy;
   std::cerr << "monohydra: --explicit-stability expects error, warn or off, got '" << text << "'\n";
   return std::nullopt;
+}
+
+std::vector<std::string> split_list(const std::string& list) {
+  std::vector<std::string> items;
+  std::stringstream in(list);
+  std::string item;
+  while (std::getline(in, item, ','))
+    if (!item.empty()) items.push_back(item);
+  return items;
 }
 
 std::optional<double> parse_number(const std::string& flag, const std::string& text) {

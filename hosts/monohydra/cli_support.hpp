@@ -4,6 +4,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "monohydra/core/explicit_stability.hpp"
 #include "monohydra/core/run_limits.hpp"
@@ -16,6 +17,8 @@ namespace mh::cli {
 std::optional<ExplicitStabilityPolicy> parse_stability_option(const std::string& text);
 
 std::optional<double> parse_number(const std::string& flag, const std::string& text);
+// A comma-separated list's non-empty items, in order ("a,,b" is {a, b}).
+std::vector<std::string> split_list(const std::string& list);
 
 // --max-steps N or --max-output-bytes N into `limits`; false after telling the user.
 bool parse_limit(const std::string& flag, const std::string& text, RunLimits& limits);

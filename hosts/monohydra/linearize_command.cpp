@@ -8,7 +8,6 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -57,15 +56,6 @@ void write_matrix(std::ostream& out, const char* key, const Eigen::MatrixXd& m) 
   }
 }
 
-std::vector<std::string> split_names(const std::string& list) {
-  std::vector<std::string> names;
-  std::stringstream in(list);
-  std::string name;
-  while (std::getline(in, name, ','))
-    if (!name.empty()) names.push_back(name);
-  return names;
-}
-
 }  // namespace
 
 int linearize(const std::vector<std::string>& args) {
@@ -105,7 +95,7 @@ int linearize(const std::vector<std::string>& args) {
   const auto prepared = prepare_run(request);
   if (!prepared) return 2;
   Simulation& sim = *prepared->sim;
-  const std::vector<std::string> outputs = split_names(outputs_text);
+  const std::vector<std::string> outputs = split_list(outputs_text);
   // An unknown output is a usage error, found before the run to T.
   for (const std::string& name : outputs) {
     bool known = sim.state_index(name) >= 0 || sim.output_index(name) >= 0;

@@ -7,7 +7,6 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -29,15 +28,6 @@ std::string number(double v) {
   char text[32];
   std::snprintf(text, sizeof(text), "%.10g", v);
   return text;
-}
-
-std::vector<std::string> split_list(const std::string& list) {
-  std::vector<std::string> items;
-  std::stringstream in(list);
-  std::string item;
-  while (std::getline(in, item, ','))
-    if (!item.empty()) items.push_back(item);
-  return items;
 }
 
 // The columns differentiated: what `run` writes of coordinates, named states

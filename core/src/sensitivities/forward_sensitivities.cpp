@@ -59,6 +59,25 @@ void column_rates(const std::vector<uint8_t>& kinds, const mh_step_coefficients&
   }
 }
 
+// Column j of the accepted unknowns to its integrator instance, as the
+// state went to the run's: restarted (a time event, redefined unknowns) or
+// accepted. A column of a column-major matrix is contiguous: no copy.
+void hand_column(Simulation::Engine& e, size_t j, bool restart) {
+  IntegratorProxy& shadow = e.sens.shadows[j];
+  const auto cj = static_cast<Eigen::Index>(j);
+  const mh_unknown_values at =
+      monohydra::unknown_values(e.accepted.t, static_cast<size_t>(e.n), e.sens.dx.col(cj).data(),
+                                e.sens.dxd.col(cj).data(), e.sens.dxdd.col(cj).data());
+  if (restart)
+    e.check(in_flight(*e.integrator_host, InstanceHost::Op::restart,
+                      [&] { return shadow.ops.restart(shadow.self, &at); }),
+            "integrator", e.integrator_name, "restart (a sensitivity's instance)");
+  else
+    e.check(in_flight(*e.integrator_host, InstanceHost::Op::accept,
+                      [&] { return shadow.ops.accept(shadow.self, &at); }),
+            "integrator", e.integrator_name, "accept (a sensitivity's instance)");
+}
+
 }  // namespace
 
 // Parameter j's difference step now: its own, unless that would move an
@@ -339,19 +358,7 @@ void Simulation::Engine::start_sensitivities() {
 }
 
 void Simulation::Engine::restart_shadow(size_t j) {
-  IntegratorProxy& shadow = sens.shadows[j];
-  const auto c = static_cast<Eigen::Index>(j);
-  sens.xq = sens.dx.col(c);
-  sens.xdq = sens.dxd.col(c);
-  sens.xddq = sens.dxdd.col(c);
-  check(in_flight(*integrator_host, InstanceHost::Op::restart,
-                  [&] {
-                    const mh_unknown_values at = monohydra::unknown_values(
-                        accepted.t, static_cast<size_t>(n), sens.xq.data(), sens.xdq.data(),
-                        sens.xddq.data());
-                    return shadow.ops.restart(shadow.self, &at);
-                  }),
-        "integrator", integrator_name, "restart (a sensitivity's instance)");
+  hand_column(*this, j, true);
 }
 
 void Simulation::Engine::save_formulation_state(std::vector<unsigned char>& into) {
@@ -546,25 +553,7 @@ void Simulation::Engine::sensitivities_after_accept(double t_next, uint32_t flag
   kinematics_at(accepted.z.data(), accepted.zd.data());
   sens.dy = sens.dx.bottomRows(n_s);
   const bool restart = event || (flags & MH_ACCEPT_REDEFINED) != 0;
-  for (size_t j = 0; j < k; ++j) {
-    if (restart) {
-      restart_shadow(j);
-      continue;
-    }
-    IntegratorProxy& shadow = sens.shadows[j];
-    const auto cj = static_cast<Eigen::Index>(j);
-    sens.xq = sens.dx.col(cj);
-    sens.xdq = sens.dxd.col(cj);
-    sens.xddq = sens.dxdd.col(cj);
-    check(in_flight(*integrator_host, InstanceHost::Op::accept,
-                    [&] {
-                      const mh_unknown_values at = monohydra::unknown_values(
-                          accepted.t, static_cast<size_t>(n), sens.xq.data(), sens.xdq.data(),
-                          sens.xddq.data());
-                      return shadow.ops.accept(shadow.self, &at);
-                    }),
-          "integrator", integrator_name, "accept (a sensitivity's instance)");
-  }
+  for (size_t j = 0; j < k; ++j) hand_column(*this, j, restart);
 }
 
 }  // namespace mh
