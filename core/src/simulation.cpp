@@ -502,6 +502,24 @@ void Simulation::set_component_parameter(const std::string& subsystem, const std
   e.solver.reuse.invalidate();  // modified Newton's factorization is of the old value
 }
 
+Simulation::ParameterRange Simulation::component_parameter_range(const std::string& subsystem,
+                                                                 const std::string& key) {
+  Engine& e = *engine_;
+  ParameterDirection p;
+  p.path = "subsystems/" + subsystem + "/" + key;
+  p.subsystem = subsystem;
+  p.key = key;
+  const SensitivityState::ComponentOption option = e.find_component_option(p);
+  const SubsystemInstance& s = e.subsystems[static_cast<size_t>(option.instance)];
+  mh_parameter_info info{};
+  info.struct_size = sizeof(info);
+  const mh_status st = in_flight(*s.host, InstanceHost::Op::get_extension,
+                                 [&] { return option.ext.info(s.api.self, option.index, &info); });
+  if (!status_ok(normalized(st)))
+    throw std::invalid_argument(p.path + ": the component did not describe it");
+  return {info.unit == nullptr ? std::string() : std::string(info.unit), info.lower, info.upper};
+}
+
 double Simulation::time() const {
   return engine_->accepted.t;
 }

@@ -15,6 +15,7 @@ int validate(const std::vector<std::string>& args);       // 0 OK, 1 the error, 
 int compare(const std::vector<std::string>& args);        // compare.cpp
 int linearize(const std::vector<std::string>& args);      // linearize_command.cpp
 int sensitivities(const std::vector<std::string>& args);  // sensitivities_command.cpp
+int fit(const std::vector<std::string>& args);            // fit_command.cpp
 int fmu(const std::vector<std::string>& args);            // fmu_command.cpp
 int run_default();                                        // default_job.cpp
 int usage(int code);

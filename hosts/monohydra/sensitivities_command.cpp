@@ -13,10 +13,8 @@
 
 #include "cli_support.hpp"
 #include "commands.hpp"
-#include "model_settings.hpp"
-#include "monohydra/core/model_text.hpp"
-#include "parameter_direction.hpp"
 #include "run_setup.hpp"
+#include "sensitivity_columns.hpp"
 #include "step_overrides.hpp"
 #include "subcommand_parser.hpp"
 
@@ -28,41 +26,6 @@ std::string number(double v) {
   char text[32];
   std::snprintf(text, sizeof(text), "%.10g", v);
   return text;
-}
-
-// The columns differentiated: what `run` writes of coordinates, named states
-// and outputs, in its order.
-struct Column {
-  enum class Kind { coordinate, state, output } kind;
-  int index;
-  std::string name;
-};
-
-std::vector<Column> columns_of(const Simulation& sim) {
-  std::vector<Column> out;
-  const auto& coordinates = sim.coordinate_names();
-  for (size_t i = 0; i < coordinates.size(); ++i)
-    out.push_back({Column::Kind::coordinate, static_cast<int>(i), coordinates[i]});
-  const auto& states = sim.state_names();
-  for (size_t i = 0; i < states.size(); ++i)
-    if (!states[i].empty()) out.push_back({Column::Kind::state, static_cast<int>(i), states[i]});
-  const auto& outputs = sim.output_names();
-  for (size_t i = 0; i < outputs.size(); ++i)
-    if (!outputs[i].empty() && sim.output_differentiated(static_cast<int>(i)))
-      out.push_back({Column::Kind::output, static_cast<int>(i), outputs[i]});
-  return out;
-}
-
-double column_value(const Simulation& sim, const Column& c, int j) {
-  switch (c.kind) {
-    case Column::Kind::coordinate:
-      return sim.coordinate_sensitivities()(c.index, j);
-    case Column::Kind::state:
-      return sim.state_sensitivities()(c.index, j);
-    case Column::Kind::output:
-      break;
-  }
-  return sim.output_sensitivities()(c.index, j);
 }
 
 }  // namespace
@@ -103,18 +66,8 @@ int sensitivities(const std::vector<std::string>& args) {
   Simulation& sim = *prepared->sim;
 
   // Each path as the engine takes it, from the text the run was made of.
-  std::vector<ParameterDirection> directions;
   try {
-    std::string text = read_model_text(request.model_path);
-    std::string label = request.model_path;
-    if (!request.overrides.set.empty())
-      text = host::apply_settings(text, label, request.overrides.set).text;
-    const std::string base = request.model_path.find('/') == std::string::npos
-                                 ? "."
-                                 : request.model_path.substr(0, request.model_path.rfind('/'));
-    for (const std::string& path : paths)
-      directions.push_back(host::parameter_direction(text, label, base, prepared->file, path));
-    sim.track_sensitivities(directions);
+    sim.track_sensitivities(parameter_directions(request, prepared->file, paths));
   } catch (const std::invalid_argument& err) {
     std::cerr << "monohydra: --params: " << err.what() << '\n';
     return 2;
@@ -132,16 +85,16 @@ int sensitivities(const std::vector<std::string>& args) {
     }
   }
   std::ostream& out = out_path.empty() ? std::cout : file;
-  const std::vector<Column> columns = columns_of(sim);
+  const std::vector<SensitivityColumn> columns = sensitivity_columns(sim);
   out << "t";
-  for (const Column& c : columns)
+  for (const SensitivityColumn& c : columns)
     for (const std::string& path : paths) out << ",d(" << c.name << ")/d(" << path << ")";
   out << '\n';
   const auto row = [&] {
     out << number(sim.time());
-    for (const Column& c : columns)
+    for (const SensitivityColumn& c : columns)
       for (size_t j = 0; j < paths.size(); ++j)
-        out << ',' << number(column_value(sim, c, static_cast<int>(j)));
+        out << ',' << number(column_sensitivity(sim, c, static_cast<int>(j)));
     out << '\n';
   };
   try {

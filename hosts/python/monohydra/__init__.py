@@ -46,6 +46,7 @@ __all__ = [
     "compare",
     "sweep",
     "sensitivities",
+    "fit",
     "Results",
     "Snapshot",
     "Variable",
@@ -437,3 +438,66 @@ def sensitivities(model: Union[str, os.PathLike], params: List[str],
         os.remove(path)
     values = values.reshape(-1, len(names))
     return {name: values[:, i] for i, name in enumerate(names)}
+
+
+def fit(model: Union[str, os.PathLike], data: Union[str, os.PathLike, Dict[str, object]],
+        params: List[str], noise: Optional[Dict[str, float]] = None,
+        formulation: Optional[str] = None, integrator: Optional[str] = None,
+        dt: Optional[float] = None, t_end: Optional[float] = None,
+        options: Optional[Dict[str, object]] = None,
+        out: Optional[Union[str, os.PathLike]] = None) -> Dict[str, np.ndarray]:
+    """Fits `params` (paths as `options` names them) of the model file `model`
+    to measured data as `monohydra fit` does (docs/identification.md).
+    `data` is a CSV file's path, or a mapping of "t" and column names to
+    equal-length sequences (NaN: a sample not taken). `noise` maps a column
+    to its standard deviation. Returns one entry per column of
+    estimates.csv, one element per parameter: "path" (str), "initial",
+    "estimate", "std_error", "ci_low", "ci_high" (float64; NaN where not
+    identifiable) and "identifiable" (bool). `out`: a folder that keeps
+    estimates.csv, fitted.yaml and report.html. Bad input raises InputError;
+    a fit that fails, SimulationError."""
+    if isinstance(params, str) or not params:
+        raise InputError("fit: params is a non-empty list of paths")
+    scratch = tempfile.mkdtemp(prefix="monohydra-fit-")
+    try:
+        if isinstance(data, (str, os.PathLike)):
+            data_path = os.fspath(data)
+        else:
+            if "t" not in data:
+                raise InputError("fit: data has no \"t\" (the samples' times, s)")
+            names = ["t"] + [n for n in data if n != "t"]
+            columns = [np.asarray(data[n], dtype=np.float64).ravel() for n in names]
+            if any(c.shape != columns[0].shape for c in columns):
+                raise InputError("fit: data's columns differ in length")
+            data_path = os.path.join(scratch, "data.csv")
+            with open(data_path, "w", newline="", encoding="utf-8") as f:
+                f.write(",".join(names) + "\n")
+                for row in zip(*columns):
+                    f.write(",".join("" if np.isnan(v) else repr(float(v)) for v in row) + "\n")
+        folder = os.fspath(out) if out is not None else os.path.join(scratch, "fit")
+        command = [_command_line(), "fit", os.fspath(model), "--data", data_path,
+                   "--params", ",".join(params), "--out", folder]
+        for flag, value in (("--formulation", formulation), ("--integrator", integrator),
+                            ("--dt", dt), ("--t-end", t_end)):
+            if value is not None:
+                command += [flag, _text(value)]
+        for key, value in (noise or {}).items():
+            command += ["--noise", key + "=" + _text(value)]
+        for key, value in (options or {}).items():
+            command += ["--set", key + "=" + _text(value)]
+        done = subprocess.run(command, capture_output=True, text=True)
+        if done.returncode != 0:
+            message = (done.stderr or done.stdout).strip()
+            failed = done.returncode == 1 and message.startswith("monohydra: fit:")
+            raise (SimulationError if failed else InputError)(message)
+        with open(os.path.join(folder, "estimates.csv"), newline="", encoding="utf-8") as f:
+            reader = csv.reader(f)
+            header = next(reader)
+            rows = list(reader)
+    finally:
+        shutil.rmtree(scratch, ignore_errors=True)
+    result: Dict[str, np.ndarray] = {"path": np.array([r[0] for r in rows], dtype=object)}
+    for i, name in enumerate(header[1:6], start=1):
+        result[name] = np.array([float(r[i]) if r[i] else np.nan for r in rows], dtype=np.float64)
+    result["identifiable"] = np.array([r[6] == "1" for r in rows], dtype=bool)
+    return result

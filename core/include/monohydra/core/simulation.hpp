@@ -186,6 +186,14 @@ class Simulation {
   // component that does not change that option in place (naming those it
   // does), a value it refuses (its reason, e.g. the range).
   void set_component_parameter(const std::string& subsystem, const std::string& key, double value);
+  // What the component declares of that option: its SI unit and the values
+  // it takes, [lower, upper] (+-infinity: no bound). Refused as
+  // set_component_parameter refuses a subsystem or an option.
+  struct ParameterRange {
+    std::string unit;
+    double lower = 0.0, upper = 0.0;
+  };
+  ParameterRange component_parameter_range(const std::string& subsystem, const std::string& key);
 
   // Forward sensitivities (sensitivities.hpp, docs/identification.md): from
   // start() on, every accepted step also carries d/dp of the coordinates,
