@@ -90,6 +90,7 @@ struct InstanceHost {
     get_extension,
     save_state,
     load_state,
+    parameter,  // monohydra/parameters.h: count, info, get, set
     destroy,
     count
   };
@@ -118,6 +119,7 @@ struct InstanceHost {
                                              "get_extension",
                                              "save_state",
                                              "load_state",
+                                             "parameter",
                                              "destroy"};
     library = path;
     const std::string name = path.substr(path.find_last_of('/') + 1);
@@ -405,7 +407,7 @@ struct SensitivityState {
   std::vector<unsigned char> before_step, after_step;  // the formulation's state bytes
   // A step's work.
   Eigen::VectorXd xs, xds, xdds;  // the converged iterate, before accept corrects it
-  Eigen::VectorXd xq, xdq, xddq, rp, rm, col, outputs_saved, y_saved, ydot_saved;
+  Eigen::VectorXd xdq, xddq, rp, rm, col, outputs_saved, y_saved, ydot_saved;
   Eigen::VectorXd xp, xdp, xddp, xm, xdm, xddm;
   Eigen::VectorXd zp, zdp, zddp, zm, zdm, zddm, outp, outm;
   Eigen::MatrixXd rhs;            // n x k
@@ -424,7 +426,8 @@ struct SensitivityState {
   struct ComponentOption {
     int instance = -1;
     uint32_t index = 0;
-    mh_parameters_extension ext{};
+    mh_parameters_extension ext{};  // the component's parameter `index`,
+    double* constant = nullptr;     // or a number it reads as a signal (signals.hpp)
     double saved = 0.0;
   };
   std::vector<ComponentOption> options;
@@ -597,6 +600,11 @@ struct Simulation::Engine {
   void track_sensitivities(const std::vector<ParameterDirection>& parameters);
   // The model's values moved by `amount` times parameter j's direction, and
   // back as they were.
+  // The subsystem instance named `name` (std::invalid_argument starting with `path`).
+  int subsystem_instance(const std::string& name, const std::string& path) const;
+  // Its parameters extension into `ops` (null entries: none) and the keys,
+  // in its order ("" for one it did not describe).
+  std::vector<std::string> parameter_keys(int instance, mh_parameters_extension& ops);
   SensitivityState::ComponentOption find_component_option(const ParameterDirection& p);
   void perturb_parameter(size_t j, double amount);
   void restore_parameter(size_t j);

@@ -5,6 +5,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 
@@ -490,9 +491,17 @@ void Simulation::set_component_parameter(const std::string& subsystem, const std
   p.subsystem = subsystem;
   p.key = key;
   const SensitivityState::ComponentOption option = e.find_component_option(p);
+  if (option.constant != nullptr) {  // a number it reads as a signal
+    if (!std::isfinite(value))
+      throw std::invalid_argument(p.path + ": " + std::to_string(value) +
+                                  " is not a finite number");
+    *option.constant = value;
+    e.solver.reuse.invalidate();
+    return;
+  }
   const SubsystemInstance& s = e.subsystems[static_cast<size_t>(option.instance)];
   e.last_plugin_error.clear();
-  const mh_status st = normalized(in_flight(*s.host, InstanceHost::Op::get_extension, [&] {
+  const mh_status st = normalized(in_flight(*s.host, InstanceHost::Op::parameter, [&] {
     return option.ext.set(s.api.self, option.index, value);
   }));
   if (!status_ok(st))
@@ -510,14 +519,42 @@ Simulation::ParameterRange Simulation::component_parameter_range(const std::stri
   p.subsystem = subsystem;
   p.key = key;
   const SensitivityState::ComponentOption option = e.find_component_option(p);
+  if (option.constant != nullptr)  // a number it reads as a signal: it declares no range
+    return {"", -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
   const SubsystemInstance& s = e.subsystems[static_cast<size_t>(option.instance)];
   mh_parameter_info info{};
   info.struct_size = sizeof(info);
-  const mh_status st = in_flight(*s.host, InstanceHost::Op::get_extension,
+  const mh_status st = in_flight(*s.host, InstanceHost::Op::parameter,
                                  [&] { return option.ext.info(s.api.self, option.index, &info); });
   if (!status_ok(normalized(st)))
     throw std::invalid_argument(p.path + ": the component did not describe it");
   return {info.unit == nullptr ? std::string() : std::string(info.unit), info.lower, info.upper};
+}
+
+std::vector<std::string> Simulation::component_parameter_keys(const std::string& subsystem) {
+  Engine& e = *engine_;
+  mh_parameters_extension ops{};
+  std::vector<std::string> keys =
+      e.parameter_keys(e.subsystem_instance(subsystem, "subsystems/" + subsystem), ops);
+  keys.erase(std::remove(keys.begin(), keys.end(), std::string()), keys.end());
+  return keys;
+}
+
+double Simulation::component_parameter(const std::string& subsystem, const std::string& key) {
+  Engine& e = *engine_;
+  ParameterDirection p;
+  p.path = "subsystems/" + subsystem + "/" + key;
+  p.subsystem = subsystem;
+  p.key = key;
+  const SensitivityState::ComponentOption option = e.find_component_option(p);
+  if (option.constant != nullptr) return *option.constant;
+  const SubsystemInstance& s = e.subsystems[static_cast<size_t>(option.instance)];
+  double value = 0.0;
+  const mh_status st = in_flight(*s.host, InstanceHost::Op::parameter,
+                                 [&] { return option.ext.get(s.api.self, option.index, &value); });
+  if (!status_ok(normalized(st)))
+    throw std::invalid_argument(p.path + ": the component did not give its value");
+  return value;
 }
 
 double Simulation::time() const {

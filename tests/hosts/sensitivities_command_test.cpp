@@ -114,10 +114,10 @@ TEST(SensitivitiesCommand, RefusesParametersItCannotTakeNamingThem) {
                                "not change 'length' in place (its parameters: piston_diameter, "),
             std::string::npos)
       << option.output;
-  const CliResult fixed = run_cli("sensitivities " + model("fourbar.yaml") +
-                                  " --params subsystems/pump/pressure --t-end 0.01");
+  const CliResult fixed = run_cli("sensitivities " + model("excavator.yaml") +
+                                  " --params subsystems/relief/cracking_pressure --t-end 0.01");
   EXPECT_EQ(fixed.code, 2);
-  EXPECT_NE(fixed.output.find("subsystem 'pump' (pressure-source) changes none of its options in "
+  EXPECT_NE(fixed.output.find("subsystem 'relief' (relief-valve) changes none of its options in "
                               "place"),
             std::string::npos)
       << fixed.output;

@@ -599,6 +599,7 @@ mh_status read_signal(const mh_host* host, const char* what, bool port, const ch
                     "expected a finite number or " + kinds + ", got '" + v->text + "'");
     signals.values.push_back(v != nullptr ? v->number : fallback);
     out->value = &signals.values.back();
+    signals.constants.push_back({h.subsystem, key, &signals.values.back()});
     if (out->struct_size >= offsetof(mh_signal, state) + sizeof(out->state)) out->state = -1;
     return MH_OK;
   } else if (v->kind == OptionValue::Kind::string) {

@@ -200,8 +200,8 @@ void Simulation::Engine::track_sensitivities(const std::vector<ParameterDirectio
   sens.doutputs.setZero(n_o, cols);
   sens.dy.setZero(n_s, cols);
   for (Eigen::VectorXd* v :
-       {&sens.xs, &sens.xds, &sens.xdds, &sens.xq, &sens.xdq, &sens.xddq, &sens.rp, &sens.rm,
-        &sens.col, &sens.xp, &sens.xdp, &sens.xddp, &sens.xm, &sens.xdm, &sens.xddm})
+       {&sens.xs, &sens.xds, &sens.xdds, &sens.xdq, &sens.xddq, &sens.rp, &sens.rm, &sens.col,
+        &sens.xp, &sens.xdp, &sens.xddp, &sens.xm, &sens.xdm, &sens.xddm})
     v->setZero(n);
   for (Eigen::VectorXd* v : {&sens.zp, &sens.zdp, &sens.zddp, &sens.zm, &sens.zdm, &sens.zddm})
     v->setZero(N);
@@ -239,54 +239,88 @@ void Simulation::Engine::track_sensitivities(const std::vector<ParameterDirectio
   sens.active = true;
 }
 
-// The option `p` names, offered by its instance as a parameter
-// (parameters.h); std::invalid_argument naming what is missing.
-SensitivityState::ComponentOption Simulation::Engine::find_component_option(
-    const ParameterDirection& p) {
-  SensitivityState::ComponentOption found;
+int Simulation::Engine::subsystem_instance(const std::string& name, const std::string& path) const {
   for (size_t i = 0; i < subsystems.size(); ++i)
-    if (subsystems[i].spec->name == p.subsystem) found.instance = static_cast<int>(i);
-  if (found.instance < 0)
-    throw std::invalid_argument(p.path + ": the model has no subsystem '" + p.subsystem + "'");
-  SubsystemInstance& s = subsystems[static_cast<size_t>(found.instance)];
+    if (subsystems[i].spec->name == name) return static_cast<int>(i);
+  throw std::invalid_argument(path + ": the model has no subsystem '" + name + "'");
+}
+
+std::vector<std::string> Simulation::Engine::parameter_keys(int instance,
+                                                            mh_parameters_extension& ops) {
+  SubsystemInstance& s = subsystems[static_cast<size_t>(instance)];
   const void* ext = s.api.ops.get_extension == nullptr
                         ? nullptr
                         : in_flight(*s.host, InstanceHost::Op::get_extension, [&] {
                             return s.api.ops.get_extension(s.api.self, MH_EXT_PARAMETERS);
                           });
-  found.ext = read_struct(static_cast<const mh_parameters_extension*>(ext));
-  const mh_parameters_extension& ops = found.ext;
+  ops = read_struct(static_cast<const mh_parameters_extension*>(ext));
+  std::vector<std::string> keys;
+  if (ops.count == nullptr || ops.info == nullptr) return keys;
+  in_flight(*s.host, InstanceHost::Op::parameter, [&] {
+    const uint32_t count = ops.count(s.api.self);
+    for (uint32_t i = 0; i < count; ++i) {
+      mh_parameter_info info{};
+      info.struct_size = sizeof(info);
+      keys.emplace_back(ops.info(s.api.self, i, &info) == MH_OK && info.key != nullptr ? info.key
+                                                                                       : "");
+    }
+    return MH_OK;
+  });
+  return keys;
+}
+
+// The option `p` names: a number its instance reads as a signal, or one it
+// offers as a parameter (parameters.h); std::invalid_argument naming what is
+// missing.
+SensitivityState::ComponentOption Simulation::Engine::find_component_option(
+    const ParameterDirection& p) {
+  SensitivityState::ComponentOption found;
+  found.instance = subsystem_instance(p.subsystem, p.path);
+  // A number the component reads as a signal: the engine holds it.
+  for (const ConstantSignal& c : signals.constants)
+    if (c.instance == found.instance && c.key == p.key) {
+      found.constant = c.value;
+      return found;
+    }
+  const std::vector<std::string> keys = parameter_keys(found.instance, found.ext);
+  const SubsystemInstance& s = subsystems[static_cast<size_t>(found.instance)];
   const std::string who = "subsystem '" + p.subsystem + "' (" + s.spec->type + ")";
+  const mh_parameters_extension& ops = found.ext;
   if (ops.count == nullptr || ops.info == nullptr || ops.get == nullptr || ops.set == nullptr)
     throw std::invalid_argument(p.path + ": " + who +
                                 " changes none of its options in place (it offers no " +
                                 MH_EXT_PARAMETERS + "): they are read when it is set up");
-  const uint32_t count = ops.count(s.api.self);
-  std::string keys;
-  for (uint32_t i = 0; i < count; ++i) {
-    mh_parameter_info info{};
-    info.struct_size = sizeof(info);
-    if (ops.info(s.api.self, i, &info) != MH_OK || info.key == nullptr) continue;
-    if (p.key == info.key) {
-      found.index = i;
+  std::string listed;
+  for (size_t i = 0; i < keys.size(); ++i) {
+    if (keys[i].empty()) continue;
+    if (keys[i] == p.key) {
+      found.index = static_cast<uint32_t>(i);
       return found;
     }
-    keys += (keys.empty() ? "" : ", ") + std::string(info.key);
+    listed += (listed.empty() ? "" : ", ") + keys[i];
   }
   throw std::invalid_argument(p.path + ": " + who + " does not change '" + p.key +
-                              "' in place (its parameters: " + (keys.empty() ? "none" : keys) +
+                              "' in place (its parameters: " + (listed.empty() ? "none" : listed) +
                               ")");
 }
 
 void Simulation::Engine::perturb_parameter(size_t j, double amount) {
   const ParameterDirection& p = sens.params[j];
   SensitivityState::ComponentOption& option = sens.options[j];
-  if (option.instance >= 0) {
+  if (option.constant != nullptr) {
+    option.saved = *option.constant;
+    *option.constant = option.saved + amount * p.option;
+  } else if (option.instance >= 0) {
     const SubsystemInstance& s = subsystems[static_cast<size_t>(option.instance)];
-    check(option.ext.get(s.api.self, option.index, &option.saved), "subsystem", s.spec->name,
-          "parameter get");
-    check(option.ext.set(s.api.self, option.index, option.saved + amount * p.option), "subsystem",
-          s.spec->name, "parameter set");
+    check(in_flight(*s.host, InstanceHost::Op::parameter,
+                    [&] { return option.ext.get(s.api.self, option.index, &option.saved); }),
+          "subsystem", s.spec->name, "parameter get");
+    check(in_flight(*s.host, InstanceHost::Op::parameter,
+                    [&] {
+                      return option.ext.set(s.api.self, option.index,
+                                            option.saved + amount * p.option);
+                    }),
+          "subsystem", s.spec->name, "parameter set");
   }
   for (const ParameterDirection::BodyChange& c : p.bodies) {
     Body& b = model.bodies[static_cast<size_t>(c.body)];
@@ -304,10 +338,13 @@ void Simulation::Engine::perturb_parameter(size_t j, double amount) {
 
 void Simulation::Engine::restore_parameter(size_t j) {
   const SensitivityState::ComponentOption& option = sens.options[j];
-  if (option.instance >= 0) {
+  if (option.constant != nullptr) {
+    *option.constant = option.saved;
+  } else if (option.instance >= 0) {
     const SubsystemInstance& s = subsystems[static_cast<size_t>(option.instance)];
-    check(option.ext.set(s.api.self, option.index, option.saved), "subsystem", s.spec->name,
-          "parameter set");
+    check(in_flight(*s.host, InstanceHost::Op::parameter,
+                    [&] { return option.ext.set(s.api.self, option.index, option.saved); }),
+          "subsystem", s.spec->name, "parameter set");
   }
   for (const ParameterDirection::BodyChange& c : sens.params[j].bodies) {
     Body& b = model.bodies[static_cast<size_t>(c.body)];

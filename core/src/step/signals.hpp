@@ -34,10 +34,22 @@ struct Signal {
   double* value = nullptr;  // what the component reads (mh_signal.value), in Signals::values
 };
 
+// A component's option written as a number where the component takes a
+// signal (a pump's pressure, a flow source's flow): a constant the
+// component reads through its pointer on every call, so the engine can
+// change it in place as a parameter (Simulation::set_component_parameter,
+// sensitivities) without the component offering monohydra/parameters.h.
+struct ConstantSignal {
+  int instance = -1;  // the subsystem instance that read it
+  std::string key;
+  double* value = nullptr;  // in Signals::values
+};
+
 struct Signals {
   std::vector<InputSignal> inputs;
   std::vector<Signal> list;
   std::deque<double> values;  // a deque: the components keep the values' addresses
+  std::vector<ConstantSignal> constants;
   bool jump_pending = false;  // an input changed between steps (Simulation::set_input)
   // The jumps of inputs' tables that components read (time, input): events
   // while the input follows its table (merged into the run's at setup).

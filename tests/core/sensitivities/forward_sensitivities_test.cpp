@@ -5,8 +5,9 @@
 // opening and closing (time events): a body's mass (which moves its inertia
 // too), gravity, and the components' options the issue of identification
 // names (a volume's bulk modulus, the valve's flow coefficient and time
-// constant, the cylinder's piston diameter), changed in place by their
-// instances against whole runs whose instances read the changed value.
+// constant, the cylinder's piston diameter, the supply pressure), changed in
+// place by their instances (the pressure, a number read as a signal, by the
+// engine) against whole runs whose instances read the changed value.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -119,6 +120,8 @@ void expect_sensitivities_match_whole_runs(const std::string& model, const std::
   if (all_options) {
     params.push_back(option(file, "V1", "bulk_modulus"));
     params.push_back(option(file, "valve", "flow_coefficient"));
+    // The supply pressure: a number the pump reads as a signal, held by the engine.
+    params.push_back(option(file, "pump", "pressure"));
   }
   const long every = 50;
   const Samples tracked = run(file, formulation, every, params);

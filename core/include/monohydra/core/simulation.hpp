@@ -180,7 +180,8 @@ class Simulation {
                         const Eigen::Matrix3d& inertia_B);
   void set_gravity(const Eigen::Vector3d& gravity);
   // A component's option that it changes in place (monohydra/parameters.h),
-  // before start() or between steps: the run goes on as one of the model
+  // or a number it reads as a signal (a pump's pressure: the engine holds
+  // it), before start() or between steps: the run goes on as one of the model
   // with that value from the accepted state on. Refused with
   // std::invalid_argument naming why: no subsystem of that name, a
   // component that does not change that option in place (naming those it
@@ -194,6 +195,13 @@ class Simulation {
     double lower = 0.0, upper = 0.0;
   };
   ParameterRange component_parameter_range(const std::string& subsystem, const std::string& key);
+  // The keys of the options the subsystem's component changes in place (its
+  // parameters.h), in its order; none when it offers no such extension.
+  // std::invalid_argument for a subsystem the model does not have.
+  std::vector<std::string> component_parameter_keys(const std::string& subsystem);
+  // Such an option's value now (or a number it reads as a signal); refused
+  // as set_component_parameter refuses.
+  double component_parameter(const std::string& subsystem, const std::string& key);
 
   // Forward sensitivities (sensitivities.hpp, docs/identification.md): from
   // start() on, every accepted step also carries d/dp of the coordinates,
