@@ -231,6 +231,118 @@ std::string state_check(const Setup& s, const PluginRegistry& registry) {
   return "";
 }
 
+constexpr const char* kNoParameters = "no parameters: ";
+constexpr const char* kNoSnapshot = "no snapshot: ";
+
+// Each option a component changes in place (monohydra/parameters.h) against
+// the same option read at setup: half the run, saved; the option moved by 1 %
+// in place, against a fresh instance set up with the moved value and the
+// state restored into it. The next step's tangent from differences of the
+// residual agrees entry by entry to 1e-6, and the rest of the run to 1e-9 of
+// each value, or the instance missed something the value sets (a derived
+// constant). A value outside its declared range is refused.
+// The residual's derivative with respect to each is differenced by the host
+// (no component gives it analytically yet), which the detail says.
+std::string parameters_check(const Setup& s, const Subject& who, const PluginRegistry& registry,
+                             std::string& detail) {
+  std::string instance;
+  for (const SubsystemSpec& spec : s.file.subsystems)
+    if (spec.type == who.id && instance.empty()) instance = spec.name;
+  Simulation run(s.file, registry, s.choices);
+  const std::vector<std::string> keys =
+      instance.empty() ? std::vector<std::string>{} : run.component_parameter_keys(instance);
+  if (keys.empty())
+    return std::string(kNoParameters) +
+           "it changes none of its options in place (no monohydra/parameters.h): they are read "
+           "at its setup";
+  run.start();
+  const int total =
+      static_cast<int>(std::lround((run.settings().t_end - run.time()) / run.settings().dt));
+  const int half = total / 2;
+  for (int k = 0; k < half; ++k) run.step();
+  RunState saved;
+  run.save_state(saved);
+  const auto values = [](const Simulation& sim) {
+    Eigen::VectorXd v(sim.z().size() + sim.zd().size() + sim.states().size());
+    v << sim.z(), sim.zd(), sim.states();
+    return v;
+  };
+  for (const std::string& key : keys) {
+    const std::string path = "subsystems/" + instance + "/" + key;
+    const Simulation::ParameterRange range = run.component_parameter_range(instance, key);
+    const double now = run.component_parameter(instance, key);
+    double moved = now != 0.0 ? now * 1.01 : 0.01;
+    if (moved > range.upper) moved = now - 0.01 * std::abs(now != 0.0 ? now : 1.0);
+    if (moved < range.lower || moved > range.upper) continue;  // a range of one value
+    // In place, from the saved state on; and read at setup, the state restored.
+    Simulation in_place(s.file, registry, s.choices);
+    in_place.restore_state(saved);
+    in_place.set_component_parameter(instance, key, moved);
+    Setup at_setup = s;
+    for (SubsystemSpec& spec : at_setup.file.subsystems)
+      if (spec.name == instance) {
+        OptionValue v;
+        v.number = moved;
+        v.text = std::to_string(moved);
+        spec.options[key] = v;
+      }
+    Simulation fresh(at_setup.file, registry, at_setup.choices);
+    fresh.restore_state(saved);
+    const auto differ = [&](const std::string& what, double a, double b) {
+      std::ostringstream msg;
+      msg.precision(10);
+      msg << path << " set in place to " << moved << " and read at setup give " << a << " and " << b
+          << " (" << what << ") at t = " << fresh.time()
+          << " s: set_parameter misses something the option sets";
+      return msg.str();
+    };
+    // The next step's tangent from differences of the residual alone (a
+    // machine at rest moves no state the option acts on; its derivatives do).
+    const Eigen::MatrixXd ta = in_place.central_difference_tangent();
+    const Eigen::MatrixXd tb = fresh.central_difference_tangent();
+    // Each entry at its own size, with a floor of its row's largest (a row
+    // mixes units: a volume's d/dpdot of 1e-10 beside a cylinder's d/dzd).
+    for (Eigen::Index r = 0; r < ta.rows(); ++r) {
+      const double row = ta.row(r).cwiseAbs().maxCoeff();
+      for (Eigen::Index c = 0; c < ta.cols(); ++c)
+        if (!(std::abs(ta(r, c) - tb(r, c)) <=
+              1e-6 * std::max(std::abs(ta(r, c)), std::abs(tb(r, c))) + 1e-12 * row))
+          return differ("the tangent's row " + unknown_name(fresh, static_cast<int>(r)) +
+                            ", column " + unknown_name(fresh, static_cast<int>(c)),
+                        ta(r, c), tb(r, c));
+    }
+    for (int k = half; k < total; ++k) {
+      in_place.step();
+      fresh.step();
+    }
+    const Eigen::VectorXd a = values(in_place), b = values(fresh);
+    for (Eigen::Index i = 0; i < a.size(); ++i)
+      if (!(std::abs(a[i] - b[i]) <= 1e-9 * std::max({std::abs(a[i]), std::abs(b[i]), 1e-6})))
+        return differ("value " + std::to_string(i + 1) + " of z, zd, states", a[i], b[i]);
+    // Outside its range: refused, the value kept.
+    for (const double outside :
+         {range.upper * 2.0 + 1.0, range.lower - std::abs(range.lower) - 1.0}) {
+      if (!std::isfinite(outside) || (outside >= range.lower && outside <= range.upper)) continue;
+      bool refused = false;
+      try {
+        in_place.set_component_parameter(instance, key, outside);
+      } catch (const std::invalid_argument&) {
+        refused = true;
+      }
+      if (!refused || in_place.component_parameter(instance, key) != moved)
+        return path + ": " + std::to_string(outside) + " is outside its declared range [" +
+               std::to_string(range.lower) + ", " + std::to_string(range.upper) + "], yet it was " +
+               (refused ? "changed" : "taken");
+    }
+  }
+  detail.clear();
+  for (const std::string& key : keys) detail += (detail.empty() ? "" : ", ") + key;
+  detail +=
+      ": set in place = read at setup; their residual derivatives are differenced by the "
+      "host (the component gives none)";
+  return "";
+}
+
 // The options of the subject in the model, or null (an integrator's, or a
 // component chosen from the command line without options).
 OptionMap* subject_options(Setup& s, const Subject& who) {
@@ -442,6 +554,28 @@ void check_subject(const Subject& who, const std::vector<Setup>& candidates,
            const std::string b = fingerprint(*setup, registry);
            return a == b ? std::string() : std::string("two runs of the same model differ");
          }));
+  // Parameters changed in place (parameters.h): subsystems only; one
+  // without any has no line.
+  if (who.kind == ComponentKind::subsystem) {
+    constexpr const char* kPassed = "passed: ";
+    const std::string verdict = isolated([&] {
+      try {
+        std::string detail;
+        const std::string failure = parameters_check(*setup, who, registry, detail);
+        return failure.empty() ? kPassed + detail : failure;
+      } catch (const RunStateError& err) {
+        return std::string(kNoSnapshot) + err.what();
+      }
+    });
+    const std::string what = "options changed in place match the same options read at setup";
+    if (verdict.rfind(kNoSnapshot, 0) == 0)
+      emit(Check{Check::Verdict::skipped, name + ": " + what,
+                 "the run's snapshot is needed: " + verdict.substr(std::strlen(kNoSnapshot))});
+    else if (verdict.rfind(kPassed, 0) == 0)
+      report(what, "", verdict.substr(std::strlen(kPassed)));
+    else if (verdict.rfind(kNoParameters, 0) != 0)
+      report(what, verdict);
+  }
   // What a snapshot needs (state.h): a component that keeps state between
   // steps and offers no MH_EXT_STATE is skipped with the reason, one whose
   // saved bytes miss some of it fails.
