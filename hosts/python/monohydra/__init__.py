@@ -258,6 +258,23 @@ class Simulation:
         options={path: value} instead), a value the model file refuses."""
         self._run.set_parameter(str(path), float(value))
 
+    def track_sensitivities(self, params: List[str]) -> None:
+        """Before the run starts: from then on every step also carries the
+        derivatives of its values with respect to `params` (paths as
+        set_parameter names them, "subsystems/valve/flow_coefficient"
+        included), read with sensitivity(name). Refused (InputError): after
+        the start, a path that is not such a parameter, a run that cannot
+        carry them (an explicit integrator, ...)."""
+        if isinstance(params, str) or not params:
+            raise InputError("track_sensitivities: params is a non-empty list of paths")
+        self._run.track_sensitivities([str(p) for p in params])
+
+    def sensitivity(self, name: str) -> np.ndarray:
+        """d(name)/d(parameter) at the last accepted step, one float64 per
+        parameter tracked, in their order (NaN for a value without one: an
+        input)."""
+        return np.array(self._run.sensitivities(self._index(name)), dtype=np.float64)
+
     def value(self, name: str) -> float:
         """Any variable's value at the last accepted step, by name."""
         return self._run.get(self._index(name))

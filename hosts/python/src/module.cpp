@@ -159,6 +159,15 @@ class Run {
       return 0;
     });
   }
+  void track_sensitivities(const std::vector<std::string>& paths) {
+    as_input([&] {
+      sim_.track_sensitivities(paths);
+      return 0;
+    });
+  }
+  std::vector<double> sensitivities(uint32_t index) const {
+    return as_input([&] { return sim_.sensitivities(index); });
+  }
   std::vector<std::string> row_names() const {
     return as_input([&] { return sim_.row_names(); });
   }
@@ -231,6 +240,8 @@ PYBIND11_MODULE(_monohydra, m) {
       .def("get", &Run::get, py::arg("index"))
       .def("set", &Run::set, py::arg("index"), py::arg("value"))
       .def("set_parameter", &Run::set_parameter, py::arg("path"), py::arg("value"))
+      .def("track_sensitivities", &Run::track_sensitivities, py::arg("paths"))
+      .def("sensitivities", &Run::sensitivities, py::arg("index"))
       .def("row_names", &Run::row_names)
       .def("header", &Run::header)
       .def("snapshot", &Run::snapshot)

@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <mutex>
 #include <stdexcept>
 
@@ -12,6 +13,7 @@
 #include "monohydra/core/input_error.hpp"
 #include "monohydra/core/model_text.hpp"
 #include "monohydra/core/run_limits.hpp"
+#include "parameter_direction.hpp"
 #include "parameter_path.hpp"
 
 namespace mh::embed {
@@ -197,6 +199,31 @@ void Instance::make_variables() {
 int Instance::find(const std::string& name) const {
   const auto it = by_name_.find(name);
   return it == by_name_.end() ? -1 : it->second;
+}
+
+void Instance::track_sensitivities(const std::vector<std::string>& paths) {
+  std::vector<ParameterDirection> directions;
+  directions.reserve(paths.size());
+  for (const std::string& path : paths)
+    directions.push_back(host::parameter_direction(text_, label_, base_dir_, file_, path));
+  sim_->track_sensitivities(directions);
+}
+
+double Instance::sensitivity(const Variable& v, int j) const {
+  switch (v.kind) {
+    case MHS_COORDINATE:
+      return sim_->coordinate_sensitivities()(v.index, j);
+    case MHS_COORDINATE_RATE:
+      return sim_->coordinate_rate_sensitivities()(v.index, j);
+    case MHS_STATE:
+      return sim_->state_sensitivities()(v.index, j);
+    case MHS_OUTPUT:
+      if (sim_->output_differentiated(v.index)) return sim_->output_sensitivities()(v.index, j);
+      break;
+    default:
+      break;
+  }
+  return std::numeric_limits<double>::quiet_NaN();
 }
 
 double Instance::value(const Variable& v) const {

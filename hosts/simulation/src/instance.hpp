@@ -60,6 +60,14 @@ class Instance {
   // opening. Throws std::invalid_argument naming the path; nothing changes.
   void set_parameter(const std::string& path, const std::string& value);
 
+  // Forward sensitivities (mhs_track_sensitivities) with respect to the
+  // values at `paths`, before start; std::invalid_argument naming what is
+  // refused. Then d(v)/d(parameter j) at the accepted state (NaN for a value
+  // without one).
+  void track_sensitivities(const std::vector<std::string>& paths);
+  int num_sensitivities() const { return sim_->num_sensitivities(); }
+  double sensitivity(const Variable& v, int j) const;
+
   // Warnings the plugins logged during the current call (cleared by each call).
   std::string warnings;
 

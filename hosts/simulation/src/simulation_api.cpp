@@ -345,6 +345,50 @@ MHS_API mhs_status mhs_set_parameter(mhs_simulation* sim, const char* path, doub
   });
 }
 
+MHS_API mhs_status mhs_track_sensitivities(mhs_simulation* sim, const char* const* paths,
+                                           size_t count) {
+  return guarded(sim, [&](Instance& in) -> mhs_status {
+    if (paths == nullptr || count == 0)
+      return refuse(sim, "mhs_track_sensitivities: expected count > 0 paths");
+    std::vector<std::string> list;
+    for (size_t i = 0; i < count; ++i) {
+      if (paths[i] == nullptr)
+        return refuse(sim, "mhs_track_sensitivities: path " + std::to_string(i) + " is NULL");
+      list.emplace_back(paths[i]);
+    }
+    try {
+      in.track_sensitivities(list);
+    } catch (const std::invalid_argument& err) {
+      return refuse(sim, std::string("mhs_track_sensitivities: ") + err.what());
+    }
+    return MHS_OK;
+  });
+}
+
+MHS_API mhs_status mhs_get_sensitivities(const mhs_simulation* csim, const uint32_t* indices,
+                                         size_t count, double* out) {
+  auto* sim = const_cast<mhs_simulation*>(csim);
+  return guarded(sim, [&](Instance& in) -> mhs_status {
+    const int k = in.num_sensitivities();
+    if (k == 0)
+      return refuse(sim,
+                    "mhs_get_sensitivities: no parameters are tracked "
+                    "(mhs_track_sensitivities, before the run starts)");
+    if (count > 0 && (indices == nullptr || out == nullptr))
+      return refuse(sim, "mhs_get_sensitivities: indices or out is NULL");
+    const auto& variables = in.variables();
+    for (size_t i = 0; i < count; ++i)
+      if (indices[i] >= variables.size())
+        return refuse(sim, "mhs_get_sensitivities: index " + std::to_string(indices[i]) +
+                               " is not below " + std::to_string(variables.size()));
+    for (size_t i = 0; i < count; ++i)
+      for (int j = 0; j < k; ++j)
+        out[i * static_cast<size_t>(k) + static_cast<size_t>(j)] =
+            in.sensitivity(variables[indices[i]], j);
+    return MHS_OK;
+  });
+}
+
 MHS_API mhs_status mhs_row_size(const mhs_simulation* csim, uint32_t* columns) {
   auto* sim = const_cast<mhs_simulation*>(csim);
   return guarded(sim, [&](Instance& in) -> mhs_status {

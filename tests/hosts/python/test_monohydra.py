@@ -297,3 +297,20 @@ def test_fit_with_a_column_the_model_lacks_raises_input_error():
     with pytest.raises(monohydra.InputError, match="torque: a column of the model's"):
         monohydra.fit(model("fourbar.yaml"), {"t": [0.0, 0.1], "torque": [1.0, 2.0]},
                       ["bodies/body1/mass"])
+
+
+def test_a_simulation_carries_the_derivatives_it_tracks():
+    sim = monohydra.Simulation(model("fourbar.yaml"), t_end=1.0)
+    sim.track_sensitivities(["bodies/body3/mass", "gravity/1"])
+    sim.run()
+    d = sim.sensitivity("p1")
+    assert d.shape == (2,)
+    delta = 0.05
+    plus = monohydra.Simulation(model("fourbar.yaml"), t_end=1.0,
+                                options={"bodies/body3/mass": 50.0 + delta}).run()
+    minus = monohydra.Simulation(model("fourbar.yaml"), t_end=1.0,
+                                 options={"bodies/body3/mass": 50.0 - delta}).run()
+    differenced = (plus["p1"][-1] - minus["p1"][-1]) / (2 * delta)
+    assert abs(d[0] - differenced) < 1e-3 * abs(differenced)
+    with pytest.raises(monohydra.InputError, match="before it"):
+        sim.track_sensitivities(["gravity/1"])

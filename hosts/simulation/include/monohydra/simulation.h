@@ -28,7 +28,9 @@ extern "C" {
 #endif
 
 #define MHS_API_VERSION_MAJOR 1u
-#define MHS_API_VERSION_MINOR 2u /* 1.1: mhs_linearize; 1.2: mhs_set_parameter */
+#define MHS_API_VERSION_MINOR                       \
+  3u /* 1.1: mhs_linearize; 1.2: mhs_set_parameter; \
+      1.3: mhs_track_sensitivities, mhs_get_sensitivities */
 
 #if defined(__GNUC__) || defined(__clang__)
 #define MHS_API __attribute__((visibility("default")))
@@ -152,6 +154,26 @@ MHS_API mhs_status mhs_set(mhs_simulation* sim, const uint32_t* indices, size_t 
  * open the model with the setting), a value the file's parser or the
  * component refuses (its range, named). */
 MHS_API mhs_status mhs_set_parameter(mhs_simulation* sim, const char* path, double value);
+
+/* 1.3: forward sensitivities (docs/identification.md). Before mhs_start (or
+ * the first mhs_step): from then on every accepted step also carries the
+ * derivatives of the run's values with respect to the `count` parameters at
+ * `paths`, named as mhs_set_parameter names them ("bodies/body3/mass",
+ * "subsystems/valve/flow_coefficient", "subsystems/pump/pressure"), each in
+ * the model file's units. A call replaces the parameters of an earlier one.
+ * MHS_ERROR, nothing tracked: after the run started, a path that is not
+ * such a parameter (named), a run that cannot carry them (an explicit
+ * integrator, solver.newton: articulated, a component that keeps state of
+ * its own), count 0 or paths NULL. */
+MHS_API mhs_status mhs_track_sensitivities(mhs_simulation* sim, const char* const* paths,
+                                           size_t count);
+/* At the accepted state: d(value indices[i]) / d(parameter j) into
+ * out[i * k + j], k the number of parameters tracked (row-major). NaN for a
+ * value without one (an input, an output its formulation does not
+ * differentiate). MHS_ERROR: none tracked, an index out of range (named),
+ * out NULL. */
+MHS_API mhs_status mhs_get_sensitivities(const mhs_simulation* sim, const uint32_t* indices,
+                                         size_t count, double* out);
 
 /* The rows `monohydra run` writes for this model (its output: columns and
  * interval; every column at every step when it has none). */

@@ -123,6 +123,21 @@ class Simulation {
     check(mhs_set_parameter(get(), path.c_str(), value));
   }
 
+  // Forward sensitivities (mhs_track_sensitivities), before the run starts;
+  // then d(value index)/d(parameter j) at the accepted step, one per parameter.
+  void track_sensitivities(const std::vector<std::string>& paths) {
+    std::vector<const char*> c;
+    c.reserve(paths.size());
+    for (const std::string& p : paths) c.push_back(p.c_str());
+    check(mhs_track_sensitivities(get(), c.data(), c.size()));
+    sensitivity_count_ = paths.size();
+  }
+  std::vector<double> sensitivities(uint32_t index) const {
+    std::vector<double> out(sensitivity_count_);
+    check(mhs_get_sensitivities(get(), &index, 1, out.data()));
+    return out;
+  }
+
   // The row's column names, and whether the last step is one the run writes
   // a row at (t = 0 and every output interval).
   std::vector<std::string> row_names() const {
@@ -205,6 +220,7 @@ class Simulation {
     void operator()(mhs_simulation* s) const { mhs_free(s); }
   };
   explicit Simulation(mhs_simulation* s) : handle_(s) {}
+  size_t sensitivity_count_ = 0;  // the parameters tracked
 
   static std::vector<mhs_setting> c_settings(const Settings& settings) {
     std::vector<mhs_setting> out;
