@@ -111,18 +111,9 @@ Samples run(const ModelFile& file, const std::string& formulation, long every,
   return out;
 }
 
-void expect_sensitivities_match_whole_runs(const std::string& model, const std::string& formulation,
-                                           double t_end, size_t body, bool all_options) {
-  const ModelFile file = converged(model, t_end);
-  std::vector<ParameterDirection> params = {mass(file, body), gravity_y(),
-                                            option(file, "valve", "time_constant"),
-                                            option(file, "cylinder", "piston_diameter")};
-  if (all_options) {
-    params.push_back(option(file, "V1", "bulk_modulus"));
-    params.push_back(option(file, "valve", "flow_coefficient"));
-    // The supply pressure: a number the pump reads as a signal, held by the engine.
-    params.push_back(option(file, "pump", "pressure"));
-  }
+void expect_columns_match_whole_runs(const ModelFile& file, const std::string& formulation,
+                                     const std::vector<ParameterDirection>& params,
+                                     const std::vector<Eigen::Index>& at_rest = {}) {
   const long every = 50;
   const Samples tracked = run(file, formulation, every, params);
   for (size_t j = 0; j < params.size(); ++j) {
@@ -143,10 +134,20 @@ void expect_sensitivities_match_whole_runs(const std::string& model, const std::
     std::string where;
     for (size_t s = 0; s < tracked.values.size(); ++s)
       for (Eigen::Index i = 0; i < rows; ++i) {
-        if (largest[i] < 1e-100) continue;  // the row does not depend on p
+        const double scale = largest[i];
+        if (scale < 1e-100) continue;  // the row does not depend on p
+        if (std::find(at_rest.begin(), at_rest.end(), i) != at_rest.end()) {
+          // A coordinate no parameter moves: its column is the differences'
+          // round-off, which a 100 % change of p turns into under 1e-6.
+          EXPECT_LT(
+              std::abs(tracked.derivatives[s](i, static_cast<Eigen::Index>(j)) * params[j].value),
+              1e-6)
+              << params[j].path << ", row " << i;
+          continue;
+        }
         const double e =
             std::abs(tracked.derivatives[s](i, static_cast<Eigen::Index>(j)) - differenced[s][i]) /
-            largest[i];
+            scale;
         if (e > worst) {
           worst = e;
           where = "row " + std::to_string(i) +
@@ -155,6 +156,21 @@ void expect_sensitivities_match_whole_runs(const std::string& model, const std::
       }
     EXPECT_LT(worst, 1e-4) << formulation << ", " << params[j].path << ": " << where;
   }
+}
+
+void expect_sensitivities_match_whole_runs(const std::string& model, const std::string& formulation,
+                                           double t_end, size_t body, bool all_options) {
+  const ModelFile file = converged(model, t_end);
+  std::vector<ParameterDirection> params = {mass(file, body), gravity_y(),
+                                            option(file, "valve", "time_constant"),
+                                            option(file, "cylinder", "piston_diameter")};
+  if (all_options) {
+    params.push_back(option(file, "V1", "bulk_modulus"));
+    params.push_back(option(file, "valve", "flow_coefficient"));
+    // The supply pressure: a number the pump reads as a signal, held by the engine.
+    params.push_back(option(file, "pump", "pressure"));
+  }
+  expect_columns_match_whole_runs(file, formulation, params);
 }
 
 TEST(ForwardSensitivities, DoubleStepFourBarAgreesWithDifferencesOfWholeRuns) {
@@ -179,6 +195,24 @@ TEST(ForwardSensitivities, DoubleStepQuickReturnAgreesWithDifferencesOfWholeRuns
 
 TEST(ForwardSensitivities, PenaltyQuickReturnAgreesWithDifferencesOfWholeRuns) {
   expect_sensitivities_match_whole_runs("quickreturn.yaml", "penalty", 6.0, 3, false);
+}
+
+// The excavator's first 5 s (the arm in, the bucket curling, the boom
+// lowered; ten coordinates, three spherical loops, 22 states): the
+// bucket's mass (it carries the payload), two valves' flow coefficients, a
+// valve's time constant, a cylinder's piston diameter. The slew (z1) is at
+// rest until 6.5 s and none of them moves it: its columns are round-off,
+// checked to be negligible instead. Not yet a line's bulk modulus: V_arm_a's
+// column of the left boom cylinder's barrel angle, a small response, missed
+// the bound by 1.38e-4 (docs/identification.md).
+TEST(ForwardSensitivities, DoubleStepExcavatorAgreesWithDifferencesOfWholeRuns) {
+  const ModelFile file = converged("excavator.yaml", 5.0);
+  expect_columns_match_whole_runs(
+      file, "double-step",
+      {mass(file, 3), option(file, "valve_boom", "flow_coefficient"),
+       option(file, "valve_arm", "flow_coefficient"), option(file, "valve_bucket", "time_constant"),
+       option(file, "arm_cyl", "piston_diameter")},
+      {0});
 }
 
 // The two formulations differentiate the same mechanism: their columns agree.
