@@ -14,20 +14,6 @@ std::string num(double v) {
   return std::isfinite(v) ? monohydra::short_number(v) : "-";
 }
 
-// Each column's RMS of (predicted - measured).
-std::vector<double> rms_of(const FitOutcome& o, const Eigen::VectorXd& predicted) {
-  const SampledRun& run = *o.run;
-  std::vector<double> sum(run.columns().size(), 0.0), count(run.columns().size(), 0.0);
-  for (size_t s = 0; s < run.samples().size(); ++s) {
-    const auto i = static_cast<Eigen::Index>(s);
-    const double e = predicted(i) - run.measured()(i);
-    sum[run.samples()[s].column] += e * e;
-    count[run.samples()[s].column] += 1.0;
-  }
-  for (size_t c = 0; c < sum.size(); ++c) sum[c] = std::sqrt(sum[c] / count[c]);
-  return sum;
-}
-
 }  // namespace
 
 TextTable estimates_table(const FitOutcome& o) {
@@ -72,8 +58,8 @@ TextTable residual_table(const FitOutcome& o) {
   TextTable t;
   t.title = "residual RMS per measured column (model - measured)";
   t.header = {"column", "samples", "fitted", "initial", "weight (sigma)"};
-  const std::vector<double> fitted = rms_of(o, o.result->predicted);
-  const std::vector<double> initial = rms_of(o, o.result->predicted_initial);
+  const std::vector<double> fitted = residual_rms(*o.run, o.result->predicted);
+  const std::vector<double> initial = residual_rms(*o.run, o.result->predicted_initial);
   for (size_t c = 0; c < o.run->columns().size(); ++c) {
     const bool given = o.run->columns()[c].noise > 0.0;
     t.rows.push_back({o.run->columns()[c].name, std::to_string(o.data->count(c)), num(fitted[c]),

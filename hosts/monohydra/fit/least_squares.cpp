@@ -66,7 +66,8 @@ class RunResiduals final : public ceres::CostFunction {
   mutable std::string why_;
 };
 
-// Each column's RMS of (predicted - measured), for the columns in `which`.
+}  // namespace
+
 std::vector<double> residual_rms(const SampledRun& run, const Eigen::VectorXd& predicted) {
   std::vector<double> sum(run.columns().size(), 0.0), count(run.columns().size(), 0.0);
   for (size_t s = 0; s < run.samples().size(); ++s) {
@@ -78,8 +79,6 @@ std::vector<double> residual_rms(const SampledRun& run, const Eigen::VectorXd& p
   for (size_t c = 0; c < sum.size(); ++c) sum[c] = std::sqrt(sum[c] / count[c]);
   return sum;
 }
-
-}  // namespace
 
 FitResult fit_parameters(const SampledRun& run, const std::vector<double>& noise,
                          int max_iterations) {

@@ -28,6 +28,10 @@ struct FitResult {
   double initial_cost = 0.0, final_cost = 0.0;   // 1/2 sum r^2 with the last weights
 };
 
+// Each measured column's RMS of (predicted - measured), `predicted` one value
+// per sample of `run`.
+std::vector<double> residual_rms(const SampledRun& run, const Eigen::VectorXd& predicted);
+
 // `noise`: per measured column, its standard deviation (0: estimate it).
 // Within run.lower() and run.upper().
 FitResult fit_parameters(const SampledRun& run, const std::vector<double>& noise,

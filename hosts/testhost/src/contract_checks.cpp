@@ -188,15 +188,22 @@ std::string fingerprint(const Setup& s, const PluginRegistry& registry) {
 
 constexpr const char* kNoState = "no state extension: ";
 
+// The check's run started and stepped through the first half of its steps
+// (where the snapshot checks save it); returns the whole run's steps.
+int start_and_run_half(Simulation& run) {
+  run.start();
+  const int total =
+      static_cast<int>(std::lround((run.settings().t_end - run.time()) / run.settings().dt));
+  for (int k = 0; k < total / 2; ++k) run.step();
+  return total;
+}
+
 // Half the run, saved; the rest of it, then again in a fresh run the state
 // is restored into: the two must agree to the last bit, step by step.
 std::string state_check(const Setup& s, const PluginRegistry& registry) {
   Simulation run(s.file, registry, s.choices);
-  run.start();
-  const int total =
-      static_cast<int>(std::lround((run.settings().t_end - run.time()) / run.settings().dt));
+  const int total = start_and_run_half(run);
   const int half = total / 2;
-  for (int k = 0; k < half; ++k) run.step();
   RunState saved;
   try {
     run.save_state(saved);
@@ -255,11 +262,8 @@ std::string parameters_check(const Setup& s, const Subject& who, const PluginReg
     return std::string(kNoParameters) +
            "it changes none of its options in place (no monohydra/parameters.h): they are read "
            "at its setup";
-  run.start();
-  const int total =
-      static_cast<int>(std::lround((run.settings().t_end - run.time()) / run.settings().dt));
+  const int total = start_and_run_half(run);
   const int half = total / 2;
-  for (int k = 0; k < half; ++k) run.step();
   RunState saved;
   run.save_state(saved);
   const auto values = [](const Simulation& sim) {
