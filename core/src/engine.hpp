@@ -418,6 +418,7 @@ struct SensitivityState {
     double mass = 0.0;
     Eigen::Vector3d com = Eigen::Vector3d::Zero();
     Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
+    double z0 = 0.0, zd0 = 0.0;
   };
   std::vector<BodyValues> saved_bodies;
   Eigen::Vector3d saved_gravity = Eigen::Vector3d::Zero();
@@ -515,8 +516,10 @@ struct Simulation::Engine {
   void solve_initial_rates(double t_eval);
   void solve_algebraic_and_equilibrium();
 
-  // loop_assembly.cpp
+  // loop_assembly.cpp: the constraints, then z0 and zd0 made consistent with
+  // them (close_loops again when a parameter moves the model's z0, zd0).
   void assemble_loops();
+  void close_loops();
 
   // integrator_map.cpp: the integrator's map from x to its rates.
   void begin_step(double t_next, double h);

@@ -34,15 +34,17 @@ ParameterDirection parameter_direction(const std::string& text, const std::strin
                                        const std::string& path) {
   const std::vector<std::string> parts = split_path(path);
   const bool body_value = parts.size() >= 3 && parts[0] == "bodies" &&
-                          (parts[2] == "mass" || parts[2] == "com" || parts[2] == "inertia");
+                          (parts[2] == "mass" || parts[2] == "com" || parts[2] == "inertia" ||
+                           parts[2] == "z0" || parts[2] == "zd0");
   const bool gravity = !parts.empty() && parts[0] == "gravity";
   const bool option = parts.size() == 3 && parts[0] == "subsystems";
   if (!body_value && !gravity && !option)
     throw std::invalid_argument(
         path +
         ": not a parameter sensitivities take: they take bodies' mass, com and inertia, "
-        "gravity, and the options a component changes in place (bodies/NAME/mass, "
-        "bodies/NAME/com/I, bodies/NAME/inertia/I, gravity/I, subsystems/NAME/KEY)");
+        "their initial coordinates and rates, gravity, and the options a component changes in "
+        "place (bodies/NAME/mass, bodies/NAME/com/I, bodies/NAME/inertia/I, bodies/NAME/z0, "
+        "bodies/NAME/zd0, gravity/I, subsystems/NAME/KEY)");
   const YAML::Node root = YAML::Load(text);
   const std::string why = check_path(root, path);
   if (!why.empty()) throw std::invalid_argument(path + ": " + why);
@@ -90,9 +92,20 @@ ParameterDirection parameter_direction(const std::string& text, const std::strin
     c.inertia = (a.inertia_B - b.inertia_B) * scale;
     p.bodies.push_back(c);
   }
+  for (size_t j = 0; j < file.model.bodies.size(); ++j) {
+    const Body& a = plus.model.bodies[j];
+    const Body& b = minus.model.bodies[j];
+    if (a.z0 == b.z0 && a.zd0 == b.zd0) continue;
+    ParameterDirection::InitialChange c;
+    c.coordinate = static_cast<int>(j);
+    c.z0 = (a.z0 - b.z0) * scale;
+    c.zd0 = (a.zd0 - b.zd0) * scale;
+    p.initial.push_back(c);
+  }
   p.gravity = (plus.model.gravity - minus.model.gravity) * scale;
-  if (p.bodies.empty() && p.gravity.isZero(0.0))
-    throw std::invalid_argument(path + ": changing it changes no body and no gravity");
+  if (p.bodies.empty() && p.initial.empty() && p.gravity.isZero(0.0))
+    throw std::invalid_argument(path +
+                                ": changing it changes no body, no initial state and no gravity");
   return p;
 }
 

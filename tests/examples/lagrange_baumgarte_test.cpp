@@ -10,11 +10,14 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
 #include "build_paths.hpp"
+#include "monohydra/constrained.h"
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/plugin_registry.hpp"
+#include "monohydra/core/sensitivities.hpp"
 #include "monohydra/core/simulation.hpp"
 #include "test_support.hpp"
 
@@ -141,6 +144,30 @@ TEST(LagrangeBaumgarte, RedundantConstraintsAreRefusedNamingTheCause) {
     err = e.what();
   }
   EXPECT_NE(err.find("redundant"), std::string::npos) << err;
+}
+
+// It copies z0 at setup and does not declare MH_EXT_INITIAL_STATE_AT_START:
+// an initial coordinate as a sensitivity's parameter is refused, naming the
+// formulation and the extension, where one of its mass is taken.
+TEST(LagrangeBaumgarte, RefusesAnInitialCoordinateAsASensitivityParameter) {
+  const ModelFile file = load_model_file(test::source_path("models/fourbar.yaml"));
+  Simulation sim(file, plugins(), RunChoices{"lagrange-baumgarte", "", std::nullopt, 0.1});
+  ParameterDirection angle;
+  angle.path = "bodies/body1/z0";
+  angle.initial.push_back({0, 1.0, 0.0});
+  try {
+    sim.track_sensitivities({angle});
+    ADD_FAILURE() << "an initial coordinate was taken";
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("lagrange-baumgarte"), std::string::npos) << what;
+    EXPECT_NE(what.find(MH_EXT_INITIAL_STATE_AT_START), std::string::npos) << what;
+  }
+  ParameterDirection mass;
+  mass.path = "bodies/body3/mass";
+  mass.value = file.model.bodies[2].mass;
+  mass.bodies.push_back({2, 1.0, Eigen::Vector3d::Zero(), Eigen::Matrix3d::Zero()});
+  EXPECT_NO_THROW(sim.track_sensitivities({mass}));
 }
 
 }  // namespace

@@ -131,12 +131,27 @@ void Simulation::Engine::track_sensitivities(const std::vector<ParameterDirectio
     throw std::invalid_argument("formulation '" + formulation_name + "' cannot save its state (" +
                                 MH_EXT_STATE +
                                 "): sensitivities replay its accept from the state before it");
+  const bool reads_initial_state_at_start =
+      formulation.ops.get_extension != nullptr &&
+      in_flight(*formulation_host, InstanceHost::Op::get_extension, [&] {
+        return formulation.ops.get_extension(formulation.self, MH_EXT_INITIAL_STATE_AT_START);
+      }) != nullptr;
   for (const ParameterDirection& p : parameters) {
     for (const ParameterDirection::BodyChange& b : p.bodies)
       if (b.body < 0 || b.body >= model.num_bodies())
         throw std::invalid_argument(p.path + ": body " + std::to_string(b.body) +
                                     " is not one of the model's " +
                                     std::to_string(model.num_bodies()));
+    for (const ParameterDirection::InitialChange& c : p.initial)
+      if (c.coordinate < 0 || c.coordinate >= N)
+        throw std::invalid_argument(p.path + ": coordinate " + std::to_string(c.coordinate) +
+                                    " is not one of the model's " + std::to_string(N));
+    if (!p.initial.empty() && !reads_initial_state_at_start)
+      throw std::invalid_argument(p.path + ": formulation '" + formulation_name +
+                                  "' reads the initial state once, at setup (it does not declare " +
+                                  MH_EXT_INITIAL_STATE_AT_START +
+                                  "), so an initial coordinate cannot be differenced through "
+                                  "start()");
     if (!std::isfinite(p.value) || !(p.step >= 0.0))
       throw std::invalid_argument(p.path + ": expected a finite value and a step of 0 or more");
   }
@@ -323,14 +338,26 @@ void Simulation::Engine::perturb_parameter(size_t j, double amount) {
           "subsystem", s.spec->name, "parameter set");
   }
   for (const ParameterDirection::BodyChange& c : p.bodies) {
-    Body& b = model.bodies[static_cast<size_t>(c.body)];
-    sens.saved_bodies[static_cast<size_t>(c.body)] = {b.mass, b.com_B, b.inertia_B};
+    const Body& b = model.bodies[static_cast<size_t>(c.body)];
+    SensitivityState::BodyValues& v = sens.saved_bodies[static_cast<size_t>(c.body)];
+    v.mass = b.mass;
+    v.com = b.com_B;
+    v.inertia = b.inertia_B;
   }
   for (const ParameterDirection::BodyChange& c : p.bodies) {
     Body& b = model.bodies[static_cast<size_t>(c.body)];
     b.mass += amount * c.mass;
     b.com_B += amount * c.com;
     b.inertia_B += amount * c.inertia;
+  }
+  // The body of coordinate i is body i (Model::initial_coordinates).
+  for (const ParameterDirection::InitialChange& c : p.initial) {
+    Body& b = model.bodies[static_cast<size_t>(c.coordinate)];
+    SensitivityState::BodyValues& v = sens.saved_bodies[static_cast<size_t>(c.coordinate)];
+    v.z0 = b.z0;
+    v.zd0 = b.zd0;
+    b.z0 += amount * c.z0;
+    b.zd0 += amount * c.zd0;
   }
   sens.saved_gravity = model.gravity;
   model.gravity += amount * p.gravity;
@@ -353,22 +380,32 @@ void Simulation::Engine::restore_parameter(size_t j) {
     b.com_B = v.com;
     b.inertia_B = v.inertia;
   }
+  for (const ParameterDirection::InitialChange& c : sens.params[j].initial) {
+    Body& b = model.bodies[static_cast<size_t>(c.coordinate)];
+    const SensitivityState::BodyValues& v = sens.saved_bodies[static_cast<size_t>(c.coordinate)];
+    b.z0 = v.z0;
+    b.zd0 = v.zd0;
+  }
   model.gravity = sens.saved_gravity;
 }
 
 // The initial columns: start() at p + eps and p - eps, then at p (the run's
 // own start, last). start() is deterministic, and begins from the same
-// states each time (the equilibrium it solves for moves with p).
+// states each time (the equilibrium it solves for moves with p; an initial
+// coordinate moves z0 and zd0, whose loops are closed again first).
 void Simulation::Engine::start_sensitivities() {
   const Eigen::VectorXd y0 = states.y;
   const size_t k = sens.params.size();
   for (size_t j = 0; j < k; ++j) {
     const double h = sens.steps[j];
+    const bool initial = !sens.params[j].initial.empty();
     for (const double sign : {1.0, -1.0}) {
       perturb_parameter(j, sign * h);
+      if (initial) close_loops();
       states.y = y0;
       start_run();
       restore_parameter(j);
+      if (initial) close_loops();
       const bool plus = sign > 0.0;
       (plus ? sens.xp : sens.xm) = x;
       (plus ? sens.xdp : sens.xdm) = xd;

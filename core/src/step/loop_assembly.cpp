@@ -22,6 +22,12 @@ void Simulation::Engine::assemble_loops() {
   cons.phi.setZero(m);
   cons.phi_dot_zd.setZero(m);
   cons.phi_z.setZero(m, N);
+  close_loops();
+}
+
+void Simulation::Engine::close_loops() {
+  cons.z0 = model.initial_coordinates();
+  cons.zd0 = model.initial_rates();
   if (m == 0) return;
 
   std::vector<int> free_cols;

@@ -26,6 +26,7 @@
 #include "eigen.hpp"
 #include "host_calls.hpp"
 #include "lu_substitution.hpp"
+#include "monohydra/constrained.h"
 #include "monohydra/cpp/formulation_plugin.hpp"
 #include "monohydra/cpp/services.hpp"
 #include "monohydra/cpp/state.hpp"
@@ -526,6 +527,16 @@ mh_status start(const mh_formulation* fo, const mh_unknown_buffers* out) noexcep
     // z^i = z0^i (the host assembled z0, so this only polishes it), zd^d by
     // Eq. (13), then zdd^i from M'' zdd^i = Q'' (Eq. 17) and zdd^d by Eq. (15).
     s.partitioning.det_sign = 0.0;  // no reference yet
+    // The host's initial state now, not setup's copy of it
+    // (MH_EXT_INITIAL_STATE_AT_START): an initial coordinate may be a parameter.
+    mh_mech_info info{};
+    info.struct_size = sizeof(info);
+    if (s.mech->mech_info(s.host, &info) != MH_OK || info.z0 == nullptr || info.zd0 == nullptr) {
+      log_error(s, "start: the host gave no assembled initial coordinates (mech_info z0, zd0)");
+      return MH_ERROR;
+    }
+    s.z0 = Eigen::Map<const Eigen::VectorXd>(info.z0, s.N);
+    s.zd0 = Eigen::Map<const Eigen::VectorXd>(info.zd0, s.N);
     s.iterate.z_it = s.z0;
     s.iterate.zd_it = s.zd0;
     const mh_status st = two_steps(s, s.t0, 0u);
@@ -881,9 +892,13 @@ mh_status write_outputs(const mh_formulation* fo, double* outputs, uint32_t num_
 }
 
 // Its state saves and loads (MH_EXT_STATE).
+const int kInitialStateAtStart = 1;  // any non-NULL pointer
+
 const void* get_extension(const mh_formulation*, const char* id) noexcept {
-  if (id != nullptr && std::strcmp(id, MH_EXT_STATE) == 0)
+  if (id == nullptr) return nullptr;
+  if (std::strcmp(id, MH_EXT_STATE) == 0)
     return monohydra::state_extension<mh_formulation, DoubleStep>();
+  if (std::strcmp(id, MH_EXT_INITIAL_STATE_AT_START) == 0) return &kInitialStateAtStart;
   return nullptr;
 }
 

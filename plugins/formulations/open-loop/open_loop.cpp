@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "monohydra/constrained.h"
 #include "monohydra/cpp/formulation_plugin.hpp"
 #include "monohydra/cpp/services.hpp"
 #include "monohydra/cpp/state.hpp"
@@ -102,6 +103,16 @@ mh_status start(const mh_formulation* f, const mh_unknown_buffers* out) noexcept
   double* xd0 = out->xd;
   double* xdd0 = out->xdd;
   return monohydra::guarded_op<OpenLoop>(f, "start", [&](OpenLoop& s) {
+    // The host's initial state now, not setup's copy of it
+    // (MH_EXT_INITIAL_STATE_AT_START): an initial coordinate may be a parameter.
+    mh_mech_info info{};
+    info.struct_size = sizeof(info);
+    if (s.mech->mech_info(s.host, &info) != MH_OK || info.z0 == nullptr || info.zd0 == nullptr) {
+      log_error(s, "start: the host gave no initial state (mech_info z0, zd0)");
+      return MH_ERROR;
+    }
+    s.z = ConstVectorMap(info.z0, s.N);
+    s.zd = ConstVectorMap(info.zd0, s.N);
     const mh_mech_request rq{sizeof(rq), MH_EVAL_DYNAMICS, s.t0, s.z.data(), s.zd.data()};
     mh_mech_result rs{};
     rs.struct_size = sizeof(rs);
@@ -284,6 +295,7 @@ const void* get_extension(const mh_formulation*, const char* id) noexcept {
   if (id == nullptr) return nullptr;
   if (std::strcmp(id, MH_EXT_COORDINATE_UNKNOWNS) == 0) return &kCoordinateUnknowns;
   if (std::strcmp(id, MH_EXT_EQUATIONS_OF_MOTION) == 0) return &kCoordinateUnknowns;
+  if (std::strcmp(id, MH_EXT_INITIAL_STATE_AT_START) == 0) return &kCoordinateUnknowns;
   if (std::strcmp(id, MH_EXT_STATE) == 0)
     return monohydra::state_extension<mh_formulation, OpenLoop>();
   return nullptr;

@@ -215,6 +215,17 @@ mh_status start(const mh_formulation* f, const mh_unknown_buffers* out) noexcept
   double* xdd0 = out->xdd;
   return guarded(f, "start", [&](Penalty& s) {
     s.last_valid = false;
+    // The host's initial state now, not setup's copy of it
+    // (MH_EXT_INITIAL_STATE_AT_START): an initial coordinate may be a parameter.
+    mh_mech_info info{};
+    info.struct_size = sizeof(info);
+    if (monohydra::mechanism(s.host).mech_info(s.host, &info) != MH_OK || info.z0 == nullptr ||
+        info.zd0 == nullptr) {
+      log(s, MH_LOG_ERROR, "start: the host gave no assembled initial state (mech_info z0, zd0)");
+      return MH_ERROR;
+    }
+    s.z = ConstVectorMap(info.z0, s.N);
+    s.zd = ConstVectorMap(info.zd0, s.N);
     mh_mech_result rs;
     const mh_status st =
         evaluate(s, MH_EVAL_DYNAMICS | MH_EVAL_CONSTRAINTS, s.t0, s.z.data(), s.zd.data(), rs);
@@ -508,6 +519,7 @@ const void* get_extension(const mh_formulation*, const char* id) noexcept {
   if (id == nullptr) return nullptr;
   if (std::strcmp(id, MH_EXT_COORDINATE_UNKNOWNS) == 0) return &kCoordinateUnknowns;
   if (std::strcmp(id, MH_EXT_CONSTRAINED_AT_CONVERGENCE) == 0) return &kCoordinateUnknowns;
+  if (std::strcmp(id, MH_EXT_INITIAL_STATE_AT_START) == 0) return &kCoordinateUnknowns;
   if (std::strcmp(id, MH_EXT_STATE) == 0)
     return monohydra::state_extension<mh_formulation, Penalty>();
   return nullptr;

@@ -1,8 +1,8 @@
-/* monohydra SDK: what a formulation says of its converged step to a host
- * that differentiates the step (forward sensitivities,
- * docs/identification.md). Optional: a host that does not know the id never
- * asks, and a formulation that does not answer it is differentiated with
- * its rows as they are. */
+/* monohydra SDK: what a formulation says of its start and its converged
+ * step to a host that differentiates a run (forward sensitivities,
+ * docs/identification.md). Optional: a host that does not know an id never
+ * asks, and a formulation that does not answer one is differentiated with
+ * its rows as they are and its initial state as setup read it. */
 #ifndef MONOHYDRA_CONSTRAINED_H
 #define MONOHYDRA_CONSTRAINED_H
 
@@ -14,5 +14,12 @@
  * Phi_z^T alone. The host then solves the step's tangent bordered by Phi_z
  * instead of holding the multipliers fixed. */
 #define MH_EXT_CONSTRAINED_AT_CONVERGENCE "monohydra.constrained-at-convergence/1"
+
+/* Formulation extension (any non-NULL pointer when it holds): start reads
+ * the host's assembled initial state (mech_info's z0 and zd0) at each call,
+ * not a copy setup took, so that a host may move it between setup and start
+ * (an initial coordinate as a parameter, differenced through start). What
+ * setup chose from z0 (e.g. the independent coordinates) stays as it was. */
+#define MH_EXT_INITIAL_STATE_AT_START "monohydra.initial-state-at-start/1"
 
 #endif /* MONOHYDRA_CONSTRAINED_H */

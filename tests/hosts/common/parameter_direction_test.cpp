@@ -1,6 +1,7 @@
 // A path as the engine's sensitivities take it (hosts/common/
 // parameter_direction.cpp): a beam's mass moves its inertia as the shape
-// derives it, gravity's component is a unit vector, and paths the engine
+// derives it, gravity's component is a unit vector, an initial angle moves
+// its coordinate in radians, and paths the engine
 // cannot change in place, or the file does not write, are refused naming
 // the path and why.
 #include "parameter_direction.hpp"
@@ -55,6 +56,22 @@ TEST(ParameterDirection, AGravityComponentIsAUnitVector) {
   EXPECT_TRUE(p.bodies.empty());
   EXPECT_NEAR(p.gravity.y(), 1.0, 1e-9);
   EXPECT_NEAR(p.gravity.x(), 0.0, 1e-12);
+}
+
+// The file writes angles in degrees: a unit change of z0 moves the
+// engine's coordinate by pi/180 rad, and nothing else.
+TEST(ParameterDirection, AnInitialAngleInDegreesMovesItsCoordinateInRadians) {
+  const std::string text = read_model_text(fourbar_path());
+  const ModelFile file = parse_model_text(text, "fourbar.yaml", ".");
+  const ParameterDirection p =
+      parameter_direction(text, "fourbar.yaml", ".", file, "bodies/body2/z0");
+  EXPECT_EQ(p.value, -135.0);
+  ASSERT_EQ(p.initial.size(), 1u);
+  EXPECT_EQ(p.initial[0].coordinate, 1);
+  EXPECT_NEAR(p.initial[0].z0, 3.14159265358979 / 180.0, 1e-9);
+  EXPECT_EQ(p.initial[0].zd0, 0.0);
+  EXPECT_TRUE(p.bodies.empty());
+  EXPECT_TRUE(p.gravity.isZero(0.0));
 }
 
 TEST(ParameterDirection, AComponentsOptionIsNamedByItsInstanceAndKeyInSI) {

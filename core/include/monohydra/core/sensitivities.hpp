@@ -18,8 +18,7 @@ struct ParameterDirection {
   // d(value in the engine)/d(path's value): what a unit change of the
   // path's value moves. Mass in kg, centre of mass in m, inertia in kg m^2,
   // gravity in m/s^2 (a mass in a file whose shapes derive the inertia from
-  // it moves both). Initial coordinates are not among them yet: a
-  // formulation reads the assembled z0 when it is set up.
+  // it moves both).
   struct BodyChange {
     int body = 0;
     double mass = 0.0;
@@ -27,6 +26,17 @@ struct ParameterDirection {
     Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
   };
   std::vector<BodyChange> bodies;
+  // An initial coordinate or rate (bodies/NAME/z0, bodies/NAME/zd0): what a
+  // unit change moves in the model's z0 and zd0 (rad or m, rad/s or m/s)
+  // before the loops are closed. It acts through start() alone, and needs a
+  // formulation that reads the initial state there
+  // (MH_EXT_INITIAL_STATE_AT_START).
+  struct InitialChange {
+    int coordinate = 0;
+    double z0 = 0.0;
+    double zd0 = 0.0;
+  };
+  std::vector<InitialChange> initial;
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
   // A component's option that it offers as a parameter (monohydra/
   // parameters.h): the instance's name and the option's key; a unit change
