@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "engine.hpp"
+#include "monohydra/constrained.h"
 #include "monohydra/core/dynamics.hpp"
 #include "monohydra/core/kinematics.hpp"
 
@@ -458,6 +459,43 @@ void Simulation::set_body_inertia(int body, double mass, const Eigen::Vector3d& 
 void Simulation::set_gravity(const Eigen::Vector3d& gravity) {
   if (!gravity.allFinite()) throw std::invalid_argument("gravity: expected finite values (m/s^2)");
   change_in_place(*engine_, [&] { engine_->model.gravity = gravity; });
+}
+
+void Simulation::set_initial_state(int coordinate, double z0, double zd0) {
+  Engine& e = *engine_;
+  if (coordinate < 0 || coordinate >= e.N)
+    throw std::invalid_argument("coordinate " + std::to_string(coordinate) + ": the model has " +
+                                std::to_string(e.N));
+  Body& b = e.model.bodies[static_cast<size_t>(coordinate)];
+  const std::string name = "body '" + b.name + "'";
+  if (e.accepted.started)
+    throw std::invalid_argument(name +
+                                ": an initial coordinate changes only before the run starts (it "
+                                "is the state start() begins from)");
+  if (!std::isfinite(z0) || !std::isfinite(zd0))
+    throw std::invalid_argument(name + ": expected a finite initial coordinate and rate");
+  const bool reads_at_start =
+      e.formulation.ops.get_extension != nullptr &&
+      in_flight(*e.formulation_host, InstanceHost::Op::get_extension, [&] {
+        return e.formulation.ops.get_extension(e.formulation.self, MH_EXT_INITIAL_STATE_AT_START);
+      }) != nullptr;
+  if (!reads_at_start)
+    throw std::invalid_argument(name + ": formulation '" + e.formulation_name +
+                                "' reads the initial state once, at its setup (it does not "
+                                "declare " +
+                                MH_EXT_INITIAL_STATE_AT_START +
+                                "): open the model with this initial coordinate");
+  const double z0_was = b.z0, zd0_was = b.zd0;
+  b.z0 = z0;
+  b.zd0 = zd0;
+  try {
+    e.close_loops();
+  } catch (const InputError& err) {
+    b.z0 = z0_was;
+    b.zd0 = zd0_was;
+    e.close_loops();
+    throw std::invalid_argument(name + ": " + err.what());
+  }
 }
 
 void Simulation::track_sensitivities(const std::vector<ParameterDirection>& parameters) {

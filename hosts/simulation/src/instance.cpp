@@ -101,13 +101,16 @@ void Instance::set_parameter(const std::string& path, const std::string& value) 
   const std::vector<std::string> parts = host::split_path(path);
   const bool body_value = parts.size() >= 3 && parts[0] == "bodies" &&
                           (parts[2] == "mass" || parts[2] == "com" || parts[2] == "inertia");
+  const bool initial =
+      parts.size() == 3 && parts[0] == "bodies" && (parts[2] == "z0" || parts[2] == "zd0");
   const bool gravity = parts.size() <= 2 && parts[0] == "gravity";
   const bool option = parts.size() == 3 && parts[0] == "subsystems";
-  if (!body_value && !gravity && !option)
+  if (!body_value && !initial && !gravity && !option)
     throw std::invalid_argument(path +
                                 ": not a value that changes during a run; in place change a "
                                 "body's mass, com and inertia, gravity, and the options a "
-                                "component changes in place (open the model with this setting)");
+                                "component changes in place, and before the run starts a body's "
+                                "z0 and zd0 (open the model with this setting)");
   const host::SetText set = host::apply_settings(text_, label_, {{path, value}});
   if (option) {
     // The component changes it (monohydra/parameters.h) or says why not; the
@@ -135,6 +138,20 @@ void Instance::set_parameter(const std::string& path, const std::string& value) 
   Model& model = file_.model;
   if (changed.model.bodies.size() != model.bodies.size())
     throw std::invalid_argument(path + ": the changed model has other bodies");
+  if (initial) {
+    // In the parsed model's units (rad, m): the engine closes the loops
+    // around it, or refuses and keeps what it had.
+    for (size_t j = 0; j < model.bodies.size(); ++j) {
+      const Body& b = changed.model.bodies[j];
+      Body& kept = model.bodies[j];
+      if (b.z0 == kept.z0 && b.zd0 == kept.zd0) continue;
+      sim_->set_initial_state(static_cast<int>(j), b.z0, b.zd0);
+      kept.z0 = b.z0;
+      kept.zd0 = b.zd0;
+    }
+    text_ = set.text;
+    return;
+  }
   // Everything is checked before anything changes.
   std::vector<int> bodies;
   for (size_t j = 0; j < model.bodies.size(); ++j) {

@@ -179,6 +179,13 @@ class Simulation {
   void set_body_inertia(int body, double mass, const Eigen::Vector3d& com_B,
                         const Eigen::Matrix3d& inertia_B);
   void set_gravity(const Eigen::Vector3d& gravity);
+  // A coordinate's initial value and rate (rad or m, rad/s or m/s), before
+  // start(): the loops are closed again around them as when the model is
+  // opened. Refused with std::invalid_argument naming why: after start(),
+  // a coordinate out of range, a value that is not finite, loops that cannot
+  // be closed from it (nothing changed), a formulation that reads the
+  // initial state once at its setup (MH_EXT_INITIAL_STATE_AT_START).
+  void set_initial_state(int coordinate, double z0, double zd0);
   // A component's option that it changes in place (monohydra/parameters.h),
   // or a number it reads as a signal (a pump's pressure: the engine holds
   // it), before start() or between steps: the run goes on as one of the model

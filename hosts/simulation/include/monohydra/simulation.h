@@ -148,7 +148,9 @@ MHS_API mhs_status mhs_set(mhs_simulation* sim, const uint32_t* indices, size_t 
  * model; the energy balance's references move by the change's own jump.
  * A component's option too, when the component changes it in place
  * ("subsystems/valve/flow_coefficient": monohydra/parameters.h of the SDK),
- * in SI as component options are.
+ * in SI as component options are. Before mhs_start (or the first mhs_step),
+ * a body's initial coordinate and rate ("bodies/crank/z0", ".../zd0"), the
+ * loops closed again around them as when the model is opened.
  * MHS_ERROR and nothing changed: a path the model does not have, one that is
  * not such a value (an option its component reads only when it is set up:
  * open the model with the setting), a value the file's parser or the
