@@ -133,7 +133,7 @@ int fit(const std::vector<std::string>& args) {
     return 1;
   }
   const FitStatistics statistics =
-      fit_statistics(result.estimate, result.jacobian, result.sigmas_estimated);
+      fit_statistics(run->initial(), result.estimate, result.jacobian, result.sigmas_estimated);
   const FitOutcome outcome{run.get(), &data, &result, &statistics, request.model_path};
   std::cout << "monohydra fit: " << request.model_path << " against " << data_path << ": "
             << run->samples().size() << " samples in " << data.names.size() << " columns, "

@@ -15,8 +15,8 @@ double size_of(double v) {
 
 }  // namespace
 
-FitStatistics fit_statistics(const Eigen::VectorXd& estimate, const Eigen::MatrixXd& J,
-                             bool sigmas_estimated) {
+FitStatistics fit_statistics(const Eigen::VectorXd& initial, const Eigen::VectorXd& estimate,
+                             const Eigen::MatrixXd& J, bool sigmas_estimated) {
   const Eigen::Index k = estimate.size(), n = J.rows();
   FitStatistics out;
   out.parameters.assign(static_cast<size_t>(k), {});
@@ -65,7 +65,10 @@ FitStatistics fit_statistics(const Eigen::VectorXd& estimate, const Eigen::Matri
     for (Eigen::Index a = 0; a < m; ++a) {
       const Eigen::Index j = kept[static_cast<size_t>(a)];
       const double relative = std::sqrt(std::max(cov(a, a), 0.0));
-      if (!(relative * size(j) <= kLargestRelativeError * std::abs(estimate(j)))) {
+      // A parameter started at 0 (an angle, an offset) has no size of its
+      // own to hold its error against: its directions alone judge it.
+      if (initial(j) != 0.0 &&
+          !(relative * size(j) <= kLargestRelativeError * std::abs(estimate(j)))) {
         in[static_cast<size_t>(j)] = false;
         out.parameters[static_cast<size_t>(j)].why =
             "the data determine it only to +-" +

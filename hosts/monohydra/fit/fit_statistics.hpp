@@ -31,10 +31,12 @@ inline constexpr double kLargestRelativeError = 0.5;
 // below this fraction of the largest are directions the data do not see.
 inline constexpr double kSingularRatio = 1e-7;
 
-// `estimate` the parameters at the solution, `J` (N x k) the weighted
-// residuals' d r / d p there; `sigmas_estimated`: the weights are the
-// residuals' own RMS (the covariance takes N / (N - k)).
-FitStatistics fit_statistics(const Eigen::VectorXd& estimate, const Eigen::MatrixXd& J,
-                             bool sigmas_estimated);
+// `initial` the parameters the fit started from (one started at 0 is not
+// held to kLargestRelativeError), `estimate` the parameters at the
+// solution, `J` (N x k) the weighted residuals' d r / d p there;
+// `sigmas_estimated`: the weights are the residuals' own RMS (the
+// covariance takes N / (N - k)).
+FitStatistics fit_statistics(const Eigen::VectorXd& initial, const Eigen::VectorXd& estimate,
+                             const Eigen::MatrixXd& J, bool sigmas_estimated);
 
 }  // namespace mh::cli

@@ -186,6 +186,24 @@ TEST(FitCommand, AParameterWithoutEffectOnTheMeasuredColumnsIsReportedNotIdentif
       << r.output;
 }
 
+// The machine started 0.3 degrees off the model's initial crank angle (0):
+// the fit, started at 0, finds it inside a tight interval, an initial
+// coordinate differentiated through start() and judged by its directions
+// (nothing to hold a relative error against at 0).
+TEST(FitCommand, RecoversAnInitialAngleStartedAtZero) {
+  const fs::path dir = mh::test::scratch_dir("fit-initial-angle");
+  const fs::path data = measured(dir, 5, 2.0, {{"bodies/body1/z0", 0.3}});
+  const auto r = run_cli("fit " + kFourbar + " --data " + data.string() +
+                         " --params bodies/body1/z0 --out " + (dir / "fit").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  const Estimate e = read_estimates(dir / "fit" / "estimates.csv").at("bodies/body1/z0");
+  EXPECT_EQ(e.initial, 0.0);
+  EXPECT_TRUE(e.identifiable);
+  EXPECT_LE(e.ci_low, 0.3);
+  EXPECT_GE(e.ci_high, 0.3);
+  EXPECT_LT(e.ci_high - e.ci_low, 0.05 * 0.3);
+}
+
 TEST(FitCommand, AColumnWithoutANoiseLevelIsWeightedByItsOwnResidualRms) {
   // The cylinder's stroke s (no sensor of the model reads it) with 0.2 mm of
   // noise added here, beside the encoder's z1.
