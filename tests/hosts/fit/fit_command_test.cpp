@@ -106,16 +106,28 @@ TEST(FitCommand, RecoversTheFourBarsChangedParametersInsideIntervalsUnderFivePer
 
 // Fits of `model` to its sensors' readings of the machine with `truth`
 // over 50 noise seeds: how often each parameter's interval covers its true value.
+// Each fit starts from the true values (--set): an interval is a property
+// of the minimum the noise puts the fit at and of the Jacobian there, not
+// of where the iterations began, and one Levenberg-Marquardt iteration
+// instead of four halves the test's time. Starting from the nominal model
+// is the tests' above.
 std::map<std::string, int> coverage(const std::string& name, const std::string& model,
                                     const std::map<std::string, double>& truth,
                                     const std::string& params, double t_end) {
   const fs::path dir = mh::test::scratch_dir(name);
+  std::string start;
+  for (const auto& [path, value] : truth) {
+    std::ostringstream v;
+    v.precision(17);
+    v << value;
+    start += " --set " + path + "=" + v.str();
+  }
   std::map<std::string, int> covered;
   for (int seed = 1; seed <= 50; ++seed) {
     const fs::path data = measured(dir, seed, t_end, truth, model);
     const fs::path out = dir / ("fit-" + std::to_string(seed));
     const auto r = run_cli("fit " + model + " --data " + data.string() + " --params " + params +
-                           " --out " + out.string());
+                           start + " --out " + out.string());
     EXPECT_EQ(r.code, 0) << "seed " << seed << ": " << r.output;
     for (const auto& [path, e] : read_estimates(out / "estimates.csv"))
       if (e.identifiable && truth.at(path) >= e.ci_low && truth.at(path) <= e.ci_high)
