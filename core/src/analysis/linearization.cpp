@@ -43,6 +43,7 @@
 #include "engine.hpp"
 #include "monohydra/core/run_state.hpp"
 #include "monohydra/cpp/unknowns.hpp"
+#include "state_slots.hpp"
 
 namespace mh {
 
@@ -53,57 +54,12 @@ constexpr double kToleranceMultiple = 1.0;
 constexpr double kTighten = 1e-4;
 // An input's, relative to its range (or its value, or 1 when it has neither).
 constexpr double kInputFraction = 1e-6;
-// The consistent rates: Newton stops when every increment is below this
-// fraction of the rate's scale (tolerance / h^2, / h or itself by kind).
-constexpr double kRateTolerance = 1e-6;
-constexpr int kRateIterations = 20;
-
-// One component of the state vector X: unknown `unknown`'s value, or its
-// rate (second-order unknowns only).
-struct StateSlot {
-  int unknown = 0;
-  bool rate = false;
-};
-
 enum class OutputKind { coordinate, coordinate_rate, state, output };
 struct OutputRef {
   OutputKind kind = OutputKind::output;
   int index = 0;
   bool formulation = false;  // the formulation's: written at accept only
 };
-
-double& slot_value(Simulation::Engine& e, const StateSlot& s) {
-  return s.rate ? e.xd[s.unknown] : e.x[s.unknown];
-}
-
-// The unknown Newton solves for in row i of the consistent rates.
-double& rate_unknown(Simulation::Engine& e, int i) {
-  switch (e.registry.kinds[static_cast<size_t>(i)]) {
-    case MH_UNKNOWN_SECOND_ORDER:
-      return e.xdd[i];
-    case MH_UNKNOWN_FIRST_ORDER:
-      return e.xd[i];
-    default:
-      return e.x[i];
-  }
-}
-
-// The unit of unknown i: a coordinate's (the shipped formulations name their
-// unknowns after the coordinates) or a subsystem state's.
-std::string unknown_unit(const Simulation::Engine& e, int i) {
-  if (i >= e.n_m) return e.states.state_info[static_cast<size_t>(i - e.n_m)].unit;
-  const std::string& name = e.registry.unknown_names[static_cast<size_t>(i)];
-  const auto& coords = e.registry.coordinate_names;
-  for (size_t j = 0; j < coords.size(); ++j)
-    if (coords[j] == name) return e.registry.coordinate_is_angle[j] != 0 ? "rad" : "m";
-  return "";
-}
-
-std::string unknown_label(const Simulation::Engine& e, int i) {
-  if (i < e.n_m) return e.registry.unknown_names[static_cast<size_t>(i)];
-  const VariableInfo& v = e.states.state_info[static_cast<size_t>(i - e.n_m)];
-  return v.name.empty() ? v.qualified : v.name;
-}
 
 // What each asked-for output is, or std::invalid_argument naming it.
 std::vector<OutputRef> resolve_outputs(const Simulation::Engine& e,
@@ -157,155 +113,6 @@ std::vector<OutputRef> resolve_outputs(const Simulation::Engine& e,
   return refs;
 }
 
-// A state of the run from the engine's x (and xd of second-order
-// unknowns), as an accepted one would be: the accelerations, the
-// first-order rates and the algebraic values from r = 0 at the right limit
-// of the accepted time; the formulation's accept (its projections of the
-// velocities and accelerations, Eqs. 20-21 for penalty, and its own record
-// of the state); the subsystems' rates again at the velocities it left;
-// then the integrator restarted there, as after a time event. Newton's
-// Jacobian is differenced once, at the unperturbed state (the
-// perturbations are far too small to change it), and kept.
-class ConsistentState {
- public:
-  explicit ConsistentState(Simulation::Engine& e)
-      : e_(e), r_(e.n), r1_(e.n), du_(e.n), scale_(e.n), row_scale_(e.n) {
-    const double h = e.settings.dt;
-    for (int i = 0; i < e.n; ++i) {
-      const uint8_t k = e.registry.kinds[static_cast<size_t>(i)];
-      const double tol = e.registry.tol[i];
-      scale_[i] = k == MH_UNKNOWN_SECOND_ORDER  ? tol / (h * h)
-                  : k == MH_UNKNOWN_FIRST_ORDER ? tol / h
-                                                : tol;
-    }
-  }
-
-  void make(const char* what) {
-    Simulation::Engine& e = e_;
-    const double t = std::nextafter(e.accepted.t, HUGE_VAL);
-    // The formulation's own prediction starts from its accepted state (no
-    // step: h = 0 from its time), as at an explicit stage.
-    e.formulation_begin_step(monohydra::step_coefficients(e.settings.dt, 0.0, 0.0, 0.0),
-                             e.accepted.t, e.x, e.xd, e.xdd);
-    for (int i = 0; i < e.n; ++i) {
-      const uint8_t k = e.registry.kinds[static_cast<size_t>(i)];
-      if (k != MH_UNKNOWN_SECOND_ORDER) e.xdd[i] = 0.0;
-      if (k == MH_UNKNOWN_ALGEBRAIC) e.xd[i] = 0.0;
-    }
-    if (!full_) factor(t, what);
-    solve(t, 0, *full_, what);
-    accept(what);
-    if (e.n_s > 0) solve(t, e.n_m, *states_, what);
-    e.states.y_k = e.states.y;
-    e.states.ydot_k = e.states.ydot;
-    e.kinematics_at(e.accepted.z.data(), e.accepted.zd.data());
-    e.solver.reuse.invalidate();
-    e.restart_integrator();
-  }
-
- private:
-  void evaluate(double t, Eigen::VectorXd& r, const char* what) {
-    if (!status_ok(e_.residual_at(t, e_.x, e_.xd, e_.xdd, r)) || !r.allFinite())
-      throw SimulationError(e_.accepted.t, e_.accepted.step,
-                            std::string("linearize: the residual failed at the state ") + what +
-                                (e_.last_plugin_error.empty() ? "" : ": " + e_.last_plugin_error));
-  }
-
-  // Newton on the rate unknowns from `begin` on (0: all; n_m: the
-  // subsystems'), the others held; ends with an evaluation at the solution
-  // (the state's coordinates and outputs are that evaluation's).
-  void solve(double t, int begin, const Eigen::FullPivLU<Eigen::MatrixXd>& lu, const char* what) {
-    Simulation::Engine& e = e_;
-    const int count = e.n - begin;
-    bool converged = false;
-    for (int it = 0; it < kRateIterations && !converged; ++it) {
-      evaluate(t, r_, what);
-      const Eigen::VectorXd rows = row_scale_.tail(count).asDiagonal() * r_.tail(count);
-      du_.tail(count) = -(scale_.tail(count).asDiagonal() * lu.solve(rows));
-      converged = true;
-      for (int i = begin; i < e.n; ++i) {
-        double& u = rate_unknown(e, i);
-        u += du_[i];
-        converged =
-            converged && std::abs(du_[i]) <= kRateTolerance * scale_[i] + 1e-12 * std::abs(u);
-      }
-    }
-    if (!converged)
-      throw SimulationError(e.accepted.t, e.accepted.step,
-                            std::string("linearize: the rates at the state ") + what +
-                                " did not converge in " + std::to_string(kRateIterations) +
-                                " iterations");
-    evaluate(t, r_, what);
-  }
-
-  // The formulation accepts the state (at the trapezoidal rule's weights
-  // for its projections, as an explicit step hands them) and gives its
-  // coordinates.
-  void accept(const char* what) {
-    Simulation::Engine& e = e_;
-    const double h = e.settings.dt;
-    const mh_step_coefficients c = monohydra::step_coefficients(h, 2.0 / h, 4.0 / (h * h), 2.0 / h);
-    uint32_t flags = 0;
-    e.check(in_flight(*e.formulation_host, InstanceHost::Op::accept,
-                      [&] {
-                        const mh_unknown_buffers values = monohydra::unknown_buffers(
-                            static_cast<size_t>(e.n_m), e.x.data(), e.xd.data(), e.xdd.data());
-                        return e.formulation.ops.accept(e.formulation.self, e.accepted.t, &c,
-                                                        &values, &flags);
-                      }),
-            "formulation accept");
-    if ((flags & MH_ACCEPT_REDEFINED) != 0)
-      throw SimulationError(e.accepted.t, e.accepted.step,
-                            std::string("linearize: formulation '") + e.formulation_name +
-                                "' redefined its unknowns at the state " + what +
-                                " (a new partition): linearize a step later");
-    e.check(in_flight(*e.formulation_host, InstanceHost::Op::coordinates,
-                      [&] {
-                        const mh_coordinate_buffers out{
-                            sizeof(mh_coordinate_buffers), static_cast<uint32_t>(e.N),
-                            e.accepted.z.data(), e.accepted.zd.data(), e.accepted.zdd.data()};
-                        return e.formulation.ops.coordinates(e.formulation.self, &out);
-                      }),
-            "formulation coordinates");
-  }
-
-  void factor(double t, const char* what) {
-    Simulation::Engine& e = e_;
-    Eigen::MatrixXd J(e.n, e.n);
-    evaluate(t, r_, what);
-    for (int j = 0; j < e.n; ++j) {
-      double& u = rate_unknown(e, j);
-      const double saved = u, d = 1e-7 * std::max(std::abs(u), 1e3 * scale_[j]);
-      u = saved + d;
-      evaluate(t, r1_, what);
-      u = saved;
-      J.col(j) = (r1_ - r_) / d;
-    }
-    // Equilibrated: columns in units of the rates' scales, rows by their
-    // largest entry (a volume's row in m^3/s beside a body's in N would
-    // otherwise read as singular).
-    J = J * scale_.asDiagonal();
-    for (int i = 0; i < e.n; ++i) {
-      const double big = J.row(i).lpNorm<Eigen::Infinity>();
-      row_scale_[i] = big > 0.0 ? 1.0 / big : 1.0;
-    }
-    J = row_scale_.asDiagonal() * J;
-    full_ = std::make_unique<Eigen::FullPivLU<Eigen::MatrixXd>>(J);
-    // No subsystem states: no LU of an empty block (Eigen asserts on its norm).
-    if (e.n_s > 0)
-      states_ =
-          std::make_unique<Eigen::FullPivLU<Eigen::MatrixXd>>(J.bottomRightCorner(e.n_s, e.n_s));
-    if (!full_->isInvertible() || (e.n_s > 0 && !states_->isInvertible()))
-      throw SimulationError(e.accepted.t, e.accepted.step,
-                            "linearize: the rows do not determine the rates at the accepted "
-                            "state (a singular mass matrix or state row?)");
-  }
-
-  Simulation::Engine& e_;
-  Eigen::VectorXd r_, r1_, du_, scale_, row_scale_;
-  std::unique_ptr<Eigen::FullPivLU<Eigen::MatrixXd>> full_, states_;
-};
-
 // Restores the saved run (and the settings linearize changed) however it ends.
 class RunRestorer {
  public:
@@ -354,21 +161,8 @@ Linearization linearize(Simulation& sim, const std::vector<std::string>& output_
 
   // X: positions and first-order unknowns of the formulation, the
   // velocities of its second-order ones, then the subsystems' states.
-  std::vector<StateSlot> slots;
-  for (int i = 0; i < e.n_m; ++i)
-    if (e.registry.kinds[static_cast<size_t>(i)] != MH_UNKNOWN_ALGEBRAIC)
-      slots.push_back({i, false});
-  for (int i = 0; i < e.n_m; ++i)
-    if (e.registry.kinds[static_cast<size_t>(i)] == MH_UNKNOWN_SECOND_ORDER)
-      slots.push_back({i, true});
-  for (int i = e.n_m; i < e.n; ++i)
-    if (e.registry.kinds[static_cast<size_t>(i)] != MH_UNKNOWN_ALGEBRAIC)
-      slots.push_back({i, false});
-  for (const StateSlot& s : slots) {
-    const std::string unit = unknown_unit(e, s.unknown);
-    out.states.push_back({unknown_label(e, s.unknown) + (s.rate ? "_dot" : ""),
-                          s.rate ? (unit.empty() ? "1/s" : unit + "/s") : unit});
-  }
+  const std::vector<StateSlot> slots = state_slots(e);
+  out.states = state_variables(sim);
   const std::vector<InputSpec>& inputs = sim.inputs();
   for (const InputSpec& in : inputs) out.inputs.push_back({in.name, in.unit});
   const auto n = static_cast<Eigen::Index>(slots.size());
@@ -382,7 +176,7 @@ Linearization linearize(Simulation& sim, const std::vector<std::string>& output_
   // A halved step would be another map: a perturbed step that fails is an error.
   e.settings.max_step_halvings = 0;
   const Eigen::VectorXd tol = e.registry.tol;
-  ConsistentState consistent(e);  // its scales: the run's own tolerances
+  ConsistentState consistent(e, "linearize");  // its scales: the run's own tolerances
 
   // Y at the current (consistent) state, and X and the formulation's
   // outputs after the step from it.
@@ -455,22 +249,13 @@ Linearization linearize(Simulation& sim, const std::vector<std::string>& output_
   };
   // A formulation whose unknowns are the coordinates (penalty) has more of
   // them than the mechanism's degrees of freedom: a coordinate moved alone
-  // leaves the constraints, and its step snaps back (its projections and
+  // leaves the constraints (state_slots.hpp), and its step snaps back (its projections and
   // penalty forces) with a jump through every state a motion drives. Its
   // positions and velocities are moved within the constraints' tangent
   // space, P = I - Phi_z^+ Phi_z at the accepted z: the columns are then
   // Phi P, which has the eigenvalues of Phi on the constraints (the
   // mechanism's) and zeros across them (-2/h in A).
-  Eigen::MatrixXd tangent_space;
-  const bool coordinate_unknowns =
-      e.formulation.ops.get_extension != nullptr &&
-      e.formulation.ops.get_extension(e.formulation.self, MH_EXT_COORDINATE_UNKNOWNS) != nullptr;
-  if (coordinate_unknowns && e.n_m == e.N && e.m > 0) {
-    e.kinematics_at(e.accepted.z.data(), e.accepted.zd.data());
-    e.constraints_at_kinematics(false);
-    tangent_space = Eigen::MatrixXd::Identity(e.N, e.N) -
-                    e.cons.phi_z.completeOrthogonalDecomposition().pseudoInverse() * e.cons.phi_z;
-  }
+  const Eigen::MatrixXd tangent_space = constraint_tangent_space(e);
   for (Eigen::Index k = 0; k < n; ++k) {
     const StateSlot& s = slots[static_cast<size_t>(k)];
     const double step = kToleranceMultiple * tol[s.unknown] / (s.rate ? h : 1.0);
@@ -543,6 +328,8 @@ Linearization linearize(Simulation& sim, const std::vector<std::string>& output_
     c.row(k) = row.transpose();
     d.row(k) = g_u.row(k) - row.transpose() * gamma;
   }
+  out.Phi = phi;
+  out.Gamma = gamma;
   out.C = c;
   out.D = d;
   return out;

@@ -4,11 +4,12 @@
 //   dX/dt = A X + B u,   Y = C X + D u
 //
 // over the model's declared inputs u (its inputs:, in file order) and the
-// outputs Y asked for by name. The states X are the run's own: the
-// formulation's non-algebraic Newton unknowns (positions x, then the
-// velocities xd of the second-order ones) and the subsystems' non-algebraic
-// states (pressures, spool positions, ...). Multipliers and algebraic states
-// (a pressure source's flow) are not states: they follow X and u.
+// outputs Y asked for by name. The states X are the run's own
+// (state_vector.hpp): the formulation's non-algebraic Newton unknowns
+// (positions x, then the velocities xd of the second-order ones) and the
+// subsystems' non-algebraic states (pressures, spool positions, ...).
+// Multipliers and algebraic states (a pressure source's flow) are not
+// states: they follow X and u.
 //
 // How (linearization.cpp): central differences of the converged implicit
 // step, solved with the run's analytic tangent, from states whose rates are
@@ -30,20 +31,18 @@
 #include <vector>
 
 #include "monohydra/core/simulation.hpp"
+#include "monohydra/core/state_vector.hpp"
 
 namespace mh {
-
-// A state, input or output of a linearisation: its name and SI unit.
-struct LinearVariable {
-  std::string name;
-  std::string unit;
-};
 
 struct Linearization {
   double t = 0.0;              // s: the accepted time it was taken at
   long step = 0;               // that time's step
   double h = 0.0;              // s: the step its map was taken over (the run's dt)
   Eigen::MatrixXd A, B, C, D;  // n x n, n x m, p x n, p x m
+  // The step's own map, X_{k+1} = Phi X_k + Gamma u (what A and B are
+  // taken from): a discrete filter's transition.
+  Eigen::MatrixXd Phi, Gamma;                           // n x n, n x m
   std::vector<LinearVariable> states, inputs, outputs;  // n, m, p
 };
 

@@ -20,8 +20,9 @@
 
 namespace mh {
 
-struct RunState;       // run_state.hpp
-struct Linearization;  // linearization.hpp
+struct RunState;        // run_state.hpp
+struct Linearization;   // linearization.hpp
+struct LinearVariable;  // state_vector.hpp
 
 // A run that cannot go on: names the time, the step and the reason.
 class SimulationError : public std::runtime_error {
@@ -335,6 +336,10 @@ class Simulation {
  private:
   // linearization.hpp: perturbs the engine's accepted state between steps.
   friend Linearization linearize(Simulation& sim, const std::vector<std::string>& outputs);
+  // state_vector.hpp: reads and sets the accepted state between steps.
+  friend std::vector<LinearVariable> state_variables(const Simulation& sim);
+  friend Eigen::VectorXd state_values(const Simulation& sim);
+  friend void set_state_values(Simulation& sim, const Eigen::VectorXd& values);
 
   std::unique_ptr<Engine> engine_;
   std::vector<std::string> state_names_, state_units_, output_names_, output_units_;

@@ -1,0 +1,201 @@
+// The run's state vector X and its consistent rates (state_slots.hpp).
+#include "state_slots.hpp"
+
+#include <Eigen/QR>
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "monohydra/core/run_state.hpp"
+#include "monohydra/cpp/unknowns.hpp"
+
+namespace mh {
+
+namespace {
+
+// The consistent rates: Newton stops when every increment is below this
+// fraction of the rate's scale (tolerance / h^2, / h or itself by kind).
+constexpr double kRateTolerance = 1e-6;
+constexpr int kRateIterations = 20;
+
+}  // namespace
+
+std::vector<StateSlot> state_slots(const Simulation::Engine& e) {
+  std::vector<StateSlot> slots;
+  for (int i = 0; i < e.n_m; ++i)
+    if (e.registry.kinds[static_cast<size_t>(i)] != MH_UNKNOWN_ALGEBRAIC)
+      slots.push_back({i, false});
+  for (int i = 0; i < e.n_m; ++i)
+    if (e.registry.kinds[static_cast<size_t>(i)] == MH_UNKNOWN_SECOND_ORDER)
+      slots.push_back({i, true});
+  for (int i = e.n_m; i < e.n; ++i)
+    if (e.registry.kinds[static_cast<size_t>(i)] != MH_UNKNOWN_ALGEBRAIC)
+      slots.push_back({i, false});
+  return slots;
+}
+
+double& slot_value(Simulation::Engine& e, const StateSlot& s) {
+  return s.rate ? e.xd[s.unknown] : e.x[s.unknown];
+}
+
+double& rate_unknown(Simulation::Engine& e, int i) {
+  switch (e.registry.kinds[static_cast<size_t>(i)]) {
+    case MH_UNKNOWN_SECOND_ORDER:
+      return e.xdd[i];
+    case MH_UNKNOWN_FIRST_ORDER:
+      return e.xd[i];
+    default:
+      return e.x[i];
+  }
+}
+
+std::string unknown_unit(const Simulation::Engine& e, int i) {
+  if (i >= e.n_m) return e.states.state_info[static_cast<size_t>(i - e.n_m)].unit;
+  const std::string& name = e.registry.unknown_names[static_cast<size_t>(i)];
+  const auto& coords = e.registry.coordinate_names;
+  for (size_t j = 0; j < coords.size(); ++j)
+    if (coords[j] == name) return e.registry.coordinate_is_angle[j] != 0 ? "rad" : "m";
+  return "";
+}
+
+std::string unknown_label(const Simulation::Engine& e, int i) {
+  if (i < e.n_m) return e.registry.unknown_names[static_cast<size_t>(i)];
+  const VariableInfo& v = e.states.state_info[static_cast<size_t>(i - e.n_m)];
+  return v.name.empty() ? v.qualified : v.name;
+}
+
+Eigen::MatrixXd constraint_tangent_space(Simulation::Engine& e) {
+  if (!e.tangent_ws.coordinate_unknowns || e.m == 0) return {};
+  e.kinematics_at(e.accepted.z.data(), e.accepted.zd.data());
+  e.constraints_at_kinematics(false);
+  return Eigen::MatrixXd::Identity(e.N, e.N) -
+         e.cons.phi_z.completeOrthogonalDecomposition().pseudoInverse() * e.cons.phi_z;
+}
+
+ConsistentState::ConsistentState(Simulation::Engine& e, std::string who)
+    : e_(e), who_(std::move(who)), r_(e.n), r1_(e.n), du_(e.n), scale_(e.n), row_scale_(e.n) {
+  const double h = e.settings.dt;
+  for (int i = 0; i < e.n; ++i) {
+    const uint8_t k = e.registry.kinds[static_cast<size_t>(i)];
+    const double tol = e.registry.tol[i];
+    scale_[i] = k == MH_UNKNOWN_SECOND_ORDER  ? tol / (h * h)
+                : k == MH_UNKNOWN_FIRST_ORDER ? tol / h
+                                              : tol;
+  }
+}
+
+void ConsistentState::make(const char* what) {
+  Simulation::Engine& e = e_;
+  const double t = std::nextafter(e.accepted.t, HUGE_VAL);
+  // The formulation's own prediction starts from its accepted state (no
+  // step: h = 0 from its time), as at an explicit stage.
+  e.formulation_begin_step(monohydra::step_coefficients(e.settings.dt, 0.0, 0.0, 0.0), e.accepted.t,
+                           e.x, e.xd, e.xdd);
+  for (int i = 0; i < e.n; ++i) {
+    const uint8_t k = e.registry.kinds[static_cast<size_t>(i)];
+    if (k != MH_UNKNOWN_SECOND_ORDER) e.xdd[i] = 0.0;
+    if (k == MH_UNKNOWN_ALGEBRAIC) e.xd[i] = 0.0;
+  }
+  if (!full_) factor(t, what);
+  solve(t, 0, *full_, what);
+  accept(what);
+  if (e.n_s > 0) solve(t, e.n_m, *states_, what);
+  e.states.y_k = e.states.y;
+  e.states.ydot_k = e.states.ydot;
+  e.kinematics_at(e.accepted.z.data(), e.accepted.zd.data());
+  e.solver.reuse.invalidate();
+  e.restart_integrator();
+}
+
+void ConsistentState::evaluate(double t, Eigen::VectorXd& r, const char* what) {
+  if (!status_ok(e_.residual_at(t, e_.x, e_.xd, e_.xdd, r)) || !r.allFinite())
+    throw SimulationError(e_.accepted.t, e_.accepted.step,
+                          who_ + ": the residual failed at the state " + what +
+                              (e_.last_plugin_error.empty() ? "" : ": " + e_.last_plugin_error));
+}
+
+void ConsistentState::solve(double t, int begin, const Eigen::FullPivLU<Eigen::MatrixXd>& lu,
+                            const char* what) {
+  Simulation::Engine& e = e_;
+  const int count = e.n - begin;
+  bool converged = false;
+  for (int it = 0; it < kRateIterations && !converged; ++it) {
+    evaluate(t, r_, what);
+    const Eigen::VectorXd rows = row_scale_.tail(count).asDiagonal() * r_.tail(count);
+    du_.tail(count) = -(scale_.tail(count).asDiagonal() * lu.solve(rows));
+    converged = true;
+    for (int i = begin; i < e.n; ++i) {
+      double& u = rate_unknown(e, i);
+      u += du_[i];
+      converged = converged && std::abs(du_[i]) <= kRateTolerance * scale_[i] + 1e-12 * std::abs(u);
+    }
+  }
+  if (!converged)
+    throw SimulationError(e.accepted.t, e.accepted.step,
+                          who_ + ": the rates at the state " + what + " did not converge in " +
+                              std::to_string(kRateIterations) + " iterations");
+  evaluate(t, r_, what);
+}
+
+void ConsistentState::accept(const char* what) {
+  Simulation::Engine& e = e_;
+  const double h = e.settings.dt;
+  const mh_step_coefficients c = monohydra::step_coefficients(h, 2.0 / h, 4.0 / (h * h), 2.0 / h);
+  uint32_t flags = 0;
+  e.check(in_flight(*e.formulation_host, InstanceHost::Op::accept,
+                    [&] {
+                      const mh_unknown_buffers values = monohydra::unknown_buffers(
+                          static_cast<size_t>(e.n_m), e.x.data(), e.xd.data(), e.xdd.data());
+                      return e.formulation.ops.accept(e.formulation.self, e.accepted.t, &c, &values,
+                                                      &flags);
+                    }),
+          "formulation accept");
+  if ((flags & MH_ACCEPT_REDEFINED) != 0)
+    throw SimulationError(e.accepted.t, e.accepted.step,
+                          who_ + ": formulation '" + e.formulation_name +
+                              "' redefined its unknowns at the state " + what +
+                              " (a new partition): try a step later");
+  e.check(in_flight(*e.formulation_host, InstanceHost::Op::coordinates,
+                    [&] {
+                      const mh_coordinate_buffers out{
+                          sizeof(mh_coordinate_buffers), static_cast<uint32_t>(e.N),
+                          e.accepted.z.data(), e.accepted.zd.data(), e.accepted.zdd.data()};
+                      return e.formulation.ops.coordinates(e.formulation.self, &out);
+                    }),
+          "formulation coordinates");
+}
+
+void ConsistentState::factor(double t, const char* what) {
+  Simulation::Engine& e = e_;
+  Eigen::MatrixXd J(e.n, e.n);
+  evaluate(t, r_, what);
+  for (int j = 0; j < e.n; ++j) {
+    double& u = rate_unknown(e, j);
+    const double saved = u, d = 1e-7 * std::max(std::abs(u), 1e3 * scale_[j]);
+    u = saved + d;
+    evaluate(t, r1_, what);
+    u = saved;
+    J.col(j) = (r1_ - r_) / d;
+  }
+  // Equilibrated: columns in units of the rates' scales, rows by their
+  // largest entry (a volume's row in m^3/s beside a body's in N would
+  // otherwise read as singular).
+  J = J * scale_.asDiagonal();
+  for (int i = 0; i < e.n; ++i) {
+    const double big = J.row(i).lpNorm<Eigen::Infinity>();
+    row_scale_[i] = big > 0.0 ? 1.0 / big : 1.0;
+  }
+  J = row_scale_.asDiagonal() * J;
+  full_ = std::make_unique<Eigen::FullPivLU<Eigen::MatrixXd>>(J);
+  // No subsystem states: no LU of an empty block (Eigen asserts on its norm).
+  if (e.n_s > 0)
+    states_ =
+        std::make_unique<Eigen::FullPivLU<Eigen::MatrixXd>>(J.bottomRightCorner(e.n_s, e.n_s));
+  if (!full_->isInvertible() || (e.n_s > 0 && !states_->isInvertible()))
+    throw SimulationError(e.accepted.t, e.accepted.step,
+                          who_ +
+                              ": the rows do not determine the rates at the accepted "
+                              "state (a singular mass matrix or state row?)");
+}
+
+}  // namespace mh
