@@ -16,6 +16,7 @@ int compare(const std::vector<std::string>& args);        // compare.cpp
 int linearize(const std::vector<std::string>& args);      // linearize_command.cpp
 int sensitivities(const std::vector<std::string>& args);  // sensitivities_command.cpp
 int fit(const std::vector<std::string>& args);            // fit_command.cpp
+int estimate(const std::vector<std::string>& args);       // estimate/estimate_command.cpp
 int fmu(const std::vector<std::string>& args);            // fmu_command.cpp
 int run_default();                                        // default_job.cpp
 int usage(int code);
