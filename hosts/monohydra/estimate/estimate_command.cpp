@@ -3,6 +3,7 @@
 // is checked before the first step; rows are written as the filter goes, so
 // that a filter that stops keeps every row before it.
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -18,6 +19,7 @@
 #include "monohydra/core/csv_layout.hpp"
 #include "monohydra/core/extended_kalman_filter.hpp"
 #include "monohydra/core/input_error.hpp"
+#include "monohydra/core/unscented_kalman_filter.hpp"
 #include "run_setup.hpp"
 #include "step_overrides.hpp"
 #include "subcommand_parser.hpp"
@@ -88,7 +90,9 @@ int estimate(const std::vector<std::string>& args) {
   app.add_option("MODEL.yaml", models, "the model file, with its sensors:");
   app.add_option("--measurements", data_path,
                  "CSV: t, then the sensors' names; an empty field is a sample not taken");
-  app.add_option("--filter", filter_name, "the estimator: ekf (the only one yet)");
+  app.add_option("--filter", filter_name,
+                 "ekf (default: the extended Kalman filter on the step's own map) or ukf (the "
+                 "unscented filter: no derivative, 2n sigma points a step)");
   app.add_option("--plant-noise", plant_texts,
                  "STATE=SD: the standard deviation the state's error gains in a second (its "
                  "unit per sqrt(s)); defaults by unit: 1e4 Pa, 3e-2 for a rate, 0 for a "
@@ -106,8 +110,8 @@ int estimate(const std::vector<std::string>& args) {
     std::cerr << "monohydra: estimate needs one model file and --measurements DATA.csv\n";
     return 2;
   }
-  if (filter_name != "ekf") {
-    std::cerr << "monohydra: --filter " << filter_name << ": expected ekf\n";
+  if (filter_name != "ekf" && filter_name != "ukf") {
+    std::cerr << "monohydra: --filter " << filter_name << ": expected ekf or ukf\n";
     return 2;
   }
   request.model_path = models.front();
@@ -180,7 +184,7 @@ int estimate(const std::vector<std::string>& args) {
   }
 
   // The filter set up (its noise levels checked) before the file is opened.
-  std::unique_ptr<ExtendedKalmanFilter> made;
+  std::unique_ptr<StateFilter> made;
   try {
     sim.start();
     const std::vector<LinearVariable> states = state_variables(sim);
@@ -193,12 +197,15 @@ int estimate(const std::vector<std::string>& args) {
     if (!apply_noise(plant_texts, "--plant-noise", states, noise.plant) ||
         !apply_noise(initial_texts, "--initial-sd", states, noise.initial))
       return 2;
-    made = std::make_unique<ExtendedKalmanFilter>(sim, sensors, noise);
+    if (filter_name == "ukf")
+      made = std::make_unique<UnscentedKalmanFilter>(sim, sensors, noise);
+    else
+      made = std::make_unique<ExtendedKalmanFilter>(sim, sensors, noise);
   } catch (const std::exception& err) {
     std::cerr << "monohydra: " << err.what() << '\n';
     return 2;
   }
-  ExtendedKalmanFilter& filter = *made;
+  StateFilter& filter = *made;
   const std::vector<LinearVariable>& states = filter.states();
   const auto n = static_cast<Eigen::Index>(states.size());
   std::ofstream file;

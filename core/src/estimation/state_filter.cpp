@@ -1,0 +1,133 @@
+// What the run's state estimators share (state_filter.hpp).
+#include "monohydra/core/state_filter.hpp"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+#include "monohydra/cpp/number_text.hpp"
+
+namespace mh {
+
+using monohydra::short_number;
+
+namespace {
+
+void check_noise(const Eigen::VectorXd& v, const std::vector<LinearVariable>& states,
+                 const char* what) {
+  if (v.size() != static_cast<Eigen::Index>(states.size()))
+    throw std::invalid_argument(std::string(what) + ": " + std::to_string(v.size()) +
+                                " values for a state of " + std::to_string(states.size()));
+  for (Eigen::Index i = 0; i < v.size(); ++i)
+    if (!(v[i] >= 0.0) || !std::isfinite(v[i]))
+      throw std::invalid_argument(std::string(what) + " of " + states[static_cast<size_t>(i)].name +
+                                  ": expected a standard deviation of 0 or more");
+}
+
+}  // namespace
+
+StateFilter::StateFilter(Simulation& sim, std::vector<FilterSensor> sensors,
+                         const FilterNoise& noise)
+    : sim_(sim),
+      sensors_(std::move(sensors)),
+      states_(state_variables(sim)),
+      layout_(sim),
+      row_(layout_.names().size()) {
+  if (sensors_.empty()) throw std::invalid_argument("a filter needs at least one sensor");
+  for (const FilterSensor& s : sensors_) {
+    if (!(s.noise > 0.0) || !std::isfinite(s.noise))
+      throw std::invalid_argument("sensor '" + s.name +
+                                  "': expected a noise (standard deviation) above 0");
+    const auto& names = layout_.names();
+    const auto it = std::find(names.begin(), names.end(), s.measures);
+    if (it == names.end() || it == names.begin())
+      throw std::invalid_argument("sensor '" + s.name + "' measures '" + s.measures +
+                                  "', which is not a column this run writes");
+    columns_.push_back(static_cast<std::size_t>(it - names.begin()));
+    measured_.push_back(s.measures);
+  }
+  check_noise(noise.plant, states_, "plant noise");
+  check_noise(noise.initial, states_, "initial standard deviation");
+  Q_ = noise.plant.array().square().matrix().asDiagonal();
+  Q_ *= sim.settings().dt;
+  P_ = noise.initial.array().square().matrix().asDiagonal();
+  const auto m = static_cast<Eigen::Index>(sensors_.size());
+  innovation_ = Eigen::VectorXd::Constant(m, NAN);
+  innovation_sd_ = Eigen::VectorXd::Constant(m, NAN);
+  window_.assign(kDivergenceWindow, 0.0);
+}
+
+std::vector<Eigen::Index> StateFilter::take(const Eigen::VectorXd& readings) {
+  const auto m = static_cast<Eigen::Index>(sensors_.size());
+  if (readings.size() != m)
+    throw std::invalid_argument("update: " + std::to_string(readings.size()) + " readings for " +
+                                std::to_string(m) + " sensors");
+  innovation_.setConstant(NAN);
+  innovation_sd_.setConstant(NAN);
+  nis_ = NAN;
+  std::vector<Eigen::Index> used;
+  for (Eigen::Index i = 0; i < m; ++i)
+    if (!std::isnan(readings[i])) {
+      if (!std::isfinite(readings[i]))
+        throw std::invalid_argument("update: sensor '" + sensors_[static_cast<size_t>(i)].name +
+                                    "' read " + std::to_string(readings[i]));
+      used.push_back(i);
+    }
+  samples_ = static_cast<int>(used.size());
+  return used;
+}
+
+double StateFilter::model_reading(Eigen::Index i) {
+  layout_.values(sim_, row_.data());
+  return row_[columns_[static_cast<size_t>(i)]] + sensors_[static_cast<size_t>(i)].bias;
+}
+
+std::string StateFilter::furthest() const {
+  std::string worst;
+  double largest = -1.0;
+  for (Eigen::Index i = 0; i < innovation_.size(); ++i)
+    if (!std::isnan(innovation_[i]) && std::abs(innovation_[i] / innovation_sd_[i]) > largest) {
+      largest = std::abs(innovation_[i] / innovation_sd_[i]);
+      worst = sensors_[static_cast<size_t>(i)].name;
+    }
+  return "sensor '" + worst + "' is now " + short_number(largest) + " standard deviations off";
+}
+
+void StateFilter::record(const std::vector<Eigen::Index>& used, const Eigen::VectorXd& nu,
+                         const Eigen::MatrixXd& S) {
+  const auto q = static_cast<Eigen::Index>(used.size());
+  nis_ = nu.dot(S.ldlt().solve(nu));
+  for (Eigen::Index k = 0; k < q; ++k) {
+    const Eigen::Index i = used[static_cast<size_t>(k)];
+    innovation_[i] = nu[k];
+    innovation_sd_[i] = std::sqrt(S(k, k));
+  }
+  // Divergence: the normalised innovations squared, per degree of freedom,
+  // averaged over a window.
+  window_[static_cast<size_t>(updates_ % kDivergenceWindow)] = nis_ / static_cast<double>(q);
+  ++updates_;
+  if (updates_ < kDivergenceWindow) return;
+  const double mean =
+      std::accumulate(window_.begin(), window_.end(), 0.0) / static_cast<double>(window_.size());
+  if (!(mean <= kDivergenceLimit))
+    throw SimulationError(sim_.time(), sim_.step_index(),
+                          "the filter diverges: its innovations have averaged " +
+                              short_number(mean) + " times their expected size squared over " +
+                              std::to_string(kDivergenceWindow) + " updates (" + furthest() +
+                              "): the model or its noise levels do not describe the data");
+}
+
+void StateFilter::correct(const Eigen::VectorXd& x) {
+  try {
+    set_state_values(sim_, x);
+  } catch (const SimulationError& err) {
+    throw SimulationError(sim_.time(), sim_.step_index(),
+                          "the filter's correction cannot be applied (" + err.reason() + "; " +
+                              furthest() +
+                              "): the model or its noise levels do not describe the data");
+  }
+}
+
+}  // namespace mh
