@@ -486,6 +486,12 @@ struct Simulation::Engine {
   AcceptedPoint accepted;
   SnapshotParts snapshot;
   SensitivityState sens;
+  // Component options resolved once (Simulation::component_parameter_handle).
+  struct OptionHandle {
+    std::string path;
+    SensitivityState::ComponentOption option;
+  };
+  std::vector<OptionHandle> option_handles;
 
   // host_services.cpp
   void make_host(InstanceHost& h, const std::string& source, const OptionMap* options,

@@ -523,15 +523,32 @@ bool Simulation::output_differentiated(int i) const {
 
 void Simulation::set_component_parameter(const std::string& subsystem, const std::string& key,
                                          double value) {
+  set_component_parameter(component_parameter_handle(subsystem, key), value);
+}
+
+int Simulation::component_parameter_handle(const std::string& subsystem, const std::string& key) {
   Engine& e = *engine_;
   ParameterDirection p;
   p.path = "subsystems/" + subsystem + "/" + key;
   p.subsystem = subsystem;
   p.key = key;
-  const SensitivityState::ComponentOption option = e.find_component_option(p);
+  const std::string path = p.path;
+  for (size_t h = 0; h < e.option_handles.size(); ++h)
+    if (e.option_handles[h].path == path) return static_cast<int>(h);
+  e.option_handles.push_back({path, e.find_component_option(p)});
+  return static_cast<int>(e.option_handles.size() - 1);
+}
+
+void Simulation::set_component_parameter(int handle, double value) {
+  Engine& e = *engine_;
+  if (handle < 0 || handle >= static_cast<int>(e.option_handles.size()))
+    throw std::invalid_argument("component parameter handle " + std::to_string(handle) +
+                                ": not one of this run's");
+  const Engine::OptionHandle& h = e.option_handles[static_cast<size_t>(handle)];
+  const SensitivityState::ComponentOption& option = h.option;
   if (option.constant != nullptr) {  // a number it reads as a signal
     if (!std::isfinite(value))
-      throw std::invalid_argument(p.path + ": " + std::to_string(value) +
+      throw std::invalid_argument(h.path + ": " + std::to_string(value) +
                                   " is not a finite number");
     *option.constant = value;
     e.solver.reuse.invalidate();
@@ -544,7 +561,7 @@ void Simulation::set_component_parameter(const std::string& subsystem, const std
   }));
   if (!status_ok(st))
     throw std::invalid_argument(
-        p.path + ": " +
+        h.path + ": " +
         (e.last_plugin_error.empty() ? "refused by the component" : e.last_plugin_error));
   e.solver.reuse.invalidate();  // modified Newton's factorization is of the old value
 }
@@ -593,6 +610,10 @@ double Simulation::component_parameter(const std::string& subsystem, const std::
   if (!status_ok(normalized(st)))
     throw std::invalid_argument(p.path + ": the component did not give its value");
   return value;
+}
+
+const Model& Simulation::model() const {
+  return engine_->model;
 }
 
 double Simulation::time() const {

@@ -3,6 +3,9 @@
 #include "monohydra/core/extended_kalman_filter.hpp"
 
 #include <Eigen/Cholesky>
+#include <cmath>
+
+#include "monohydra/core/run_state.hpp"
 
 namespace mh {
 
@@ -13,19 +16,53 @@ void ExtendedKalmanFilter::linearize_here() {
   linearized_at_ = sim_.step_index();
 }
 
+double ExtendedKalmanFilter::parameter_step(Eigen::Index j) const {
+  const double v = held_.parameters()[static_cast<size_t>(j)].value + held_.offsets()[j];
+  return 1e-6 * (v != 0.0 ? std::abs(v) : 1.0);
+}
+
 void ExtendedKalmanFilter::update(const Eigen::VectorXd& readings) {
   const std::vector<Eigen::Index> used = take(readings);
   if (used.empty()) return;
   linearize_here();
   const auto q = static_cast<Eigen::Index>(used.size());
   const auto n = P_.rows();
-  Eigen::MatrixXd H(q, n);
+  const Eigen::Index nx = num_x(), k_p = num_parameters();
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(q, n);
   Eigen::VectorXd nu(q);
   Eigen::VectorXd r(q);
+  Eigen::VectorXd now(q);
+  for (Eigen::Index k = 0; k < q; ++k) now[k] = model_reading(used[static_cast<size_t>(k)]);
+  if (k_p > 0) {
+    // The readings at the same X with each parameter moved: the run made
+    // consistent there, then put back.
+    const RunState saved = sim_.save_state();
+    const Eigen::VectorXd x = state_values(sim_);
+    const Eigen::VectorXd offsets = held_.offsets();
+    Eigen::VectorXd plus(q);
+    for (Eigen::Index j = 0; j < k_p; ++j) {
+      const double d = parameter_step(j);
+      for (const double sign : {1.0, -1.0}) {
+        Eigen::VectorXd moved = offsets;
+        moved[j] += sign * d;
+        held_.set(moved);
+        set_state_values(sim_, x);
+        for (Eigen::Index k = 0; k < q; ++k) {
+          const double v = model_reading(used[static_cast<size_t>(k)]);
+          if (sign > 0.0)
+            plus[k] = v;
+          else
+            H(k, nx + j) = (plus[k] - v) / (2.0 * d);
+        }
+      }
+      held_.set(offsets);
+      sim_.restore_state(saved);
+    }
+  }
   for (Eigen::Index k = 0; k < q; ++k) {
     const Eigen::Index i = used[static_cast<size_t>(k)];
-    H.row(k) = lin_.C.row(i);
-    nu[k] = readings[i] - model_reading(i);
+    H.row(k).head(nx) = lin_.C.row(i);
+    nu[k] = readings[i] - now[k];
     const double sd = sensors_[static_cast<size_t>(i)].noise;
     r[k] = sd * sd;
   }
@@ -34,7 +71,7 @@ void ExtendedKalmanFilter::update(const Eigen::VectorXd& readings) {
   S.diagonal() += r;
   record(used, nu, S);
   const Eigen::MatrixXd K = S.ldlt().solve(PHt.transpose()).transpose();  // P H^T S^-1
-  correct(state_values(sim_) + K * nu);
+  correct(state() + K * nu);
   // Joseph's form: symmetric and positive whatever the gain's round-off.
   Eigen::MatrixXd IKH = -K * H;
   IKH.diagonal().array() += 1.0;
@@ -43,8 +80,33 @@ void ExtendedKalmanFilter::update(const Eigen::VectorXd& readings) {
 
 void ExtendedKalmanFilter::predict() {
   linearize_here();
+  const Eigen::Index nx = num_x(), k_p = num_parameters();
+  Eigen::MatrixXd F = Eigen::MatrixXd::Identity(nx + k_p, nx + k_p);
+  F.topLeftCorner(nx, nx) = lin_.Phi;
+  if (k_p > 0) {
+    // d X_{k+1} / d p: the step from the same saved state, p moved.
+    const RunState saved = sim_.save_state();
+    const Eigen::VectorXd offsets = held_.offsets();
+    Eigen::VectorXd plus(nx);
+    for (Eigen::Index j = 0; j < k_p; ++j) {
+      const double d = parameter_step(j);
+      for (const double sign : {1.0, -1.0}) {
+        Eigen::VectorXd moved = offsets;
+        moved[j] += sign * d;
+        held_.set(moved);
+        sim_.restore_state(saved);
+        sim_.step();
+        if (sign > 0.0)
+          plus = state_values(sim_);
+        else
+          F.block(0, nx + j, nx, 1) = (plus - state_values(sim_)) / (2.0 * d);
+      }
+    }
+    held_.set(offsets);
+    sim_.restore_state(saved);
+  }
   sim_.step();
-  P_ = lin_.Phi * P_ * lin_.Phi.transpose() + Q_;
+  P_ = F * P_ * F.transpose() + Q_;
   P_ = 0.5 * (P_ + P_.transpose());
 }
 

@@ -29,12 +29,14 @@ void check_noise(const Eigen::VectorXd& v, const std::vector<LinearVariable>& st
 }  // namespace
 
 StateFilter::StateFilter(Simulation& sim, std::vector<FilterSensor> sensors,
-                         const FilterNoise& noise)
+                         const FilterNoise& noise, std::vector<ParameterDirection> parameters)
     : sim_(sim),
       sensors_(std::move(sensors)),
       states_(state_variables(sim)),
+      held_(sim, std::move(parameters)),
       layout_(sim),
       row_(layout_.names().size()) {
+  num_x_ = static_cast<Eigen::Index>(states_.size());
   if (sensors_.empty()) throw std::invalid_argument("a filter needs at least one sensor");
   for (const FilterSensor& s : sensors_) {
     if (!(s.noise > 0.0) || !std::isfinite(s.noise))
@@ -50,9 +52,21 @@ StateFilter::StateFilter(Simulation& sim, std::vector<FilterSensor> sensors,
   }
   check_noise(noise.plant, states_, "plant noise");
   check_noise(noise.initial, states_, "initial standard deviation");
-  Q_ = noise.plant.array().square().matrix().asDiagonal();
+  std::vector<LinearVariable> params;
+  for (const ParameterDirection& p : held_.parameters()) params.push_back({p.path, ""});
+  const Eigen::Index k = held_.size();
+  const Eigen::VectorXd none = Eigen::VectorXd::Zero(0);
+  const Eigen::VectorXd& p_plant = k > 0 ? noise.parameter_plant : none;
+  const Eigen::VectorXd& p_initial = k > 0 ? noise.parameter_initial : none;
+  check_noise(p_plant, params, "parameter noise");
+  check_noise(p_initial, params, "parameter initial standard deviation");
+  states_.insert(states_.end(), params.begin(), params.end());
+  Eigen::VectorXd plant(num_x_ + k), initial(num_x_ + k);
+  plant << noise.plant, p_plant;
+  initial << noise.initial, p_initial;
+  Q_ = plant.array().square().matrix().asDiagonal();
   Q_ *= sim.settings().dt;
-  P_ = noise.initial.array().square().matrix().asDiagonal();
+  P_ = initial.array().square().matrix().asDiagonal();
   const auto m = static_cast<Eigen::Index>(sensors_.size());
   innovation_ = Eigen::VectorXd::Constant(m, NAN);
   innovation_sd_ = Eigen::VectorXd::Constant(m, NAN);
@@ -119,9 +133,30 @@ void StateFilter::record(const std::vector<Eigen::Index>& used, const Eigen::Vec
                               "): the model or its noise levels do not describe the data");
 }
 
+Eigen::VectorXd StateFilter::state() const {
+  Eigen::VectorXd x(num_x_ + held_.size());
+  x << state_values(sim_), held_.values();
+  return x;
+}
+
+void StateFilter::put(const Eigen::VectorXd& x) {
+  if (held_.size() > 0) {
+    Eigen::VectorXd offsets = x.tail(held_.size());
+    for (Eigen::Index j = 0; j < held_.size(); ++j)
+      offsets[j] -= held_.parameters()[static_cast<size_t>(j)].value;
+    held_.set(offsets);
+  }
+  set_state_values(sim_, x.head(num_x_));
+}
+
 void StateFilter::correct(const Eigen::VectorXd& x) {
   try {
-    set_state_values(sim_, x);
+    put(x);
+  } catch (const std::invalid_argument& err) {
+    throw SimulationError(sim_.time(), sim_.step_index(),
+                          "the filter's correction cannot be applied (" + std::string(err.what()) +
+                              "; " + furthest() +
+                              "): the model or its noise levels do not describe the data");
   } catch (const SimulationError& err) {
     throw SimulationError(sim_.time(), sim_.step_index(),
                           "the filter's correction cannot be applied (" + err.reason() + "; " +

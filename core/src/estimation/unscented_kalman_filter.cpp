@@ -30,23 +30,24 @@ Eigen::MatrixXd UnscentedKalmanFilter::spread() const {
 void UnscentedKalmanFilter::predict() {
   const Eigen::Index n = P_.rows();
   const RunState saved = sim_.save_state();
-  const Eigen::VectorXd x = state_values(sim_);
+  const Eigen::VectorXd offsets = held_.offsets();
+  const Eigen::VectorXd x = state();
   const Eigen::MatrixXd s = spread();
   Eigen::MatrixXd points(n, 2 * n);
   for (Eigen::Index j = 0; j < 2 * n; ++j) {
     sim_.restore_state(saved);
-    set_state_values(sim_,
-                     j < n ? Eigen::VectorXd(x + s.col(j)) : Eigen::VectorXd(x - s.col(j - n)));
+    put(j < n ? Eigen::VectorXd(x + s.col(j)) : Eigen::VectorXd(x - s.col(j - n)));
     sim_.step();
-    points.col(j) = state_values(sim_);
+    points.col(j) = state();
   }
+  held_.set(offsets);
   sim_.restore_state(saved);
   sim_.step();
   const Eigen::VectorXd mean = points.rowwise().mean();
   const Eigen::MatrixXd apart = points.colwise() - mean;
   P_ = apart * apart.transpose() / static_cast<double>(2 * n) + Q_;
   P_ = 0.5 * (P_ + P_.transpose());
-  set_state_values(sim_, mean);
+  put(mean);
 }
 
 void UnscentedKalmanFilter::update(const Eigen::VectorXd& readings) {
@@ -55,16 +56,17 @@ void UnscentedKalmanFilter::update(const Eigen::VectorXd& readings) {
   const Eigen::Index n = P_.rows();
   const auto q = static_cast<Eigen::Index>(used.size());
   const RunState saved = sim_.save_state();
-  const Eigen::VectorXd x = state_values(sim_);
+  const Eigen::VectorXd offsets = held_.offsets();
+  const Eigen::VectorXd x = state();
   const Eigen::MatrixXd s = spread();
   Eigen::MatrixXd points(n, 2 * n), read(q, 2 * n);
   for (Eigen::Index j = 0; j < 2 * n; ++j) {
     sim_.restore_state(saved);
-    set_state_values(sim_,
-                     j < n ? Eigen::VectorXd(x + s.col(j)) : Eigen::VectorXd(x - s.col(j - n)));
-    points.col(j) = state_values(sim_);
+    put(j < n ? Eigen::VectorXd(x + s.col(j)) : Eigen::VectorXd(x - s.col(j - n)));
+    points.col(j) = state();
     for (Eigen::Index k = 0; k < q; ++k) read(k, j) = model_reading(used[static_cast<size_t>(k)]);
   }
+  held_.set(offsets);
   sim_.restore_state(saved);
   const Eigen::VectorXd y_mean = read.rowwise().mean();
   const Eigen::MatrixXd y_apart = read.colwise() - y_mean;

@@ -21,6 +21,7 @@
 #include "monohydra/core/input_error.hpp"
 #include "monohydra/core/unscented_kalman_filter.hpp"
 #include "run_setup.hpp"
+#include "sensitivity_columns.hpp"
 #include "step_overrides.hpp"
 #include "subcommand_parser.hpp"
 
@@ -85,7 +86,7 @@ int estimate(const std::vector<std::string>& args) {
       "normalised innovation squared (nis) with the samples it had.");
   CLI::App& app = *app_holder;
   std::vector<std::string> models, plant_texts, initial_texts;
-  std::string data_path, filter_name = "ekf", out_path;
+  std::string data_path, filter_name = "ekf", out_path, params_text;
   RunRequest request;
   app.add_option("MODEL.yaml", models, "the model file, with its sensors:");
   app.add_option("--measurements", data_path,
@@ -99,6 +100,11 @@ int estimate(const std::vector<std::string>& args) {
                  "position, 1e-3 else");
   app.add_option("--initial-sd", initial_texts,
                  "STATE=SD: the initial state's error (default 1e5 Pa, 1e-3 else)");
+  app.add_option("--estimate-params", params_text,
+                 "estimate these parameters beside the state (paths as --set names them, "
+                 "comma-separated): each a column of its own and PATH_sd; its --plant-noise "
+                 "(default 0: a constant) and --initial-sd (default a fifth of its value) by "
+                 "its path");
   app.add_option("--formulation", request.formulation, "replaces the model file's formulation");
   app.add_option("--integrator", request.integrator, "replaces the model file's integrator");
   app.add_option("--out", out_path, "write the CSV to FILE instead of stdout");
@@ -187,20 +193,36 @@ int estimate(const std::vector<std::string>& args) {
   std::unique_ptr<StateFilter> made;
   try {
     sim.start();
-    const std::vector<LinearVariable> states = state_variables(sim);
+    std::vector<LinearVariable> states = state_variables(sim);
     const auto n = static_cast<Eigen::Index>(states.size());
-    FilterNoise noise{Eigen::VectorXd(n), Eigen::VectorXd(n)};
-    for (Eigen::Index i = 0; i < n; ++i) {
-      noise.plant[i] = default_plant(states[static_cast<size_t>(i)].unit);
-      noise.initial[i] = default_initial(states[static_cast<size_t>(i)].unit);
-    }
-    if (!apply_noise(plant_texts, "--plant-noise", states, noise.plant) ||
-        !apply_noise(initial_texts, "--initial-sd", states, noise.initial))
+    const std::vector<std::string> paths = split_list(params_text);
+    std::vector<ParameterDirection> params;
+    try {
+      params = parameter_directions(request, prepared->file, paths);
+    } catch (const std::invalid_argument& err) {
+      std::cerr << "monohydra: --estimate-params: " << err.what() << '\n';
       return 2;
+    }
+    const auto k = static_cast<Eigen::Index>(params.size());
+    Eigen::VectorXd plant(n + k), initial(n + k);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      plant[i] = default_plant(states[static_cast<size_t>(i)].unit);
+      initial[i] = default_initial(states[static_cast<size_t>(i)].unit);
+    }
+    for (Eigen::Index j = 0; j < k; ++j) {
+      const double v = params[static_cast<size_t>(j)].value;
+      plant[n + j] = 0.0;
+      initial[n + j] = 0.2 * (v != 0.0 ? std::abs(v) : 1.0);
+      states.push_back({params[static_cast<size_t>(j)].path, ""});
+    }
+    if (!apply_noise(plant_texts, "--plant-noise", states, plant) ||
+        !apply_noise(initial_texts, "--initial-sd", states, initial))
+      return 2;
+    const FilterNoise noise{plant.head(n), initial.head(n), plant.tail(k), initial.tail(k)};
     if (filter_name == "ukf")
-      made = std::make_unique<UnscentedKalmanFilter>(sim, sensors, noise);
+      made = std::make_unique<UnscentedKalmanFilter>(sim, sensors, noise, params);
     else
-      made = std::make_unique<ExtendedKalmanFilter>(sim, sensors, noise);
+      made = std::make_unique<ExtendedKalmanFilter>(sim, sensors, noise, params);
   } catch (const std::exception& err) {
     std::cerr << "monohydra: " << err.what() << '\n';
     return 2;
@@ -220,8 +242,10 @@ int estimate(const std::vector<std::string>& args) {
   try {
     const CsvLayout layout(sim);
     std::vector<double> row(layout.names().size());
+    const Eigen::Index x_count = filter.num_x();
     out << "t";
     for (size_t c = 1; c < layout.names().size(); ++c) out << ',' << layout.names()[c];
+    for (Eigen::Index i = x_count; i < n; ++i) out << ',' << states[static_cast<size_t>(i)].name;
     for (const LinearVariable& v : states) out << ',' << v.name << "_sd";
     for (const FilterSensor& s : sensors)
       out << ',' << s.name << "_innovation," << s.name << "_innovation_sd";
@@ -236,6 +260,8 @@ int estimate(const std::vector<std::string>& args) {
       filter.update(readings);
       layout.values(sim, row.data());
       for (size_t c = 0; c < row.size(); ++c) out << (c == 0 ? "" : ",") << number(row[c]);
+      const Eigen::VectorXd estimate = filter.state();
+      for (Eigen::Index i = x_count; i < n; ++i) out << ',' << number(estimate[i]);
       for (Eigen::Index i = 0; i < n; ++i)
         out << ',' << number(std::sqrt(filter.covariance()(i, i)));
       for (Eigen::Index c = 0; c < readings.size(); ++c)

@@ -8,15 +8,19 @@
 #include <stdexcept>
 #include <string>
 
+#include "monohydra/core/sensitivities.hpp"
 #include "three_simulations.hpp"
 
 namespace mh {
 namespace {
 
+using test::build_plugins;
 using test::expect_tracks;
+using test::fourbar;
 using test::kPressureNoise;
 using test::Outcome;
 using test::three_simulations;
+using test::tuned_noise;
 
 TEST(ExtendedKalmanFilter,
      EncoderAndBothChamberPressuresTrackTheMachineTenTimesCloserThanTheModel) {
@@ -48,6 +52,87 @@ TEST(ExtendedKalmanFilter, AnEncoderAt100HzWithPressuresAt1kHzTracksTheMachine) 
                                    {"pA", "p2", kPressureNoise, 0.0},
                                    {"pB", "p3", kPressureNoise, 0.0}},
                                   {10, 1, 1}, 4.0, 3));
+}
+
+// Joint estimation (Khadim et al. 2021's augmented filter): the machine's
+// valve passes 20 % more than the model's, or its load is 15 % heavier; the
+// filter starts from the model's value, 20 % uncertain, and estimates it
+// beside the state from the encoder and both chamber pressures.
+struct Joint {
+  double estimate = 0.0, sd = 0.0, truth = 0.0;
+};
+
+Joint estimate_parameter(const ParameterDirection& p, double truth_value) {
+  const double t_end = 4.0;
+  const ModelFile nominal = fourbar(t_end);
+  ModelFile machine = nominal;
+  for (SubsystemSpec& s : machine.subsystems)
+    if (s.name == p.subsystem) s.options.at(p.key).number = truth_value;
+  for (const ParameterDirection::BodyChange& b : p.bodies) {
+    Body& body = machine.model.bodies[static_cast<size_t>(b.body)];
+    body.mass += (truth_value - p.value) * b.mass;
+    body.inertia_B += (truth_value - p.value) * b.inertia;
+  }
+  Simulation truth(machine, build_plugins());
+  Simulation estimated(nominal, build_plugins());
+  truth.start();
+  estimated.start();
+  FilterNoise noise = tuned_noise(state_variables(estimated));
+  noise.parameter_plant = Eigen::VectorXd::Zero(1);
+  noise.parameter_initial = Eigen::VectorXd::Constant(1, 0.2 * std::abs(p.value));
+  const std::vector<FilterSensor> sensors = {{"encoder", "z1", 1e-4, 0.0},
+                                             {"pA", "p2", kPressureNoise, 0.0},
+                                             {"pB", "p3", kPressureNoise, 0.0}};
+  ExtendedKalmanFilter filter(estimated, sensors, noise, {p});
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> normal;
+  Eigen::VectorXd y(3);
+  const long steps = std::lround(t_end / nominal.solver.dt);
+  for (long k = 0; k <= steps; ++k) {
+    if (k > 0) {
+      truth.step();
+      filter.predict();
+    }
+    for (Eigen::Index i = 0; i < 3; ++i)
+      y[i] = test::reading(truth, sensors[static_cast<size_t>(i)]) +
+             sensors[static_cast<size_t>(i)].noise * normal(rng);
+    filter.update(y);
+  }
+  const Eigen::Index j = filter.covariance().rows() - 1;
+  const Joint out{filter.state()[j], std::sqrt(filter.covariance()(j, j)), truth_value};
+  if (std::getenv("MH_EKF_PRINT") != nullptr)
+    std::printf("%s: %.6g +- %.3g, truth %.6g (%.3f %% off)\n", p.path.c_str(), out.estimate,
+                out.sd, out.truth, 100.0 * (out.estimate - out.truth) / out.truth);
+  return out;
+}
+
+TEST(ExtendedKalmanFilter, EstimatesTheValvesFlowCoefficientBesideTheStateToAPercent) {
+  const ModelFile file = fourbar(4.0);
+  ParameterDirection p;
+  p.path = "subsystems/valve/flow_coefficient";
+  p.subsystem = "valve";
+  p.key = "flow_coefficient";
+  p.option = 1.0;
+  p.value = 2.138e-8;
+  const Joint j = estimate_parameter(p, 1.2 * p.value);
+  EXPECT_LT(std::abs(j.estimate - j.truth), 0.01 * j.truth) << j.estimate << " +- " << j.sd;
+  EXPECT_LT(std::abs(j.estimate - j.truth), 3.0 * j.sd) << j.estimate << " +- " << j.sd;
+}
+
+// The load's mass acts on the sensors only while the mechanism moves (1 s
+// to 2.5 s of the 4): the data determine it to about an eighth (6 kg of 50
+// measured, from 10), and the filter says so: its interval holds the truth
+// and has narrowed by a quarter at least.
+TEST(ExtendedKalmanFilter, TheLoadsMassBesideTheStateIsLearnedWithAnHonestInterval) {
+  const ModelFile file = fourbar(4.0);
+  const Body& b = file.model.bodies[2];
+  ParameterDirection p;
+  p.path = "bodies/body3/mass";
+  p.value = b.mass;
+  p.bodies.push_back({2, 1.0, Eigen::Vector3d::Zero(), b.inertia_B / b.mass});
+  const Joint j = estimate_parameter(p, 1.15 * p.value);
+  EXPECT_LT(std::abs(j.estimate - j.truth), 3.0 * j.sd) << j.estimate << " +- " << j.sd;
+  EXPECT_LT(j.sd, 0.75 * 0.2 * p.value) << j.estimate << " +- " << j.sd;
 }
 
 }  // namespace

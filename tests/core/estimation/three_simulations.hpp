@@ -52,7 +52,8 @@ inline ModelFile machine_of(ModelFile file) {
 // model 10-20 % off puts on the rates over a second (docs/estimation.md).
 inline FilterNoise tuned_noise(const std::vector<LinearVariable>& states) {
   const auto n = static_cast<Eigen::Index>(states.size());
-  FilterNoise noise{Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(n)};
+  FilterNoise noise{Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(n), Eigen::VectorXd(),
+                    Eigen::VectorXd()};
   for (Eigen::Index i = 0; i < n; ++i) {
     const std::string& unit = states[static_cast<size_t>(i)].unit;
     noise.plant[i] = unit == "rad/s" ? 3e-2 : unit == "Pa" ? 1e4 : unit == "V" ? 1e-3 : 0.0;

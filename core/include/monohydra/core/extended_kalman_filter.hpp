@@ -17,6 +17,12 @@
 // every update and starts again from zero: the indirect (error-state)
 // filter of Jaiswal et al. 2022 on the discrete step instead of its
 // continuous Jacobian.
+// Parameters estimated beside the state (Khadim et al. 2021's augmented
+// filter) are constant in the model, a random walk in the filter: their
+// columns of the step's map, d X_{k+1} / d p, are central differences of the
+// step from the same saved state with p moved in place, and their columns
+// of H the sensors' readings at the same X with p moved (an output such as
+// a force depends on p directly).
 #pragma once
 
 #include <vector>
@@ -28,14 +34,17 @@ namespace mh {
 
 class ExtendedKalmanFilter : public StateFilter {
  public:
-  ExtendedKalmanFilter(Simulation& sim, std::vector<FilterSensor> sensors, const FilterNoise& noise)
-      : StateFilter(sim, std::move(sensors), noise) {}
+  ExtendedKalmanFilter(Simulation& sim, std::vector<FilterSensor> sensors, const FilterNoise& noise,
+                       std::vector<ParameterDirection> parameters = {})
+      : StateFilter(sim, std::move(sensors), noise, std::move(parameters)) {}
 
   void update(const Eigen::VectorXd& readings) override;
   void predict() override;
 
  private:
   void linearize_here();
+  // Parameter j's difference step: a millionth of its value (of 1 at 0).
+  double parameter_step(Eigen::Index j) const;
   Linearization lin_;
   long linearized_at_ = -1;  // the step lin_ is of
 };

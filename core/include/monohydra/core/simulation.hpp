@@ -180,6 +180,9 @@ class Simulation {
   void set_body_inertia(int body, double mass, const Eigen::Vector3d& com_B,
                         const Eigen::Matrix3d& inertia_B);
   void set_gravity(const Eigen::Vector3d& gravity);
+  // The model as the run has it now: its bodies' inertia and gravity as
+  // set in place.
+  const Model& model() const;
   // A coordinate's initial value and rate (rad or m, rad/s or m/s), before
   // start(): the loops are closed again around them as when the model is
   // opened. Refused with std::invalid_argument naming why: after start(),
@@ -195,6 +198,10 @@ class Simulation {
   // component that does not change that option in place (naming those it
   // does), a value it refuses (its reason, e.g. the range).
   void set_component_parameter(const std::string& subsystem, const std::string& key, double value);
+  // The same, its option found once (a handle of this run): for a caller
+  // that sets it every step, with no lookup by name there.
+  int component_parameter_handle(const std::string& subsystem, const std::string& key);
+  void set_component_parameter(int handle, double value);
   // What the component declares of that option: its SI unit and the values
   // it takes, [lower, upper] (+-infinity: no bound). Refused as
   // set_component_parameter refuses a subsystem or an option.

@@ -8,10 +8,12 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "monohydra/core/csv_layout.hpp"
+#include "monohydra/core/held_parameters.hpp"
 #include "monohydra/core/simulation.hpp"
 #include "monohydra/core/state_vector.hpp"
 
@@ -24,12 +26,16 @@ struct FilterSensor {
   double bias = 0.0;     // a known offset of its readings
 };
 
-// The filter's noise, per state of X (state_vector.hpp).
+// The filter's noise, per state of X (state_vector.hpp), then per
+// parameter it estimates beside them.
 struct FilterNoise {
   // The standard deviation the state's error gains over one second (a
   // random walk; the state's unit per sqrt(s)): Q h per step.
   Eigen::VectorXd plant;
   Eigen::VectorXd initial;  // the initial error's standard deviation
+  // The same of each parameter (in its path's units): how fast it may
+  // drift, and how far from its model value it may start.
+  Eigen::VectorXd parameter_plant, parameter_initial;
 };
 
 class StateFilter {
@@ -50,9 +56,13 @@ class StateFilter {
   // One step of the run, the covariance carried along.
   virtual void predict() = 0;
 
+  // The filter's state: X's entries, then the parameters it estimates
+  // (named by their paths, unit empty).
   const std::vector<LinearVariable>& states() const { return states_; }
   const std::vector<FilterSensor>& sensors() const { return sensors_; }
-  Eigen::VectorXd state() const { return state_values(sim_); }
+  Eigen::Index num_x() const { return num_x_; }  // X's entries; the parameters follow
+  Eigen::Index num_parameters() const { return held_.size(); }
+  Eigen::VectorXd state() const;
   const Eigen::MatrixXd& covariance() const { return P_; }
   // Of the last update, per sensor (NaN for one without a sample): the
   // innovation y - h(X) - bias and its standard deviation.
@@ -70,7 +80,11 @@ class StateFilter {
   // naming a sensor whose column the run does not write or whose noise is
   // not above 0, or a noise vector of another size than X or with a
   // negative or non-finite entry.
-  StateFilter(Simulation& sim, std::vector<FilterSensor> sensors, const FilterNoise& noise);
+  // `parameters`: estimated beside the state (augmented states), held in
+  // place (held_parameters.hpp) and corrected with it; HeldParameters'
+  // refusals.
+  StateFilter(Simulation& sim, std::vector<FilterSensor> sensors, const FilterNoise& noise,
+              std::vector<ParameterDirection> parameters);
 
   // The readings' checks; the sensors with a sample (and samples_), the
   // last update's innovations cleared.
@@ -83,14 +97,19 @@ class StateFilter {
               const Eigen::MatrixXd& S);
   // The corrected state into the run (throws naming the sensor furthest off).
   void correct(const Eigen::VectorXd& x);
+  // An augmented state into the run: its parameters at their values, then
+  // X (set_state_values); throws as they do.
+  void put(const Eigen::VectorXd& x);
 
   Simulation& sim_;
   std::vector<FilterSensor> sensors_;
   std::vector<LinearVariable> states_;
   std::vector<std::string> measured_;  // per sensor: the column it measures
   Eigen::MatrixXd P_, Q_;
+  HeldParameters held_;
 
  private:
+  Eigen::Index num_x_ = 0;
   std::string furthest() const;
   CsvLayout layout_;
   std::vector<std::size_t> columns_;  // per sensor: its column in layout_

@@ -20,8 +20,8 @@ namespace mh {
 class UnscentedKalmanFilter : public StateFilter {
  public:
   UnscentedKalmanFilter(Simulation& sim, std::vector<FilterSensor> sensors,
-                        const FilterNoise& noise)
-      : StateFilter(sim, std::move(sensors), noise) {}
+                        const FilterNoise& noise, std::vector<ParameterDirection> parameters = {})
+      : StateFilter(sim, std::move(sensors), noise, std::move(parameters)) {}
 
   void update(const Eigen::VectorXd& readings) override;
   void predict() override;
