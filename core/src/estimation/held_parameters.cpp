@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <string>
 
 namespace mh {
 
@@ -73,9 +74,11 @@ void HeldParameters::set(const Eigen::VectorXd& offsets) {
                                 " offsets for " + std::to_string(size()) + " parameters");
   try {
     apply(offsets);
-  } catch (const std::invalid_argument&) {
+  } catch (const std::invalid_argument& err) {
     apply(offsets_);  // as they were
-    throw;
+    std::string paths;
+    for (const ParameterDirection& p : params_) paths += (paths.empty() ? "" : ", ") + p.path;
+    throw std::invalid_argument(paths + ": " + err.what());
   }
   offsets_ = offsets;
 }
