@@ -140,9 +140,12 @@ std::map<std::string, int> coverage(const std::string& name, const std::string& 
 }
 
 // Over 50 noise seeds each 95 % interval covers the true value at least 43
-// times (a binomial(50, 0.95) falls below 43 with probability 0.012).
+// times (a binomial(50, 0.95) falls below 43 with probability 0.012). The
+// first 5 s of the cycle (the boom raised and held): half the data of the
+// test above, so wider intervals whose honesty is the same question, at half
+// the cost.
 TEST(FitCommand, IntervalsCoverTheTrueValuesAtLeast43TimesIn50NoiseSeeds) {
-  const auto covered = coverage("fit-coverage", kFourbar, kTruth, kParams, 10.0);
+  const auto covered = coverage("fit-coverage", kFourbar, kTruth, kParams, 5.0);
   for (const auto& [path, truth] : kTruth) EXPECT_GE(covered.at(path), 43) << path;
 }
 
@@ -175,9 +178,10 @@ TEST(FitCommand, RecoversTheExcavatorsPayloadAndTwoValvesInsideIntervalsUnderFiv
   }
 }
 
+// Over the first 2.5 s of the same cycle, for the cost's sake as above.
 TEST(FitCommand, ExcavatorIntervalsCoverTheTrueValuesAtLeast43TimesIn50NoiseSeeds) {
   const auto covered =
-      coverage("fit-excavator-coverage", kExcavator, kExcavatorTruth, kExcavatorParams, 5.0);
+      coverage("fit-excavator-coverage", kExcavator, kExcavatorTruth, kExcavatorParams, 2.5);
   for (const auto& [path, truth] : kExcavatorTruth) EXPECT_GE(covered.at(path), 43) << path;
 }
 
