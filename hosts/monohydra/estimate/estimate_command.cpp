@@ -2,6 +2,7 @@
 // filter on a machine's recorded sensors (docs/estimation.md). Everything
 // is checked before the first step; rows are written as the filter goes, so
 // that a filter that stops keeps every row before it.
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -10,11 +11,13 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "cli_support.hpp"
 #include "commands.hpp"
 #include "measured_data.hpp"
+#include "measurement_stream.hpp"
 #include "model_settings.hpp"
 #include "monohydra/core/csv_layout.hpp"
 #include "monohydra/core/extended_kalman_filter.hpp"
@@ -90,7 +93,9 @@ int estimate(const std::vector<std::string>& args) {
   RunRequest request;
   app.add_option("MODEL.yaml", models, "the model file, with its sensors:");
   app.add_option("--measurements", data_path,
-                 "CSV: t, then the sensors' names; an empty field is a sample not taken");
+                 "CSV: t, then the sensors' names; an empty field is a sample not taken. '-': "
+                 "lines t,NAME=VALUE,... from standard input, each estimate written as its line "
+                 "arrives");
   app.add_option("--filter", filter_name,
                  "ekf (default: the extended Kalman filter on the step's own map) or ukf (the "
                  "unscented filter: no derivative, 2n sigma points a step)");
@@ -108,6 +113,10 @@ int estimate(const std::vector<std::string>& args) {
   app.add_option("--formulation", request.formulation, "replaces the model file's formulation");
   app.add_option("--integrator", request.integrator, "replaces the model file's integrator");
   app.add_option("--out", out_path, "write the CSV to FILE instead of stdout");
+  bool real_time = false;
+  app.add_flag("--real-time", real_time,
+               "pace the steps to the wall clock (from the first line's time on) and count the "
+               "steps whose estimate came after the next step's time");
   StepOverrideOptions overrides(app, false, false);
   overrides.add_settings(app);
   if (const auto code = parse_subcommand(app, args)) return *code;
@@ -123,28 +132,58 @@ int estimate(const std::vector<std::string>& args) {
   request.model_path = models.front();
 
   // Everything checked before the first step.
+  const bool streamed = data_path == "-";
   MeasuredData data;
-  try {
-    data = read_measured_data(data_path);
-  } catch (const std::exception& err) {
-    std::cerr << "monohydra: " << err.what() << '\n';
-    return 2;
-  }
-  // Without --t-end, the run ends at the last sample.
-  if (!request.overrides.t_end) {
-    if (!(data.t.back() > 0.0)) {
-      std::cerr << "monohydra: " << data_path
-                << ": its last sample is at the start: the filter runs to the last sample "
-                   "(or to --t-end)\n";
+  if (!streamed) {
+    try {
+      data = read_measured_data(data_path);
+    } catch (const std::exception& err) {
+      std::cerr << "monohydra: " << err.what() << '\n';
       return 2;
     }
-    request.overrides.t_end = data.t.back();
+    // Without --t-end, the run ends at the last sample.
+    if (!request.overrides.t_end) {
+      if (!(data.t.back() > 0.0)) {
+        std::cerr << "monohydra: " << data_path
+                  << ": its last sample is at the start: the filter runs to the last sample "
+                     "(or to --t-end)\n";
+        return 2;
+      }
+      request.overrides.t_end = data.t.back();
+    }
   }
   const auto prepared = prepare_run(request);
   if (!prepared) return 2;
   Simulation& sim = *prepared->sim;
   const double dt = sim.settings().dt;
+  // The filter's sensors: the data's columns, or every sensor of the model
+  // for a stream (whose lines may name any of them).
   std::vector<FilterSensor> sensors;
+  const auto take_sensor = [&](const SensorSpec& found) {
+    if (found.delay != 0.0) {
+      std::cerr << "monohydra: sensor '" << found.name << "' (" << request.model_path
+                << "): a delay of " << found.delay
+                << " s: the filter takes each reading at its own time (delays are not yet "
+                   "estimated)\n";
+      return false;
+    }
+    if (!(found.noise > 0.0)) {
+      std::cerr << "monohydra: sensor '" << found.name << "' (" << request.model_path
+                << "): a filter needs its noise (a standard deviation above 0)\n";
+      return false;
+    }
+    sensors.push_back({found.name, found.measures, found.noise, found.bias});
+    return true;
+  };
+  if (streamed) {
+    if (prepared->file.sensors.empty()) {
+      std::cerr << "monohydra: " << request.model_path
+                << ": the model has no sensors: add a sensors: list\n";
+      return 2;
+    }
+    for (const SensorSpec& s : prepared->file.sensors)
+      if (!take_sensor(s)) return 2;
+  }
   for (const std::string& column : data.names) {
     const SensorSpec* found = nullptr;
     for (const SensorSpec& s : prepared->file.sensors)
@@ -158,19 +197,7 @@ int estimate(const std::vector<std::string>& args) {
                 << (known.empty() ? "it has none: add a sensors: list" : known) << ")\n";
       return 2;
     }
-    if (found->delay != 0.0) {
-      std::cerr << "monohydra: sensor '" << found->name << "' (" << request.model_path
-                << "): a delay of " << found->delay
-                << " s: the filter takes each reading at its own time (delays are not yet "
-                   "estimated)\n";
-      return 2;
-    }
-    if (!(found->noise > 0.0)) {
-      std::cerr << "monohydra: sensor '" << found->name << "' (" << request.model_path
-                << "): a filter needs its noise (a standard deviation above 0)\n";
-      return 2;
-    }
-    sensors.push_back({found->name, found->measures, found->noise, found->bias});
+    if (!take_sensor(*found)) return 2;
   }
   // Each row at the step nearest its time; two rows on one step refused.
   std::map<long, size_t> row_at_step;
@@ -239,6 +266,13 @@ int estimate(const std::vector<std::string>& args) {
     }
   }
   std::ostream& out = out_path.empty() ? std::cout : file;
+  using Clock = std::chrono::steady_clock;
+  Clock::time_point wall0{};  // --real-time: the wall time of t = 0
+  const auto due = [&](long step) {
+    return wall0 + std::chrono::duration_cast<Clock::duration>(
+                       std::chrono::duration<double>(static_cast<double>(step) * dt));
+  };
+  long paced = 0, missed = 0, late = 0;
   try {
     const CsvLayout layout(sim);
     std::vector<double> row(layout.names().size());
@@ -250,29 +284,128 @@ int estimate(const std::vector<std::string>& args) {
     for (const FilterSensor& s : sensors)
       out << ',' << s.name << "_innovation," << s.name << "_innovation_sd";
     out << ",nis,samples\n";
-    Eigen::VectorXd readings(static_cast<Eigen::Index>(sensors.size()));
-    for (long k = 0; k <= prepared->steps; ++k) {
-      if (k > 0) filter.predict();
-      const auto at = row_at_step.find(k);
-      for (size_t c = 0; c < sensors.size(); ++c)
-        readings[static_cast<Eigen::Index>(c)] =
-            at == row_at_step.end() ? NAN : data.values[c][at->second];
-      filter.update(readings);
+    const Eigen::VectorXd none =
+        Eigen::VectorXd::Constant(static_cast<Eigen::Index>(sensors.size()), NAN);
+    long k = 0;                             // the filter's step
+    bool updated = false, written = false;  // at step k
+    bool paced_now = false;                 // --real-time, once its clock is set
+    const auto write_row = [&] {
       layout.values(sim, row.data());
       for (size_t c = 0; c < row.size(); ++c) out << (c == 0 ? "" : ",") << number(row[c]);
       const Eigen::VectorXd estimate = filter.state();
       for (Eigen::Index i = x_count; i < n; ++i) out << ',' << number(estimate[i]);
       for (Eigen::Index i = 0; i < n; ++i)
         out << ',' << number(std::sqrt(filter.covariance()(i, i)));
-      for (Eigen::Index c = 0; c < readings.size(); ++c)
+      for (Eigen::Index c = 0; c < none.size(); ++c)
         out << ',' << number(filter.innovation()[c]) << ',' << number(filter.innovation_sd()[c]);
       out << ',' << number(filter.samples() > 0 ? filter.nis() : NAN) << ',' << filter.samples()
           << '\n';
+      if (streamed) out.flush();
+      written = true;
+      // A step's estimate is due before the next step's time.
+      if (paced_now) {
+        ++paced;
+        if (Clock::now() > due(k + 1)) ++missed;
+      }
+    };
+    // Step k finished (its update, its row), then the step to k + 1.
+    const auto leave_step = [&] {
+      if (!updated) filter.update(none);
+      if (!written) write_row();
+      if (paced_now) std::this_thread::sleep_until(due(k + 1));
+      filter.predict();
+      ++k;
+      updated = written = false;
+    };
+    const auto take = [&](const Eigen::VectorXd& readings, bool row_now) {
+      filter.update(readings);
+      updated = true;
+      if (row_now) write_row();
+    };
+    const long last_step = streamed && !request.overrides.t_end ? -1 : prepared->steps;
+    if (!streamed) {
+      if (real_time) {
+        wall0 = Clock::now();
+        paced_now = true;
+      }
+      Eigen::VectorXd readings(none.size());
+      for (long target = 0; target <= last_step; ++target) {
+        while (k < target) leave_step();
+        const auto at = row_at_step.find(target);
+        if (at == row_at_step.end()) continue;
+        for (size_t c = 0; c < sensors.size(); ++c)
+          readings[static_cast<Eigen::Index>(c)] = data.values[c][at->second];
+        take(readings, !real_time);
+      }
+    } else {
+      std::vector<std::string> names(sensors.size());
+      for (size_t c = 0; c < sensors.size(); ++c) names[c] = sensors[c].name;
+      MeasurementStream stream(std::cin, names, "standard input");
+      MeasurementLine line;
+      const auto step_of = [&](const MeasurementLine& l) {
+        const long target = std::lround(l.t / dt);
+        if (last_step >= 0 && target > last_step) return -1L;  // past --t-end: the end
+        return target;
+      };
+      if (!real_time) {
+        // Each line as it comes: the steps up to it predicted, its update,
+        // its row at once.
+        while (stream.next(line)) {
+          const long target = step_of(line);
+          if (target < 0) break;
+          if (target < k || (target == k && updated))
+            throw InputError({"standard input", static_cast<int>(line.number), 0}, "t",
+                             "one line per step of " + number(dt) + " s: t = " + number(line.t) +
+                                 " falls on the step of the line before");
+          while (k < target) leave_step();
+          take(line.readings, true);
+        }
+      } else {
+        // The steps paced by the wall clock from the first line on; lines
+        // read by a thread of their own and taken at the step they fall on,
+        // or at once when they come after it (counted late).
+        MeasurementQueue queue(stream, 0);  // standard input
+        if (queue.pop_wait(line) && step_of(line) >= 0) {
+          const long first = step_of(line);
+          wall0 = Clock::now() - std::chrono::duration_cast<Clock::duration>(
+                                     std::chrono::duration<double>(line.t));
+          bool have = true;
+          while (k < first) leave_step();
+          paced_now = true;
+          for (;;) {
+            while (have) {
+              const long target = step_of(line);
+              if (target < 0 || target > k) break;
+              if (target < k) ++late;
+              take(line.readings, false);
+              have = queue.pop(line);
+            }
+            if (have && step_of(line) < 0) break;
+            if (!have && queue.ended()) break;
+            if (last_step >= 0 && k >= last_step) break;
+            leave_step();
+            if (!have) have = queue.pop(line);
+          }
+        }
+        queue.rethrow();
+      }
     }
+    if (!updated) filter.update(none);
+    if (!written) write_row();
   } catch (const std::exception& err) {
     out.flush();
     std::cerr << "monohydra: " << err.what() << " (the rows before it are written)\n";
     return 1;
+  }
+  if (real_time) {
+    char percent[32];
+    std::snprintf(
+        percent, sizeof(percent), "%.2f",
+        paced > 0 ? 100.0 * static_cast<double>(missed) / static_cast<double>(paced) : 0.0);
+    std::cerr << "real time: deadlines missed: " << missed << " of " << paced << " steps ("
+              << percent << " %)";
+    if (streamed) std::cerr << ", lines taken after their step: " << late;
+    std::cerr << "; these results depend on this machine's speed and load\n";
   }
   out.flush();
   if (!out) {

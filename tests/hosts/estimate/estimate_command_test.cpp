@@ -5,6 +5,7 @@
 // before any row is written.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -161,6 +162,104 @@ TEST(EstimateCommand, BadInputIsRefusedNamingTheFileColumnOrStateAndNoRowIsWritt
     EXPECT_EQ(r.code, 2) << c.args << "\n" << r.output;
     EXPECT_NE(r.output.find(c.expected), std::string::npos) << c.args << "\n" << r.output;
     EXPECT_FALSE(fs::exists(out)) << c.args;
+  }
+}
+
+// The data file's rows as a live stream's lines: t,NAME=VALUE for each
+// sample taken (a row's empty fields left out).
+std::string as_lines(const fs::path& csv) {
+  std::ifstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> header;
+  std::stringstream hs(line);
+  for (std::string cell; std::getline(hs, cell, ',');) header.push_back(cell);
+  std::string out;
+  while (std::getline(in, line)) {
+    std::stringstream ss(line);
+    std::string cell;
+    std::getline(ss, cell, ',');
+    out += cell;
+    for (size_t c = 1; c < header.size() && std::getline(ss, cell, ','); ++c)
+      if (!cell.empty()) out += "," + header[c] + "=" + cell;
+    out += "\n";
+  }
+  return out;
+}
+
+TEST(EstimateCommand, AStreamOfTheFilesRowsGivesTheFilesEstimatesToTheByte) {
+  const fs::path dir = mh::test::scratch_dir("estimate-stream");
+  const fs::path data = dir / "data.csv";
+  auto r = run_cli("run " + kFourbar + kMachine + " --t-end 0.5 --seed 4 --sensors-out " +
+                   data.string() + " --out " + (dir / "truth.csv").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  std::ofstream(dir / "lines.txt") << "# the four-bar's sensors\n\n" << as_lines(data);
+  r = run_cli("estimate " + kFourbar + " --measurements " + data.string() + " --out " +
+              (dir / "file.csv").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  r = run_cli("estimate " + kFourbar + " --measurements - --out " + (dir / "stream.csv").string() +
+              " < " + (dir / "lines.txt").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::string file = mh::test::read_text(dir / "file.csv");
+  EXPECT_EQ(std::count(file.begin(), file.end(), '\n'), 502);  // the header, 0 .. 0.5 s
+  EXPECT_EQ(mh::test::read_text(dir / "stream.csv"), file);
+}
+
+// Paced to the wall clock, the filter computes what it computes unpaced:
+// the same bytes, and how many steps' estimates came after their time.
+TEST(EstimateCommand, RealTimeGivesTheUnpacedEstimatesAndCountsTheDeadlinesItMissed) {
+  const fs::path dir = mh::test::scratch_dir("estimate-real-time");
+  const fs::path data = dir / "data.csv";
+  auto r = run_cli("run " + kFourbar + kMachine + " --t-end 0.3 --seed 4 --sensors-out " +
+                   data.string() + " --out " + (dir / "truth.csv").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  r = run_cli("estimate " + kFourbar + " --measurements " + data.string() + " --out " +
+              (dir / "unpaced.csv").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  r = run_cli("estimate " + kFourbar + " --measurements " + data.string() + " --real-time --out " +
+              (dir / "paced.csv").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(mh::test::read_text(dir / "paced.csv"), mh::test::read_text(dir / "unpaced.csv"));
+  EXPECT_NE(r.output.find("real time: deadlines missed: "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(" of 301 steps ("), std::string::npos) << r.output;
+  // A stream given all at once: every line early, none late, each taken at
+  // its own step; the steps paced from the first line on.
+  std::ofstream(dir / "lines.txt") << as_lines(data);
+  r = run_cli("estimate " + kFourbar + " --measurements - --real-time --out " +
+              (dir / "stream.csv").string() + " < " + (dir / "lines.txt").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("lines taken after their step: 0"), std::string::npos) << r.output;
+  EXPECT_EQ(mh::test::read_text(dir / "stream.csv"), mh::test::read_text(dir / "unpaced.csv"));
+}
+
+// A bad line stops the stream's filter with the line's number and what was
+// expected; the rows before it are written (exit 1).
+TEST(EstimateCommand, AStreamsBadLineStopsItNamingTheLineAndKeepsTheRowsBefore) {
+  const fs::path dir = mh::test::scratch_dir("estimate-stream-bad");
+  struct Case {
+    std::string tail, expected;
+    long rows = 3;  // the header and the steps at 0 and 1 ms
+  };
+  const std::vector<Case> cases = {
+      {"0.002,z1=0\n0.001,z1=0\n", "standard input:4: t: times that do not go backwards", 4},
+      {"0.0021,z1=0\n0.0022,z1=0\n", "standard input:4: t: one line per step of 0.001 s", 4},
+      {"0.002,torque=1\n", "standard input:3: torque: one of the model's sensors (z1, p1, p2, p3)"},
+      {"0.002,z1=high\n", "standard input:3: z1: a finite number, not 'high'"},
+      {"0.002,z1=nan\n", "standard input:3: z1: a finite number, not 'nan'"},
+      {"0.002,z1\n", "standard input:3: field 2: NAME=VALUE, not 'z1'"},
+      {"0.002,z1=0,z1=1\n", "standard input:3: z1: one reading per sensor and line"},
+      {"soon,z1=0\n", "standard input:3: t: a time in s first"},
+  };
+  for (const Case& c : cases) {
+    std::ofstream(dir / "lines.txt") << "0,z1=0\n0.001,z1=1e-5,p1=\n" << c.tail;
+    const fs::path out = dir / "out.csv";
+    const auto r = run_cli("estimate " + kFourbar + " --measurements - --out " + out.string() +
+                           " < " + (dir / "lines.txt").string());
+    EXPECT_EQ(r.code, 1) << c.tail << r.output;
+    EXPECT_NE(r.output.find(c.expected), std::string::npos) << c.tail << r.output;
+    // The header and the rows of the steps before the bad line.
+    const std::string rows = mh::test::read_text(out);
+    EXPECT_EQ(std::count(rows.begin(), rows.end(), '\n'), c.rows) << c.tail << rows;
   }
 }
 
