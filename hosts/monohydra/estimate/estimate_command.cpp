@@ -21,6 +21,7 @@
 #include "model_settings.hpp"
 #include "monohydra/core/csv_layout.hpp"
 #include "monohydra/core/extended_kalman_filter.hpp"
+#include "monohydra/core/filter_defaults.hpp"
 #include "monohydra/core/input_error.hpp"
 #include "monohydra/core/unscented_kalman_filter.hpp"
 #include "run_setup.hpp"
@@ -37,18 +38,6 @@ std::string number(double v) {
   char text[32];
   std::snprintf(text, sizeof(text), "%.10g", v);
   return text;
-}
-
-// The default noise of a state, by its unit (docs/estimation.md: the
-// four-bar's tuning): plant noise on rates and pressures, none on positions.
-double default_plant(const std::string& unit) {
-  if (unit == "Pa") return 1e4;
-  if (unit.size() > 2 && unit.substr(unit.size() - 2) == "/s") return 3e-2;
-  if (unit == "rad" || unit == "m") return 0.0;
-  return 1e-3;
-}
-double default_initial(const std::string& unit) {
-  return unit == "Pa" ? 1e5 : 1e-3;
 }
 
 // STATE=SD settings onto `values`, by the states' names; false after saying why.
@@ -160,19 +149,12 @@ int estimate(const std::vector<std::string>& args) {
   // for a stream (whose lines may name any of them).
   std::vector<FilterSensor> sensors;
   const auto take_sensor = [&](const SensorSpec& found) {
-    if (found.delay != 0.0) {
-      std::cerr << "monohydra: sensor '" << found.name << "' (" << request.model_path
-                << "): a delay of " << found.delay
-                << " s: the filter takes each reading at its own time (delays are not yet "
-                   "estimated)\n";
+    try {
+      sensors.push_back(filter_sensor(found, request.model_path));
+    } catch (const std::invalid_argument& err) {
+      std::cerr << "monohydra: " << err.what() << '\n';
       return false;
     }
-    if (!(found.noise > 0.0)) {
-      std::cerr << "monohydra: sensor '" << found.name << "' (" << request.model_path
-                << "): a filter needs its noise (a standard deviation above 0)\n";
-      return false;
-    }
-    sensors.push_back({found.name, found.measures, found.noise, found.bias});
     return true;
   };
   if (streamed) {
@@ -231,17 +213,11 @@ int estimate(const std::vector<std::string>& args) {
       return 2;
     }
     const auto k = static_cast<Eigen::Index>(params.size());
+    const FilterNoise defaults = default_filter_noise(states, params);
     Eigen::VectorXd plant(n + k), initial(n + k);
-    for (Eigen::Index i = 0; i < n; ++i) {
-      plant[i] = default_plant(states[static_cast<size_t>(i)].unit);
-      initial[i] = default_initial(states[static_cast<size_t>(i)].unit);
-    }
-    for (Eigen::Index j = 0; j < k; ++j) {
-      const double v = params[static_cast<size_t>(j)].value;
-      plant[n + j] = 0.0;
-      initial[n + j] = 0.2 * (v != 0.0 ? std::abs(v) : 1.0);
-      states.push_back({params[static_cast<size_t>(j)].path, ""});
-    }
+    plant << defaults.plant, defaults.parameter_plant;
+    initial << defaults.initial, defaults.parameter_initial;
+    for (const ParameterDirection& p : params) states.push_back({p.path, ""});
     if (!apply_noise(plant_texts, "--plant-noise", states, plant) ||
         !apply_noise(initial_texts, "--initial-sd", states, initial))
       return 2;

@@ -43,6 +43,7 @@ for _error in (Error, InputError, SimulationError):
 
 __all__ = [
     "Simulation",
+    "Estimator",
     "compare",
     "sweep",
     "sensitivities",
@@ -307,6 +308,136 @@ class Simulation:
 
     def restore(self, snapshot: Snapshot) -> None:
         self._run.restore(snapshot.data)
+
+
+class Estimator:
+    """A Kalman filter that keeps a Simulation on a running machine
+    (docs/estimation.md): each update(t, readings) steps the run to t (the
+    filter's prediction) and corrects it with the readings of the model's
+    sensors (its sensors: list), so that every value sim.value() reads is
+    the estimate.
+
+        sim = monohydra.Simulation("models/fourbar.yaml")
+        est = monohydra.Estimator(sim)
+        est.update(0.001, {"z1": 0.0123})        # sensors without a sample left out
+        est["p1"], est.sd("p1"), sim.value("s")  # a state, its sd, any value
+
+    filter: "ekf" (the extended filter on the step's own map) or "ukf" (the
+    unscented). params: paths estimated beside the state
+    ("subsystems/valve/flow_coefficient"). plant_noise and initial_sd map a
+    state's name or a parameter's path to a standard deviation (the error
+    it gains in a second; the initial error) where the defaults will not
+    do. Refused (InputError): a model without sensors, an unknown filter,
+    path or name, a negative noise. An update that the filter cannot take
+    (it diverges; the run's step fails) raises SimulationError, and the
+    filter takes no more.
+    """
+
+    def __init__(
+        self,
+        sim: "Simulation",
+        filter: str = "ekf",
+        params: Optional[List[str]] = None,
+        plant_noise: Optional[Dict[str, float]] = None,
+        initial_sd: Optional[Dict[str, float]] = None,
+    ):
+        if not isinstance(sim, Simulation):
+            raise InputError("Estimator: sim is a monohydra.Simulation")
+        if isinstance(params, str):
+            raise InputError("Estimator: params is a list of paths, not one string")
+        plant_noise = dict(plant_noise or {})
+        initial_sd = dict(initial_sd or {})
+        names = list(dict.fromkeys([*plant_noise, *initial_sd]))
+        nan = float("nan")
+        self._sim = sim
+        self._filter = sim._run.estimator(
+            str(filter),
+            [str(p) for p in (params or [])],
+            [str(n) for n in names],
+            [float(plant_noise.get(n, nan)) for n in names],
+            [float(initial_sd.get(n, nan)) for n in names],
+        )
+        self.states: List[str] = self._filter.states()
+        self.units: Dict[str, str] = dict(zip(self.states, self._filter.units()))
+        self.sensors: List[str] = self._filter.sensors()
+        self._state_index = {name: k for k, name in enumerate(self.states)}
+        self._sensor_index = {name: k for k, name in enumerate(self.sensors)}
+
+    def update(self, t: float, readings: Dict[str, float]) -> None:
+        """The readings taken at time t (s) by sensor name; a sensor left out
+        (or None) took no sample. Refused (InputError): a name that is not a
+        sensor, a value that is not a finite number, t before the run's
+        step."""
+        values = [float("nan")] * len(self.sensors)
+        for name, value in dict(readings).items():
+            k = self._sensor_index.get(name)
+            if k is None:
+                raise InputError(
+                    f"Estimator.update: '{name}' is not a sensor of the model "
+                    f"({', '.join(self.sensors)})"
+                )
+            if value is None:
+                continue
+            v = float(value)
+            if not np.isfinite(v):
+                raise InputError(
+                    f"Estimator.update: sensor '{name}': {value!r} is not a finite number "
+                    "(leave a sensor out for no sample)"
+                )
+            values[k] = v
+        t = float(t)
+        if not np.isfinite(t) or round(t / self._sim.dt) < self._sim.steps:
+            raise InputError(
+                f"Estimator.update: t = {t!r} s falls before the run's step at "
+                f"{self._sim.time!r} s"
+            )
+        self._filter.update(t, values)
+
+    @property
+    def state(self) -> np.ndarray:
+        """The estimate of the filter's states (names: .states)."""
+        return np.array(self._filter.state(), dtype=np.float64)
+
+    @property
+    def covariance(self) -> np.ndarray:
+        """The states' covariance, n x n."""
+        return self._filter.covariance()
+
+    def _state(self, name: str) -> int:
+        k = self._state_index.get(name)
+        if k is None:
+            raise KeyError(f"no state '{name}' (the filter's: {', '.join(self.states)})")
+        return k
+
+    def __getitem__(self, name: str) -> float:
+        """A state's (or an estimated parameter's) estimate by name."""
+        return float(self._filter.state()[self._state(name)])
+
+    def sd(self, name: str) -> float:
+        """A state's (or parameter's) standard deviation by name."""
+        k = self._state(name)
+        return float(np.sqrt(self.covariance[k, k]))
+
+    @property
+    def innovation(self) -> Dict[str, float]:
+        """Of the last update, per sensor: reading - model's reading - bias
+        (NaN without a sample)."""
+        return dict(zip(self.sensors, self._filter.innovation()))
+
+    @property
+    def innovation_sd(self) -> Dict[str, float]:
+        return dict(zip(self.sensors, self._filter.innovation_sd()))
+
+    @property
+    def nis(self) -> float:
+        """The last update's normalised innovation squared (NaN: no sample)."""
+        return self._filter.nis()
+
+    def __repr__(self):
+        return (
+            f"<monohydra.Estimator: {len(self.states)} states, "
+            f"{len(self.sensors)} sensors, t = {self._sim.time!r} s>"
+        )
 
 
 _ROW_UNITS = {"t": "s", "KE": "J", "PE": "J", "W": "J", "drift": "J", "phi_norm": "", "iters": ""}

@@ -10,6 +10,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -48,6 +50,55 @@ auto as_run(Call&& call) {
 }
 
 using Settings = monohydra::Simulation::Settings;
+
+// A Kalman filter driving a run (monohydra::Estimator); the Python object
+// keeps its run alive (keep_alive). An update that stops the filter (it
+// diverges, a step fails) raises SimulationError; the package checks the
+// arguments first.
+class Filter {
+ public:
+  explicit Filter(monohydra::Estimator e) : est_(std::move(e)) {}
+
+  void update(double t, const std::vector<double>& readings) {
+    py::gil_scoped_release unlocked;
+    as_run([&] {
+      est_.update(t, readings);
+      return 0;
+    });
+  }
+  std::vector<std::string> states() const {
+    return as_input([&] { return est_.states(); });
+  }
+  std::vector<std::string> units() const {
+    return as_input([&] { return est_.state_units(); });
+  }
+  std::vector<std::string> sensors() const {
+    return as_input([&] { return est_.sensors(); });
+  }
+  std::vector<double> state() const {
+    return as_input([&] { return est_.state(); });
+  }
+  // n x n, row-major for NumPy (the covariance is symmetric: the same).
+  py::array_t<double> covariance() const {
+    const std::vector<double> p = as_input([&] { return est_.covariance(); });
+    const auto n = static_cast<py::ssize_t>(std::lround(std::sqrt(static_cast<double>(p.size()))));
+    py::array_t<double> out({n, n});
+    std::copy(p.begin(), p.end(), out.mutable_data());
+    return out;
+  }
+  std::vector<double> innovation() const {
+    return as_input([&] { return est_.innovation(); });
+  }
+  std::vector<double> innovation_sd() const {
+    return as_input([&] { return est_.innovation_sd(); });
+  }
+  double nis() const {
+    return as_input([&] { return est_.nis(); });
+  }
+
+ private:
+  monohydra::Estimator est_;
+};
 
 // A run, from Python: the C++ layer's object behind a unique_ptr (it moves).
 class Run {
@@ -175,6 +226,19 @@ class Run {
     return as_input([&] { return sim_.row_text(true); });
   }
 
+  Filter estimator(const std::string& filter, const std::vector<std::string>& params,
+                   const std::vector<std::string>& noise_names, const std::vector<double>& plant,
+                   const std::vector<double>& initial) {
+    return as_input([&] {
+      monohydra::EstimatorOptions o;
+      o.filter = filter;
+      o.params = params;
+      for (size_t i = 0; i < noise_names.size(); ++i)
+        o.noise.push_back({noise_names[i], plant.at(i), initial.at(i)});
+      return Filter(sim_.estimator(o));
+    });
+  }
+
   py::bytes snapshot() {
     return as_input([&] {
       sim_.advance(sim_.time());  // a run not yet started starts: its initial state
@@ -244,6 +308,19 @@ PYBIND11_MODULE(_monohydra, m) {
       .def("sensitivities", &Run::sensitivities, py::arg("index"))
       .def("row_names", &Run::row_names)
       .def("header", &Run::header)
+      .def("estimator", &Run::estimator, py::keep_alive<0, 1>(), py::arg("filter"),
+           py::arg("params"), py::arg("noise_names"), py::arg("plant"), py::arg("initial"))
       .def("snapshot", &Run::snapshot)
       .def("restore", &Run::restore, py::arg("data"));
+
+  py::class_<Filter>(m, "_Filter")
+      .def("update", &Filter::update, py::arg("t"), py::arg("readings"))
+      .def("states", &Filter::states)
+      .def("units", &Filter::units)
+      .def("sensors", &Filter::sensors)
+      .def("state", &Filter::state)
+      .def("covariance", &Filter::covariance)
+      .def("innovation", &Filter::innovation)
+      .def("innovation_sd", &Filter::innovation_sd)
+      .def("nis", &Filter::nis);
 }

@@ -218,11 +218,14 @@ int Instance::find(const std::string& name) const {
   return it == by_name_.end() ? -1 : it->second;
 }
 
+ParameterDirection Instance::parameter(const std::string& path) const {
+  return host::parameter_direction(text_, label_, base_dir_, file_, path);
+}
+
 void Instance::track_sensitivities(const std::vector<std::string>& paths) {
   std::vector<ParameterDirection> directions;
   directions.reserve(paths.size());
-  for (const std::string& path : paths)
-    directions.push_back(host::parameter_direction(text_, label_, base_dir_, file_, path));
+  for (const std::string& path : paths) directions.push_back(parameter(path));
   sim_->track_sensitivities(directions);
 }
 

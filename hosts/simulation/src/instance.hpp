@@ -68,6 +68,13 @@ class Instance {
   int num_sensitivities() const { return sim_->num_sensitivities(); }
   double sensitivity(const Variable& v, int j) const;
 
+  // A parameter by its path, as sensitivities and filters take it;
+  // std::invalid_argument naming the path.
+  ParameterDirection parameter(const std::string& path) const;
+  const ModelFile& file() const { return file_; }
+  // The model's name in messages: its file's path, or the text's label.
+  const std::string& label() const { return label_; }
+
   // Warnings the plugins logged during the current call (cleared by each call).
   std::string warnings;
 

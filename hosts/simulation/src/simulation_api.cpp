@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "api_handle.hpp"
 #include "instance.hpp"
 #include "monohydra/core/input_error.hpp"
 #include "monohydra/core/linearization.hpp"
@@ -18,14 +19,11 @@
 #include "monohydra/cpp/number_text.hpp"
 #include "monohydra/simulation.h"
 
+using mh::embed::ensure_started;
+using mh::embed::guarded;
 using mh::embed::Instance;
-
-struct mhs_simulation {
-  std::unique_ptr<Instance> instance;  // null: the model did not open
-  std::string message;
-  bool started = false;
-  std::string failure;  // why the last step failed ("" : it did not)
-};
+using mh::embed::kNullHandle;
+using mh::embed::refuse;
 
 struct mhs_linearization {
   mh::Linearization result;
@@ -41,51 +39,6 @@ struct mhs_snapshot {
 namespace {
 
 using monohydra::short_number;
-
-constexpr const char* kNullHandle = "the simulation handle is NULL";
-
-// Runs `body` on an open run: NULL and unopened handles, exceptions and the
-// plugins' warnings become the call's status and message.
-template <class Body>
-mhs_status guarded(mhs_simulation* sim, Body&& body) {
-  if (sim == nullptr) return MHS_ERROR;
-  sim->message.clear();
-  if (!sim->instance) {
-    sim->message = "the model did not open; free this handle (mhs_free)";
-    return MHS_FATAL;
-  }
-  sim->instance->warnings.clear();
-  mhs_status status = MHS_OK;
-  try {
-    status = body(*sim->instance);
-  } catch (const std::bad_alloc&) {
-    sim->message = "out of memory";
-    return MHS_FATAL;
-  } catch (const std::exception& err) {
-    sim->message = err.what();
-    return MHS_ERROR;
-  } catch (...) {
-    sim->message = "an unknown exception reached the API";
-    return MHS_ERROR;
-  }
-  if (status == MHS_OK && !sim->instance->warnings.empty()) {
-    sim->message = sim->instance->warnings;
-    return MHS_WARNING;
-  }
-  return status;
-}
-
-mhs_status refuse(mhs_simulation* sim, const std::string& why) {
-  sim->message = why;
-  return MHS_ERROR;
-}
-
-// Starts the run when the caller did not.
-void ensure_started(mhs_simulation* sim, Instance& in) {
-  if (sim->started) return;
-  in.sim().start();
-  sim->started = true;
-}
 
 mhs_status open(const mh::embed::OpenRequest& request, mhs_simulation** out) {
   if (out == nullptr) return MHS_ERROR;

@@ -29,8 +29,8 @@ extern "C" {
 
 #define MHS_API_VERSION_MAJOR 1u
 #define MHS_API_VERSION_MINOR                       \
-  3u /* 1.1: mhs_linearize; 1.2: mhs_set_parameter; \
-      1.3: mhs_track_sensitivities, mhs_get_sensitivities */
+  4u /* 1.1: mhs_linearize; 1.2: mhs_set_parameter; \
+      1.3: mhs_track_sensitivities, mhs_get_sensitivities; 1.4: mhs_estimator_* */
 
 #if defined(__GNUC__) || defined(__clang__)
 #define MHS_API __attribute__((visibility("default")))
@@ -243,6 +243,69 @@ enum { MHS_LINEAR_STATE = 0, MHS_LINEAR_INPUT = 1, MHS_LINEAR_OUTPUT = 2 };
 MHS_API mhs_status mhs_linearization_name(mhs_simulation* sim, const mhs_linearization* lin,
                                           mhs_linear_role role, uint32_t k, const char** name,
                                           const char** unit);
+
+/* 1.4: state estimation (docs/estimation.md). An estimator is a Kalman
+ * filter that drives the run it is made on: each mhs_estimator_update steps
+ * the run (the filter's prediction) to the readings' time and corrects its
+ * state with them, so that every value mhs_get reads is the estimate. Its
+ * sensors are the model file's (sensors:), in their order. Messages of
+ * these calls go to `sim`; an estimator is used with the run it was made
+ * on only, and freed before it. */
+typedef struct mhs_estimator mhs_estimator;
+typedef struct mhs_estimator_options {
+  uint32_t struct_size;      /* set by the caller to sizeof(mhs_estimator_options) */
+  const char* filter;        /* "ekf" (also NULL: the extended filter) or "ukf" (unscented) */
+  const char* const* params; /* estimated beside the state, by path as mhs_set_parameter
+                                names them ("subsystems/valve/flow_coefficient") */
+  size_t param_count;
+  /* The noise of states (by their names, mhs_estimator_name) and of the
+   * parameters (by their paths) where the defaults will not do: the
+   * standard deviation its error gains in a second and that of its initial
+   * error; NaN keeps that default (docs/estimation.md). */
+  const char* const* noise_names;
+  const double* plant_sd;
+  const double* initial_sd;
+  size_t noise_count;
+} mhs_estimator_options;
+
+/* Starts the run if it has not, and sets the filter up at its state.
+ * MHS_ERROR, nothing made: a model without sensors or with one the filter
+ * cannot take (a delay, a noise not above 0), an unknown filter, a path
+ * that is not a parameter, a noise name that is neither, a negative or
+ * non-finite standard deviation, a run whose last step failed. */
+MHS_API mhs_status mhs_estimator_new(mhs_simulation* sim, const mhs_estimator_options* options,
+                                     mhs_estimator** out);
+MHS_API void mhs_estimator_free(mhs_estimator* est);
+/* The filter's states (the run's states X, then the parameters) and its sensors. */
+MHS_API mhs_status mhs_estimator_size(mhs_simulation* sim, const mhs_estimator* est,
+                                      uint32_t* states, uint32_t* sensors);
+typedef int32_t mhs_estimator_role;
+enum { MHS_ESTIMATOR_STATE = 0, MHS_ESTIMATOR_SENSOR = 1 };
+/* The name and SI unit of state or sensor `k` (a parameter's unit is "":
+ * its path's, as the model file writes it). Valid as long as `est`. */
+MHS_API mhs_status mhs_estimator_name(mhs_simulation* sim, const mhs_estimator* est,
+                                      mhs_estimator_role role, uint32_t k, const char** name,
+                                      const char** unit);
+/* The readings taken at time `t` (s), one per sensor (`count` the
+ * sensors'), NaN for a sensor without a sample: the run is stepped to the
+ * step nearest `t` (none if it is there), then corrected. A second update
+ * on the same step corrects again (sequential updates). MHS_ERROR: `t`
+ * before the run's step, a wrong count, an infinite reading; the filter
+ * stopped (it diverged: the sensor furthest off named; a correction that
+ * cannot be put into the run; a failed step, which stops the run too): it
+ * takes no update after that. */
+MHS_API mhs_status mhs_estimator_update(mhs_simulation* sim, mhs_estimator* est, double t,
+                                        const double* readings, size_t count);
+/* The estimate (`x`, n values) and its covariance (`covariance`, n x n,
+ * column-major; NULL: not wanted), n the filter's states. */
+MHS_API mhs_status mhs_estimator_state(mhs_simulation* sim, const mhs_estimator* est, double* x,
+                                       double* covariance, size_t n);
+/* Of the last update, per sensor (NaN without a sample): the innovation
+ * (reading - model's reading - bias) and its standard deviation; `nis` its
+ * normalised square (NaN: no sample). Any pointer may be NULL. */
+MHS_API mhs_status mhs_estimator_innovations(mhs_simulation* sim, const mhs_estimator* est,
+                                             double* innovation, double* sd, size_t count,
+                                             double* nis);
 
 #ifdef __cplusplus
 }

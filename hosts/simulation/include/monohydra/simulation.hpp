@@ -14,6 +14,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -54,6 +55,91 @@ class Snapshot {
   };
   explicit Snapshot(mhs_snapshot* s) : handle_(s) {}
   std::unique_ptr<mhs_snapshot, Free> handle_;
+};
+
+// What an estimator is told (mhs_estimator_options): the filter, the
+// parameters estimated beside the state, and the noise of states or
+// parameters where the defaults will not do (NaN keeps a default).
+struct EstimatorOptions {
+  std::string filter = "ekf";  // or "ukf"
+  std::vector<std::string> params;
+  struct Noise {
+    std::string name;  // a state's name or a parameter's path
+    double plant = std::numeric_limits<double>::quiet_NaN();
+    double initial = std::numeric_limits<double>::quiet_NaN();
+  };
+  std::vector<Noise> noise;
+};
+
+// A Kalman filter driving a run (mhs_estimator_*), made by
+// Simulation::estimator(); the run must outlive it.
+class Estimator {
+ public:
+  // The readings at time t, one per sensor (NaN: no sample): the run
+  // stepped to t and corrected.
+  void update(double t, const std::vector<double>& readings) {
+    check(mhs_estimator_update(sim_, get(), t, readings.data(), readings.size()));
+  }
+  std::vector<std::string> states() const { return names(MHS_ESTIMATOR_STATE, false); }
+  std::vector<std::string> state_units() const { return names(MHS_ESTIMATOR_STATE, true); }
+  std::vector<std::string> sensors() const { return names(MHS_ESTIMATOR_SENSOR, false); }
+  std::vector<double> state() const {
+    std::vector<double> x(size(MHS_ESTIMATOR_STATE));
+    check(mhs_estimator_state(sim_, get(), x.data(), nullptr, x.size()));
+    return x;
+  }
+  // n x n, column-major.
+  std::vector<double> covariance() const {
+    const size_t n = size(MHS_ESTIMATOR_STATE);
+    std::vector<double> x(n), p(n * n);
+    check(mhs_estimator_state(sim_, get(), x.data(), p.data(), n));
+    return p;
+  }
+  // Of the last update, per sensor (NaN without a sample).
+  std::vector<double> innovation() const { return innovations(true); }
+  std::vector<double> innovation_sd() const { return innovations(false); }
+  double nis() const {
+    double v = 0.0;
+    check(mhs_estimator_innovations(sim_, get(), nullptr, nullptr, 0, &v));
+    return v;
+  }
+  mhs_estimator* get() const { return handle_.get(); }
+
+ private:
+  friend class Simulation;
+  struct Free {
+    void operator()(mhs_estimator* e) const { mhs_estimator_free(e); }
+  };
+  Estimator(mhs_simulation* sim, mhs_estimator* e) : sim_(sim), handle_(e) {}
+
+  size_t size(mhs_estimator_role role) const {
+    uint32_t states = 0, sensors = 0;
+    check(mhs_estimator_size(sim_, get(), &states, &sensors));
+    return role == MHS_ESTIMATOR_STATE ? states : sensors;
+  }
+  std::vector<std::string> names(mhs_estimator_role role, bool units) const {
+    std::vector<std::string> out;
+    for (uint32_t k = 0; k < size(role); ++k) {
+      const char* name = nullptr;
+      const char* unit = nullptr;
+      check(mhs_estimator_name(sim_, get(), role, k, &name, &unit));
+      out.emplace_back(units ? unit : name);
+    }
+    return out;
+  }
+  std::vector<double> innovations(bool values) const {
+    std::vector<double> nu(size(MHS_ESTIMATOR_SENSOR)), sd(nu.size());
+    check(mhs_estimator_innovations(sim_, get(), nu.data(), sd.data(), nu.size(), nullptr));
+    return values ? nu : sd;
+  }
+  void check(mhs_status status) const {
+    if (status == MHS_OK || status == MHS_WARNING) return;
+    const char* message = mhs_message(sim_);
+    throw Error(status, message != nullptr ? message : "monohydra: a call failed");
+  }
+
+  mhs_simulation* sim_;
+  std::unique_ptr<mhs_estimator, Free> handle_;
 };
 
 class Simulation {
@@ -208,6 +294,30 @@ class Simulation {
     Snapshot s(raw);
     check(mhs_snapshot_read(get(), s.handle(), bytes.data(), bytes.size()));
     return s;
+  }
+
+  // A Kalman filter on this run (mhs_estimator_new), from the model's sensors.
+  Estimator estimator(const EstimatorOptions& options = {}) {
+    std::vector<const char*> params, names;
+    std::vector<double> plant, initial;
+    for (const std::string& p : options.params) params.push_back(p.c_str());
+    for (const EstimatorOptions::Noise& n : options.noise) {
+      names.push_back(n.name.c_str());
+      plant.push_back(n.plant);
+      initial.push_back(n.initial);
+    }
+    mhs_estimator_options o{};
+    o.struct_size = sizeof o;
+    o.filter = options.filter.c_str();
+    o.params = params.data();
+    o.param_count = params.size();
+    o.noise_names = names.data();
+    o.plant_sd = plant.data();
+    o.initial_sd = initial.data();
+    o.noise_count = names.size();
+    mhs_estimator* raw = nullptr;
+    check(mhs_estimator_new(get(), &o, &raw));
+    return Estimator(get(), raw);
   }
 
   // The C handle, for the calls this layer does not wrap (mhs_linearize).
