@@ -42,6 +42,7 @@
 
 #include "engine.hpp"
 #include "monohydra/core/run_state.hpp"
+#include "monohydra/core/tangent_reuse.hpp"
 #include "monohydra/cpp/unknowns.hpp"
 #include "state_slots.hpp"
 
@@ -143,7 +144,8 @@ class RunRestorer {
 
 }  // namespace
 
-Linearization linearize(Simulation& sim, const std::vector<std::string>& output_names) {
+Linearization linearize(Simulation& sim, const std::vector<std::string>& output_names,
+                        const LinearizeOptions& options) {
   Simulation::Engine& e = *sim.engine_;
   if (!e.accepted.started)
     throw SimulationError(e.accepted.t, e.accepted.step,
@@ -163,7 +165,8 @@ Linearization linearize(Simulation& sim, const std::vector<std::string>& output_
   // velocities of its second-order ones, then the subsystems' states.
   const std::vector<StateSlot> slots = state_slots(e);
   out.states = state_variables(sim);
-  const std::vector<InputSpec>& inputs = sim.inputs();
+  static const std::vector<InputSpec> kNoInputs;
+  const std::vector<InputSpec>& inputs = options.inputs ? sim.inputs() : kNoInputs;
   for (const InputSpec& in : inputs) out.inputs.push_back({in.name, in.unit});
   const auto n = static_cast<Eigen::Index>(slots.size());
   const auto m = static_cast<Eigen::Index>(inputs.size());
@@ -213,36 +216,68 @@ Linearization linearize(Simulation& sim, const std::vector<std::string>& output_
   // increment above that (a controller's output whose gain multiplies the
   // sensor's round-off), the step is taken again at ten times it, up to the
   // run's own tolerances.
+  //
+  // Every side after the first keeps the tangent factored by the one
+  // before (modified Newton: a state a Newton tolerance away has the same
+  // tangent to far below its convergence rate's threshold), instead of
+  // assembling and factoring its own: the same converged steps, for
+  // residuals alone.
+  TangentReuse kept;
   const auto side = [&](const auto& perturb, const char* what) {
     for (int level = 0;; ++level) {  // kTighten = 1e-4: levels 0 .. 4, the last the run's own
       e.registry.tol = tol * (kTighten * std::pow(10.0, level));
       sim.restore_state(saved);
       perturb();
       consistent.make(what);
+      if (kept.keeps_factorization()) e.solver.reuse = kept;
       read_now();
       try {
         e.step_once();
         break;
       } catch (const SimulationError& err) {
+        kept.invalidate();
         if (level < 4) continue;
         throw SimulationError(
             err.time(), err.step(),
             std::string("linearize: the step from the state ") + what + " failed: " + err.reason());
       }
     }
+    kept = e.solver.reuse;
+    kept.set_mode(TangentReuse::Mode::modified);
     read_next();
   };
 
   Eigen::MatrixXd phi(n, n), gamma(n, m), c(p, n), d(p, m), g_x(p, n), g_u(p, m);
   Eigen::VectorXd x_plus(n), y_now_plus(p), y_next_plus(p), widths(n);
+  // Central: the sides at +1 and -1; one-sided (the states' columns, when
+  // asked): at +1, beside the unperturbed step's (x_base, y_base), taken
+  // once. An input's are central always (at a range's end one side is the
+  // value itself).
+  Eigen::VectorXd x_base(n), y_now_base(p), y_next_base(p);
+  if (!options.central) {
+    side([] {}, "unperturbed");
+    x_base = x_next;
+    y_now_base = y_now;
+    y_next_base = y_next;
+  }
   const auto difference = [&](const auto& perturb, double width, const char* what,
                               Eigen::MatrixXd& map, Eigen::MatrixXd& direct, Eigen::MatrixXd& after,
-                              Eigen::Index col) {
+                              Eigen::Index col, bool central) {
     side([&] { perturb(+1.0); }, what);
-    x_plus = x_next;
-    y_now_plus = y_now;
-    y_next_plus = y_next;
-    side([&] { perturb(-1.0); }, what);
+    if (central) {
+      x_plus = x_next;
+      y_now_plus = y_now;
+      y_next_plus = y_next;
+      side([&] { perturb(-1.0); }, what);
+    } else {
+      x_plus = x_next;
+      y_now_plus = y_now;
+      y_next_plus = y_next;
+      x_next = x_base;
+      y_now = y_now_base;
+      y_next = y_next_base;
+      width /= 2.0;
+    }
     map.col(col) = (x_plus - x_next) / width;
     direct.col(col) = (y_now_plus - y_now) / width;
     after.col(col) = (y_next_plus - y_next) / width;
@@ -271,7 +306,7 @@ Linearization linearize(Simulation& sim, const std::vector<std::string>& output_
           Eigen::VectorXd& v = s.rate ? e.xd : e.x;
           v.head(e.N) += (sign * step) * tangent_space.col(s.unknown);
         },
-        2.0 * step, what.c_str(), phi, c, g_x, k);
+        2.0 * step, what.c_str(), phi, c, g_x, k, options.central);
   }
   for (Eigen::Index k = 0; k < m; ++k) {
     const InputSpec& spec = inputs[static_cast<size_t>(k)];
@@ -288,7 +323,7 @@ Linearization linearize(Simulation& sim, const std::vector<std::string>& output_
           const bool inside = !(spec.min < spec.max) || (v >= spec.min && v <= spec.max);
           taken[sign > 0 ? 0 : 1] = sim.set_input(input, inside ? v : u);
         },
-        1.0, what.c_str(), gamma, d, g_u, k);
+        1.0, what.c_str(), gamma, d, g_u, k, true);
     const double width = taken[0] - taken[1];
     if (!(width > 0.0))
       throw SimulationError(out.t, out.step,

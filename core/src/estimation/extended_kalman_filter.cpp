@@ -12,7 +12,7 @@ namespace mh {
 // The step's map and the sensors' rows at the accepted state, once per step.
 void ExtendedKalmanFilter::linearize_here() {
   if (linearized_at_ == sim_.step_index()) return;
-  lin_ = linearize(sim_, measured_);
+  lin_ = linearize(sim_, measured_, {false, false});  // the map and C alone, one-sided
   linearized_at_ = sim_.step_index();
 }
 

@@ -46,6 +46,16 @@ struct Linearization {
   std::vector<LinearVariable> states, inputs, outputs;  // n, m, p
 };
 
+// What a caller needs of it. A filter (extended_kalman_filter.cpp) needs
+// the step's map and C alone, once every step: no input columns, and
+// one-sided differences (one perturbed step per state, from the
+// unperturbed one's), whose error of the order of the perturbation (the
+// Newton tolerance) is far below what a filter's Jacobian must hold.
+struct LinearizeOptions {
+  bool inputs = true;   // B, D, Gamma (false: they have no columns)
+  bool central = true;  // central differences (false: one-sided)
+};
+
 // The linearisation of `sim`'s run at its last accepted state, with the
 // outputs named in `outputs`: coordinates ("z1"), their rates ("z1_dot"),
 // subsystem states and outputs by their result column or qualified name
@@ -54,7 +64,8 @@ struct Linearization {
 // Throws std::invalid_argument naming an unknown output, SimulationError for
 // a run that has not started, one with an explicit integrator, or a step of
 // the differences that failed.
-Linearization linearize(Simulation& sim, const std::vector<std::string>& outputs);
+Linearization linearize(Simulation& sim, const std::vector<std::string>& outputs,
+                        const LinearizeOptions& options = {});
 
 // The eigenvalues of a, slowest first (largest real part; then by imaginary part).
 std::vector<std::complex<double>> eigenvalues(const Eigen::MatrixXd& a);

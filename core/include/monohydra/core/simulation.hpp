@@ -20,9 +20,10 @@
 
 namespace mh {
 
-struct RunState;        // run_state.hpp
-struct Linearization;   // linearization.hpp
-struct LinearVariable;  // state_vector.hpp
+struct RunState;  // run_state.hpp
+struct Linearization;
+struct LinearizeOptions;  // linearization.hpp
+struct LinearVariable;    // state_vector.hpp
 
 // A run that cannot go on: names the time, the step and the reason.
 class SimulationError : public std::runtime_error {
@@ -342,7 +343,8 @@ class Simulation {
 
  private:
   // linearization.hpp: perturbs the engine's accepted state between steps.
-  friend Linearization linearize(Simulation& sim, const std::vector<std::string>& outputs);
+  friend Linearization linearize(Simulation& sim, const std::vector<std::string>& outputs,
+                                 const LinearizeOptions& options);
   // state_vector.hpp: reads and sets the accepted state between steps.
   friend std::vector<LinearVariable> state_variables(const Simulation& sim);
   friend Eigen::VectorXd state_values(const Simulation& sim);
