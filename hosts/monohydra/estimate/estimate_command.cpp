@@ -318,10 +318,13 @@ int estimate(const std::vector<std::string>& args) {
       for (size_t c = 0; c < sensors.size(); ++c) names[c] = sensors[c].name;
       MeasurementStream stream(std::cin, names, "standard input");
       MeasurementLine line;
+      // A line's step; -1 past --t-end (the end).
       const auto step_of = [&](const MeasurementLine& l) {
         const long target = std::lround(l.t / dt);
-        if (last_step >= 0 && target > last_step) return -1L;  // past --t-end: the end
-        return target;
+        if (target < 0)
+          throw InputError({"standard input", static_cast<int>(l.number), 0}, "t",
+                           "a time at or after the run's start (0 s), not " + number(l.t));
+        return last_step >= 0 && target > last_step ? -1L : target;
       };
       if (!real_time) {
         // Each line as it comes: the steps up to it predicted, its update,

@@ -386,7 +386,10 @@ class Estimator:
                 )
             values[k] = v
         t = float(t)
-        if not np.isfinite(t) or round(t / self._sim.dt) < self._sim.steps:
+        if not np.isfinite(t):
+            raise InputError(f"Estimator.update: t = {t!r} is not a finite time")
+        # The step nearest t, halves away from zero as the library rounds.
+        if np.sign(t) * np.floor(abs(t) / self._sim.dt + 0.5) < self._sim.steps:
             raise InputError(
                 f"Estimator.update: t = {t!r} s falls before the run's step at "
                 f"{self._sim.time!r} s"

@@ -261,6 +261,20 @@ TEST(EstimateCommand, AStreamsBadLineStopsItNamingTheLineAndKeepsTheRowsBefore) 
     const std::string rows = mh::test::read_text(out);
     EXPECT_EQ(std::count(rows.begin(), rows.end(), '\n'), c.rows) << c.tail << rows;
   }
+  // A first line before the run's start: nothing but the header written.
+  for (const char* paced : {"", " --real-time"}) {
+    std::ofstream(dir / "early.txt") << "-0.002,z1=0\n0,z1=0\n";
+    const fs::path out = dir / "early.csv";
+    const auto r = run_cli("estimate " + kFourbar + " --measurements -" + paced + " --out " +
+                           out.string() + " < " + (dir / "early.txt").string());
+    EXPECT_EQ(r.code, 1) << paced << r.output;
+    EXPECT_NE(r.output.find("standard input:1: t: a time at or after the run's start (0 s), "
+                            "not -0.002"),
+              std::string::npos)
+        << paced << r.output;
+    const std::string rows = mh::test::read_text(out);
+    EXPECT_EQ(std::count(rows.begin(), rows.end(), '\n'), 1) << paced << rows;
+  }
 }
 
 }  // namespace

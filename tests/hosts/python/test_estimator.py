@@ -91,6 +91,8 @@ def test_bad_estimator_calls_raise_input_error_and_a_stopped_filter_simulation_e
     est.update(0.01, {"z1": 0.0, "p1": None})
     with pytest.raises(monohydra.InputError, match="falls before the run's step"):
         est.update(0.005, {"z1": 0.0})
+    with pytest.raises(monohydra.InputError, match="is not a finite time"):
+        est.update(float("inf"), {"z1": 0.0})
     with pytest.raises(KeyError, match="no state 'z1'"):
         est["z1"]
     # Readings no state explains: the filter diverges, and takes no more.
