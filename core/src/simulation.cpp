@@ -532,10 +532,9 @@ int Simulation::component_parameter_handle(const std::string& subsystem, const s
   p.path = "subsystems/" + subsystem + "/" + key;
   p.subsystem = subsystem;
   p.key = key;
-  const std::string path = p.path;
   for (size_t h = 0; h < e.option_handles.size(); ++h)
-    if (e.option_handles[h].path == path) return static_cast<int>(h);
-  e.option_handles.push_back({path, e.find_component_option(p)});
+    if (e.option_handles[h].path == p.path) return static_cast<int>(h);
+  e.option_handles.push_back({p.path, e.find_component_option(p)});
   return static_cast<int>(e.option_handles.size() - 1);
 }
 

@@ -264,23 +264,17 @@ Linearization linearize(Simulation& sim, const std::vector<std::string>& output_
                               Eigen::MatrixXd& map, Eigen::MatrixXd& direct, Eigen::MatrixXd& after,
                               Eigen::Index col, bool central) {
     side([&] { perturb(+1.0); }, what);
-    if (central) {
-      x_plus = x_next;
-      y_now_plus = y_now;
-      y_next_plus = y_next;
-      side([&] { perturb(-1.0); }, what);
-    } else {
-      x_plus = x_next;
-      y_now_plus = y_now;
-      y_next_plus = y_next;
-      x_next = x_base;
-      y_now = y_now_base;
-      y_next = y_next_base;
-      width /= 2.0;
-    }
-    map.col(col) = (x_plus - x_next) / width;
-    direct.col(col) = (y_now_plus - y_now) / width;
-    after.col(col) = (y_next_plus - y_next) / width;
+    x_plus = x_next;
+    y_now_plus = y_now;
+    y_next_plus = y_next;
+    if (central) side([&] { perturb(-1.0); }, what);
+    const Eigen::VectorXd& x_minus = central ? x_next : x_base;
+    const Eigen::VectorXd& y_now_minus = central ? y_now : y_now_base;
+    const Eigen::VectorXd& y_next_minus = central ? y_next : y_next_base;
+    const double w = central ? width : width / 2.0;
+    map.col(col) = (x_plus - x_minus) / w;
+    direct.col(col) = (y_now_plus - y_now_minus) / w;
+    after.col(col) = (y_next_plus - y_next_minus) / w;
   };
   // A formulation whose unknowns are the coordinates (penalty) has more of
   // them than the mechanism's degrees of freedom: a coordinate moved alone

@@ -21,6 +21,27 @@ double ExtendedKalmanFilter::parameter_step(Eigen::Index j) const {
   return 1e-6 * (v != 0.0 ? std::abs(v) : 1.0);
 }
 
+template <class Prepare, class Measure>
+void ExtendedKalmanFilter::parameter_columns(const Prepare& prepare, const Measure& measure,
+                                             Eigen::Ref<Eigen::MatrixXd> out) {
+  const RunState saved = sim_.save_state();
+  const Eigen::VectorXd offsets = held_.offsets();
+  Eigen::VectorXd plus(out.rows()), minus(out.rows());
+  for (Eigen::Index j = 0; j < out.cols(); ++j) {
+    const double d = parameter_step(j);
+    for (const double sign : {1.0, -1.0}) {
+      Eigen::VectorXd moved = offsets;
+      moved[j] += sign * d;
+      held_.set(moved);
+      prepare(saved);
+      measure(sign > 0.0 ? plus : minus);
+    }
+    held_.set(offsets);
+    sim_.restore_state(saved);
+    out.col(j) = (plus - minus) / (2.0 * d);
+  }
+}
+
 void ExtendedKalmanFilter::update(const Eigen::VectorXd& readings) {
   const std::vector<Eigen::Index> used = take(readings);
   if (used.empty()) return;
@@ -35,29 +56,14 @@ void ExtendedKalmanFilter::update(const Eigen::VectorXd& readings) {
   for (Eigen::Index k = 0; k < q; ++k) now[k] = model_reading(used[static_cast<size_t>(k)]);
   if (k_p > 0) {
     // The readings at the same X with each parameter moved: the run made
-    // consistent there, then put back.
-    const RunState saved = sim_.save_state();
+    // consistent there.
     const Eigen::VectorXd x = state_values(sim_);
-    const Eigen::VectorXd offsets = held_.offsets();
-    Eigen::VectorXd plus(q);
-    for (Eigen::Index j = 0; j < k_p; ++j) {
-      const double d = parameter_step(j);
-      for (const double sign : {1.0, -1.0}) {
-        Eigen::VectorXd moved = offsets;
-        moved[j] += sign * d;
-        held_.set(moved);
-        set_state_values(sim_, x);
-        for (Eigen::Index k = 0; k < q; ++k) {
-          const double v = model_reading(used[static_cast<size_t>(k)]);
-          if (sign > 0.0)
-            plus[k] = v;
-          else
-            H(k, nx + j) = (plus[k] - v) / (2.0 * d);
-        }
-      }
-      held_.set(offsets);
-      sim_.restore_state(saved);
-    }
+    parameter_columns([&](const RunState&) { set_state_values(sim_, x); },
+                      [&](Eigen::VectorXd& v) {
+                        for (Eigen::Index k = 0; k < q; ++k)
+                          v[k] = model_reading(used[static_cast<size_t>(k)]);
+                      },
+                      H.rightCols(k_p));
   }
   for (Eigen::Index k = 0; k < q; ++k) {
     const Eigen::Index i = used[static_cast<size_t>(k)];
@@ -85,25 +91,12 @@ void ExtendedKalmanFilter::predict() {
   F.topLeftCorner(nx, nx) = lin_.Phi;
   if (k_p > 0) {
     // d X_{k+1} / d p: the step from the same saved state, p moved.
-    const RunState saved = sim_.save_state();
-    const Eigen::VectorXd offsets = held_.offsets();
-    Eigen::VectorXd plus(nx);
-    for (Eigen::Index j = 0; j < k_p; ++j) {
-      const double d = parameter_step(j);
-      for (const double sign : {1.0, -1.0}) {
-        Eigen::VectorXd moved = offsets;
-        moved[j] += sign * d;
-        held_.set(moved);
-        sim_.restore_state(saved);
-        sim_.step();
-        if (sign > 0.0)
-          plus = state_values(sim_);
-        else
-          F.block(0, nx + j, nx, 1) = (plus - state_values(sim_)) / (2.0 * d);
-      }
-    }
-    held_.set(offsets);
-    sim_.restore_state(saved);
+    parameter_columns(
+        [&](const RunState& saved) {
+          sim_.restore_state(saved);
+          sim_.step();
+        },
+        [&](Eigen::VectorXd& v) { v = state_values(sim_); }, F.topRightCorner(nx, k_p));
   }
   sim_.step();
   P_ = F * P_ * F.transpose() + Q_;

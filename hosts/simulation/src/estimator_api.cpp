@@ -25,9 +25,7 @@ using mh::embed::refuse;
 struct mhs_estimator {
   const mhs_simulation* sim = nullptr;  // the run it drives
   std::unique_ptr<mh::StateFilter> filter;
-  std::vector<std::string> units;  // per state: LinearVariable's, kept for the C strings
-  long updated_step = -1;          // the run's step of the last update
-  std::string failure;             // why the filter stopped ("": it did not)
+  std::string failure;  // why the filter stopped ("": it did not)
 };
 
 namespace {
@@ -142,7 +140,6 @@ MHS_API mhs_status mhs_estimator_new(mhs_simulation* sim, const mhs_estimator_op
     } catch (const std::invalid_argument& err) {
       return refuse(sim, std::string("mhs_estimator_new: ") + err.what());
     }
-    for (const mh::LinearVariable& v : est->filter->states()) est->units.push_back(v.unit);
     *out = est.release();
     return MHS_OK;
   });
@@ -240,7 +237,6 @@ MHS_API mhs_status mhs_estimator_update(mhs_simulation* sim, mhs_estimator* est,
         }
       }
       f.update(values);
-      est->updated_step = s.step_index();
     } catch (const mh::SimulationError& err) {
       est->failure = err.what();
       return refuse(sim, est->failure);
@@ -278,7 +274,7 @@ MHS_API mhs_status mhs_estimator_innovations(mhs_simulation* sim, const mhs_esti
     if ((innovation != nullptr || sd != nullptr) && count != f.sensors().size())
       return refuse(sim, "mhs_estimator_innovations: count = " + std::to_string(count) +
                              ", the filter has " + std::to_string(f.sensors().size()) + " sensors");
-    const bool none = est->updated_step < 0 || f.samples() == 0;
+    const bool none = f.samples() == 0;  // no update yet, or one without a sample
     for (size_t c = 0; c < count; ++c) {
       const auto i = static_cast<Eigen::Index>(c);
       if (innovation != nullptr) innovation[c] = none ? NAN : f.innovation()[i];

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/sensitivities/parameter_directions.hpp"
 #include "monohydra/core/sensitivities.hpp"
 #include "three_simulations.hpp"
 
@@ -108,12 +109,7 @@ Joint estimate_parameter(const ParameterDirection& p, double truth_value) {
 
 TEST(ExtendedKalmanFilter, EstimatesTheValvesFlowCoefficientBesideTheStateToAPercent) {
   const ModelFile file = fourbar(4.0);
-  ParameterDirection p;
-  p.path = "subsystems/valve/flow_coefficient";
-  p.subsystem = "valve";
-  p.key = "flow_coefficient";
-  p.option = 1.0;
-  p.value = 2.138e-8;
+  const ParameterDirection p = test::option_direction(file, "valve", "flow_coefficient");
   const Joint j = estimate_parameter(p, 1.2 * p.value);
   EXPECT_LT(std::abs(j.estimate - j.truth), 0.01 * j.truth) << j.estimate << " +- " << j.sd;
   EXPECT_LT(std::abs(j.estimate - j.truth), 3.0 * j.sd) << j.estimate << " +- " << j.sd;
@@ -125,11 +121,7 @@ TEST(ExtendedKalmanFilter, EstimatesTheValvesFlowCoefficientBesideTheStateToAPer
 // and has narrowed by a quarter at least.
 TEST(ExtendedKalmanFilter, TheLoadsMassBesideTheStateIsLearnedWithAnHonestInterval) {
   const ModelFile file = fourbar(4.0);
-  const Body& b = file.model.bodies[2];
-  ParameterDirection p;
-  p.path = "bodies/body3/mass";
-  p.value = b.mass;
-  p.bodies.push_back({2, 1.0, Eigen::Vector3d::Zero(), b.inertia_B / b.mass});
+  const ParameterDirection p = test::mass_direction(file.model, 2);
   const Joint j = estimate_parameter(p, 1.15 * p.value);
   EXPECT_LT(std::abs(j.estimate - j.truth), 3.0 * j.sd) << j.estimate << " +- " << j.sd;
   EXPECT_LT(j.sd, 0.75 * 0.2 * p.value) << j.estimate << " +- " << j.sd;

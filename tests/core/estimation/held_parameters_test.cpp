@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/sensitivities/parameter_directions.hpp"
 #include "monohydra/core/model_file.hpp"
 #include "test_support.hpp"
 
@@ -19,29 +20,12 @@ const ModelFile& fourbar() {
   return file;
 }
 
-ParameterDirection mass_of(const Body& b, int index) {
-  ParameterDirection p;
-  p.path = "bodies/" + b.name + "/mass";
-  p.value = b.mass;
-  p.bodies.push_back({index, 1.0, Eigen::Vector3d::Zero(), b.inertia_B / b.mass});
-  return p;
-}
-
-ParameterDirection flow_coefficient() {
-  ParameterDirection p;
-  p.path = "subsystems/valve/flow_coefficient";
-  p.subsystem = "valve";
-  p.key = "flow_coefficient";
-  p.option = 1.0;
-  p.value = 2.138e-8;
-  return p;
-}
-
 TEST(HeldParameters, AnOffsetMovesTheModelAndPutBackRestoresItToTheBit) {
   Simulation sim(fourbar(), test::build_plugins());
   sim.start();
   const Body before = sim.model().bodies[2];
-  HeldParameters held(sim, {mass_of(before, 2), flow_coefficient()});
+  HeldParameters held(sim, {test::mass_direction(sim.model(), 2),
+                            test::option_direction(fourbar(), "valve", "flow_coefficient")});
   held.set(Eigen::Vector2d(5.0, 0.1e-8));
   EXPECT_DOUBLE_EQ(sim.model().bodies[2].mass, before.mass + 5.0);
   EXPECT_TRUE(sim.model().bodies[2].inertia_B.isApprox(before.inertia_B * (before.mass + 5.0) /
@@ -64,7 +48,7 @@ TEST(HeldParameters, TwoParametersOnOneBodyAdd) {
   Eigen::Matrix3d unit = Eigen::Matrix3d::Zero();
   unit(2, 2) = 1.0;
   inertia.bodies.push_back({2, 0.0, Eigen::Vector3d::Zero(), unit});
-  HeldParameters held(sim, {mass_of(before, 2), inertia});
+  HeldParameters held(sim, {test::mass_direction(sim.model(), 2), inertia});
   held.set(Eigen::Vector2d(5.0, 0.25));
   const double expected = before.inertia_B(2, 2) * (before.mass + 5.0) / before.mass + 0.25;
   EXPECT_NEAR(sim.model().bodies[2].inertia_B(2, 2), expected, 1e-12 * expected);
@@ -78,7 +62,7 @@ TEST(HeldParameters, RefusesAnInitialCoordinateAndAMassAtZeroKeepingTheOffsets) 
   z0.initial.push_back({0, 1.0, 0.0});
   EXPECT_THROW(HeldParameters(sim, {z0}), std::invalid_argument);
   const Body before = sim.model().bodies[2];
-  HeldParameters held(sim, {mass_of(before, 2)});
+  HeldParameters held(sim, {test::mass_direction(sim.model(), 2)});
   held.set(Eigen::VectorXd::Constant(1, 2.0));
   try {
     held.set(Eigen::VectorXd::Constant(1, -before.mass));

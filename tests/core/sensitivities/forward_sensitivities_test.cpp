@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "core/sensitivities/parameter_directions.hpp"
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/run_state.hpp"
 #include "monohydra/core/sensitivities.hpp"
@@ -39,15 +40,6 @@ ModelFile fourbar(double t_end) {
   return converged("fourbar.yaml", t_end);
 }
 
-// A body's mass, whose inertia the file derives from it (a shape).
-ParameterDirection mass(const ModelFile& file, size_t body) {
-  const Body& b = file.model.bodies[body];
-  ParameterDirection p;
-  p.path = "bodies/" + b.name + "/mass";
-  p.value = b.mass;
-  p.bodies.push_back({static_cast<int>(body), 1.0, Eigen::Vector3d::Zero(), b.inertia_B / b.mass});
-  return p;
-}
 ParameterDirection gravity_y() {
   ParameterDirection p;
   p.path = "gravity/1";
@@ -65,19 +57,6 @@ ParameterDirection initial_coordinate(const ModelFile& file, size_t body) {
   p.initial.push_back({static_cast<int>(body), 1.0, 0.0});
   return p;
 }
-// A component's option (parameters.h), changed in place by its instance.
-ParameterDirection option(const ModelFile& file, const std::string& subsystem,
-                          const std::string& key) {
-  ParameterDirection p;
-  p.path = "subsystems/" + subsystem + "/" + key;
-  p.subsystem = subsystem;
-  p.key = key;
-  p.option = 1.0;
-  for (const SubsystemSpec& s : file.subsystems)
-    if (s.name == subsystem) p.value = s.options.at(key).number;
-  return p;
-}
-
 // The model moved by `amount` along p: a component's option as the file
 // would write it, read by a new instance at its setup.
 ModelFile moved(ModelFile file, const ParameterDirection& p, double amount) {
@@ -177,16 +156,17 @@ void expect_sensitivities_match_whole_runs(const std::string& model, const std::
                                            double t_end, size_t body, int initial_body,
                                            bool all_options) {
   const ModelFile file = converged(model, t_end);
-  std::vector<ParameterDirection> params = {mass(file, body), gravity_y(),
-                                            option(file, "valve", "time_constant"),
-                                            option(file, "cylinder", "piston_diameter")};
+  std::vector<ParameterDirection> params = {
+      test::mass_direction(file.model, body), gravity_y(),
+      test::option_direction(file, "valve", "time_constant"),
+      test::option_direction(file, "cylinder", "piston_diameter")};
   if (initial_body >= 0)
     params.push_back(initial_coordinate(file, static_cast<size_t>(initial_body)));
   if (all_options) {
-    params.push_back(option(file, "V1", "bulk_modulus"));
-    params.push_back(option(file, "valve", "flow_coefficient"));
+    params.push_back(test::option_direction(file, "V1", "bulk_modulus"));
+    params.push_back(test::option_direction(file, "valve", "flow_coefficient"));
     // The supply pressure: a number the pump reads as a signal, held by the engine.
-    params.push_back(option(file, "pump", "pressure"));
+    params.push_back(test::option_direction(file, "pump", "pressure"));
   }
   expect_columns_match_whole_runs(file, formulation, params);
 }
@@ -236,16 +216,18 @@ TEST(ForwardSensitivities, DoubleStepExcavatorAgreesWithDifferencesOfWholeRuns) 
   const ModelFile file = converged("excavator.yaml", 5.0);
   expect_columns_match_whole_runs(
       file, "double-step",
-      {mass(file, 3), option(file, "valve_boom", "flow_coefficient"),
-       option(file, "valve_arm", "flow_coefficient"), option(file, "valve_bucket", "time_constant"),
-       option(file, "arm_cyl", "piston_diameter"), initial_coordinate(file, 1)},
+      {test::mass_direction(file.model, 3),
+       test::option_direction(file, "valve_boom", "flow_coefficient"),
+       test::option_direction(file, "valve_arm", "flow_coefficient"),
+       test::option_direction(file, "valve_bucket", "time_constant"),
+       test::option_direction(file, "arm_cyl", "piston_diameter"), initial_coordinate(file, 1)},
       {0});
 }
 
 // The two formulations differentiate the same mechanism: their columns agree.
 TEST(ForwardSensitivities, FormulationsAgreeOnTheFourBarsColumns) {
   const ModelFile file = fourbar(2.0);
-  const std::vector<ParameterDirection> params = {mass(file, 2), gravity_y()};
+  const std::vector<ParameterDirection> params = {test::mass_direction(file.model, 2), gravity_y()};
   const Samples a = run(file, "double-step", 100, params);
   const Samples b = run(file, "penalty", 100, params);
   ASSERT_EQ(a.derivatives.size(), b.derivatives.size());

@@ -187,15 +187,23 @@ std::string as_lines(const fs::path& csv) {
   return out;
 }
 
+// The machine's sensor readings over its first `t_end` s (noise seed 4),
+// in DIR/data.csv.
+fs::path machine_readings(const fs::path& dir, double t_end) {
+  const fs::path data = dir / "data.csv";
+  const auto r = run_cli("run " + kFourbar + kMachine + " --t-end " + std::to_string(t_end) +
+                         " --seed 4 --sensors-out " + data.string() + " --out " +
+                         (dir / "truth.csv").string());
+  EXPECT_EQ(r.code, 0) << r.output;
+  return data;
+}
+
 TEST(EstimateCommand, AStreamOfTheFilesRowsGivesTheFilesEstimatesToTheByte) {
   const fs::path dir = mh::test::scratch_dir("estimate-stream");
-  const fs::path data = dir / "data.csv";
-  auto r = run_cli("run " + kFourbar + kMachine + " --t-end 0.5 --seed 4 --sensors-out " +
-                   data.string() + " --out " + (dir / "truth.csv").string());
-  ASSERT_EQ(r.code, 0) << r.output;
+  const fs::path data = machine_readings(dir, 0.5);
   std::ofstream(dir / "lines.txt") << "# the four-bar's sensors\n\n" << as_lines(data);
-  r = run_cli("estimate " + kFourbar + " --measurements " + data.string() + " --out " +
-              (dir / "file.csv").string());
+  auto r = run_cli("estimate " + kFourbar + " --measurements " + data.string() + " --out " +
+                   (dir / "file.csv").string());
   ASSERT_EQ(r.code, 0) << r.output;
   r = run_cli("estimate " + kFourbar + " --measurements - --out " + (dir / "stream.csv").string() +
               " < " + (dir / "lines.txt").string());
@@ -209,12 +217,9 @@ TEST(EstimateCommand, AStreamOfTheFilesRowsGivesTheFilesEstimatesToTheByte) {
 // the same bytes, and how many steps' estimates came after their time.
 TEST(EstimateCommand, RealTimeGivesTheUnpacedEstimatesAndCountsTheDeadlinesItMissed) {
   const fs::path dir = mh::test::scratch_dir("estimate-real-time");
-  const fs::path data = dir / "data.csv";
-  auto r = run_cli("run " + kFourbar + kMachine + " --t-end 0.3 --seed 4 --sensors-out " +
-                   data.string() + " --out " + (dir / "truth.csv").string());
-  ASSERT_EQ(r.code, 0) << r.output;
-  r = run_cli("estimate " + kFourbar + " --measurements " + data.string() + " --out " +
-              (dir / "unpaced.csv").string());
+  const fs::path data = machine_readings(dir, 0.3);
+  auto r = run_cli("estimate " + kFourbar + " --measurements " + data.string() + " --out " +
+                   (dir / "unpaced.csv").string());
   ASSERT_EQ(r.code, 0) << r.output;
   r = run_cli("estimate " + kFourbar + " --measurements " + data.string() + " --real-time --out " +
               (dir / "paced.csv").string());

@@ -45,6 +45,13 @@ class ExtendedKalmanFilter : public StateFilter {
   void linearize_here();
   // Parameter j's difference step: a millionth of its value (of 1 at 0).
   double parameter_step(Eigen::Index j) const;
+  // Column j of `out`: the central difference over parameter j of what
+  // `measure` reads once `prepare(saved)` has brought the run there with
+  // that parameter moved; the offsets and the run's saved state put back
+  // after each parameter.
+  template <class Prepare, class Measure>
+  void parameter_columns(const Prepare& prepare, const Measure& measure,
+                         Eigen::Ref<Eigen::MatrixXd> out);
   Linearization lin_;
   long linearized_at_ = -1;  // the step lin_ is of
 };
