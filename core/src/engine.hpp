@@ -215,6 +215,19 @@ struct RatesWorkspace {
   Eigen::FullPivLU<Eigen::MatrixXd> lu;
 };
 
+// ConsistentState's Jacobian of the rows in the rate unknowns
+// (analysis/state_slots.cpp), equilibrated, factored and kept between its
+// calls: a chord Newton on the Jacobian of a nearby state converges, and
+// the filters make a state consistent twenty to forty times a step.
+// Factored again when a solve on it contracts slowly or fails, or when the
+// scales it was equilibrated with change. A workspace: no part of the run's
+// state (a snapshot neither saves nor restores it).
+struct RateFactorization {
+  bool valid = false;
+  Eigen::VectorXd scale, row_scale;                // its columns' and rows' scales
+  Eigen::FullPivLU<Eigen::MatrixXd> full, states;  // all rows; the subsystems' block
+};
+
 // The parts of the engine's state, each owned by the part of the data flow
 // that writes it (the files named); the Engine holds one of each.
 
@@ -486,6 +499,7 @@ struct Simulation::Engine {
   AcceptedPoint accepted;
   SnapshotParts snapshot;
   SensitivityState sens;
+  RateFactorization rate_factor;  // analysis/state_slots.cpp
   // Component options resolved once (Simulation::component_parameter_handle).
   struct OptionHandle {
     std::string path;

@@ -17,6 +17,10 @@ namespace {
 // fraction of the rate's scale (tolerance / h^2, / h or itself by kind).
 constexpr double kRateTolerance = 1e-6;
 constexpr int kRateIterations = 20;
+// On a Jacobian kept from an earlier state: at most this many iterations,
+// each at most this fraction of the one before, or it is factored afresh.
+constexpr int kKeptIterations = 6;
+constexpr double kSlowContraction = 0.5;
 
 }  // namespace
 
@@ -73,7 +77,16 @@ Eigen::MatrixXd constraint_tangent_space(Simulation::Engine& e) {
 }
 
 ConsistentState::ConsistentState(Simulation::Engine& e, std::string who)
-    : e_(e), who_(std::move(who)), r_(e.n), r1_(e.n), du_(e.n), scale_(e.n), row_scale_(e.n) {
+    : e_(e),
+      who_(std::move(who)),
+      r_(e.n),
+      r1_(e.n),
+      du_(e.n),
+      row_rates_(e.n),
+      start_(e.n),
+      scale_(e.n),
+      before_(3 * e.n_m),
+      after_(3 * e.n_m) {
   const double h = e.settings.dt;
   for (int i = 0; i < e.n; ++i) {
     const uint8_t k = e.registry.kinds[static_cast<size_t>(i)];
@@ -96,15 +109,36 @@ void ConsistentState::make(const char* what) {
     if (k != MH_UNKNOWN_SECOND_ORDER) e.xdd[i] = 0.0;
     if (k == MH_UNKNOWN_ALGEBRAIC) e.xd[i] = 0.0;
   }
-  if (!full_) factor(t, what);
-  solve(t, 0, *full_, what);
+  RateFactorization& f = e.rate_factor;
+  if (!f.valid || f.scale.size() != scale_.size() || f.scale != scale_) factor(t, what);
+  solve_kept(t, 0, what);
+  // The subsystems' rates again, unless the formulation's accept left its
+  // unknowns, rates and accelerations as they were (no projection moved
+  // them): then they are this solve's already.
+  before_ << e.x.head(e.n_m), e.xd.head(e.n_m), e.xdd.head(e.n_m);
   accept(what);
-  if (e.n_s > 0) solve(t, e.n_m, *states_, what);
+  after_ << e.x.head(e.n_m), e.xd.head(e.n_m), e.xdd.head(e.n_m);
+  if (e.n_s > 0 && after_ != before_) solve_kept(t, e.n_m, what);
   e.states.y_k = e.states.y;
   e.states.ydot_k = e.states.ydot;
   e.kinematics_at(e.accepted.z.data(), e.accepted.zd.data());
   e.solver.reuse.invalidate();
   e.restart_integrator();
+}
+
+void ConsistentState::solve_kept(double t, int begin, const char* what) {
+  Simulation::Engine& e = e_;
+  RateFactorization& f = e.rate_factor;
+  for (int i = begin; i < e.n; ++i) start_[i] = rate_unknown(e, i);
+  if (solve(t, begin, begin == 0 ? f.full : f.states, what, kKeptIterations)) return;
+  // The kept Jacobian is too far from this state's: factored here, and
+  // solved again from the same start.
+  for (int i = begin; i < e.n; ++i) rate_unknown(e, i) = start_[i];
+  factor(t, what);
+  if (!solve(t, begin, begin == 0 ? f.full : f.states, what, kRateIterations))
+    throw SimulationError(e.accepted.t, e.accepted.step,
+                          who_ + ": the rates at the state " + what + " did not converge in " +
+                              std::to_string(kRateIterations) + " iterations");
 }
 
 void ConsistentState::evaluate(double t, Eigen::VectorXd& r, const char* what) {
@@ -114,27 +148,33 @@ void ConsistentState::evaluate(double t, Eigen::VectorXd& r, const char* what) {
                               (e_.last_plugin_error.empty() ? "" : ": " + e_.last_plugin_error));
 }
 
-void ConsistentState::solve(double t, int begin, const Eigen::FullPivLU<Eigen::MatrixXd>& lu,
-                            const char* what) {
+bool ConsistentState::solve(double t, int begin, const Eigen::FullPivLU<Eigen::MatrixXd>& lu,
+                            const char* what, int iterations) {
   Simulation::Engine& e = e_;
   const int count = e.n - begin;
   bool converged = false;
-  for (int it = 0; it < kRateIterations && !converged; ++it) {
+  double last = HUGE_VAL;  // the largest scaled increment of the iteration before
+  for (int it = 0; it < iterations && !converged; ++it) {
     evaluate(t, r_, what);
-    const Eigen::VectorXd rows = row_scale_.tail(count).asDiagonal() * r_.tail(count);
-    du_.tail(count) = -(scale_.tail(count).asDiagonal() * lu.solve(rows));
+    row_rates_.tail(count) = e.rate_factor.row_scale.tail(count).asDiagonal() * r_.tail(count);
+    du_.tail(count) = -(scale_.tail(count).asDiagonal() * lu.solve(row_rates_.tail(count)));
     converged = true;
+    double largest = 0.0;
     for (int i = begin; i < e.n; ++i) {
       double& u = rate_unknown(e, i);
       u += du_[i];
+      largest = std::max(largest, std::abs(du_[i]) / scale_[i]);
       converged = converged && std::abs(du_[i]) <= kRateTolerance * scale_[i] + 1e-12 * std::abs(u);
     }
+    // A chord iteration that contracts by less than half a step has a
+    // Jacobian too far from this state's: its stopping test would stop
+    // short of the solution.
+    if (!converged && largest > kSlowContraction * last) return false;
+    last = largest;
   }
-  if (!converged)
-    throw SimulationError(e.accepted.t, e.accepted.step,
-                          who_ + ": the rates at the state " + what + " did not converge in " +
-                              std::to_string(kRateIterations) + " iterations");
+  if (!converged) return false;
   evaluate(t, r_, what);
+  return true;
 }
 
 void ConsistentState::accept(const char* what) {
@@ -167,6 +207,8 @@ void ConsistentState::accept(const char* what) {
 
 void ConsistentState::factor(double t, const char* what) {
   Simulation::Engine& e = e_;
+  RateFactorization& f = e.rate_factor;
+  f.valid = false;
   Eigen::MatrixXd J(e.n, e.n);
   evaluate(t, r_, what);
   for (int j = 0; j < e.n; ++j) {
@@ -181,21 +223,22 @@ void ConsistentState::factor(double t, const char* what) {
   // largest entry (a volume's row in m^3/s beside a body's in N would
   // otherwise read as singular).
   J = J * scale_.asDiagonal();
+  f.row_scale.resize(e.n);
   for (int i = 0; i < e.n; ++i) {
     const double big = J.row(i).lpNorm<Eigen::Infinity>();
-    row_scale_[i] = big > 0.0 ? 1.0 / big : 1.0;
+    f.row_scale[i] = big > 0.0 ? 1.0 / big : 1.0;
   }
-  J = row_scale_.asDiagonal() * J;
-  full_ = std::make_unique<Eigen::FullPivLU<Eigen::MatrixXd>>(J);
+  J = f.row_scale.asDiagonal() * J;
+  f.full.compute(J);
   // No subsystem states: no LU of an empty block (Eigen asserts on its norm).
-  if (e.n_s > 0)
-    states_ =
-        std::make_unique<Eigen::FullPivLU<Eigen::MatrixXd>>(J.bottomRightCorner(e.n_s, e.n_s));
-  if (!full_->isInvertible() || (e.n_s > 0 && !states_->isInvertible()))
+  if (e.n_s > 0) f.states.compute(J.bottomRightCorner(e.n_s, e.n_s));
+  if (!f.full.isInvertible() || (e.n_s > 0 && !f.states.isInvertible()))
     throw SimulationError(e.accepted.t, e.accepted.step,
                           who_ +
                               ": the rows do not determine the rates at the accepted "
                               "state (a singular mass matrix or state row?)");
+  f.scale = scale_;
+  f.valid = true;
 }
 
 }  // namespace mh

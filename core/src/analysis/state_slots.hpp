@@ -7,7 +7,6 @@
 
 #include <Eigen/Core>
 #include <Eigen/LU>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -47,8 +46,9 @@ Eigen::MatrixXd constraint_tangent_space(Simulation::Engine& e);
 // velocities and accelerations, Eqs. 20-21 for penalty, and its own record
 // of the state); the subsystems' rates again at the velocities it left;
 // then the integrator restarted there, as after a time event. Newton's
-// Jacobian is differenced once, at the unperturbed state (the
-// perturbations are far too small to change it), and kept.
+// Jacobian is differenced at one state and kept, by the engine, for the
+// calls after it (a chord Newton: RateFactorization, engine.hpp), until a
+// solve on it contracts slowly.
 // `who` opens its errors ("linearize").
 class ConsistentState {
  public:
@@ -61,8 +61,12 @@ class ConsistentState {
 
   // Newton on the rate unknowns from `begin` on (0: all; n_m: the
   // subsystems'), the others held; ends with an evaluation at the solution
-  // (the state's coordinates and outputs are that evaluation's).
-  void solve(double t, int begin, const Eigen::FullPivLU<Eigen::MatrixXd>& lu, const char* what);
+  // (the state's coordinates and outputs are that evaluation's). False when
+  // it has not converged in `iterations` or contracts slowly.
+  bool solve(double t, int begin, const Eigen::FullPivLU<Eigen::MatrixXd>& lu, const char* what,
+             int iterations);
+  // solve on the kept factorization; on one factored here when that fails.
+  void solve_kept(double t, int begin, const char* what);
 
   // The formulation accepts the state (at the trapezoidal rule's weights
   // for its projections, as an explicit step hands them) and gives its
@@ -73,8 +77,8 @@ class ConsistentState {
 
   Simulation::Engine& e_;
   std::string who_;  // the caller, first in its errors
-  Eigen::VectorXd r_, r1_, du_, scale_, row_scale_;
-  std::unique_ptr<Eigen::FullPivLU<Eigen::MatrixXd>> full_, states_;
+  Eigen::VectorXd r_, r1_, du_, row_rates_, start_, scale_;
+  Eigen::VectorXd before_, after_;  // the formulation's x, xd, xdd around its accept
 };
 
 }  // namespace mh
