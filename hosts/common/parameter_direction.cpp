@@ -37,14 +37,16 @@ ParameterDirection parameter_direction(const std::string& text, const std::strin
                           (parts[2] == "mass" || parts[2] == "com" || parts[2] == "inertia" ||
                            parts[2] == "z0" || parts[2] == "zd0");
   const bool gravity = !parts.empty() && parts[0] == "gravity";
-  const bool option = parts.size() == 3 && parts[0] == "subsystems";
+  // A component's option, or an entry of one that is a table
+  // (subsystems/valve/flow_table/3/2): the key is the rest of the path.
+  const bool option = parts.size() >= 3 && parts[0] == "subsystems";
   if (!body_value && !gravity && !option)
     throw std::invalid_argument(
         path +
         ": not a parameter sensitivities take: they take bodies' mass, com and inertia, "
         "their initial coordinates and rates, gravity, and the options a component changes in "
         "place (bodies/NAME/mass, bodies/NAME/com/I, bodies/NAME/inertia/I, bodies/NAME/z0, "
-        "bodies/NAME/zd0, gravity/I, subsystems/NAME/KEY)");
+        "bodies/NAME/zd0, gravity/I, subsystems/NAME/KEY, subsystems/NAME/TABLE/ROW/COLUMN)");
   const YAML::Node root = YAML::Load(text);
   const std::string why = check_path(root, path);
   if (!why.empty()) throw std::invalid_argument(path + ": " + why);
@@ -69,6 +71,7 @@ ParameterDirection parameter_direction(const std::string& text, const std::strin
     p.value = value;
     p.subsystem = parts[1];
     p.key = parts[2];
+    for (size_t k = 3; k < parts.size(); ++k) p.key += "/" + parts[k];
     p.option = 1.0;
     return p;
   }

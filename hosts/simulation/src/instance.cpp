@@ -1,11 +1,14 @@
 #include "instance.hpp"
 
+#include <yaml-cpp/yaml.h>
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <limits>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 
 #include "model_plugins.hpp"
@@ -104,7 +107,7 @@ void Instance::set_parameter(const std::string& path, const std::string& value) 
   const bool initial =
       parts.size() == 3 && parts[0] == "bodies" && (parts[2] == "z0" || parts[2] == "zd0");
   const bool gravity = parts.size() <= 2 && parts[0] == "gravity";
-  const bool option = parts.size() == 3 && parts[0] == "subsystems";
+  const bool option = parts.size() >= 3 && parts[0] == "subsystems";  // a table's entry too
   if (!body_value && !initial && !gravity && !option)
     throw std::invalid_argument(path +
                                 ": not a value that changes during a run; in place change a "
@@ -123,9 +126,18 @@ void Instance::set_parameter(const std::string& path, const std::string& value) 
       throw std::invalid_argument(err.what());
     }
     double number = 0.0;
-    for (const SubsystemSpec& spec : changed.subsystems)
-      if (spec.name == parts[1]) number = spec.options.at(parts[2]).number;
-    sim_->set_component_parameter(parts[1], parts[2], number);
+    std::string key = parts[2];
+    if (parts.size() == 3) {
+      for (const SubsystemSpec& spec : changed.subsystems)
+        if (spec.name == parts[1]) number = spec.options.at(parts[2]).number;
+    } else {  // an entry of a table (flow_table/3/2): the number the file now writes there
+      for (size_t k = 3; k < parts.size(); ++k) key += "/" + parts[k];
+      const std::optional<YAML::Node> node = host::value_at(YAML::Load(set.text), path);
+      if (!node || !node->IsScalar())
+        throw std::invalid_argument(path + ": the model file writes no number there");
+      number = node->as<double>();
+    }
+    sim_->set_component_parameter(parts[1], key, number);
     text_ = set.text;
     return;
   }

@@ -250,6 +250,37 @@ constexpr const char* kNoSnapshot = "no snapshot: ";
 // constant). A value outside its declared range is refused.
 // The residual's derivative with respect to each is differenced by the host
 // (no component gives it analytically yet), which the detail says.
+// The option `key` of an instance's options set to `value` as the model
+// file would write it: a number, or the entry ROW, COLUMN (from 0) of a
+// table option, keyed TABLE/ROW/COLUMN (a table valve's flows). False when
+// the key names neither.
+bool set_option_at_setup(OptionMap& options, const std::string& key, double value) {
+  const size_t slash = key.find('/');
+  if (slash == std::string::npos) {
+    OptionValue v;
+    v.number = value;
+    v.text = std::to_string(value);
+    options[key] = v;
+    return true;
+  }
+  const auto table = options.find(key.substr(0, slash));
+  const size_t second = key.find('/', slash + 1);
+  if (table == options.end() || table->second.kind != OptionValue::Kind::table ||
+      second == std::string::npos)
+    return false;
+  try {
+    const int row = std::stoi(key.substr(slash + 1, second - slash - 1));
+    const int column = std::stoi(key.substr(second + 1));
+    OptionValue& v = table->second;
+    if (row < 0 || row >= v.rows || column < 0 || column >= v.columns) return false;
+    v.table[static_cast<size_t>(row) * static_cast<size_t>(v.columns) +
+            static_cast<size_t>(column)] = value;
+    return true;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
 std::string parameters_check(const Setup& s, const Subject& who, const PluginRegistry& registry,
                              std::string& detail) {
   std::string instance;
@@ -285,10 +316,9 @@ std::string parameters_check(const Setup& s, const Subject& who, const PluginReg
     Setup at_setup = s;
     for (SubsystemSpec& spec : at_setup.file.subsystems)
       if (spec.name == instance) {
-        OptionValue v;
-        v.number = moved;
-        v.text = std::to_string(moved);
-        spec.options[key] = v;
+        if (!set_option_at_setup(spec.options, key, moved))
+          return path + ": a parameter's key names an option, or an entry of a table option " +
+                 "(TABLE/ROW/COLUMN), of the model's instance; this one names neither";
       }
     Simulation fresh(at_setup.file, registry, at_setup.choices);
     fresh.restore_state(saved);

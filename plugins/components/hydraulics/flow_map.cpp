@@ -64,15 +64,27 @@ bool FlowMap::assign(const double* data, uint32_t rows, const OrificeFlow& law,
     }
     k_.push_back(q / law_.g(dp));
   }
+  first_ = 0;
   if (u_.front() > 0.0) {  // the closed centre: K = 0 at u = 0
     u_.insert(u_.begin(), 0.0);
     k_.insert(k_.begin(), n, 0.0);
+    first_ = 1;
   }
   if (u_.size() < 2) {
     error = "at least one spool position above 0";
     return false;
   }
   return true;
+}
+
+double FlowMap::flow_of_row(uint32_t row) const {
+  const size_t n = d_.size();
+  return k_[first_ * n + row] * law_.g(d_[row % n]);
+}
+
+void FlowMap::set_flow_of_row(uint32_t row, double q) {
+  const size_t n = d_.size();
+  k_[first_ * n + row] = q / law_.g(d_[row % n]);
 }
 
 void FlowMap::locate(const std::vector<double>& axis, double x, size_t& i, double& w,

@@ -31,6 +31,12 @@ class FlowMap {
 
   double max_opening() const { return u_.back(); }
 
+  // The table's row `row` (as assign read it): its spool opening and flow;
+  // a new flow for it, as if the table had given it (its K follows).
+  double opening_of_row(uint32_t row) const { return u_[row / d_.size() + first_]; }
+  double flow_of_row(uint32_t row) const;
+  void set_flow_of_row(uint32_t row, double q);
+
  private:
   // The cell of x in axis (index i with axis[i] <= x < axis[i+1], clamped) and
   // its weight; `slope` is d(weight)/dx (0 where x is clamped).
@@ -40,6 +46,7 @@ class FlowMap {
   OrificeFlow law_;
   std::vector<double> u_, d_;  // the grid's spool openings and pressure drops
   std::vector<double> k_;      // K at (u_i, d_j), row-major [i * d_.size() + j]
+  size_t first_ = 0;           // the grid's row of the table's first (1: a closed centre added)
 };
 
 }  // namespace hyd

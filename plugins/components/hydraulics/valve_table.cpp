@@ -10,6 +10,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "components.hpp"
 #include "example_models.hpp"
@@ -32,6 +33,17 @@ class ValveTable {
 
   explicit ValveTable(const mh_host* host) : host_(host) {}
 
+  // Changed in place (parameters.h): the flow of every row with the spool
+  // open, "flow_table/ROW/2" as a path into the model file writes it (ROW
+  // from 0), so that a filter or a fit can identify the characteristic
+  // curve point by point.
+  uint32_t parameter_count() const { return static_cast<uint32_t>(rows_.size()); }
+  monohydra::ParameterSpec parameter_spec(uint32_t index) const {
+    return {keys_[index].c_str(), "m^3/s", 0.0, HUGE_VAL};
+  }
+  double parameter(uint32_t index) const { return map_.flow_of_row(rows_[index]); }
+  void set_parameter(uint32_t index, double value) { map_.set_flow_of_row(rows_[index], value); }
+
   mh_status setup() {
     const mh_host* h = host_;
     double p_tr = 0.0;
@@ -44,6 +56,11 @@ class ValveTable {
     std::string error;
     if (!map_.assign(table, rows, OrificeFlow(p_tr), error))
       return monohydra::options(h).option_error(h, "flow_table", error.c_str());
+    for (uint32_t row = 0; row < rows; ++row)
+      if (map_.opening_of_row(row) > 0.0) {
+        rows_.push_back(row);
+        keys_.push_back("flow_table/" + std::to_string(row) + "/2");
+      }
     if (add_hydraulic_port(h, "P", MH_PORT_FLOW, kNaN, kNaN, &p_) != MH_OK) return MH_ERROR;
     states_.add(p_);
     if (add_hydraulic_port(h, "T", MH_PORT_FLOW, kNaN, kNaN, &t_) != MH_OK) return MH_ERROR;
@@ -109,6 +126,8 @@ class ValveTable {
 
   const mh_host* host_;
   FlowMap map_;
+  std::vector<uint32_t> rows_;     // the table's rows that are parameters
+  std::vector<std::string> keys_;  // and their keys
   Spool spool_;
   int32_t p_ = -1, t_ = -1, a_ = -1, b_ = -1;
   monohydra::TouchedStates states_;
@@ -127,7 +146,8 @@ const mh_component_descriptor ValveTable::kDescriptor{
     "[t (s), U_ref (V)], an input's name or a state 'instance.state'), transition_pressure (Pa, "
     "default 2e5), initial_spool "
     "(V, default 0), "
-    "tolerance (V, default 1e-7), spool_limit (V, default 10). Output U_ref (V)."};
+    "tolerance (V, default 1e-7), spool_limit (V, default 10). Output U_ref (V). Parameters: "
+    "the flow of each table row with the spool open, flow_table/ROW/2 (m^3/s, ROW from 0)."};
 
 }  // namespace
 

@@ -86,6 +86,24 @@ TEST(ParameterDirection, AComponentsOptionIsNamedByItsInstanceAndKeyInSI) {
   EXPECT_TRUE(p.bodies.empty());
 }
 
+// An entry of a component's table option: keyed by the option, its row and
+// its column, as the component declares it (a table valve's flows).
+TEST(ParameterDirection, AnEntryOfAComponentsTableIsKeyedByTheOptionItsRowAndColumn) {
+  std::string text = read_model_text(fourbar_path());
+  const std::string from = "flow_coefficient: 2.138e-8";
+  ASSERT_NE(text.find(from), std::string::npos);
+  text.replace(text.find(from), from.size(),
+               "flow_table: [[5, 1e6, 1.069e-4], [10, 1e6, 2.138e-4]]");
+  text.replace(text.find("type: valve-4-3"), 15, "type: valve-table");
+  const ModelFile file = parse_model_text(text, "fourbar.yaml", ".");
+  const ParameterDirection p =
+      parameter_direction(text, "fourbar.yaml", ".", file, "subsystems/valve/flow_table/1/2");
+  EXPECT_EQ(p.value, 2.138e-4);
+  EXPECT_EQ(p.subsystem, "valve");
+  EXPECT_EQ(p.key, "flow_table/1/2");
+  EXPECT_EQ(p.option, 1.0);
+}
+
 TEST(ParameterDirection, RefusesWhatTheEngineCannotChangeOrTheFileDoesNotWrite) {
   EXPECT_NE(refusal("solver/dt").find("not a parameter sensitivities take"), std::string::npos);
   EXPECT_NE(refusal("bodies/nobody/mass").find("no item named 'nobody'"), std::string::npos);

@@ -849,6 +849,40 @@ TEST(EmbeddingParameters, AComponentsOptionSetBeforeStartIsTheModelOpenedWithItT
                     "set-options"));
 }
 
+// An entry of a component's table (a table valve's flow at its widest
+// opening, flow_table/ROW/2) set before start: the model opened with it, to
+// the byte, and not the model without it.
+TEST(EmbeddingParameters, AnEntryOfAComponentsTableSetBeforeStartIsTheModelOpenedWithIt) {
+  std::string text = read_file(model("fourbar.yaml"));
+  const auto swap = [&](const std::string& from, const std::string& to) {
+    const size_t at = text.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+  };
+  swap("type: valve-4-3", "type: valve-table");
+  swap("flow_coefficient: 2.138e-8", "flow_table: [[5, 1e6, 1.069e-4], [10, 1e6, 2.138e-4]]");
+  const std::string file = (scratch("table-valve") / "fourbar-table.yaml").string();
+  std::ofstream(file) << text;
+  const auto csv = [&](const char* path, double value) {
+    mhs_simulation* raw = nullptr;
+    const mhs_setting end{"t_end", "1.5"};
+    EXPECT_LE(mhs_open_file(file.c_str(), &end, 1, &raw), MHS_WARNING) << mhs_message(raw);
+    const Sim sim(raw);
+    if (path != nullptr) {
+      EXPECT_EQ(mhs_set_parameter(sim.get(), path, value), MHS_OK) << mhs_message(sim.get());
+    }
+    return api_csv(sim.get());
+  };
+  const std::string changed = csv("subsystems/valve/flow_table/1/2", 2.5e-4);
+  const auto out = scratch("cli-table") / "run.csv";
+  const std::string command = std::string(mh::test::paths::executable) + " run " + file +
+                              " --t-end 1.5 --set subsystems/valve/flow_table/1/2=2.5e-4 --out " +
+                              out.string() + " > /dev/null 2>&1";
+  ASSERT_EQ(std::system(command.c_str()), 0) << command;
+  EXPECT_EQ(changed, read_file(out));
+  EXPECT_NE(changed, csv(nullptr, 0.0));
+}
+
 // Between steps: the run goes on as the model opened with the new mass and
 // restored from the state the change was made at (the hydraulics included).
 TEST(EmbeddingParameters, AMassChangedBetweenStepsGoesOnAsTheChangedModelFromTheSameState) {

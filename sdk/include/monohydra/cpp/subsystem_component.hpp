@@ -124,6 +124,19 @@ struct HasParameters<T,
                                  decltype(std::declval<T&>().set_parameter(std::uint32_t{}, 0.0))>>
     : std::true_type {};
 
+// The same, with a list set up from the instance's options (a table's
+// points): parameter_count() and parameter_spec(index) instead of kParameters.
+template <class T, class = void>
+struct HasParameterList : std::false_type {};
+template <class T>
+struct HasParameterList<
+    T, std::void_t<decltype(static_cast<std::uint32_t>(std::declval<const T&>().parameter_count())),
+                   decltype(static_cast<ParameterSpec>(
+                       std::declval<const T&>().parameter_spec(std::uint32_t{}))),
+                   decltype(std::declval<const T&>().parameter(std::uint32_t{})),
+                   decltype(std::declval<T&>().set_parameter(std::uint32_t{}, 0.0))>>
+    : std::true_type {};
+
 template <class T, class = void>
 struct HasExampleModel : std::false_type {};
 template <class T>
@@ -262,14 +275,31 @@ class SubsystemAdapter {
       return nullptr;
     }
   }
-  // parameters.h from T's kParameters, parameter and set_parameter (cpp/parameters.hpp).
+  // parameters.h from T's kParameters (or parameter_count and
+  // parameter_spec), parameter and set_parameter (cpp/parameters.hpp).
+  static uint32_t parameter_count(const void* instance) {
+    if constexpr (detail::HasParameters<T>::value) {
+      (void)instance;
+      return static_cast<uint32_t>(std::size(T::kParameters));
+    } else {
+      return static_cast<uint32_t>(object_of(instance).parameter_count());
+    }
+  }
+  static ParameterSpec parameter_spec(const void* instance, uint32_t index) {
+    if constexpr (detail::HasParameters<T>::value) {
+      (void)instance;
+      return T::kParameters[index];
+    } else {
+      return object_of(instance).parameter_spec(index);
+    }
+  }
   static const mh_parameters_extension* parameters_extension() noexcept {
     static const mh_parameters_extension ext{
         sizeof(mh_parameters_extension),
-        [](const void*) noexcept { return static_cast<uint32_t>(std::size(T::kParameters)); },
-        [](const void*, uint32_t index, mh_parameter_info* info) noexcept {
-          if (index >= std::size(T::kParameters) || info == nullptr) return MH_ERROR;
-          const ParameterSpec& p = T::kParameters[index];
+        [](const void* instance) noexcept { return parameter_count(instance); },
+        [](const void* instance, uint32_t index, mh_parameter_info* info) noexcept {
+          if (index >= parameter_count(instance) || info == nullptr) return MH_ERROR;
+          const ParameterSpec p = parameter_spec(instance, index);
           info->key = p.key;
           info->unit = p.unit;
           info->lower = p.lower;
@@ -277,17 +307,17 @@ class SubsystemAdapter {
           return MH_OK;
         },
         [](const void* instance, uint32_t index, double* value) noexcept {
-          if (index >= std::size(T::kParameters) || value == nullptr) return MH_ERROR;
+          if (index >= parameter_count(instance) || value == nullptr) return MH_ERROR;
           *value = object_of(instance).parameter(index);
           return MH_OK;
         },
         [](const void* instance, uint32_t index, double value) noexcept {
           const Instance& i = self(static_cast<const mh_subsystem*>(instance));
-          if (index >= std::size(T::kParameters)) {
+          if (index >= parameter_count(instance)) {
             detail::log_failure(i.host, "set parameter", "index out of range");
             return MH_ERROR;
           }
-          const ParameterSpec& p = T::kParameters[index];
+          const ParameterSpec p = parameter_spec(instance, index);
           if (!(value >= p.lower && value <= p.upper)) {
             detail::log_failure(
                 i.host, p.key,
@@ -307,7 +337,7 @@ class SubsystemAdapter {
     delete static_cast<Instance*>(s->plugin_data);
   }
   static const void* get_extension(const mh_subsystem* s, const char* id) noexcept {
-    if constexpr (detail::HasParameters<T>::value) {
+    if constexpr (detail::HasParameters<T>::value || detail::HasParameterList<T>::value) {
       if (id != nullptr && std::strcmp(id, MH_EXT_PARAMETERS) == 0) return parameters_extension();
     }
     if constexpr (detail::HasExtension<T>::value) {
