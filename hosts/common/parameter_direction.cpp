@@ -35,7 +35,11 @@ ParameterDirection parameter_direction(const std::string& text, const std::strin
   const std::vector<std::string> parts = split_path(path);
   const bool body_value = parts.size() >= 3 && parts[0] == "bodies" &&
                           (parts[2] == "mass" || parts[2] == "com" || parts[2] == "inertia" ||
-                           parts[2] == "z0" || parts[2] == "zd0");
+                           parts[2] == "payload" || parts[2] == "z0" || parts[2] == "zd0");
+  // A load's mass moves the body's linear inertial parameters linearly
+  // (its centre and size do not: they are differenced as the others).
+  const bool payload =
+      body_value && parts[2] == "payload" && parts.size() == 4 && parts[3] == "mass";
   const bool gravity = !parts.empty() && parts[0] == "gravity";
   // A component's option, or an entry of one that is a table
   // (subsystems/valve/flow_table/3/2): the key is the rest of the path.
@@ -45,7 +49,8 @@ ParameterDirection parameter_direction(const std::string& text, const std::strin
         path +
         ": not a parameter sensitivities take: they take bodies' mass, com and inertia, "
         "their initial coordinates and rates, gravity, and the options a component changes in "
-        "place (bodies/NAME/mass, bodies/NAME/com/I, bodies/NAME/inertia/I, bodies/NAME/z0, "
+        "place (bodies/NAME/mass, bodies/NAME/com/I, bodies/NAME/inertia/I, "
+        "bodies/NAME/payload/mass, bodies/NAME/z0, "
         "bodies/NAME/zd0, gravity/I, subsystems/NAME/KEY, subsystems/NAME/TABLE/ROW/COLUMN)");
   const YAML::Node root = YAML::Load(text);
   const std::string why = check_path(root, path);
@@ -77,13 +82,16 @@ ParameterDirection parameter_direction(const std::string& text, const std::strin
   }
   // Central differences of the parsed model: exact for what the parser makes
   // linear in the value (a shape's inertia in its mass, a unit's factor).
-  const double delta = 1e-6 * std::max(std::abs(value), 1.0);
+  // A load's mass, exactly linear, one-sided (an empty bucket's 0 kg is a
+  // bound) and by a whole kilogram or the load itself (a millionth of one
+  // beside the body's tonnes would be lost to round-off).
+  const double delta = (payload ? 1.0 : 1e-6) * std::max(std::abs(value), 1.0);
   const ModelFile plus = parsed_with(text, label, base_dir, path, value + delta);
-  const ModelFile minus = parsed_with(text, label, base_dir, path, value - delta);
+  const ModelFile minus = parsed_with(text, label, base_dir, path, payload ? value : value - delta);
   ParameterDirection p;
   p.path = path;
   p.value = value;
-  const double scale = 1.0 / (2.0 * delta);
+  const double scale = 1.0 / ((payload ? 1.0 : 2.0) * delta);
   for (size_t j = 0; j < file.model.bodies.size(); ++j) {
     const Body& a = plus.model.bodies[j];
     const Body& b = minus.model.bodies[j];
@@ -91,8 +99,19 @@ ParameterDirection parameter_direction(const std::string& text, const std::strin
     ParameterDirection::BodyChange c;
     c.body = static_cast<int>(j);
     c.mass = (a.mass - b.mass) * scale;
-    c.com = (a.com_B - b.com_B) * scale;
-    c.inertia = (a.inertia_B - b.inertia_B) * scale;
+    c.about_origin = payload;
+    if (payload) {
+      const auto origin_inertia = [](const Body& x) {
+        return Eigen::Matrix3d(x.inertia_B +
+                               x.mass * (x.com_B.squaredNorm() * Eigen::Matrix3d::Identity() -
+                                         x.com_B * x.com_B.transpose()));
+      };
+      c.com = (a.mass * a.com_B - b.mass * b.com_B) * scale;
+      c.inertia = (origin_inertia(a) - origin_inertia(b)) * scale;
+    } else {
+      c.com = (a.com_B - b.com_B) * scale;
+      c.inertia = (a.inertia_B - b.inertia_B) * scale;
+    }
     p.bodies.push_back(c);
   }
   for (size_t j = 0; j < file.model.bodies.size(); ++j) {

@@ -48,12 +48,7 @@ void HeldParameters::apply(const Eigen::VectorXd& offsets) {
     Body moved = body_base_[b];
     for (size_t j = 0; j < params_.size(); ++j)
       for (const ParameterDirection::BodyChange& c : params_[j].bodies)
-        if (c.body == bodies_[b]) {
-          const double o = offsets[static_cast<Eigen::Index>(j)];
-          moved.mass += o * c.mass;
-          moved.com_B += o * c.com;
-          moved.inertia_B += o * c.inertia;
-        }
+        if (c.body == bodies_[b]) move_body(moved, c, offsets[static_cast<Eigen::Index>(j)]);
     sim_.set_body_inertia(bodies_[b], moved.mass, moved.com_B, moved.inertia_B);
   }
   if (moves_gravity_) {

@@ -344,12 +344,8 @@ void Simulation::Engine::perturb_parameter(size_t j, double amount) {
     v.com = b.com_B;
     v.inertia = b.inertia_B;
   }
-  for (const ParameterDirection::BodyChange& c : p.bodies) {
-    Body& b = model.bodies[static_cast<size_t>(c.body)];
-    b.mass += amount * c.mass;
-    b.com_B += amount * c.com;
-    b.inertia_B += amount * c.inertia;
-  }
+  for (const ParameterDirection::BodyChange& c : p.bodies)
+    move_body(model.bodies[static_cast<size_t>(c.body)], c, amount);
   // The body of coordinate i is body i (Model::initial_coordinates).
   for (const ParameterDirection::InitialChange& c : p.initial) {
     Body& b = model.bodies[static_cast<size_t>(c.coordinate)];

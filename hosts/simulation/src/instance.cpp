@@ -102,8 +102,9 @@ Instance::Instance(const OpenRequest& request) {
 
 void Instance::set_parameter(const std::string& path, const std::string& value) {
   const std::vector<std::string> parts = host::split_path(path);
-  const bool body_value = parts.size() >= 3 && parts[0] == "bodies" &&
-                          (parts[2] == "mass" || parts[2] == "com" || parts[2] == "inertia");
+  const bool body_value =
+      parts.size() >= 3 && parts[0] == "bodies" &&
+      (parts[2] == "mass" || parts[2] == "com" || parts[2] == "inertia" || parts[2] == "payload");
   const bool initial =
       parts.size() == 3 && parts[0] == "bodies" && (parts[2] == "z0" || parts[2] == "zd0");
   const bool gravity = parts.size() <= 2 && parts[0] == "gravity";
@@ -111,7 +112,7 @@ void Instance::set_parameter(const std::string& path, const std::string& value) 
   if (!body_value && !initial && !gravity && !option)
     throw std::invalid_argument(path +
                                 ": not a value that changes during a run; in place change a "
-                                "body's mass, com and inertia, gravity, and the options a "
+                                "body's mass, com, inertia and payload, gravity, and the options a "
                                 "component changes in place, and before the run starts a body's "
                                 "z0 and zd0 (open the model with this setting)");
   const host::SetText set = host::apply_settings(text_, label_, {{path, value}});

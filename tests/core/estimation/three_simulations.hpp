@@ -77,7 +77,9 @@ inline double reading(const Simulation& truth, const FilterSensor& s) {
   const std::vector<std::string>& outputs = truth.output_names();
   for (size_t i = 0; i < outputs.size(); ++i)
     if (outputs[i] == s.measures) return truth.outputs()[static_cast<Eigen::Index>(i)];
-  if (s.measures == "z1") return truth.z()[0];
+  const std::vector<std::string>& coordinates = truth.coordinate_names();
+  for (size_t i = 0; i < coordinates.size(); ++i)
+    if (coordinates[i] == s.measures) return truth.z()[static_cast<Eigen::Index>(i)];
   throw std::invalid_argument("no column " + s.measures);
 }
 

@@ -273,6 +273,45 @@ bodies:
   EXPECT_EQ(file.body_shapes[2].kind, BodyShape::Kind::cylinder);
 }
 
+// A load the body carries (payload:): the body becomes the pair, its mass,
+// centre of mass and inertia about it; here checked through the inertia
+// about the body's origin, a second way. None (mass 0) leaves the body as
+// written, to the bit.
+TEST(ModelFile, APayloadMakesTheBodyTheLoadedPairAndNoneLeavesItAsWritten) {
+  const ModelFile loaded = parse_model_text(
+      valid_body("    payload: {mass: 3, at: [1, 0.2, 0], size: [0.2, 0.4, 0.6]}\n"), kLabel);
+  const ModelFile empty = parse_model_text(valid_body(""), kLabel);
+  const ModelFile none =
+      parse_model_text(valid_body("    payload: {mass: 0, at: [1, 0.2, 0]}\n"), kLabel);
+  const Body& b = loaded.model.bodies[0];
+  const Body& e = empty.model.bodies[0];
+  const auto point = [](double m, const Eigen::Vector3d& d) {
+    return Eigen::Matrix3d(m * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose()));
+  };
+  const Eigen::Vector3d at(1, 0.2, 0);
+  const Eigen::Matrix3d own =
+      Eigen::Vector3d(3.0 / 12 * (0.16 + 0.36), 3.0 / 12 * (0.04 + 0.36), 3.0 / 12 * (0.04 + 0.16))
+          .asDiagonal();
+  EXPECT_EQ(b.mass, 5.0);
+  EXPECT_TRUE(b.com_B.isApprox((2.0 * e.com_B + 3.0 * at) / 5.0, 1e-15)) << b.com_B.transpose();
+  const Eigen::Matrix3d about_origin = e.inertia_B + point(2.0, e.com_B) + own + point(3.0, at);
+  EXPECT_TRUE((b.inertia_B + point(5.0, b.com_B)).isApprox(about_origin, 1e-14)) << b.inertia_B;
+  const Body& n = none.model.bodies[0];
+  EXPECT_EQ(n.mass, e.mass);
+  EXPECT_EQ(n.com_B, e.com_B);
+  EXPECT_EQ(n.inertia_B, e.inertia_B);
+}
+
+TEST(ModelFileErrors, APayloadNeedsANonNegativeMassAndItsCentre) {
+  expect_error(valid_body("    payload: {mass: -1, at: [0, 0, 0]}\n"), 8, "bodies[0].payload.mass",
+               "");
+  expect_error(valid_body("    payload: {mass: 1}\n"), 8, "bodies[0].payload.at", "required");
+  expect_error(valid_body("    payload: {mass: 1, at: [0, 0, 0], size: [1, 0, 1]}\n"), 8,
+               "bodies[0].payload.size", "expected three positive sides");
+  expect_error(valid_body("    payload: {mass: 1, at: [0, 0, 0], com: [0, 0, 0]}\n"), 8,
+               "bodies[0].payload.com", "unknown key 'com' (expected one of: mass, at, size)");
+}
+
 TEST(ModelFileErrors, AShapeTakesTheKeysOfItsType) {
   expect_error(one_body("    mass: 1\n    shape: {type: box, size: [1, 2, 3], length: 1}\n"), 7,
                "bodies[0].shape.length", "unknown key 'length' (expected one of: type, size, at)");
@@ -655,7 +694,7 @@ TEST(ModelFileErrors, UnknownTopLevelKey) {
 TEST(ModelFileErrors, UnknownBodyKey) {
   expect_message(one_body("    mas: 1\n    shape: {type: beam, length: 1}\n"),
                  "model.yaml:6:5: bodies[0].mas: unknown key 'mas' (expected one of: name, "
-                 "parent, joint, orientation, mass, shape, com, inertia, z0, zd0)");
+                 "parent, joint, orientation, mass, shape, com, inertia, payload, z0, zd0)");
   expect_error(one_body("    mass: 1\n    shape: {type: beam, lenght: 1}\n"), 7,
                "bodies[0].shape.lenght", "unknown key 'lenght' (expected one of: type, length)");
   expect_error(valid_body("solver: {dt: 0.01, tend: 1}\n"), 8, "solver.tend", "unknown key 'tend'");

@@ -104,6 +104,31 @@ TEST(ParameterDirection, AnEntryOfAComponentsTableIsKeyedByTheOptionItsRowAndCol
   EXPECT_EQ(p.option, 1.0);
 }
 
+// A body's load (payload: mass 0 in the excavator): one-sided (0 kg is a
+// bound), in the body's linear parameters about its origin, where a load
+// is exactly linear: a unit mass at its centre with the box's inertia.
+TEST(ParameterDirection, ALoadsMassMovesTheBodysFirstMomentAndInertiaAboutItsOrigin) {
+  const std::string file_path = std::string(test::paths::source_dir) + "/models/excavator.yaml";
+  const std::string text = read_model_text(file_path);
+  const ModelFile file = parse_model_text(text, "excavator.yaml", ".");
+  const ParameterDirection p =
+      parameter_direction(text, "excavator.yaml", ".", file, "bodies/bucket/payload/mass");
+  EXPECT_EQ(p.value, 0.0);
+  ASSERT_EQ(p.bodies.size(), 1u);
+  const ParameterDirection::BodyChange& c = p.bodies[0];
+  EXPECT_TRUE(c.about_origin);
+  EXPECT_EQ(file.model.bodies[static_cast<size_t>(c.body)].name, "bucket");
+  EXPECT_NEAR(c.mass, 1.0, 1e-9);
+  const Eigen::Vector3d centre(0.80, 0.0, -0.13);
+  EXPECT_TRUE(c.com.isApprox(centre, 1e-8)) << c.com.transpose();
+  const Eigen::Vector3d d2 = Eigen::Vector3d(1.0, 1.1, 0.6).cwiseAbs2();
+  const Eigen::Matrix3d expected =
+      centre.squaredNorm() * Eigen::Matrix3d::Identity() - centre * centre.transpose() +
+      Eigen::Matrix3d(
+          (Eigen::Vector3d(d2.y() + d2.z(), d2.x() + d2.z(), d2.x() + d2.y()) / 12.0).asDiagonal());
+  EXPECT_TRUE(c.inertia.isApprox(expected, 1e-8)) << c.inertia;
+}
+
 TEST(ParameterDirection, RefusesWhatTheEngineCannotChangeOrTheFileDoesNotWrite) {
   EXPECT_NE(refusal("solver/dt").find("not a parameter sensitivities take"), std::string::npos);
   EXPECT_NE(refusal("bodies/nobody/mass").find("no item named 'nobody'"), std::string::npos);

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "monohydra/core/model.hpp"
+
 namespace mh {
 
 struct ParameterDirection {
@@ -24,6 +26,12 @@ struct ParameterDirection {
     double mass = 0.0;
     Eigen::Vector3d com = Eigen::Vector3d::Zero();
     Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
+    // Of the body's linear inertial parameters instead: `com` moves the
+    // first moment m c (kg m) and `inertia` the inertia about the body's
+    // origin (kg m^2). A load added at a point moves these linearly where
+    // the centre of mass and the inertia about it move as 1/(m + load)
+    // (bodies/NAME/payload/mass).
+    bool about_origin = false;
   };
   std::vector<BodyChange> bodies;
   // An initial coordinate or rate (bodies/NAME/z0, bodies/NAME/zd0): what a
@@ -47,5 +55,9 @@ struct ParameterDirection {
   // millionth of the value, or of 1 where it is 0).
   double step = 0.0;
 };
+
+// Body `b` moved by `amount` along `change` (its mass, centre of mass and
+// inertia about it; about_origin: through the linear parameters).
+void move_body(Body& b, const ParameterDirection::BodyChange& change, double amount);
 
 }  // namespace mh

@@ -151,9 +151,9 @@ void Parser::report_cycle(const std::vector<RawBody>& raw, const std::vector<int
 }
 
 RawBody Parser::body(const YAML::Node& node, const std::string& field, std::size_t index) const {
-  const MapView map(
-      *this, node, field,
-      {"name", "parent", "joint", "orientation", "mass", "shape", "com", "inertia", "z0", "zd0"});
+  const MapView map(*this, node, field,
+                    {"name", "parent", "joint", "orientation", "mass", "shape", "com", "inertia",
+                     "payload", "z0", "zd0"});
   RawBody raw;
   raw.field = field;
   raw.mark = mark(node);
@@ -275,6 +275,8 @@ RawBody Parser::body(const YAML::Node& node, const std::string& field, std::size
     map.require("inertia", without_shape);
   }
 
+  if (auto payload = map.get("payload")) add_payload(*payload, map.field("payload"), b);
+
   const double coordinate_scale = b.joint == JointType::revolute ? angle_scale_ : 1.0;
   if (auto z0 = map.get("z0")) {
     b.z0 = number(*z0, map.field("z0")) * coordinate_scale;
@@ -282,6 +284,42 @@ RawBody Parser::body(const YAML::Node& node, const std::string& field, std::size
   }
   if (auto zd0 = map.get("zd0")) b.zd0 = number(*zd0, map.field("zd0")) * coordinate_scale;
   return raw;
+}
+
+// A load the body carries (a bucket's soil, a crane's hook load): `mass`
+// (kg, >= 0) whose centre is `at` (body frame) and, with `size`, a uniform
+// box of those sides about it (a point mass without). The body's mass,
+// centre of mass and inertia become the pair's; its own `mass`, `com` and
+// `inertia` stay the empty body's, so that bodies/NAME/payload/mass is the
+// load alone, a parameter that moves the body's first moment and inertia
+// about its origin linearly (hosts/common/parameter_direction.cpp).
+void Parser::add_payload(const YAML::Node& node, const std::string& field, Body& b) const {
+  const MapView payload(*this, node, field, {"mass", "at", "size"});
+  const YAML::Node mass_node = payload.require("mass", "the load's mass (kg, 0 for none)");
+  const double m = bounded(non_negative(mass_node, payload.field("mass")), mass_node,
+                           payload.field("mass"), kMaxMass, "kg");
+  const Eigen::Vector3d at = length3(
+      payload.require("at", "[x, y, z]: the load's centre in the body frame"), payload.field("at"));
+  Eigen::Matrix3d own = Eigen::Matrix3d::Zero();
+  if (auto size_node = payload.get("size")) {
+    const Eigen::Vector3d d = length3(*size_node, payload.field("size"));
+    if (!(d.minCoeff() > 0.0))
+      fail(*size_node, payload.field("size"), "expected three positive sides [x, y, z] (m)");
+    const Eigen::Vector3d d2 = d.cwiseProduct(d);
+    own = (m / 12.0 * Eigen::Vector3d(d2.y() + d2.z(), d2.x() + d2.z(), d2.x() + d2.y()))
+              .asDiagonal();
+  }
+  if (m == 0.0) return;  // no load: the body as written, to the bit
+  // Both inertias moved to the pair's centre of mass (parallel axes).
+  const auto about = [](double mass, const Eigen::Vector3d& d) {
+    return Eigen::Matrix3d(mass *
+                           (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose()));
+  };
+  const double total = b.mass + m;
+  const Eigen::Vector3d com = (b.mass * b.com_B + m * at) / total;
+  b.inertia_B = b.inertia_B + about(b.mass, b.com_B - com) + own + about(m, at - com);
+  b.com_B = com;
+  b.mass = total;
 }
 
 // Planar: every revolute axis along Z, every prismatic axis in the plane,

@@ -153,6 +153,7 @@ class Parser {
   [[noreturn]] void report_cycle(const std::vector<RawBody>& raw, const std::vector<int>& parent,
                                  const std::vector<int>& topo_of) const;
   RawBody body(const YAML::Node& node, const std::string& field, std::size_t index) const;
+  void add_payload(const YAML::Node& node, const std::string& field, Body& b) const;
   void check_planar(const ModelFile& file);
 
   // cut_joints.cpp
