@@ -13,6 +13,7 @@
 #include "instance.hpp"
 #include "monohydra/core/extended_kalman_filter.hpp"
 #include "monohydra/core/filter_defaults.hpp"
+#include "monohydra/core/state_vector.hpp"
 #include "monohydra/core/unscented_kalman_filter.hpp"
 #include "monohydra/cpp/number_text.hpp"
 #include "monohydra/simulation.h"
@@ -26,6 +27,10 @@ struct mhs_estimator {
   const mhs_simulation* sim = nullptr;  // the run it drives
   std::unique_ptr<mh::StateFilter> filter;
   std::string failure;  // why the filter stopped ("": it did not)
+  // Where it left the run: its step and state. A run stepped or restored
+  // since by another call is not the one its covariance describes.
+  long step = 0;
+  Eigen::VectorXd x;
 };
 
 namespace {
@@ -37,6 +42,21 @@ std::string mismatch(const mhs_simulation* sim, const mhs_estimator* est, const 
   if (est == nullptr) return std::string(call) + ": the estimator is NULL";
   if (est->sim != sim) return std::string(call) + ": the estimator was made on another run";
   return "";
+}
+
+// The run where the estimator left it, or why not (another call moved it).
+std::string moved(const mh::Simulation& s, const mhs_estimator* est, const char* call) {
+  if (s.step_index() == est->step && mh::state_values(s) == est->x) return "";
+  return std::string(call) + ": the run was moved since the estimator's last call (by mhs_step, " +
+         "mhs_advance, mhs_restore or a setting of its state: now at t = " +
+         short_number(s.time()) +
+         " s): the filter's covariance is of the state it left; leave the run to the "
+         "estimator, or make a new one";
+}
+
+void leave(const mh::Simulation& s, mhs_estimator* est) {
+  est->step = s.step_index();
+  est->x = mh::state_values(s);
 }
 
 // The noise the options set over the defaults; "" or why not.
@@ -140,6 +160,7 @@ MHS_API mhs_status mhs_estimator_new(mhs_simulation* sim, const mhs_estimator_op
     } catch (const std::invalid_argument& err) {
       return refuse(sim, std::string("mhs_estimator_new: ") + err.what());
     }
+    leave(in.sim(), est.get());
     *out = est.release();
     return MHS_OK;
   });
@@ -206,6 +227,8 @@ MHS_API mhs_status mhs_estimator_update(mhs_simulation* sim, mhs_estimator* est,
                              "); make a new estimator");
     if (!sim->failure.empty())
       return refuse(sim, "mhs_estimator_update: the run's last step failed (" + sim->failure + ")");
+    const std::string elsewhere = moved(in.sim(), est, "mhs_estimator_update");
+    if (!elsewhere.empty()) return refuse(sim, elsewhere);
     mh::StateFilter& f = *est->filter;
     if (count != f.sensors().size())
       return refuse(sim, "mhs_estimator_update: " + std::to_string(count) +
@@ -241,15 +264,18 @@ MHS_API mhs_status mhs_estimator_update(mhs_simulation* sim, mhs_estimator* est,
       est->failure = err.what();
       return refuse(sim, est->failure);
     }
+    leave(s, est);
     return MHS_OK;
   });
 }
 
 MHS_API mhs_status mhs_estimator_state(mhs_simulation* sim, const mhs_estimator* est, double* x,
                                        double* covariance, size_t n) {
-  return guarded(sim, [&](Instance&) -> mhs_status {
+  return guarded(sim, [&](Instance& in) -> mhs_status {
     const std::string wrong = mismatch(sim, est, "mhs_estimator_state");
     if (!wrong.empty()) return refuse(sim, wrong);
+    const std::string elsewhere = moved(in.sim(), est, "mhs_estimator_state");
+    if (!elsewhere.empty()) return refuse(sim, elsewhere);
     const mh::StateFilter& f = *est->filter;
     const size_t states = f.states().size();
     if (n != states)

@@ -184,6 +184,36 @@ TEST(EmbeddingEstimator, AParameterBesideTheStateAndNoiseByNameAreTheCommandsToo
   expect_the_commands_estimates(dir, options);
 }
 
+// The run stepped or restored by another call than the estimator's is not
+// the one its covariance describes: refused, naming the calls, until the
+// run is back where the estimator left it.
+TEST(EmbeddingEstimator, ARunMovedOutsideTheEstimatorIsRefusedUntilItIsBackWhereItWasLeft) {
+  Sim sim = open_fourbar();
+  mhs_simulation* s = sim.get();
+  mhs_estimator* raw = nullptr;
+  ASSERT_EQ(mhs_estimator_new(s, nullptr, &raw), MHS_OK) << mhs_message(s);
+  const Est est(raw);
+  const double readings[] = {NAN, NAN, NAN, NAN};
+  ASSERT_EQ(mhs_estimator_update(s, est.get(), 0.01, readings, 4), MHS_OK) << mhs_message(s);
+  mhs_snapshot* snap = nullptr;
+  ASSERT_EQ(mhs_snapshot_new(s, &snap), MHS_OK);
+  ASSERT_EQ(mhs_save(s, snap), MHS_OK) << mhs_message(s);
+  ASSERT_LE(mhs_step(s), MHS_WARNING) << mhs_message(s);
+  std::vector<double> x(6);
+  for (const bool update : {true, false}) {
+    EXPECT_EQ(update ? mhs_estimator_update(s, est.get(), 0.02, readings, 4)
+                     : mhs_estimator_state(s, est.get(), x.data(), nullptr, 6),
+              MHS_ERROR);
+    EXPECT_NE(std::string(mhs_message(s)).find("the run was moved since the estimator's last call"),
+              std::string::npos)
+        << mhs_message(s);
+  }
+  ASSERT_EQ(mhs_restore(s, snap), MHS_OK) << mhs_message(s);
+  mhs_snapshot_free(snap);
+  EXPECT_EQ(mhs_estimator_state(s, est.get(), x.data(), nullptr, 6), MHS_OK) << mhs_message(s);
+  EXPECT_EQ(mhs_estimator_update(s, est.get(), 0.02, readings, 4), MHS_OK) << mhs_message(s);
+}
+
 TEST(EmbeddingEstimator, BadCallsAreRefusedNamingWhatAndAStoppedFilterTakesNoMore) {
   Sim sim = open_fourbar();
   mhs_simulation* s = sim.get();
