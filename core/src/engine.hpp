@@ -217,13 +217,17 @@ struct RatesWorkspace {
 
 // ConsistentState's Jacobian of the rows in the rate unknowns
 // (analysis/state_slots.cpp), equilibrated, factored and kept between its
-// calls: a chord Newton on the Jacobian of a nearby state converges, and
-// the filters make a state consistent twenty to forty times a step.
-// Factored again when a solve on it contracts slowly or fails, or when the
-// scales it was equilibrated with change. A workspace: no part of the run's
-// state (a snapshot neither saves nor restores it).
+// calls at one accepted step: a chord Newton on the Jacobian of a nearby
+// state converges, and the filters make a state consistent twenty to forty
+// times a step. Factored again at another step (so that what a step gives
+// does not depend on the steps before: a filter that goes back and steps
+// forward again gets the same), by linearize at its own state, when a solve
+// on it contracts slowly or fails, or when the scales it was equilibrated
+// with change. A workspace: no part of the run's state (a snapshot neither
+// saves nor restores it).
 struct RateFactorization {
   bool valid = false;
+  long step = -1;                                  // the accepted step it was factored at
   Eigen::VectorXd scale, row_scale;                // its columns' and rows' scales
   Eigen::FullPivLU<Eigen::MatrixXd> full, states;  // all rows; the subsystems' block
 };

@@ -180,6 +180,10 @@ Linearization linearize(Simulation& sim, const std::vector<std::string>& output_
   e.settings.max_step_halvings = 0;
   const Eigen::VectorXd tol = e.registry.tol;
   ConsistentState consistent(e, "linearize");  // its scales: the run's own tolerances
+  // The rates' Jacobian factored afresh at this state, for all of its
+  // perturbed states (and kept for a correction after it): a map that does
+  // not depend on which state the kept one was of.
+  e.rate_factor.valid = false;
 
   // Y at the current (consistent) state, and X and the formulation's
   // outputs after the step from it.

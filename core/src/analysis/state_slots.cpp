@@ -110,7 +110,8 @@ void ConsistentState::make(const char* what) {
     if (k == MH_UNKNOWN_ALGEBRAIC) e.xd[i] = 0.0;
   }
   RateFactorization& f = e.rate_factor;
-  if (!f.valid || f.scale.size() != scale_.size() || f.scale != scale_) factor(t, what);
+  if (!f.valid || f.step != e.accepted.step || f.scale.size() != scale_.size() || f.scale != scale_)
+    factor(t, what);
   solve_kept(t, 0, what);
   // The subsystems' rates again, unless the formulation's accept left its
   // unknowns, rates and accelerations as they were (no projection moved
@@ -238,6 +239,7 @@ void ConsistentState::factor(double t, const char* what) {
                               ": the rows do not determine the rates at the accepted "
                               "state (a singular mass matrix or state row?)");
   f.scale = scale_;
+  f.step = e.accepted.step;
   f.valid = true;
 }
 

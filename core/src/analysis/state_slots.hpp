@@ -47,8 +47,8 @@ Eigen::MatrixXd constraint_tangent_space(Simulation::Engine& e);
 // of the state); the subsystems' rates again at the velocities it left;
 // then the integrator restarted there, as after a time event. Newton's
 // Jacobian is differenced at one state and kept, by the engine, for the
-// calls after it (a chord Newton: RateFactorization, engine.hpp), until a
-// solve on it contracts slowly.
+// calls after it at the same step (a chord Newton: RateFactorization,
+// engine.hpp), until a solve on it contracts slowly.
 // `who` opens its errors ("linearize").
 class ConsistentState {
  public:

@@ -42,7 +42,7 @@ void ExtendedKalmanFilter::parameter_columns(const Prepare& prepare, const Measu
   }
 }
 
-void ExtendedKalmanFilter::update(const Eigen::VectorXd& readings) {
+void ExtendedKalmanFilter::update_now(const Eigen::VectorXd& readings) {
   const std::vector<Eigen::Index> used = take(readings);
   if (used.empty()) return;
   linearize_here();
@@ -84,7 +84,7 @@ void ExtendedKalmanFilter::update(const Eigen::VectorXd& readings) {
   P_ = IKH * P_ * IKH.transpose() + K * r.asDiagonal() * K.transpose();
 }
 
-void ExtendedKalmanFilter::predict() {
+void ExtendedKalmanFilter::predict_now() {
   linearize_here();
   const Eigen::Index nx = num_x(), k_p = num_parameters();
   Eigen::MatrixXd F = Eigen::MatrixXd::Identity(nx + k_p, nx + k_p);

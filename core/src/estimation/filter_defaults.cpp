@@ -40,15 +40,10 @@ FilterNoise default_filter_noise(const std::vector<LinearVariable>& states,
 }
 
 FilterSensor filter_sensor(const SensorSpec& spec, const std::string& model) {
-  if (spec.delay != 0.0)
-    throw std::invalid_argument("sensor '" + spec.name + "' (" + model + "): a delay of " +
-                                monohydra::short_number(spec.delay) +
-                                " s: the filter takes each reading at its own time (delays are "
-                                "not yet estimated)");
   if (!(spec.noise > 0.0))
     throw std::invalid_argument("sensor '" + spec.name + "' (" + model +
                                 "): a filter needs its noise (a standard deviation above 0)");
-  return {spec.name, spec.measures, spec.noise, spec.bias};
+  return {spec.name, spec.measures, spec.noise, spec.bias, spec.delay};
 }
 
 }  // namespace mh

@@ -71,6 +71,82 @@ StateFilter::StateFilter(Simulation& sim, std::vector<FilterSensor> sensors,
   innovation_ = Eigen::VectorXd::Constant(m, NAN);
   innovation_sd_ = Eigen::VectorXd::Constant(m, NAN);
   window_.assign(kDivergenceWindow, 0.0);
+  const double dt = sim.settings().dt;
+  for (const FilterSensor& s : sensors_) {
+    const long d = std::lround(s.delay / dt);
+    if (!(s.delay >= 0.0) || std::abs(static_cast<double>(d) * dt - s.delay) > 1e-9 * dt)
+      throw std::invalid_argument("sensor '" + s.name + "': a delay of " + short_number(s.delay) +
+                                  " s: expected a whole number of the run's steps of " +
+                                  short_number(dt) + " s, 0 or more");
+    delay_steps_.push_back(d);
+    max_delay_ = std::max(max_delay_, d);
+  }
+  if (max_delay_ > 0) {
+    past_.resize(static_cast<size_t>(max_delay_ + 1));
+    remember(false);
+  }
+}
+
+void StateFilter::remember(bool keep) {
+  Past& p = past(sim_.step_index());
+  p.step = sim_.step_index();
+  sim_.save_state(p.run);
+  p.P = P_;
+  p.offsets = held_.offsets();
+  p.window = window_;
+  p.updates = updates_;
+  if (!keep)
+    p.readings = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(sensors_.size()), NAN);
+}
+
+void StateFilter::predict() {
+  predict_now();
+  if (max_delay_ > 0) remember(false);
+}
+
+void StateFilter::update(const Eigen::VectorXd& readings) {
+  if (max_delay_ == 0) {
+    update_now(readings);
+    return;
+  }
+  const auto m = static_cast<Eigen::Index>(sensors_.size());
+  if (readings.size() != m)
+    throw std::invalid_argument("update: " + std::to_string(readings.size()) + " readings for " +
+                                std::to_string(m) + " sensors");
+  // Each reading to the step it is of; the earliest such step.
+  const long k = sim_.step_index();
+  Eigen::VectorXd now = Eigen::VectorXd::Constant(m, NAN);
+  long from = k;
+  for (Eigen::Index i = 0; i < m; ++i) {
+    if (std::isnan(readings[i])) continue;
+    if (std::isinf(readings[i])) {
+      update_now(readings);  // its refusal
+      return;
+    }
+    const long j = k - delay_steps_[static_cast<size_t>(i)];
+    if (j == k) now[i] = readings[i];
+    if (j < 0 || past(j).step != j) continue;  // before the filter's start
+    past(j).readings[i] = readings[i];
+    from = std::min(from, j);
+  }
+  if (from == k) {
+    update_now(now);
+    return;
+  }
+  // Back to the earliest, each step's readings again, forward to now.
+  const Past& back = past(from);
+  held_.set(back.offsets);
+  sim_.restore_state(back.run);
+  P_ = back.P;
+  window_ = back.window;
+  updates_ = back.updates;
+  rolled_back();
+  for (long j = from;; ++j) {
+    update_now(past(j).readings);
+    if (j == k) break;
+    predict_now();
+    remember(true);
+  }
 }
 
 std::vector<Eigen::Index> StateFilter::take(const Eigen::VectorXd& readings) {

@@ -27,7 +27,7 @@ Eigen::MatrixXd UnscentedKalmanFilter::spread() const {
   return std::sqrt(static_cast<double>(n)) * (d.asDiagonal() * root);
 }
 
-void UnscentedKalmanFilter::predict() {
+void UnscentedKalmanFilter::predict_now() {
   const Eigen::Index n = P_.rows();
   const RunState saved = sim_.save_state();
   const Eigen::VectorXd offsets = held_.offsets();
@@ -50,7 +50,7 @@ void UnscentedKalmanFilter::predict() {
   put(mean);
 }
 
-void UnscentedKalmanFilter::update(const Eigen::VectorXd& readings) {
+void UnscentedKalmanFilter::update_now(const Eigen::VectorXd& readings) {
   const std::vector<Eigen::Index> used = take(readings);
   if (used.empty()) return;
   const Eigen::Index n = P_.rows();

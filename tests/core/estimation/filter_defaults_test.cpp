@@ -33,7 +33,7 @@ TEST(FilterDefaults, PositionsHaveNoPlantNoiseRatesAndPressuresTheFourBarsTuning
   EXPECT_DOUBLE_EQ(n.parameter_initial[1], 0.2);
 }
 
-TEST(FilterDefaults, ASensorIsTakenWithItsNoiseAndBiasOrRefusedNamingIt) {
+TEST(FilterDefaults, ASensorIsTakenWithItsNoiseBiasAndDelayOrRefusedNamingIt) {
   SensorSpec s;
   s.name = "crank";
   s.measures = "z1";
@@ -54,9 +54,7 @@ TEST(FilterDefaults, ASensorIsTakenWithItsNoiseAndBiasOrRefusedNamingIt) {
   };
   SensorSpec delayed = s;
   delayed.delay = 0.01;
-  EXPECT_EQ(refusal(delayed),
-            "sensor 'crank' (m.yaml): a delay of 0.01 s: the filter takes each reading at its "
-            "own time (delays are not yet estimated)");
+  EXPECT_EQ(filter_sensor(delayed, "m.yaml").delay, 0.01);
   SensorSpec silent = s;
   silent.noise = 0.0;
   EXPECT_EQ(refusal(silent),

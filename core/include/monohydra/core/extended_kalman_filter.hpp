@@ -38,10 +38,10 @@ class ExtendedKalmanFilter : public StateFilter {
                        std::vector<ParameterDirection> parameters = {})
       : StateFilter(sim, std::move(sensors), noise, std::move(parameters)) {}
 
-  void update(const Eigen::VectorXd& readings) override;
-  void predict() override;
-
  private:
+  void update_now(const Eigen::VectorXd& readings) override;
+  void predict_now() override;
+  void rolled_back() override { linearized_at_ = -1; }
   void linearize_here();
   // Parameter j's difference step: a millionth of its value (of 1 at 0).
   double parameter_step(Eigen::Index j) const;

@@ -23,9 +23,9 @@ namespace mh {
 FilterNoise default_filter_noise(const std::vector<LinearVariable>& states,
                                  const std::vector<ParameterDirection>& parameters);
 
-// The model's sensor `spec` as a filter takes it. Throws
-// std::invalid_argument naming the sensor and `model`: a delay (a filter
-// takes each reading at its own time), a noise not above 0.
+// The model's sensor `spec` as a filter takes it (its delay too: the
+// filter's constructor checks it is a whole number of steps). Throws
+// std::invalid_argument naming the sensor and `model`: a noise not above 0.
 FilterSensor filter_sensor(const SensorSpec& spec, const std::string& model);
 
 }  // namespace mh

@@ -14,6 +14,7 @@
 
 #include "monohydra/core/csv_layout.hpp"
 #include "monohydra/core/held_parameters.hpp"
+#include "monohydra/core/run_state.hpp"
 #include "monohydra/core/simulation.hpp"
 #include "monohydra/core/state_vector.hpp"
 
@@ -24,6 +25,9 @@ struct FilterSensor {
   std::string measures;  // a column `run` writes: z1, p2, a named state or output
   double noise = 0.0;    // its standard deviation, SI; above 0
   double bias = 0.0;     // a known offset of its readings
+  // s: its reading given at t is of the state at t - delay (a transducer's
+  // or a network's latency); a whole number of the run's steps.
+  double delay = 0.0;
 };
 
 // The filter's noise, per state of X (state_vector.hpp), then per
@@ -52,9 +56,15 @@ class StateFilter {
   // innovations squared over the last kDivergenceWindow updates average
   // more than kDivergenceLimit times their degrees of freedom. Either
   // names the sensor furthest off.
-  virtual void update(const Eigen::VectorXd& readings) = 0;
+  // A delayed sensor's reading is of the state `delay` before: the filter
+  // goes back to that step (it keeps its last steps' states, covariances
+  // and readings), corrects it there with every reading of that step, and
+  // steps forward again to now with each later step's readings (Larsen et
+  // al.'s "rollback and replay", exact for the filter's own model); a
+  // reading of a step before the filter's start is dropped.
+  void update(const Eigen::VectorXd& readings);
   // One step of the run, the covariance carried along.
-  virtual void predict() = 0;
+  void predict();
 
   // The filter's state: X's entries, then the parameters it estimates
   // (named by their paths, unit empty).
@@ -85,6 +95,13 @@ class StateFilter {
   // refusals.
   StateFilter(Simulation& sim, std::vector<FilterSensor> sensors, const FilterNoise& noise,
               std::vector<ParameterDirection> parameters);
+
+  // The filter's own update and prediction, at the run's step.
+  virtual void update_now(const Eigen::VectorXd& readings) = 0;
+  virtual void predict_now() = 0;
+  // The run was put back to an earlier step: what the filter keeps of a
+  // step (a linearisation) is no longer of the run's state.
+  virtual void rolled_back() {}
 
   // The readings' checks; the sensors with a sample (and samples_), the
   // last update's innovations cleared.
@@ -119,6 +136,24 @@ class StateFilter {
   int samples_ = 0;
   std::vector<double> window_;  // NIS / dof of the last updates, a ring
   long updates_ = 0;
+
+  // Delayed sensors: each one's delay in steps; the filter as it was at
+  // each of the last max_delay_ + 1 steps before its update there, and
+  // every reading of that step so far (a ring by step).
+  struct Past {
+    long step = -1;
+    RunState run;
+    Eigen::MatrixXd P;
+    Eigen::VectorXd offsets, readings;
+    std::vector<double> window;
+    long updates = 0;
+  };
+  std::vector<long> delay_steps_;
+  long max_delay_ = 0;
+  std::vector<Past> past_;
+  Past& past(long step) { return past_[static_cast<size_t>(step) % past_.size()]; }
+  // This step's entry: the filter now, no reading yet (`keep`: its readings kept).
+  void remember(bool keep);
 };
 
 }  // namespace mh

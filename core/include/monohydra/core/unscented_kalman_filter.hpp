@@ -23,10 +23,9 @@ class UnscentedKalmanFilter : public StateFilter {
                         const FilterNoise& noise, std::vector<ParameterDirection> parameters = {})
       : StateFilter(sim, std::move(sensors), noise, std::move(parameters)) {}
 
-  void update(const Eigen::VectorXd& readings) override;
-  void predict() override;
-
  private:
+  void update_now(const Eigen::VectorXd& readings) override;
+  void predict_now() override;
   // sqrt(n) times a square root of P: its columns spread the sigma points.
   Eigen::MatrixXd spread() const;
 };
