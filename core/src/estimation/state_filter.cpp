@@ -26,6 +26,14 @@ void check_noise(const Eigen::VectorXd& v, const std::vector<LinearVariable>& st
                                   ": expected a standard deviation of 0 or more");
 }
 
+// A reading per sensor, or why not.
+void check_count(const Eigen::VectorXd& readings, size_t sensors) {
+  const auto m = static_cast<Eigen::Index>(sensors);
+  if (readings.size() != m)
+    throw std::invalid_argument("update: " + std::to_string(readings.size()) + " readings for " +
+                                std::to_string(m) + " sensors");
+}
+
 }  // namespace
 
 StateFilter::StateFilter(Simulation& sim, std::vector<FilterSensor> sensors,
@@ -109,10 +117,8 @@ void StateFilter::update(const Eigen::VectorXd& readings) {
     update_now(readings);
     return;
   }
+  check_count(readings, sensors_.size());
   const auto m = static_cast<Eigen::Index>(sensors_.size());
-  if (readings.size() != m)
-    throw std::invalid_argument("update: " + std::to_string(readings.size()) + " readings for " +
-                                std::to_string(m) + " sensors");
   // Each reading to the step it is of; the earliest such step.
   const long k = sim_.step_index();
   Eigen::VectorXd now = Eigen::VectorXd::Constant(m, NAN);
@@ -150,10 +156,8 @@ void StateFilter::update(const Eigen::VectorXd& readings) {
 }
 
 std::vector<Eigen::Index> StateFilter::take(const Eigen::VectorXd& readings) {
+  check_count(readings, sensors_.size());
   const auto m = static_cast<Eigen::Index>(sensors_.size());
-  if (readings.size() != m)
-    throw std::invalid_argument("update: " + std::to_string(readings.size()) + " readings for " +
-                                std::to_string(m) + " sensors");
   innovation_.setConstant(NAN);
   innovation_sd_.setConstant(NAN);
   nis_ = NAN;

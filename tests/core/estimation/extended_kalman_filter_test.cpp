@@ -88,24 +88,8 @@ Joint estimate_parameter(const ParameterDirection& p, double truth_value) {
   FilterNoise noise = tuned_noise(state_variables(estimated));
   noise.parameter_plant = Eigen::VectorXd::Zero(1);
   noise.parameter_initial = Eigen::VectorXd::Constant(1, 0.2 * std::abs(p.value));
-  const std::vector<FilterSensor> sensors = {{"encoder", "z1", 1e-4, 0.0},
-                                             {"pA", "p2", kPressureNoise, 0.0},
-                                             {"pB", "p3", kPressureNoise, 0.0}};
-  ExtendedKalmanFilter filter(estimated, sensors, noise, {p});
-  std::mt19937_64 rng(5);
-  std::normal_distribution<double> normal;
-  Eigen::VectorXd y(3);
-  const long steps = std::lround(t_end / nominal.solver.dt);
-  for (long k = 0; k <= steps; ++k) {
-    if (k > 0) {
-      truth.step();
-      filter.predict();
-    }
-    for (Eigen::Index i = 0; i < 3; ++i)
-      y[i] = test::reading(truth, sensors[static_cast<size_t>(i)]) +
-             sensors[static_cast<size_t>(i)].noise * normal(rng);
-    filter.update(y);
-  }
+  ExtendedKalmanFilter filter(estimated, test::encoder_and_pressures(), noise, {p});
+  test::filter_along(truth, filter, std::lround(t_end / nominal.solver.dt), 5);
   const Eigen::Index j = filter.covariance().rows() - 1;
   const Joint out{filter.state()[j], std::sqrt(filter.covariance()(j, j)), truth_value};
   if (std::getenv("MH_EKF_PRINT") != nullptr)
@@ -205,24 +189,8 @@ TEST(ExtendedKalmanFilter, LearnsATableValvesCharacteristicCurvePointByPointToAP
   noise.parameter_initial.resize(k);
   for (Eigen::Index i = 0; i < k; ++i)
     noise.parameter_initial[i] = 0.2 * params[static_cast<size_t>(i)].value;
-  const std::vector<FilterSensor> sensors = {{"encoder", "z1", 1e-4, 0.0},
-                                             {"pA", "p2", kPressureNoise, 0.0},
-                                             {"pB", "p3", kPressureNoise, 0.0}};
-  ExtendedKalmanFilter filter(estimated, sensors, noise, params);
-  std::mt19937_64 rng(6);
-  std::normal_distribution<double> normal;
-  Eigen::VectorXd y(3);
-  const long steps = std::lround(t_end / estimated.settings().dt);
-  for (long step = 0; step <= steps; ++step) {
-    if (step > 0) {
-      truth.step();
-      filter.predict();
-    }
-    for (Eigen::Index i = 0; i < 3; ++i)
-      y[i] = test::reading(truth, sensors[static_cast<size_t>(i)]) +
-             sensors[static_cast<size_t>(i)].noise * normal(rng);
-    filter.update(y);
-  }
+  ExtendedKalmanFilter filter(estimated, test::encoder_and_pressures(), noise, params);
+  test::filter_along(truth, filter, std::lround(t_end / estimated.settings().dt), 6);
   // The curve's RMS error relative to the machine's flows, and each point
   // inside three of its standard deviations.
   const Eigen::Index first = filter.state().size() - k;
@@ -286,30 +254,22 @@ TEST(ExtendedKalmanFilter, AnExcavatorsPayloadIsWeighedToTwoPercentWithinFiveSec
   std::vector<FilterSensor> sensors;
   for (const SensorSpec& s : file.sensors) sensors.push_back(filter_sensor(s, "excavator.yaml"));
   ExtendedKalmanFilter filter(estimated, sensors, noise, {p});
-  std::mt19937_64 rng(7);
-  std::normal_distribution<double> normal;
-  Eigen::VectorXd y(static_cast<Eigen::Index>(sensors.size()));
   const double dt = estimated.settings().dt;
   const long steps = std::lround(t_end / dt), pick = std::lround(t_pick / dt);
   const Eigen::Index j = filter.state().size() - 1;
   double before = 0.0;
-  for (long step = 0; step <= steps; ++step) {
-    if (step == pick) {
-      before = filter.state()[j];
-      truth.set_body_inertia(static_cast<int>(bucket), loaded, com, inertia);
-    }
-    if (step > 0) {
-      truth.step();
-      filter.predict();
-    }
-    for (Eigen::Index i = 0; i < y.size(); ++i)
-      y[i] = test::reading(truth, sensors[static_cast<size_t>(i)]) +
-             sensors[static_cast<size_t>(i)].noise * normal(rng);
-    filter.update(y);
-    if (std::getenv("MH_EKF_PRINT") != nullptr && step % 500 == 0)
-      std::printf("t %.1f s: payload %.1f +- %.1f kg\n", static_cast<double>(step) * dt,
-                  filter.state()[j], std::sqrt(filter.covariance()(j, j)));
-  }
+  test::filter_along(
+      truth, filter, steps, 7,
+      [&](long step) {
+        if (step != pick) return;
+        before = filter.state()[j];
+        truth.set_body_inertia(static_cast<int>(bucket), loaded, com, inertia);
+      },
+      [&](long step) {
+        if (std::getenv("MH_EKF_PRINT") != nullptr && step % 500 == 0)
+          std::printf("t %.1f s: payload %.1f +- %.1f kg\n", static_cast<double>(step) * dt,
+                      filter.state()[j], std::sqrt(filter.covariance()(j, j)));
+      });
   // Nothing before the pick-up, and the payload 5 s after it.
   EXPECT_LT(std::abs(before), 0.02 * payload) << before;
   const double weighed = filter.state()[j];

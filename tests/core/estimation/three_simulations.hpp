@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <memory>
 #include <random>
 #include <stdexcept>
@@ -165,6 +166,39 @@ inline void expect_tracks(const Outcome& o) {
   // above the chi-square band's upper end (the filter sure of a state it
   // has wrong) in under 10 % of the steps (2.4 to 5.7 % measured).
   EXPECT_LT(o.nees_above, 0.1);
+}
+
+// The crank's encoder and both chamber pressures, as the tests read them.
+inline std::vector<FilterSensor> encoder_and_pressures() {
+  return {{"encoder", "z1", 1e-4, 0.0},
+          {"pA", "p2", kPressureNoise, 0.0},
+          {"pB", "p3", kPressureNoise, 0.0}};
+}
+
+// Steps 0 .. steps: the truth and the filter stepped together (from step
+// 1), the filter updated with every sensor's reading of the truth plus
+// white noise of its level (seed `seed`). `before(step)` first at each step
+// (the machine changed there), `after(step)` after its update.
+inline void filter_along(
+    Simulation& truth, StateFilter& filter, long steps, unsigned seed,
+    const std::function<void(long)>& before = [](long) {},
+    const std::function<void(long)>& after = [](long) {}) {
+  const std::vector<FilterSensor>& sensors = filter.sensors();
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> normal;
+  Eigen::VectorXd y(static_cast<Eigen::Index>(sensors.size()));
+  for (long k = 0; k <= steps; ++k) {
+    before(k);
+    if (k > 0) {
+      truth.step();
+      filter.predict();
+    }
+    for (Eigen::Index i = 0; i < y.size(); ++i)
+      y[i] = reading(truth, sensors[static_cast<size_t>(i)]) +
+             sensors[static_cast<size_t>(i)].noise * normal(rng);
+    filter.update(y);
+    after(k);
+  }
 }
 
 }  // namespace mh::test

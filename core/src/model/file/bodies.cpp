@@ -150,6 +150,18 @@ void Parser::report_cycle(const std::vector<RawBody>& raw, const std::vector<int
        "the parents form a cycle: " + text + " (every chain of parents must end at 'ground')");
 }
 
+namespace {
+
+// A uniform box of mass m and sides d about its centre (a shape's, a
+// payload's).
+Eigen::Matrix3d box_inertia(double m, const Eigen::Vector3d& d) {
+  const Eigen::Vector3d d2 = d.cwiseProduct(d);
+  return (m / 12.0 * Eigen::Vector3d(d2.y() + d2.z(), d2.x() + d2.z(), d2.x() + d2.y()))
+      .asDiagonal();
+}
+
+}  // namespace
+
 RawBody Parser::body(const YAML::Node& node, const std::string& field, std::size_t index) const {
   const MapView map(*this, node, field,
                     {"name", "parent", "joint", "orientation", "mass", "shape", "com", "inertia",
@@ -241,11 +253,8 @@ RawBody Parser::body(const YAML::Node& node, const std::string& field, std::size
       raw.shape.kind = BodyShape::Kind::box;
       raw.shape.size = d;
       if (auto at = shape.get("at")) raw.shape.at = length3(*at, shape.field("at"));
-      const Eigen::Vector3d d2 = d.cwiseProduct(d);
       shape_com = raw.shape.at;
-      shape_inertia =
-          (m / 12.0 * Eigen::Vector3d(d2.y() + d2.z(), d2.x() + d2.z(), d2.x() + d2.y()))
-              .asDiagonal();
+      shape_inertia = box_inertia(m, d);
     } else if (kind == "cylinder") {
       const double length = length_of("length");
       const double r = length_of("radius");
@@ -305,9 +314,7 @@ void Parser::add_payload(const YAML::Node& node, const std::string& field, Body&
     const Eigen::Vector3d d = length3(*size_node, payload.field("size"));
     if (!(d.minCoeff() > 0.0))
       fail(*size_node, payload.field("size"), "expected three positive sides [x, y, z] (m)");
-    const Eigen::Vector3d d2 = d.cwiseProduct(d);
-    own = (m / 12.0 * Eigen::Vector3d(d2.y() + d2.z(), d2.x() + d2.z(), d2.x() + d2.y()))
-              .asDiagonal();
+    own = box_inertia(m, d);
   }
   if (m == 0.0) return;  // no load: the body as written, to the bit
   // Both inertias moved to the pair's centre of mass (parallel axes).
