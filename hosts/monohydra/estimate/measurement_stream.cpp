@@ -99,8 +99,15 @@ void MeasurementQueue::read_lines() {
   char buffer[4096];
   try {
     while (!stop_) {
+      // What has come is read at once; only when nothing has does the
+      // reader say it waits (a pop then returns without a line).
       pollfd p{fd_, POLLIN, 0};
-      const int ready = ::poll(&p, 1, 50);
+      int ready = ::poll(&p, 1, 0);
+      if (ready == 0) {
+        mark_idle(true);
+        ready = ::poll(&p, 1, 50);
+        if (ready > 0) mark_idle(false);
+      }
       if (ready < 0 && errno == EINTR) continue;
       if (ready <= 0) {
         if (ready < 0) break;
@@ -143,8 +150,15 @@ bool MeasurementQueue::pop_wait(MeasurementLine& line) {
   return true;
 }
 
-bool MeasurementQueue::pop(MeasurementLine& line) {
+void MeasurementQueue::mark_idle(bool idle) {
   const std::lock_guard<std::mutex> lock(mutex_);
+  idle_ = idle;
+  arrived_.notify_one();
+}
+
+bool MeasurementQueue::pop(MeasurementLine& line) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  arrived_.wait(lock, [this] { return !lines_.empty() || done_ || idle_; });
   if (lines_.empty()) return false;
   line = std::move(lines_.front());
   lines_.pop_front();

@@ -51,9 +51,12 @@ class MeasurementStream {
 };
 
 // A stream's lines read by a thread of their own from a file descriptor,
-// so that a paced filter (estimate --real-time) never waits for one: it
-// takes what has come. The thread polls, so that it stops with its owner
-// even while nothing arrives.
+// so that a paced filter (estimate --real-time) never waits for one to
+// arrive: it takes what has come. A line that has come but is not yet
+// parsed counts as come (a pop waits for the reader, which a loaded
+// machine may not have run), so that a file's lines, all there from the
+// start, are each taken at their own step. The thread polls, so that it
+// stops with its owner even while nothing arrives.
 class MeasurementQueue {
  public:
   MeasurementQueue(MeasurementStream& stream, int fd);
@@ -63,7 +66,8 @@ class MeasurementQueue {
 
   // The next line, waiting for it; false once the stream has ended.
   bool pop_wait(MeasurementLine& line);
-  // The next line if one has come; false if none has (yet).
+  // The next line if one has come to the input; false if the reader
+  // waits for one (nothing unread there).
   bool pop(MeasurementLine& line);
   // The stream has ended and every line is taken.
   bool ended();
@@ -72,6 +76,7 @@ class MeasurementQueue {
 
  private:
   void read_lines();
+  void mark_idle(bool idle);
 
   MeasurementStream& stream_;
   int fd_;
@@ -79,6 +84,7 @@ class MeasurementQueue {
   std::condition_variable arrived_;
   std::deque<MeasurementLine> lines_;
   bool done_ = false;
+  bool idle_ = false;  // the reader waits for input: nothing unread
   std::exception_ptr error_;
   std::atomic<bool> stop_{false};
   std::thread reader_;
