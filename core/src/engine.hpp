@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 #include <complex>
+#include <initializer_list>
 #include <memory>
 #include <set>
 #include <sstream>
@@ -190,6 +191,40 @@ struct SubsystemInstance {
   std::vector<int> rows_in_mech, mech_in_cols;
   size_t signals_begin = 0, signals_end = 0;  // its signals in Signals::list (option_signal)
 };
+
+// A test hook (Simulation::plant_derivative_error): one entry of one
+// instance's derivative arrays scaled where the host receives it from the
+// instance's op, so that a test shows `monohydra check` sees a 1 % error in
+// any entry. Arrays in kDerivativeArrayNames' order, or the formulation's
+// tangent blocks dr/dx, dr/dxd, dr/dxdd (0, 1, 2); neither: none.
+struct PlantedError {
+  const SubsystemInstance* instance = nullptr;
+  bool formulation = false;
+  int array = -1;
+  size_t entry = 0;
+  double factor = 1.0;
+};
+// The arrays of jacobian (0, 1), coupling_jacobian (2 to 5) and
+// point_force_jacobian (6, 7), named as the check names them (subsystem.h).
+inline constexpr const char* kDerivativeArrayNames[8] = {"dR/dy", "dR/dydot", "dR/dp", "dR/dv",
+                                                         "dF/dy", "dF/dydot", "dF/dp", "dF/dv"};
+inline constexpr const char* kTangentBlockNames[3] = {"dr/dx", "dr/dxd", "dr/dxdd"};
+// After the formulation's tangent op wrote its blocks.
+inline void apply_planted(const PlantedError& planted, Eigen::MatrixXd* const blocks[3]) {
+  if (!planted.formulation) return;
+  Eigen::MatrixXd& b = *blocks[planted.array];
+  if (planted.entry < static_cast<size_t>(b.size()))
+    b(static_cast<Eigen::Index>(planted.entry)) *= planted.factor;
+}
+// After the op that wrote `arrays` (array numbers first, first + 1, ...).
+inline void apply_planted(const PlantedError& planted, const SubsystemInstance& s, int first,
+                          std::initializer_list<std::vector<double>*> arrays) {
+  if (planted.instance != &s) return;
+  int a = first;
+  for (std::vector<double>* v : arrays) {
+    if (a++ == planted.array && planted.entry < v->size()) (*v)[planted.entry] *= planted.factor;
+  }
+}
 
 // A node of a network (e.g. a hydraulic node): the ports the model joined under
 // one name, sharing one effort state.
@@ -504,6 +539,7 @@ struct Simulation::Engine {
   SnapshotParts snapshot;
   SensitivityState sens;
   RateFactorization rate_factor;  // analysis/state_slots.cpp
+  PlantedError planted;           // tests of the checks only (analysis/subsystem_blocks.cpp)
   // Component options resolved once (Simulation::component_parameter_handle).
   struct OptionHandle {
     std::string path;

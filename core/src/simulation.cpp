@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "analysis/column_differences.hpp"
 #include "engine.hpp"
 #include "monohydra/constrained.h"
 #include "monohydra/core/dynamics.hpp"
@@ -752,31 +753,6 @@ Eigen::MatrixXd dense_tangent(const Simulation::Engine& e) {
   return J;
 }
 
-// The check's three estimates of d rows / d v, one column for each of the
-// first `n` entries of `v`: forward and backward at 1e-6 and central at 1e-5
-// of the entry's scale. `rows()` evaluates at the current `v`; each entry is
-// restored after.
-template <class Rows>
-void difference_columns(Eigen::VectorXd& v, Eigen::Index n, const Eigen::VectorXd& r0, Rows&& rows,
-                        Simulation::TangentSample& out) {
-  const Eigen::Index m = r0.size();
-  out.forward.resize(m, n);
-  out.backward.resize(m, n);
-  out.central_coarse.resize(m, n);
-  for (Eigen::Index c = 0; c < n; ++c) {
-    const double v0 = v[c], scale = std::max(1e-2, std::abs(v0));
-    const double fine = 1e-6 * scale, coarse = 1e-5 * scale;
-    v[c] = v0 + fine;
-    out.forward.col(c) = (rows() - r0) / fine;
-    v[c] = v0 - fine;
-    out.backward.col(c) = (r0 - rows()) / fine;
-    v[c] = v0 + coarse;
-    out.central_coarse.col(c) = rows();
-    v[c] = v0 - coarse;
-    out.central_coarse.col(c) = (out.central_coarse.col(c) - rows()) / (2.0 * coarse);
-    v[c] = v0;
-  }
-}
 }  // namespace
 
 Eigen::MatrixXd Simulation::assembled_tangent() {
@@ -862,7 +838,7 @@ Simulation::TangentSample Simulation::tangent_sample(double h) {
   return out;
 }
 
-Simulation::FormulationBlocks Simulation::formulation_blocks() {
+Simulation::FormulationBlocks Simulation::formulation_blocks(bool differences) {
   Engine& e = *engine_;
   refuse_explicit(e, "the formulation's blocks");
   FormulationBlocks out;
@@ -899,12 +875,14 @@ Simulation::FormulationBlocks Simulation::formulation_blocks() {
       throw SimulationError(
           e.accepted.t, e.accepted.step,
           "formulation '" + e.formulation_name + "' tangent failed: " + e.last_plugin_error);
+    Eigen::MatrixXd* const written[3] = {&analytic[0], &analytic[1], &analytic[2]};
+    apply_planted(e.planted, written);
   }
   for (int b = 0; b < 3; ++b) {
     TangentSample& t = out.block[b];
     t.h = e.settings.dt;
     t.analytic = analytic[b];
-    difference_columns(args[b], n_m, r0, rows_at, t);
+    if (differences) difference_columns(args[b], n_m, r0, rows_at, t);
   }
   e.x = x0;
   e.residual(t_next, e.x, e.r);  // the engine at the prediction again, rates by the map

@@ -4,6 +4,8 @@
 // models the checks fall back on and prints the lines as they come.
 #include "plugin_check.hpp"
 
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 
@@ -26,9 +28,25 @@ int check(const std::vector<std::string>& args) {
   CLI::App& app = *app_holder;
   std::vector<std::string> files;
   app.add_option("PLUGIN.so [MODEL.yaml]", files, "the plugin library, then the model");
+  std::vector<double> at;
+  app.add_option("--at", at,
+                 "times (s, comma-separated) at which a subsystem's derivative blocks and a "
+                 "formulation's tangent blocks are compared with differences (default: the "
+                 "first step, after 3 steps, a third and two thirds into the model's run, its "
+                 "last step)")
+      ->delimiter(',')
+      ->check(CLI::Validator(
+          [](const std::string& text) -> std::string {
+            char* end = nullptr;
+            const double t = std::strtod(text.c_str(), &end);
+            if (end == text.c_str() || *end != '\0' || !std::isfinite(t) || t < 0.0)
+              return "a time in s at or after the run's start (0), not '" + text + "'";
+            return "";
+          },
+          "TIME,..."));
   if (const auto code = parse_subcommand(app, args)) return *code;
   if (files.empty() || files.size() > 2) {
-    std::cerr << "usage: monohydra check PLUGIN.so [MODEL.yaml]\n";
+    std::cerr << "usage: monohydra check PLUGIN.so [MODEL.yaml] [--at T1,T2,...]\n";
     return 2;
   }
   namespace th = monohydra::testhost;
@@ -38,6 +56,7 @@ int check(const std::vector<std::string>& args) {
   // tree's from a build tree); subsystems get every one, smallest first.
   options.fallback_models = {shipped_model("fourbar.yaml"), shipped_model("double-pendulum.yaml")};
   options.models_folder = std::filesystem::path(options.fallback_models.front()).parent_path();
+  options.at = at;
   options.on_check = [](const th::Check& c) {
     switch (c.verdict) {
       case th::Check::Verdict::passed:

@@ -120,7 +120,15 @@ TEST(PluginCheck, ATangentBlockThatDisagreesWithItsResidualFails) {
                           "mechanical unknown 1: analytic 93.38"),
             std::string::npos)
       << r.output;
-  EXPECT_NE(r.output.find("monohydra check: FAILED (1 failure)"), std::string::npos) << r.output;
+  // Its own block says so directly, in its units and by the point's name:
+  // dF/dp is -k, not +k (k = 40 N/m), from the first instant on.
+  EXPECT_NE(r.output.find("FAIL  subsystem faulty-spring: its derivative blocks against "
+                          "differences of its evaluate: dF/dp of subsystem 'spring' disagrees "
+                          "with differences of its evaluate at t = 0 s: row force on point a z, "
+                          "column point a z: analytic 40, differences -40"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("monohydra check: FAILED (2 failures)"), std::string::npos) << r.output;
 }
 
 // Errors a plugin author planted in a tangent when check compared each row at
@@ -154,7 +162,8 @@ INSTANTIATE_TEST_SUITE_P(
         // The constraint rows (unknowns 4 and 5 of the four-bar) 1 % too large.
         PlantedError{"tangent_phi_z_one_percent",
                      "dr/dx disagrees with differences of its "
-                     "residual in that argument: row 4"},
+                     "residual in that argument at t = 0 s: row 5, column 3: analytic 202, "
+                     "differences 200"},
         // The throttle's d/dp 1 % off: seen at the coarse step, where c_v V/K
         // no longer hides it in the node's row.
         PlantedError{"tangent_throttle_dp",
@@ -468,6 +477,27 @@ TEST(PluginCheck, ALibraryWithoutTheEntrySymbolFailsAtLoad) {
   EXPECT_EQ(r.code, 1) << r.output;
   EXPECT_NE(r.output.find("FAIL  load: "), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("mh_entry"), std::string::npos) << r.output;
+}
+
+// --at moves the blocks' comparison to the times given (the steps nearest
+// them); a negative time or a word is refused with exit 2, naming it.
+TEST(PluginCheck, AtComparesTheBlocksAtTheTimesGivenAndRefusesATimeBeforeTheStart) {
+  const std::string library = std::string(mh::test::paths::plugin_dir) + "/monohydra-hydraulics.so";
+  CliResult r = run_cli("check " + library + " --at 0.1,0.5");
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(
+      r.output.find("ok    subsystem throttle: its derivative blocks against differences "
+                    "of its evaluate: 16 entry comparisons of 1 instance(s) at t = 0.1, 0.5 s"),
+      std::string::npos)
+      << r.output;
+  for (const char* bad : {"-1", "soon"}) {
+    r = run_cli("check " + library + " --at 0.1," + bad);
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find(std::string("a time in s at or after the run's start (0), not '") +
+                            bad + "'"),
+              std::string::npos)
+        << r.output;
+  }
 }
 
 TEST(PluginCheck, BadArgumentsExitTwoWithTheUsage) {

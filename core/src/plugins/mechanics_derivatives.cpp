@@ -143,6 +143,7 @@ mh_status Simulation::Engine::mechanics_derivatives(const mh_mech_derivatives_re
         st = normalized(in_flight(*s.host, InstanceHost::Op::point_force_jacobian, [&] {
           return s.api.ops.point_force_jacobian(s.api.self, &ev, s.dF_dp.data(), s.dF_dv.data());
         }));
+        if (status_ok(st)) apply_planted(planted, s, 6, {&s.dF_dp, &s.dF_dv});
       } else {
         st = differenced_point_forces(s, ev);
       }

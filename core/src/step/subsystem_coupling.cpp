@@ -221,6 +221,7 @@ mh_status Simulation::Engine::couple_subsystems(double t_eval) {
         return s.api.ops.coupling_jacobian(s.api.self, &ev, s.dR_dp.data(), s.dR_dv.data(),
                                            s.dF_dy.data(), s.dF_dydot.data());
       }));
+      if (status_ok(st)) apply_planted(planted, s, 2, {&s.dR_dp, &s.dR_dv, &s.dF_dy, &s.dF_dydot});
       // Along the integrator's map (Eq. 33): d/dy + dydot_dy d/dydot.
       for (size_t b = 0; b < k; ++b) {
         const double cv = states.algebraic[static_cast<size_t>(s.touched[b])] != 0 ? 0.0 : dydot_dy;

@@ -278,6 +278,9 @@ mh_status Simulation::Engine::assemble_tangent(double t_eval) {
       return formulation.ops.tangent(formulation.self, &at, &blocks);
     }));
     if (!status_ok(st)) return st;
+    Eigen::MatrixXd* const written[3] = {&tangent_ws.dr_dx, &tangent_ws.dr_dxd,
+                                         &tangent_ws.dr_dxdd};
+    apply_planted(planted, written);
   }
   // With the formulation's mechanics map the subsystems with points
   // couple analytically (subsystem_coupling.cpp): no residual is differenced
@@ -309,6 +312,7 @@ mh_status Simulation::Engine::assemble_tangent(double t_eval) {
       return s.api.ops.jacobian(s.api.self, &ev, s.d_dy.data(), s.d_dydot.data());
     }));
     if (!status_ok(st)) return st;
+    apply_planted(planted, s, 0, {&s.d_dy, &s.d_dydot});
     // A declared block (sparsity.h) holds every entry the instance writes:
     // checked at its first jacobian in one vectorized pass, and the entry
     // searched for only when it fails.

@@ -120,7 +120,8 @@ struct EntryError {
 };
 
 EntryError worst_entry_error(const Simulation::TangentSample& t,
-                             const std::vector<unsigned char>* given) {
+                             const std::vector<unsigned char>* given,
+                             const Eigen::VectorXd* row_effect = nullptr, int* noisy = nullptr) {
   EntryError w;
   const Eigen::MatrixXd& a = t.analytic;
   if (a.size() == 0) return w;
@@ -137,8 +138,15 @@ EntryError worst_entry_error(const Simulation::TangentSample& t,
         return w;
       }
       const double noise = std::abs(d(r, c) - t.central_coarse(r, c));
-      const double scale = std::abs(d(r, c)) + kEntryFloor * std::sqrt(row_max[r] * col_max[c]) +
-                           10.0 * noise / kTangentTolerance;
+      const double floor = row_effect != nullptr
+                               ? kBlockFloor * (*row_effect)[r] / t.column_scale[c]
+                               : kEntryFloor * std::sqrt(row_max[r] * col_max[c]);
+      const double scale = std::abs(d(r, c)) + floor + 10.0 * noise / kTangentTolerance;
+      // A nonzero entry 1 % off that this scale would not show, for the
+      // differences' own error (not for the floor: a rounding residue).
+      if (noisy != nullptr && a(r, c) != 0.0 && 10.0 * noise / kTangentTolerance > floor &&
+          0.01 * std::abs(a(r, c)) <= kTangentTolerance * scale)
+        ++*noisy;
       const double e = std::min({std::abs(a(r, c) - d(r, c)), std::abs(a(r, c) - t.forward(r, c)),
                                  std::abs(a(r, c) - t.backward(r, c))}) /
                        std::max(scale, 1e-300);
@@ -155,6 +163,32 @@ EntryError worst_entry_error(const Simulation::TangentSample& t,
   }
   return w;
 }
+
+}  // namespace
+
+Eigen::VectorXd row_effect(const Simulation::TangentSample& t) {
+  const Eigen::MatrixXd d = 0.5 * (t.forward + t.backward);
+  return (d.cwiseAbs() * t.column_scale.asDiagonal()).rowwise().maxCoeff();
+}
+
+Eigen::VectorXd judged_effect(const Simulation::TangentSample& t, const Eigen::VectorXd& across) {
+  const Eigen::VectorXd own = row_effect(t);
+  return (own.array() > 0.0).select(own, across);
+}
+
+bool shows_one_percent(const Simulation::TangentSample& t, Eigen::Index r, Eigen::Index c,
+                       double effect) {
+  const double d = 0.5 * (t.forward(r, c) + t.backward(r, c));
+  const double noise = std::abs(d - t.central_coarse(r, c));
+  const double scale =
+      std::abs(d) + kBlockFloor * effect / t.column_scale[c] + 10.0 * noise / kTangentTolerance;
+  return 0.01 * std::abs(t.analytic(r, c)) > kTangentTolerance * scale;
+}
+
+}  // namespace mh::testhost
+
+namespace mh::testhost {
+namespace {
 
 std::string describe(const EntryError& w) {
   std::ostringstream msg;
@@ -424,6 +458,13 @@ std::string bad_options_check(const Setup& base, const Subject& who,
   return "";
 }
 
+constexpr const char* kNoBlocks = "no derivative ops: ";
+
+// Each instance of the subject in the model, at each of block_instants,
+// every block its ops give against differences of its own evaluate.
+std::string subsystem_blocks_check(const Setup& s, const Subject& who,
+                                   const PluginRegistry& registry, std::string& detail);
+
 }  // namespace
 
 bool model_uses(const ModelFile& file, const Subject& who) {
@@ -434,7 +475,7 @@ bool model_uses(const ModelFile& file, const Subject& who) {
 }
 
 Setup setup_for(const ModelFile& file, const Subject& who) {
-  Setup s{file, {}};
+  Setup s{file, {}, {}};
   // The model's own choice keeps its options; another starts from its defaults.
   if (who.kind == ComponentKind::formulation && s.file.formulation.name != who.id)
     s.file.formulation = ComponentChoice{who.id, {}, s.file.formulation.mark};
@@ -484,34 +525,142 @@ TangentComparison compare_tangent(Simulation& sim) {
   return out;
 }
 
-std::string formulation_blocks_check(Simulation& sim, std::string& detail) {
-  const Simulation::FormulationBlocks f = sim.formulation_blocks();
-  if (f.given.empty()) {
-    detail = "no tangent op: the host differences every column";
-    return "";
+std::vector<int> block_instants(const Setup& s) {
+  const double dt = s.choices.dt.value_or(s.file.solver.dt);
+  const long total =
+      std::clamp(std::lround(s.file.solver.t_end / dt), 1L, static_cast<long>(kBlockSteps));
+  std::vector<int> at;
+  if (!s.block_times.empty()) {
+    for (const double t : s.block_times) at.push_back(static_cast<int>(std::lround(t / dt)));
+  } else {
+    for (const long k : {0L, 3L, total / 3, 2 * total / 3, total - 1})
+      if (k >= 0 && k < total) at.push_back(static_cast<int>(k));
   }
-  const long n = static_cast<long>(f.given.size());
-  const long given = std::count(f.given.begin(), f.given.end(), 1);
-  const char* names[3] = {"dr/dx", "dr/dxd", "dr/dxdd"};
-  std::ostringstream worst;
-  worst.precision(3);
+  std::sort(at.begin(), at.end());
+  at.erase(std::unique(at.begin(), at.end()), at.end());
+  return at;
+}
+
+Effects block_effects(const std::vector<Simulation::DerivativeBlock>& blocks) {
+  Effects e;
+  for (const Simulation::DerivativeBlock& b : blocks) {
+    if (b.sample.forward.size() == 0) continue;
+    Eigen::VectorXd& to = b.name.rfind("dF", 0) == 0 ? e.force_rows : e.state_rows;
+    const Eigen::VectorXd mine = row_effect(b.sample);
+    to = to.size() == 0 ? mine : Eigen::VectorXd(to.cwiseMax(mine));
+  }
+  return e;
+}
+
+BlocksComparison compare_subsystem_blocks(const std::vector<Simulation::DerivativeBlock>& blocks,
+                                          const std::string& instance, double t) {
+  BlocksComparison out;
+  const Effects effects = block_effects(blocks);
+  for (const Simulation::DerivativeBlock& b : blocks) {
+    if (!b.given) continue;
+    const Eigen::VectorXd effect = judged_effect(b.sample, effects.of(b));
+    const EntryError w = worst_entry_error(b.sample, nullptr, &effect, &out.noisy);
+    out.compared += static_cast<int>(b.sample.analytic.size());
+    const auto at = [&] {
+      std::ostringstream msg;
+      msg.precision(6);
+      msg << b.name << " of subsystem '" << instance << "' ";
+      return msg.str();
+    };
+    const auto where = [&] {
+      std::ostringstream msg;
+      msg.precision(6);
+      msg << " at t = " << t << " s: row " << b.rows[static_cast<size_t>(w.row)] << ", column "
+          << b.columns[static_cast<size_t>(w.col)];
+      return msg.str();
+    };
+    if (w.non_finite) {
+      out.failure = at() + "holds a non-finite entry" + where();
+      return out;
+    }
+    if (w.compared && w.error > kTangentTolerance) {
+      out.failure =
+          at() + "disagrees with differences of its evaluate" + where() + ": " + describe(w);
+      out.worst = w.error;
+      return out;
+    }
+    if (w.compared) out.worst = std::max(out.worst, w.error);
+  }
+  return out;
+}
+
+namespace {
+
+std::string subsystem_blocks_check(const Setup& s, const Subject& who,
+                                   const PluginRegistry& registry, std::string& detail) {
+  std::vector<std::string> instances;
+  for (const SubsystemSpec& spec : s.file.subsystems)
+    if (spec.type == who.id) instances.push_back(spec.name);
+  const std::vector<int> at = block_instants(s);
+  Setup longer = s;
+  longer.choices.t_end = (at.back() + 1) * s.choices.dt.value_or(s.file.solver.dt);
+  Simulation sim(longer.file, registry, longer.choices);
+  sim.start();
+  int done = 0, compared = 0, noisy = 0;
+  double worst = 0.0;
+  std::ostringstream times;
+  times.precision(4);
+  for (const int step : at) {
+    for (; done < step; ++done) sim.step();
+    times << (step == at.front() ? "" : ", ") << sim.time();
+    for (const std::string& instance : instances) {
+      const BlocksComparison c =
+          compare_subsystem_blocks(sim.subsystem_blocks(instance), instance, sim.time());
+      if (!c.failure.empty()) return c.failure;
+      compared += c.compared;
+      noisy += c.noisy;
+      worst = std::max(worst, c.worst);
+    }
+  }
+  if (compared == 0)
+    return std::string(kNoBlocks) +
+           "it gives none of jacobian, coupling_jacobian, point_force_jacobian: the host "
+           "differences its evaluate";
+  std::ostringstream msg;
+  msg.precision(3);
+  msg << compared << " entry comparisons of " << instances.size()
+      << " instance(s) at t = " << times.str() << " s; worst off by " << worst << " of its scale";
+  if (noisy > 0)
+    msg << "; warning: at " << noisy
+        << " of them a nonzero entry's differences were too noisy to show a 1 % error";
+  detail = msg.str();
+  return "";
+}
+
+}  // namespace
+
+Eigen::VectorXd formulation_effect(const Simulation::FormulationBlocks& f) {
+  Eigen::VectorXd e = row_effect(f.block[0]);
+  for (int b = 1; b < 3; ++b) e = e.cwiseMax(row_effect(f.block[b]));
+  return e;
+}
+
+std::string compare_formulation_blocks(const Simulation::FormulationBlocks& f, double t,
+                                       double worst[3]) {
+  const Eigen::VectorXd across = formulation_effect(f);
   for (int b = 0; b < 3; ++b) {
-    const EntryError w = worst_entry_error(f.block[b], &f.given);
+    const Eigen::VectorXd effect = judged_effect(f.block[b], across);
+    const EntryError w = worst_entry_error(f.block[b], &f.given, &effect);
     std::ostringstream msg;
     msg.precision(6);
     if (w.non_finite) {
-      msg << names[b] << " holds a non-finite entry: row " << w.row + 1 << ", column " << w.col + 1;
+      msg << kTangentBlocks[b] << " holds a non-finite entry at t = " << t << " s: row "
+          << w.row + 1 << ", column " << w.col + 1;
       return msg.str();
     }
     if (w.compared && w.error > kTangentTolerance) {
-      msg << names[b] << " disagrees with differences of its residual in that argument: row "
-          << w.row + 1 << ", column " << w.col + 1 << ": " << describe(w);
+      msg << kTangentBlocks[b]
+          << " disagrees with differences of its residual in that argument at t = " << t
+          << " s: row " << w.row + 1 << ", column " << w.col + 1 << ": " << describe(w);
       return msg.str();
     }
-    worst << (b == 0 ? "" : ", ") << names[b] << " " << w.error;
+    if (w.compared) worst[b] = std::max(worst[b], w.error);
   }
-  detail = std::to_string(given) + " of " + std::to_string(n) +
-           " columns given; worst entry off by (of its scale) " + worst.str();
   return "";
 }
 
@@ -572,16 +721,56 @@ void check_subject(const Subject& who, const std::vector<Setup>& candidates,
   if (who.kind == ComponentKind::formulation && method != "explicit") {
     constexpr const char* kPassed = "passed: ";
     const std::string verdict = isolated([&] {
-      Simulation sim(setup->file, registry, setup->choices);
+      const std::vector<int> at = block_instants(*setup);
+      Setup longer = *setup;
+      longer.choices.t_end = (at.back() + 1) * setup->choices.dt.value_or(setup->file.solver.dt);
+      Simulation sim(longer.file, registry, longer.choices);
       sim.start();
-      for (int i = 0; i < 3; ++i) sim.step();
-      std::string detail;
-      const std::string failure = formulation_blocks_check(sim, detail);
-      return failure.empty() ? kPassed + detail : failure;
+      double worst[3] = {0.0, 0.0, 0.0};
+      std::ostringstream times;
+      times.precision(4);
+      std::vector<unsigned char> given;
+      int done = 0;
+      for (const int step : at) {
+        for (; done < step; ++done) sim.step();
+        times << (step == at.front() ? "" : ", ") << sim.time();
+        const Simulation::FormulationBlocks f = sim.formulation_blocks();
+        if (f.given.empty())
+          return kPassed + std::string("no tangent op: the host differences every column");
+        given = f.given;
+        std::string failure = compare_formulation_blocks(f, sim.time(), worst);
+        if (!failure.empty()) return failure;
+      }
+      std::ostringstream detail;
+      detail.precision(3);
+      detail << std::count(given.begin(), given.end(), 1) << " of " << given.size()
+             << " columns given, at t = " << times.str()
+             << " s; worst entry off by (of its scale) dr/dx " << worst[0] << ", dr/dxd "
+             << worst[1] << ", dr/dxdd " << worst[2];
+      return kPassed + detail.str();
     });
     const bool passed = verdict.rfind(kPassed, 0) == 0;
     report("its tangent blocks against differences of its residual in x, xd, xdd",
            passed ? "" : verdict, passed ? verdict.substr(std::strlen(kPassed)) : "");
+  }
+  // A subsystem's own derivative blocks, each in its own units, at several
+  // instants: a 1 % error of one entry can hide in the assembled tangent's
+  // sums (dR/dy + (2/h) dR/dydot, instances sharing a node).
+  if (who.kind == ComponentKind::subsystem && method != "explicit") {
+    constexpr const char* kPassed = "passed: ";
+    const std::string verdict = isolated([&] {
+      std::string detail;
+      const std::string failure = subsystem_blocks_check(*setup, who, registry, detail);
+      return failure.empty() ? kPassed + detail : failure;
+    });
+    const std::string what = "its derivative blocks against differences of its evaluate";
+    if (verdict.rfind(kNoBlocks, 0) == 0)
+      emit(Check{Check::Verdict::skipped, name + ": " + what,
+                 verdict.substr(std::strlen(kNoBlocks))});
+    else if (verdict.rfind(kPassed, 0) == 0)
+      report(what, "", verdict.substr(std::strlen(kPassed)));
+    else
+      report(what, verdict);
   }
   report("repeated runs bit-identical", isolated([&] {
            const std::string a = fingerprint(*setup, registry);

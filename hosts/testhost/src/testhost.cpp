@@ -6,8 +6,10 @@
 #include <dlfcn.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -317,10 +319,26 @@ CheckReport check_library(const std::string& library, const Model* model,
       emit({Check::Verdict::skipped, name, why});
       continue;
     }
-    for (Setup& s : setups) mh::testhost::shorten(s, mh::testhost::kSteps);
+    for (Setup& s : setups) {
+      mh::testhost::shorten(s, mh::testhost::kSteps);
+      s.block_times = options.at;
+    }
     mh::testhost::check_subject(who, setups, registry, emit);
   }
   return out;
+}
+
+std::vector<std::string> component_ids(const std::string& library, Kind kind) {
+  PluginRegistry registry;
+  try {
+    registry.load(library);
+  } catch (const mh::PluginError& err) {
+    throw std::runtime_error(err.what());
+  }
+  std::vector<std::string> ids;
+  for (const auto& c : registry.components())
+    if (kind_of(c.kind) == kind) ids.push_back(c.id);
+  return ids;
 }
 
 struct Host::Impl {
@@ -329,6 +347,8 @@ struct Host::Impl {
   std::string library;
   std::vector<std::string> search;
   std::string version, example;
+
+  PlantedErrors planted_in_formulation(Setup& s, double factor);
 
   // The test's model with this component in it, its plugins loaded.
   Setup setup(const Model& model) {
@@ -490,6 +510,146 @@ CheckReport Host::check(const Model& model) const {
   mh::testhost::shorten(s, mh::testhost::kSteps);
   mh::testhost::check_subject(impl_->subject, {s}, impl_->registry,
                               [&](const Check& c) { out.checks.push_back(c); });
+  return out;
+}
+
+// An entry planted in: seen at an instant, and judgeable at one (a 1 %
+// error above the differences' own error there).
+struct Seen {
+  bool seen = false, judged = false;
+};
+
+// An entry worth planting in: its effect on its row (times its column's
+// magnitude) above the comparison's floor, kBlockFloor of the row's largest,
+// so not a rounding residue of a structural zero (1e-16 where a double
+// pendulum's Coriolis term has no d/dzd_2), whose 1 % nobody could see.
+bool worth_planting(const mh::Simulation::TangentSample& t, Eigen::Index r, Eigen::Index c,
+                    double effect) {
+  return std::abs(t.analytic(r, c)) * t.column_scale[c] > mh::testhost::kBlockFloor * effect;
+}
+
+// Host::planted_errors of a formulation: its tangent blocks dr/dx, dr/dxd,
+// dr/dxdd, the given columns' nonzero entries.
+PlantedErrors Host::Impl::planted_in_formulation(Setup& s, double factor) {
+  PlantedErrors out;
+  const std::vector<int> at = mh::testhost::block_instants(s);
+  s.choices.t_end = (at.back() + 1) * s.choices.dt.value_or(s.file.solver.dt);
+  s.file.output = mh::OutputSettings{};
+  std::map<std::string, Seen> seen;
+  try {
+    mh::Simulation sim(s.file, registry, s.choices);
+    sim.start();
+    int done = 0;
+    for (const int step : at) {
+      for (; done < step; ++done) sim.step();
+      mh::Simulation::FormulationBlocks f = sim.formulation_blocks();
+      const Eigen::VectorXd across = mh::testhost::formulation_effect(f);
+      double worst[3] = {0.0, 0.0, 0.0};
+      const std::string unplanted = mh::testhost::compare_formulation_blocks(f, sim.time(), worst);
+      if (!unplanted.empty()) {
+        out.failure = "unplanted: " + unplanted;
+        return out;
+      }
+      for (int b = 0; b < 3; ++b) {
+        const Eigen::MatrixXd analytic = f.block[b].analytic;
+        const Eigen::VectorXd effect = mh::testhost::judged_effect(f.block[b], across);
+        for (Eigen::Index e = 0; e < analytic.size(); ++e) {
+          const Eigen::Index r = e % analytic.rows(), c = e / analytic.rows();
+          if (f.given[static_cast<size_t>(c)] == 0 || !worth_planting(f.block[b], r, c, effect[r]))
+            continue;
+          const std::string key = std::string(mh::testhost::kTangentBlocks[b]) + ": row " +
+                                  std::to_string(r + 1) + ", column " + std::to_string(c + 1);
+          sim.plant_derivative_error("", mh::testhost::kTangentBlocks[b], static_cast<long>(e),
+                                     factor);
+          f.block[b].analytic = sim.formulation_blocks(false).block[b].analytic;
+          sim.plant_derivative_error("", mh::testhost::kTangentBlocks[b], static_cast<long>(e),
+                                     1.0);
+          const bool failed =
+              !mh::testhost::compare_formulation_blocks(f, sim.time(), worst).empty();
+          f.block[b].analytic = analytic;
+          Seen& k = seen[key];
+          k.seen = k.seen || failed;
+          k.judged = k.judged || mh::testhost::shows_one_percent(f.block[b], r, c, effect[r]);
+        }
+      }
+    }
+  } catch (const std::exception& err) {
+    out.failure = err.what();
+    return out;
+  }
+  out.planted = static_cast<int>(seen.size());
+  for (const auto& [key, k] : seen)
+    if (!k.seen) (k.judged ? out.missed : out.too_noisy).push_back(key);
+  return out;
+}
+
+PlantedErrors Host::planted_errors(const Model& model, double factor) const {
+  PlantedErrors out;
+  if (impl_->subject.kind == ComponentKind::integrator) {
+    out.failure =
+        "planted errors are of a subsystem's derivative blocks or a formulation's "
+        "tangent blocks; '" +
+        impl_->subject.id + "' is an integrator";
+    return out;
+  }
+  Setup s = impl_->setup(model);
+  if (impl_->subject.kind == ComponentKind::formulation)
+    return impl_->planted_in_formulation(s, factor);
+  std::vector<std::string> instances;
+  for (const mh::SubsystemSpec& spec : s.file.subsystems)
+    if (spec.type == impl_->subject.id) instances.push_back(spec.name);
+  const std::vector<int> at = mh::testhost::block_instants(s);
+  s.choices.t_end = (at.back() + 1) * s.choices.dt.value_or(s.file.solver.dt);
+  s.file.output = mh::OutputSettings{};
+  std::map<std::string, Seen> seen;  // by entry, in order
+  try {
+    mh::Simulation sim(s.file, impl_->registry, s.choices);
+    sim.start();
+    int done = 0;
+    for (const int step : at) {
+      for (; done < step; ++done) sim.step();
+      for (const std::string& instance : instances) {
+        std::vector<mh::Simulation::DerivativeBlock> blocks = sim.subsystem_blocks(instance);
+        const mh::testhost::Effects effects = mh::testhost::block_effects(blocks);
+        const auto unplanted = mh::testhost::compare_subsystem_blocks(blocks, instance, sim.time());
+        if (!unplanted.failure.empty()) {
+          out.failure = "unplanted: " + unplanted.failure;
+          return out;
+        }
+        for (auto& b : blocks) {
+          if (!b.given) continue;
+          const Eigen::MatrixXd analytic = b.sample.analytic;
+          const Eigen::VectorXd effect = mh::testhost::judged_effect(b.sample, effects.of(b));
+          for (Eigen::Index e = 0; e < analytic.size(); ++e) {
+            const Eigen::Index r = e % analytic.rows(), c = e / analytic.rows();
+            if (!worth_planting(b.sample, r, c, effect[r])) continue;
+            const std::string key = b.name + " of subsystem '" + instance + "': row " +
+                                    b.rows[static_cast<size_t>(r)] + ", column " +
+                                    b.columns[static_cast<size_t>(c)];
+            sim.plant_derivative_error(instance, b.name, static_cast<long>(e), factor);
+            const std::vector<mh::Simulation::DerivativeBlock> again =
+                sim.subsystem_blocks(instance, false);
+            sim.plant_derivative_error(instance, b.name, static_cast<long>(e), 1.0);
+            for (const auto& a : again)
+              if (a.name == b.name) b.sample.analytic = a.sample.analytic;
+            const bool failed =
+                !mh::testhost::compare_subsystem_blocks(blocks, instance, sim.time())
+                     .failure.empty();
+            b.sample.analytic = analytic;
+            Seen& k = seen[key];
+            k.seen = k.seen || failed;
+            k.judged = k.judged || mh::testhost::shows_one_percent(b.sample, r, c, effect[r]);
+          }
+        }
+      }
+    }
+  } catch (const std::exception& err) {
+    out.failure = err.what();
+    return out;
+  }
+  out.planted = static_cast<int>(seen.size());
+  for (const auto& [key, k] : seen)
+    if (!k.seen) (k.judged ? out.missed : out.too_noisy).push_back(key);
   return out;
 }
 

@@ -316,6 +316,9 @@ class Simulation {
   struct TangentSample {
     Eigen::MatrixXd analytic, forward, backward, central_coarse;
     double h = 0.0;
+    // Each column's magnitude, whose 1e-6 the differences stepped it by:
+    // |value|, at least 1e-2 (a rate's at least its state's over dt).
+    Eigen::VectorXd column_scale;
   };
   TangentSample tangent_sample(double h);
   // The formulation's own analytic blocks dr/dx, dr/dxd, dr/dxdd (its n_m
@@ -329,7 +332,34 @@ class Simulation {
     TangentSample block[3];  // of x, xd, xdd
     std::vector<unsigned char> given;
   };
-  FormulationBlocks formulation_blocks();
+  FormulationBlocks formulation_blocks(bool differences = true);
+  // A subsystem instance's derivative arrays as its ops give them
+  // (jacobian, coupling_jacobian, point_force_jacobian), at the prediction
+  // of the next step, each against differences of the instance's own
+  // evaluate in that argument alone, the others held: what `monohydra
+  // check` compares entry by entry, each block in one pair of units.
+  // Rows: its touched states' residual rows (dR/...) or its points' forces
+  // (dF/..., 3 per point); columns: its touched states (y), their rates
+  // (ydot), or its points' world positions (p) and velocities (v). A block
+  // whose op the instance lacks is not `given` (the host differences it);
+  // a block of no rows or columns is left out. Without `differences`, the
+  // analytic arrays alone (forward, backward, central_coarse empty).
+  struct DerivativeBlock {
+    std::string name;  // "dR/dy", "dR/dydot", "dR/dp", "dR/dv", "dF/dy", ...
+    bool given = false;
+    TangentSample sample;
+    std::vector<std::string> rows, columns;  // their names
+  };
+  std::vector<DerivativeBlock> subsystem_blocks(const std::string& instance,
+                                                bool differences = true);
+  // For tests of the checks only: entry `entry` (column-major) of block
+  // `block` of `instance` (a DerivativeBlock name) or of the formulation
+  // (`instance` "", block "dr/dx", "dr/dxd" or "dr/dxdd") scaled by
+  // `factor` each time the host receives it from the op, until cleared
+  // (factor 1). Throws std::invalid_argument for an unknown instance or
+  // block.
+  void plant_derivative_error(const std::string& instance, const std::string& block, long entry,
+                              double factor);
   int num_unknowns() const;
   int num_mechanical_unknowns() const;
   // True when the run's integrator is explicit (its own stage operations): it takes no

@@ -77,6 +77,12 @@ struct CheckOptions {
   std::string models_folder;
   // Called with every line as it is decided (the command line prints them).
   std::function<void(const Check&)> on_check;
+  // The times (s, from the run's start) at which a subsystem's derivative
+  // blocks and a formulation's tangent blocks are compared with their
+  // differences (`monohydra check --at`). Empty: the prediction of the first
+  // step, after 3 steps, a third and two thirds into the model's run and its
+  // last step (at most 2000 steps in).
+  std::vector<double> at;
 };
 
 // Every component of `library` through every check `monohydra check` runs:
@@ -130,6 +136,26 @@ struct TangentComparison {
   std::vector<Sample> samples;
 };
 
+// Host::planted_errors' account.
+struct PlantedErrors {
+  int planted = 0;  // entries planted (instance, block, row, column), each once
+  // Those that no instant's comparison saw though at one of them the
+  // differences could show 1 %: "dR/dy of subsystem 'v1': row v1.x, column
+  // v1.p_A".
+  std::vector<std::string> missed;
+  // Those no instant saw because at each the differences were too noisy to
+  // show 1 % of it (the check's line warns of such entries).
+  std::vector<std::string> too_noisy;
+  // Why nothing could be planted: the blocks fail unplanted, the component
+  // is no subsystem, or the run failed ("" otherwise).
+  std::string failure;
+};
+
+// The ids of the components of one kind that `library` offers, in its
+// order. Throws std::runtime_error when the library is refused.
+MONOHYDRA_TESTHOST_API std::vector<std::string> component_ids(const std::string& library,
+                                                              Kind kind);
+
 // The host for one component of one library. The library is loaded (probed
 // in a child process first, then ABI version and init) and the component
 // chosen over any other library offering the same id; the model's other
@@ -163,6 +189,18 @@ class MONOHYDRA_TESTHOST_API Host {
   TangentComparison tangent(const Model& model, int steps_before = 3) const;
   // The contract checks of `monohydra check` for this component alone.
   CheckReport check(const Model& model) const;
+  // How strong `check`'s comparison of a subsystem's own derivative blocks
+  // or a formulation's tangent blocks is on this model: each nonzero entry
+  // (above 1e-12 of the geometric mean of its row's and column's largest:
+  // not a rounding residue)
+  // of each block the ops give (a subsystem's jacobian, coupling_jacobian,
+  // point_force_jacobian: dR/dy, dR/dydot, dR/dp, dR/dv, dF/dy, dF/dydot,
+  // dF/dp, dF/dv; a formulation's tangent: dr/dx, dr/dxd, dr/dxdd in the
+  // columns it gives) is multiplied by `factor` where the host receives it,
+  // one at a time, at each instant `check` compares at; an entry is seen
+  // when its block then fails the comparison at one of them. A mutation
+  // test of the check on the author's own derivatives: what it would miss.
+  PlantedErrors planted_errors(const Model& model, double factor = 1.01) const;
 
  private:
   struct Impl;
