@@ -41,29 +41,25 @@ std::string point_name(const SubsystemInstance& s, size_t a) {
 void Simulation::plant_derivative_error(const std::string& instance, const std::string& block,
                                         long entry, double factor) {
   Engine& e = *engine_;
-  if (instance.empty()) {
-    int block_index = -1;
-    for (int b = 0; b < 3; ++b)
-      if (block == kTangentBlockNames[b]) block_index = b;
-    if (block_index < 0 || entry < 0)
-      throw std::invalid_argument("plant_derivative_error: '" + block +
-                                  "' is not a formulation's tangent block (dr/dx, dr/dxd, "
-                                  "dr/dxdd) or the entry is negative");
-    e.planted = factor == 1.0
-                    ? PlantedError{}
-                    : PlantedError{nullptr, true, block_index, static_cast<size_t>(entry), factor};
-    return;
-  }
-  const SubsystemInstance& s = instance_named(e, instance);
+  // The formulation's tangent blocks, or an instance's derivative arrays.
+  const bool formulation = instance.empty();
+  const SubsystemInstance* s = formulation ? nullptr : &instance_named(e, instance);
+  const char* const* names = formulation ? kTangentBlockNames : kDerivativeArrayNames;
+  const int count = formulation ? 3 : 8;
   int array = -1;
-  for (int a = 0; a < 8; ++a)
-    if (block == kDerivativeArrayNames[a]) array = a;
+  std::string known;
+  for (int a = 0; a < count; ++a) {
+    if (block == names[a]) array = a;
+    known += (a == 0 ? "" : ", ") + std::string(names[a]);
+  }
   if (array < 0 || entry < 0)
-    throw std::invalid_argument("plant_derivative_error: '" + block +
-                                "' is not a derivative block (dR/dy, dR/dydot, dR/dp, dR/dv, "
-                                "dF/dy, dF/dydot, dF/dp, dF/dv) or the entry is negative");
-  e.planted = factor == 1.0 ? PlantedError{}
-                            : PlantedError{&s, false, array, static_cast<size_t>(entry), factor};
+    throw std::invalid_argument(
+        "plant_derivative_error: '" + block + "' is not one of " +
+        (formulation ? "the formulation's tangent blocks (" : "a subsystem's derivative blocks (") +
+        known + "), or the entry is negative");
+  e.planted = factor == 1.0
+                  ? PlantedError{}
+                  : PlantedError{s, formulation, array, static_cast<size_t>(entry), factor};
 }
 
 std::vector<Simulation::DerivativeBlock> Simulation::subsystem_blocks(const std::string& instance,

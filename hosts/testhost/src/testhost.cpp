@@ -348,8 +348,6 @@ struct Host::Impl {
   std::vector<std::string> search;
   std::string version, example;
 
-  PlantedErrors planted_in_formulation(Setup& s, double factor);
-
   // The test's model with this component in it, its plugins loaded.
   Setup setup(const Model& model) {
     const ModelFile file = read_model(model);
@@ -513,79 +511,84 @@ CheckReport Host::check(const Model& model) const {
   return out;
 }
 
-// An entry planted in: seen at an instant, and judgeable at one (a 1 %
-// error above the differences' own error there).
-struct Seen {
-  bool seen = false, judged = false;
+namespace {
+
+using mh::Simulation;
+
+// Host::planted_errors' account: each entry of each block planted in, in
+// turn, at each instant; seen when its block then failed the comparison,
+// judgeable where a 1 % error is above the differences' own error.
+class PlantedAccount {
+ public:
+  // Every entry of `t` (its `given` columns; null: all) whose effect on its
+  // row is above the comparison's floor (not a rounding residue of a
+  // structural zero: 1e-16 where a double pendulum's Coriolis term has no
+  // d/dzd_2, whose 1 % nobody could see). `planted(e)`: the block's analytic
+  // matrix with entry e's error planted through the op; `fails()`: whether
+  // the comparison fails with it in place of t's own.
+  template <class Planted, class Fails>
+  void plant(Simulation::TangentSample& t, const std::vector<unsigned char>* given,
+             const Eigen::VectorXd& effect, const std::string& block,
+             const std::vector<std::string>* rows, const std::vector<std::string>* columns,
+             Planted&& planted, Fails&& fails) {
+    const Eigen::MatrixXd analytic = t.analytic;
+    for (Eigen::Index e = 0; e < analytic.size(); ++e) {
+      const Eigen::Index r = e % analytic.rows(), c = e / analytic.rows();
+      if (given != nullptr && (*given)[static_cast<size_t>(c)] == 0) continue;
+      if (!(std::abs(analytic(r, c)) * t.column_scale[c] > mh::testhost::kBlockFloor * effect[r]))
+        continue;
+      const auto named = [](const std::vector<std::string>* names, Eigen::Index i) {
+        return names != nullptr ? (*names)[static_cast<size_t>(i)] : std::to_string(i + 1);
+      };
+      Seen& k = seen_[block + ": row " + named(rows, r) + ", column " + named(columns, c)];
+      t.analytic = planted(e);
+      k.seen = k.seen || fails();
+      t.analytic = analytic;
+      k.judged = k.judged || mh::testhost::shows_one_percent(t, r, c, effect[r]);
+    }
+  }
+  PlantedErrors result() const {
+    PlantedErrors out;
+    out.planted = static_cast<int>(seen_.size());
+    for (const auto& [key, k] : seen_)
+      if (!k.seen) (k.judged ? out.missed : out.too_noisy).push_back(key);
+    return out;
+  }
+
+ private:
+  struct Seen {
+    bool seen = false, judged = false;
+  };
+  std::map<std::string, Seen> seen_;  // by entry, in order
 };
 
-// An entry worth planting in: its effect on its row (times its column's
-// magnitude) above the comparison's floor, kBlockFloor of the row's largest,
-// so not a rounding residue of a structural zero (1e-16 where a double
-// pendulum's Coriolis term has no d/dzd_2), whose 1 % nobody could see.
-bool worth_planting(const mh::Simulation::TangentSample& t, Eigen::Index r, Eigen::Index c,
-                    double effect) {
-  return std::abs(t.analytic(r, c)) * t.column_scale[c] > mh::testhost::kBlockFloor * effect;
-}
-
-// Host::planted_errors of a formulation: its tangent blocks dr/dx, dr/dxd,
-// dr/dxdd, the given columns' nonzero entries.
-PlantedErrors Host::Impl::planted_in_formulation(Setup& s, double factor) {
-  PlantedErrors out;
+// The run of `s` to each instant of its blocks' comparison, `at_instant`
+// called there; the run's failure or "".
+template <class AtInstant>
+std::string each_instant(Setup& s, const PluginRegistry& registry, AtInstant&& at_instant) {
   const std::vector<int> at = mh::testhost::block_instants(s);
   s.choices.t_end = (at.back() + 1) * s.choices.dt.value_or(s.file.solver.dt);
   s.file.output = mh::OutputSettings{};
-  std::map<std::string, Seen> seen;
   try {
-    mh::Simulation sim(s.file, registry, s.choices);
+    Simulation sim(s.file, registry, s.choices);
     sim.start();
     int done = 0;
     for (const int step : at) {
       for (; done < step; ++done) sim.step();
-      mh::Simulation::FormulationBlocks f = sim.formulation_blocks();
-      const Eigen::VectorXd across = mh::testhost::formulation_effect(f);
-      double worst[3] = {0.0, 0.0, 0.0};
-      const std::string unplanted = mh::testhost::compare_formulation_blocks(f, sim.time(), worst);
-      if (!unplanted.empty()) {
-        out.failure = "unplanted: " + unplanted;
-        return out;
-      }
-      for (int b = 0; b < 3; ++b) {
-        const Eigen::MatrixXd analytic = f.block[b].analytic;
-        const Eigen::VectorXd effect = mh::testhost::judged_effect(f.block[b], across);
-        for (Eigen::Index e = 0; e < analytic.size(); ++e) {
-          const Eigen::Index r = e % analytic.rows(), c = e / analytic.rows();
-          if (f.given[static_cast<size_t>(c)] == 0 || !worth_planting(f.block[b], r, c, effect[r]))
-            continue;
-          const std::string key = std::string(mh::testhost::kTangentBlocks[b]) + ": row " +
-                                  std::to_string(r + 1) + ", column " + std::to_string(c + 1);
-          sim.plant_derivative_error("", mh::testhost::kTangentBlocks[b], static_cast<long>(e),
-                                     factor);
-          f.block[b].analytic = sim.formulation_blocks(false).block[b].analytic;
-          sim.plant_derivative_error("", mh::testhost::kTangentBlocks[b], static_cast<long>(e),
-                                     1.0);
-          const bool failed =
-              !mh::testhost::compare_formulation_blocks(f, sim.time(), worst).empty();
-          f.block[b].analytic = analytic;
-          Seen& k = seen[key];
-          k.seen = k.seen || failed;
-          k.judged = k.judged || mh::testhost::shows_one_percent(f.block[b], r, c, effect[r]);
-        }
-      }
+      std::string failure = at_instant(sim);
+      if (!failure.empty()) return failure;
     }
   } catch (const std::exception& err) {
-    out.failure = err.what();
-    return out;
+    return err.what();
   }
-  out.planted = static_cast<int>(seen.size());
-  for (const auto& [key, k] : seen)
-    if (!k.seen) (k.judged ? out.missed : out.too_noisy).push_back(key);
-  return out;
+  return "";
 }
 
+}  // namespace
+
 PlantedErrors Host::planted_errors(const Model& model, double factor) const {
-  PlantedErrors out;
   if (impl_->subject.kind == ComponentKind::integrator) {
+    PlantedErrors out;
     out.failure =
         "planted errors are of a subsystem's derivative blocks or a formulation's "
         "tangent blocks; '" +
@@ -593,63 +596,70 @@ PlantedErrors Host::planted_errors(const Model& model, double factor) const {
     return out;
   }
   Setup s = impl_->setup(model);
-  if (impl_->subject.kind == ComponentKind::formulation)
-    return impl_->planted_in_formulation(s, factor);
-  std::vector<std::string> instances;
-  for (const mh::SubsystemSpec& spec : s.file.subsystems)
-    if (spec.type == impl_->subject.id) instances.push_back(spec.name);
-  const std::vector<int> at = mh::testhost::block_instants(s);
-  s.choices.t_end = (at.back() + 1) * s.choices.dt.value_or(s.file.solver.dt);
-  s.file.output = mh::OutputSettings{};
-  std::map<std::string, Seen> seen;  // by entry, in order
-  try {
-    mh::Simulation sim(s.file, impl_->registry, s.choices);
-    sim.start();
-    int done = 0;
-    for (const int step : at) {
-      for (; done < step; ++done) sim.step();
+  PlantedAccount account;
+  std::string failure;
+  if (impl_->subject.kind == ComponentKind::formulation) {
+    // Its tangent blocks dr/dx, dr/dxd, dr/dxdd in the columns it gives.
+    failure = each_instant(s, impl_->registry, [&](Simulation& sim) -> std::string {
+      Simulation::FormulationBlocks f = sim.formulation_blocks();
+      const Eigen::VectorXd across = mh::testhost::formulation_effect(f);
+      double worst[3] = {0.0, 0.0, 0.0};
+      std::string unplanted = mh::testhost::compare_formulation_blocks(f, sim.time(), worst);
+      if (!unplanted.empty()) return "unplanted: " + unplanted;
+      for (int b = 0; b < 3; ++b) {
+        const char* block = mh::testhost::kTangentBlocks[b];
+        account.plant(
+            f.block[b], &f.given, mh::testhost::judged_effect(f.block[b], across), block, nullptr,
+            nullptr,
+            [&](Eigen::Index e) {
+              sim.plant_derivative_error("", block, static_cast<long>(e), factor);
+              Eigen::MatrixXd a = sim.formulation_blocks(false).block[b].analytic;
+              sim.plant_derivative_error("", block, static_cast<long>(e), 1.0);
+              return a;
+            },
+            [&] {
+              return !mh::testhost::compare_formulation_blocks(f, sim.time(), worst).empty();
+            });
+      }
+      return "";
+    });
+  } else {
+    // Each instance's derivative blocks, as its ops give them.
+    std::vector<std::string> instances;
+    for (const mh::SubsystemSpec& spec : s.file.subsystems)
+      if (spec.type == impl_->subject.id) instances.push_back(spec.name);
+    failure = each_instant(s, impl_->registry, [&](Simulation& sim) -> std::string {
       for (const std::string& instance : instances) {
-        std::vector<mh::Simulation::DerivativeBlock> blocks = sim.subsystem_blocks(instance);
+        std::vector<Simulation::DerivativeBlock> blocks = sim.subsystem_blocks(instance);
         const mh::testhost::Effects effects = mh::testhost::block_effects(blocks);
-        const auto unplanted = mh::testhost::compare_subsystem_blocks(blocks, instance, sim.time());
-        if (!unplanted.failure.empty()) {
-          out.failure = "unplanted: " + unplanted.failure;
-          return out;
-        }
-        for (auto& b : blocks) {
+        const auto fails = [&] {
+          return !mh::testhost::compare_subsystem_blocks(blocks, instance, sim.time())
+                      .failure.empty();
+        };
+        if (fails())
+          return "unplanted: " +
+                 mh::testhost::compare_subsystem_blocks(blocks, instance, sim.time()).failure;
+        for (Simulation::DerivativeBlock& b : blocks) {
           if (!b.given) continue;
-          const Eigen::MatrixXd analytic = b.sample.analytic;
-          const Eigen::VectorXd effect = mh::testhost::judged_effect(b.sample, effects.of(b));
-          for (Eigen::Index e = 0; e < analytic.size(); ++e) {
-            const Eigen::Index r = e % analytic.rows(), c = e / analytic.rows();
-            if (!worth_planting(b.sample, r, c, effect[r])) continue;
-            const std::string key = b.name + " of subsystem '" + instance + "': row " +
-                                    b.rows[static_cast<size_t>(r)] + ", column " +
-                                    b.columns[static_cast<size_t>(c)];
-            sim.plant_derivative_error(instance, b.name, static_cast<long>(e), factor);
-            const std::vector<mh::Simulation::DerivativeBlock> again =
-                sim.subsystem_blocks(instance, false);
-            sim.plant_derivative_error(instance, b.name, static_cast<long>(e), 1.0);
-            for (const auto& a : again)
-              if (a.name == b.name) b.sample.analytic = a.sample.analytic;
-            const bool failed =
-                !mh::testhost::compare_subsystem_blocks(blocks, instance, sim.time())
-                     .failure.empty();
-            b.sample.analytic = analytic;
-            Seen& k = seen[key];
-            k.seen = k.seen || failed;
-            k.judged = k.judged || mh::testhost::shows_one_percent(b.sample, r, c, effect[r]);
-          }
+          account.plant(
+              b.sample, nullptr, mh::testhost::judged_effect(b.sample, effects.of(b)),
+              b.name + " of subsystem '" + instance + "'", &b.rows, &b.columns,
+              [&](Eigen::Index e) {
+                sim.plant_derivative_error(instance, b.name, static_cast<long>(e), factor);
+                Eigen::MatrixXd a;
+                for (const auto& again : sim.subsystem_blocks(instance, false))
+                  if (again.name == b.name) a = again.sample.analytic;
+                sim.plant_derivative_error(instance, b.name, static_cast<long>(e), 1.0);
+                return a;
+              },
+              fails);
         }
       }
-    }
-  } catch (const std::exception& err) {
-    out.failure = err.what();
-    return out;
+      return "";
+    });
   }
-  out.planted = static_cast<int>(seen.size());
-  for (const auto& [key, k] : seen)
-    if (!k.seen) (k.judged ? out.missed : out.too_noisy).push_back(key);
+  PlantedErrors out = account.result();
+  out.failure = failure;
   return out;
 }
 
