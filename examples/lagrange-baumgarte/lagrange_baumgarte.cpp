@@ -400,4 +400,29 @@ const mh_formulation* create(const mh_host* host) {
 }  // namespace
 }  // namespace lagrange_baumgarte
 
-MONOHYDRA_FORMULATION_PLUGIN(lagrange_baumgarte::kDescriptor, lagrange_baumgarte::create);
+namespace lagrange_baumgarte {
+// What `monohydra check lagrange_baumgarte.so` runs it on: the paper's
+// four-bar linkage alone (its three beams and the cut joint at E), falling
+// under gravity from the paper's initial angles, which close the loop.
+constexpr const char* kExampleModel = R"(units: {length: m, mass: kg, time: s, angle: deg}
+name: four-bar-linkage
+planar: true
+gravity: [0, -9.81, 0]
+bodies:
+  - {name: body1, parent: ground, joint: {type: revolute, at: [0, 0, 0], axis: [0, 0, 1]},
+     mass: 225, shape: {type: beam, length: 9}, z0: 0}
+  - {name: body2, parent: body1, joint: {type: revolute, at: [3, 0, 0], axis: [0, 0, 1]},
+     mass: 35, shape: {type: beam, length: 1.4142135623730951}, z0: -135}
+  - {name: body3, parent: body2,
+     joint: {type: revolute, at: [1.4142135623730951, 0, 0], axis: [0, 0, 1]},
+     mass: 50, shape: {type: beam, length: 2}, z0: -45}
+cut_joints:
+  - {name: E, type: revolute, a: {body: body3, at: [2, 0, 0]}, b: {body: ground, at: [0, -1, 0]}}
+formulation: lagrange-baumgarte
+solver: {dt: 0.001, t_end: 1}
+)";
+}  // namespace lagrange_baumgarte
+
+MONOHYDRA_FORMULATION_PLUGIN_WITH_EXAMPLE(lagrange_baumgarte::kDescriptor,
+                                          lagrange_baumgarte::create,
+                                          lagrange_baumgarte::kExampleModel);

@@ -3,7 +3,8 @@
 // paper's Fig. 4 without its cylinder) Baumgarte's terms keep the loop closed
 // within a bound where plain index-1 multipliers let it open, the energy
 // balance holds, the analytic tangent equals differences of the residual,
-// and every check of `monohydra check` passes.
+// and every check of `monohydra check` passes, there and on the example
+// model the formulation declares.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -81,6 +82,24 @@ TEST(LagrangeBaumgarte, AnalyticTangentEqualsDifferencesOfItsResidual) {
   ASSERT_TRUE(t.failure.empty()) << t.failure;
   std::printf("  tangent: max error %.2e (%s)\n", t.max_error, t.worst.c_str());
   EXPECT_LT(t.max_error, 1e-5) << t.worst;
+}
+
+// Without a model, `monohydra check` runs the formulation on the example
+// model it declares (MONOHYDRA_FORMULATION_PLUGIN_WITH_EXAMPLE), not on the
+// shipped four-bar, and every check passes there.
+TEST(LagrangeBaumgarte, CheckRunsOnTheExampleModelItDeclares) {
+  EXPECT_NE(host().example_model().find("cut_joints"), std::string::npos);
+  const th::CheckReport r = th::check_library(LAGRANGE_BAUMGARTE_LIBRARY, nullptr);
+  bool on_example = false;
+  for (const th::Check& c : r.checks) {
+    EXPECT_NE(c.verdict, th::Check::Verdict::failed) << c.what << ": " << c.detail;
+    on_example = on_example || (c.verdict == th::Check::Verdict::note &&
+                                c.detail.rfind("the example model of formulation "
+                                               "'lagrange-baumgarte'",
+                                               0) == 0);
+  }
+  EXPECT_TRUE(on_example);
+  EXPECT_TRUE(r.passed());
 }
 
 TEST(LagrangeBaumgarte, PassesEveryContractCheck) {

@@ -88,8 +88,16 @@ void destroy_formulation(const mh_formulation* f) noexcept {
 // The factory of one formulation and the plugin's entry symbol. `descriptor`
 // is an mh_component_descriptor; `create` a function
 // const mh_formulation* (const mh_host*), called inside a guard. Use once per
-// plugin, at global scope.
-#define MONOHYDRA_FORMULATION_PLUGIN(descriptor, create)                                           \
+// plugin, at global scope. It declares no example model: `monohydra check`
+// then runs the formulation on the shipped four-bar.
+#define MONOHYDRA_FORMULATION_PLUGIN(descriptor, create) \
+  MONOHYDRA_FORMULATION_PLUGIN_WITH_EXAMPLE(descriptor, create, nullptr)
+
+// The same, declaring `example_model` (a const char* to the YAML text of a
+// small model file that uses the formulation, living as long as the
+// library; the factory's example_model): what `monohydra check PLUGIN.so`
+// and the test host's check_library run it on when no model is given.
+#define MONOHYDRA_FORMULATION_PLUGIN_WITH_EXAMPLE(descriptor, create, example_model)               \
   namespace {                                                                                      \
   uint32_t monohydra_formulation_count(const mh_formulation_factory*) {                            \
     return 1;                                                                                      \
@@ -108,8 +116,8 @@ void destroy_formulation(const mh_formulation* f) noexcept {
     });                                                                                            \
     return made;                                                                                   \
   }                                                                                                \
-  const char* monohydra_formulation_example_model(const mh_formulation_factory*, uint32_t) {       \
-    return nullptr;                                                                                \
+  const char* monohydra_formulation_example_model(const mh_formulation_factory*, uint32_t i) {     \
+    return i == 0 ? (example_model) : nullptr;                                                     \
   }                                                                                                \
   const mh_formulation_factory monohydra_formulation_factory{                                      \
       sizeof(mh_formulation_factory), monohydra_formulation_count,                                 \
