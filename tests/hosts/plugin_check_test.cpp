@@ -510,7 +510,8 @@ TEST(PluginCheck, BadArgumentsExitTwoWithTheUsage) {
 // Without a model, each subsystem is checked on the example model
 // its factory declares; a broken one fails naming it; one without is skipped.
 TEST(PluginCheck, EveryShippedSubsystemIsCheckedOnItsDeclaredExampleModel) {
-  for (const char* library : {"monohydra-hydraulics", "monohydra-mechanics"}) {
+  for (const char* library :
+       {"monohydra-hydraulics", "monohydra-mechanics", "monohydra-earthmoving"}) {
     const CliResult r =
         run_cli("check " + std::string(mh::test::paths::plugin_dir) + "/" + library + ".so");
     ASSERT_EQ(r.code, 0) << r.output;

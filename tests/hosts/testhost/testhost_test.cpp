@@ -173,7 +173,7 @@ TEST(TestHostExampleModel, AComponentWithoutOneIsSkippedWithTheReason) {
 // 1 % of it; and unplanted, every one passes.
 TEST(TestHostPlantedErrors, EveryShippedSubsystemsCheckSeesAOnePercentErrorInAnyNonzeroEntry) {
   int planted = 0, components = 0, noisy = 0;
-  for (const char* library : {"hydraulics", "mechanics", "control"}) {
+  for (const char* library : {"hydraulics", "mechanics", "control", "earthmoving"}) {
     const std::string path =
         std::string(mh::test::paths::plugin_dir) + "/monohydra-" + library + ".so";
     for (const std::string& id : th::component_ids(path, th::Kind::subsystem)) {
