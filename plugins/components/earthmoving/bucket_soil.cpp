@@ -3,7 +3,9 @@
 // edge's middle), `heel` (a point of the floor behind it: the blade runs
 // from heel to edge) and `side` (a point along the edge, so that up x (side -
 // edge) is the direction the bucket cuts in). The ground is the plane z =
-// ground_level (z up). Below it the edge meets
+// ground_level (z up) or a height field (height_field.hpp) given by
+// terrain_size, terrain_spacing, terrain_origin and terrain_heights. Below
+// it the edge meets
 //  - the cutting resistance of the fundamental earth-moving equation
 //    (soil_cutting.hpp) at the edge's depth and the blade's rake angle, when
 //    the edge moves forward along the cut: horizontal H = P sin(rho + delta)
@@ -18,10 +20,14 @@
 // No states: the force is the whole coupling.
 #include <Eigen/Core>
 #include <cmath>
+#include <string>
 #include <unsupported/Eigen/AutoDiff>
+#include <utility>
+#include <vector>
 
 #include "components.hpp"
 #include "example_models.hpp"
+#include "height_field.hpp"
 #include "monohydra/cpp/checked_options.hpp"
 #include "monohydra/cpp/services.hpp"
 #include "smooth.hpp"
@@ -32,6 +38,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDegree = kPi / 180.0;
+const double kNaN = std::nan("");
 // The rake angles the equation is used in: a blade flatter than 10 degrees
 // would bulldoze along its own length (cot rho -> infinity), one steeper
 // than 80 degrees is the bucket's back; rounded off over 5 degrees.
@@ -67,8 +74,7 @@ class BucketSoil {
         monohydra::nonnegative_option(h, "edge_thickness", 0, 0.02,
                                       "a non-negative thickness of the edge (m)",
                                       &thickness_) != MH_OK ||
-        monohydra::finite_option(h, "ground_level", 0, 0.0, "the ground's height (m)", &ground_) !=
-            MH_OK ||
+        monohydra::options(h).option_number(h, "ground_level", 0, kNaN, &ground_) != MH_OK ||
         monohydra::positive_option(h, "depth_band", 0, 0.005,
                                    "a positive depth over which the force sets in (m)",
                                    &depth_band_) != MH_OK ||
@@ -76,6 +82,7 @@ class BucketSoil {
                                    "a positive speed over which the resistance is mobilised (m/s)",
                                    &speed_scale_) != MH_OK)
       return MH_ERROR;
+    if (read_terrain() != MH_OK) return MH_ERROR;
     const auto& points = monohydra::subsystem_setup(h);
     if (points.add_point(h, "edge", &edge_) != MH_OK ||
         points.add_point(h, "heel", &heel_) != MH_OK ||
@@ -202,6 +209,57 @@ class BucketSoil {
     return MH_OK;
   }
 
+  // The ground: the plane z = ground_level (0 by default), or a height
+  // field of terrain_size [nx, ny] points terrain_spacing apart from
+  // terrain_origin [x0, y0], terrain_heights its ny rows of nx heights.
+  mh_status read_terrain() {
+    const mh_host* h = host_;
+    const auto& o = monohydra::options(h);
+    const double* size = nullptr;
+    uint32_t rows = 0;
+    if (o.option_table(h, "terrain_size", 0, 2, &size, &rows) != MH_OK) return MH_ERROR;
+    if (size == nullptr || rows == 0) {
+      if (std::isnan(ground_)) ground_ = 0.0;
+      if (!std::isfinite(ground_))
+        return o.option_error(h, "ground_level", "the ground's height (m), a finite number");
+      return MH_OK;
+    }
+    if (!std::isnan(ground_))
+      return o.option_error(h, "ground_level",
+                            "either a ground_level or a terrain (terrain_size), not both");
+    const auto whole = [](double v) { return v >= 2.0 && v <= 1e6 && v == std::floor(v); };
+    if (rows != 1 || !whole(size[0]) || !whole(size[1]))
+      return o.option_error(h, "terrain_size",
+                            "[nx, ny]: whole numbers of grid points along x and y, each at least "
+                            "2 (a grid of at least one cell)");
+    const int nx = static_cast<int>(size[0]), ny = static_cast<int>(size[1]);
+    double spacing = 0.0;
+    if (monohydra::positive_option(h, "terrain_spacing", 1, 0.0,
+                                   "a positive distance between the terrain's grid points (m)",
+                                   &spacing) != MH_OK)
+      return MH_ERROR;
+    const double* origin = nullptr;
+    if (o.option_table(h, "terrain_origin", 0, 2, &origin, &rows) != MH_OK) return MH_ERROR;
+    if (origin != nullptr && (rows != 1 || !std::isfinite(origin[0]) || !std::isfinite(origin[1])))
+      return o.option_error(h, "terrain_origin", "[x0, y0]: the grid's first point (m)");
+    const double* heights = nullptr;
+    if (o.option_table(h, "terrain_heights", 1, static_cast<uint32_t>(nx), &heights, &rows) !=
+        MH_OK)
+      return MH_ERROR;
+    const std::string rows_expected = std::to_string(ny) + " rows (terrain_size's ny) of " +
+                                      std::to_string(nx) +
+                                      " finite heights (m), row j at y0 + j terrain_spacing";
+    if (rows != static_cast<uint32_t>(ny))
+      return o.option_error(h, "terrain_heights", rows_expected.c_str());
+    std::vector<double> z(heights, heights + static_cast<size_t>(nx) * static_cast<size_t>(ny));
+    for (const double v : z)
+      if (!std::isfinite(v)) return o.option_error(h, "terrain_heights", rows_expected.c_str());
+    terrain_ = HeightField(origin == nullptr ? 0.0 : origin[0], origin == nullptr ? 0.0 : origin[1],
+                           spacing, nx, ny, std::move(z));
+    has_terrain_ = true;
+    return MH_OK;
+  }
+
   // The edge's, heel's and side's positions and the edge's velocity; false
   // when the blade or the edge's lateral axis has no direction.
   bool inputs(const mh_subsystem_eval& eval, double* in) const {
@@ -240,7 +298,8 @@ class BucketSoil {
     const S u[3] = {heel[0] - e[0], heel[1] - e[1], heel[2] - e[2]};
     const S back = -(u[0] * m[0] + u[1] * m[1]);
     const S rake = atan2(u[2], back);
-    const S depth = ground_ - e[2];
+    const S depth =
+        (has_terrain_ ? terrain_.height<S>(e[0], e[1]) : S(ground_) + S(0.0) * e[0]) - e[2];
     const S d = ramp<S>(depth, depth_band_);
     const S rho = soft_clamp<S>(rake, kRakeLow, kRakeHigh, kRakeBand);
     f.depth = value(depth);
@@ -271,6 +330,8 @@ class BucketSoil {
 
   const mh_host* host_;
   Soil soil_;
+  HeightField terrain_;
+  bool has_terrain_ = false;
   double width_ = 0.0, thickness_ = 0.0, ground_ = 0.0, depth_band_ = 0.0, speed_scale_ = 0.0;
   double bearing_c_ = 0.0, bearing_q_ = 0.0;
   int32_t edge_ = -1, heel_ = -1, side_ = -1;
@@ -284,10 +345,13 @@ const mh_component_descriptor BucketSoil::kDescriptor{
     "monohydra",
     "1.0.0",
     "The fundamental earth-moving equation's cutting resistance (McKyes 1985) and the edge's "
-    "bearing resistance, on point edge, below the ground plane z = ground_level; the blade runs "
-    "from point heel to edge, the cut along up x (side - edge). Options: width (m), density "
+    "bearing resistance, on point edge, below the ground (the plane z = ground_level, or a "
+    "terrain height field); the blade runs from point heel to edge, the cut along up x (side - "
+    "edge). Options: width (m), density "
     "(kg/m^3), friction_angle and interface_friction (rad), cohesion, adhesion, surcharge (Pa), "
-    "edge_thickness (m, default 0.02), ground_level (m, default 0), gravity (m/s^2, default "
+    "edge_thickness (m, default 0.02), ground_level (m, default 0) or terrain_size [nx, ny], "
+    "terrain_spacing (m), terrain_origin [x0, y0] (m), terrain_heights (ny rows of nx, m), "
+    "gravity (m/s^2, default "
     "9.81), depth_band (m, default 0.005), speed_scale (m/s, default 0.01). Outputs Fh, Fv, Fp "
     "(N), depth (m), rake, beta (rad), power (W)."};
 

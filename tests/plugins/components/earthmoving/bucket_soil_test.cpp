@@ -2,8 +2,9 @@
 // rake against the soil wedge's equilibrium solved here (not the plugin's N
 // factors) for three soils, the blade's stop against its closed form and
 // its kinetic energy against what the soil took, the edge's bearing
-// resistance against Prandtl's factors, and bad options refused at their
-// line.
+// resistance against Prandtl's factors, a terrain grid against the plane it
+// samples, its derivatives where its switches act, and bad options refused
+// at their line.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -234,6 +235,72 @@ TEST(BucketSoil, ItsDerivativesMatchDifferencesWhereItEntersTheGroundAndWhereItS
       << r.output;
 }
 
+// The blade model on a terrain instead of the plane z = 0: `grid` holds
+// the lines that replace "    edge_thickness: ...".
+std::string on_terrain(const std::string& model, const std::string& grid) {
+  const size_t at = model.find("    edge_thickness:");
+  EXPECT_NE(at, std::string::npos);
+  std::string text = model;
+  if (at != std::string::npos) text.insert(at, grid);
+  return text;
+}
+
+// A 5 x 4 grid 0.5 m apart from (-1, -1) of the plane z = 0.1 - 0.05 x +
+// 0.02 y: between its points and beyond its last column along the slide the
+// edge's depth is the plane's, exactly (Catmull-Rom reproduces a plane; the
+// border continues its slope).
+TEST(BucketSoil, ATerrainGridOfAPlaneGivesThePlanesDepthBetweenItsPoints) {
+  std::string rows;
+  for (int j = 0; j < 4; ++j) {
+    rows += j == 0 ? "    terrain_heights: [[" : ", [";
+    for (int i = 0; i < 5; ++i) {
+      const double x = -1.0 + 0.5 * i, y = -1.0 + 0.5 * j;
+      rows += (i == 0 ? "" : ", ") + std::to_string(0.1 - 0.05 * x + 0.02 * y);
+    }
+    rows += "]";
+  }
+  rows += "]\n";
+  const std::string grid =
+      "    terrain_size: [5, 4]\n    terrain_spacing: 0.5\n"
+      "    terrain_origin: [-1, -1]\n" +
+      rows;
+  const ModelFile file = parse_model_text(
+      on_terrain(blade_model(kSoils[0], 35 * kDeg, 0.1, 1e4, 1.0, 0.0, 0.8), grid), "blade.yaml");
+  Simulation sim(file, test::build_plugins());
+  sim.start();
+  double worst = 0.0;
+  while (sim.time() < 0.8 - 1e-9) {
+    sim.step();
+    const double x = sim.z()[0];  // the edge's x; its y is 0, its z -0.1
+    worst = std::max(worst, std::abs(output(sim, "soil.depth") - (0.1 - 0.05 * x + 0.1)));
+  }
+  EXPECT_GT(sim.z()[0], 0.7);  // past the grid's last column at x = 1
+  EXPECT_LT(worst, 1e-12);
+}
+
+// On bumps (a 7 x 3 grid of heights up to 0.12 m apart), the swinging
+// bucket's force still has the derivatives of its own values: the terrain's
+// slope is in them.
+TEST(BucketSoil, ItsDerivativesOnABumpyTerrainMatchDifferences) {
+  std::string model = kSwing;
+  const std::string grid =
+      ", terrain_size: [7, 3], terrain_spacing: 0.25, terrain_origin: [-0.75, -0.25],\n"
+      "     terrain_heights: [[0, 0.05, -0.04, 0.08, -0.02, 0.06, 0],\n"
+      "                       [0.02, -0.03, 0.07, -0.05, 0.04, -0.01, 0.03],\n"
+      "                       [0, 0.04, -0.02, 0.06, 0.01, 0.02, 0]]";
+  const size_t at = model.find(", edge_thickness: 0.02");
+  ASSERT_NE(at, std::string::npos);
+  model.insert(at, grid);
+  const auto path = test::scratch_dir("bucket-soil") / "bumps.yaml";
+  std::ofstream(path) << model;
+  const test::CliResult r =
+      test::run_cli("check " + std::string(test::paths::plugin_dir) + "/monohydra-earthmoving.so " +
+                    path.string() + " --at 0.06,0.07,0.08,0.09,0.1,0.12,0.15,0.2,0.3");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("ok    subsystem bucket-soil: its derivative blocks"), std::string::npos)
+      << r.output;
+}
+
 std::string setup_error(const std::string& text) {
   try {
     const ModelFile file = parse_model_text(text, "blade.yaml");
@@ -273,6 +340,28 @@ TEST(BucketSoil, BadSoilOrGeometryIsRefusedAtItsLineSayingWhatWasExpected) {
   for (const auto& c : cases) {
     const std::string err = setup_error(with(model, c.key, c.value));
     EXPECT_NE(err.find(c.expected), std::string::npos) << c.key << ": " << err;
+  }
+  const struct {
+    const char *grid, *expected;
+  } terrains[] = {
+      {"    terrain_size: [1, 5]\n    terrain_spacing: 0.5\n    terrain_heights: [[0], [0], [0], "
+       "[0], [0]]\n",
+       "option 'terrain_size': expected [nx, ny]: whole numbers of grid points along x and y, each "
+       "at least 2 (a grid of at least one cell)"},
+      {"    terrain_size: [2, 3]\n    terrain_spacing: 0.5\n    terrain_heights: [[0, 0], [0, "
+       "0]]\n",
+       "option 'terrain_heights': expected 3 rows (terrain_size's ny) of 2 finite heights (m)"},
+      {"    terrain_size: [2, 2]\n    terrain_spacing: 0\n    terrain_heights: [[0, 0], [0, "
+       "0]]\n",
+       "option 'terrain_spacing': expected a positive distance between the terrain's grid points"},
+      {"    terrain_size: [2, 2]\n    terrain_spacing: 1\n    terrain_heights: [[0, 0], [0, "
+       "0]]\n    ground_level: 0\n",
+       "option 'ground_level': expected either a ground_level or a terrain (terrain_size), not "
+       "both"},
+  };
+  for (const auto& t : terrains) {
+    const std::string err = setup_error(on_terrain(model, t.grid));
+    EXPECT_NE(err.find(t.expected), std::string::npos) << t.grid << ": " << err;
   }
   // A heel on the edge leaves the blade without a direction.
   const size_t heel = model.find("heel: {body: blade, at: [");
