@@ -18,6 +18,7 @@ int sensitivities(const std::vector<std::string>& args);  // sensitivities_comma
 int fit(const std::vector<std::string>& args);            // fit_command.cpp
 int estimate(const std::vector<std::string>& args);       // estimate/estimate_command.cpp
 int fmu(const std::vector<std::string>& args);            // fmu_command.cpp
+int forces(const std::vector<std::string>& args);         // forces_command.cpp
 int run_default();                                        // default_job.cpp
 int usage(int code);
 

@@ -29,12 +29,13 @@ int dispatch(const std::string& cmd, const std::vector<std::string>& args) {
   if (cmd == "fit") return mh::cli::fit(args);
   if (cmd == "estimate") return mh::cli::estimate(args);
   if (cmd == "fmu") return mh::cli::fmu(args);
+  if (cmd == "forces") return mh::cli::forces(args);
   if (cmd == "--help" || cmd == "-h" || cmd == "help") return mh::cli::usage(0);
   // Named, with the commands there are, rather than the whole usage text
   // (which hid a mistyped command's name among 50 lines).
   std::cerr << "monohydra: unknown command '" << cmd
             << "' (expected one of: plugins, run, compare, validate, sweep, check, linearize, "
-               "sensitivities, fit, estimate, fmu; "
+               "sensitivities, fit, estimate, fmu, forces; "
                "monohydra --help shows their options)\n";
   return 2;
 }
