@@ -20,7 +20,9 @@
 // envelope theorem (dP/dbeta = 0 there).
 #pragma once
 
+#include <boost/math/tools/minima.hpp>
 #include <cmath>
+#include <limits>
 
 namespace earth {
 
@@ -65,34 +67,20 @@ S force_per_width(const Soil& soil, const S& depth, const S& rake, double beta) 
                   soil.surcharge * n.surcharge + soil.adhesion * n.adhesion);
 }
 
-// The failure angle that minimises P at this depth and rake (a golden-section
-// search to 1e-12 rad over the whole admissible range: P grows without bound
-// at both ends, cot beta at one and 1/s at the other).
+// The failure angle that minimises P at this depth and rake: Brent's
+// minimiser (golden sections and parabolic steps; Boost.Math) over the whole
+// admissible range, to half of double's digits: beta to about 1e-8 rad,
+// where P is flat to round-off (P grows without bound at both ends, cot
+// beta at one and 1/s at the other).
 inline double failure_angle(const Soil& soil, double depth, double rake) {
   constexpr double kPi = 3.14159265358979323846;
   constexpr double kInside = 1e-6;  // rad kept from each end, where P is infinite
-  const double golden = 0.5 * (std::sqrt(5.0) - 1.0);
-  double a = kInside;
-  double b = kPi - rake - soil.interface_friction - soil.friction_angle - kInside;
-  double x1 = b - golden * (b - a), x2 = a + golden * (b - a);
-  double f1 = force_per_width(soil, depth, rake, x1);
-  double f2 = force_per_width(soil, depth, rake, x2);
-  while (b - a > 1e-12) {
-    if (f1 < f2) {
-      b = x2;
-      x2 = x1;
-      f2 = f1;
-      x1 = b - golden * (b - a);
-      f1 = force_per_width(soil, depth, rake, x1);
-    } else {
-      a = x1;
-      x1 = x2;
-      f1 = f2;
-      x2 = a + golden * (b - a);
-      f2 = force_per_width(soil, depth, rake, x2);
-    }
-  }
-  return 0.5 * (a + b);
+  const double top = kPi - rake - soil.interface_friction - soil.friction_angle - kInside;
+  boost::uintmax_t iterations = 200;
+  return boost::math::tools::brent_find_minima(
+             [&](double beta) { return force_per_width(soil, depth, rake, beta); }, kInside, top,
+             std::numeric_limits<double>::digits / 2, iterations)
+      .first;
 }
 
 // Bearing capacity factors of a strip (Prandtl 1920, Reissner 1924): the
