@@ -245,6 +245,66 @@ std::string on_terrain(const std::string& model, const std::string& grid) {
   return text;
 }
 
+// A blade on a slide pushed into a stiff clay by a cylinder whose pump (0.1
+// l/s) a relief valve limits at 10 MPa: the soil's passive force (25.7 kN)
+// exceeds what the cylinder can push (19.5 kN), so it stalls. In the same Newton step
+// the pump's flow splits between the relief valve and the creep the speed
+// scale lets through, the cylinder's force equals the soil's mobilised
+// resistance, and the pressure holds where the relief valve passes what is
+// left: about one iteration a step, none failed.
+TEST(BucketSoil, AStalledCylinderHoldsTheReliefPressureWhileTheSoilHoldsItsBlade) {
+  const TestSoil stiff_clay{"stiff clay", 1900, 12 * kDeg, 8 * kDeg, 200e3, 50e3, 0};
+  const double rake = std::atan2(0.17, 0.25), depth = 0.1, area = 0.25 * kPi * 0.05 * 0.05;
+  const std::string model = R"(units: {length: m, mass: kg, time: s, angle: rad}
+gravity: [0, 0, -9.81]
+bodies:
+  - {name: blade, parent: ground, joint: {type: prismatic, at: [0, 0, -0.1], axis: [1, 0, 0]},
+     mass: 500.0, com: [0, 0, 0], inertia: [10, 10, 10], z0: 0.0}
+subsystems:
+  - {name: pump, type: flow-source, ports: {p: n}, flow: 1e-4}
+  - {name: line, type: volume, ports: {p: n}, volume: 1e-4, bulk_modulus: 1e9,
+     fluid_bulk_modulus: 1.5e9, initial_pressure: 1e6}
+  - {name: relief, type: relief-valve, ports: {P: n, T: tank}, cracking_pressure: 10e6,
+     override_pressure: 5e5, nominal_flow: 1e-4, outputs: {q: q_relief}}
+  - {name: tank, type: pressure-source, ports: {p: tank}, pressure: 1e5}
+  - {name: cyl, type: cylinder, ports: {A: n, B: tank}, piston_diameter: 0.05,
+     rod_diameter: 0.025, length: 1.5, chamber_bulk_modulus: 31500e6,
+     fluid_bulk_modulus: 1500e6, efficiency: 0.95,
+     points: {a: {body: ground, at: [-2, 0, -0.1]}, b: {body: blade, at: [0, 0, 0]}}}
+  - {name: soil, type: bucket-soil, width: 1.0, density: 1900, friction_angle: 0.20943951023931953,
+     interface_friction: 0.13962634015954636, cohesion: 200e3, adhesion: 50e3, edge_thickness: 0,
+     points: {edge: {body: blade, at: [0, 0, 0]}, heel: {body: blade, at: [-0.25, 0, 0.17]},
+              side: {body: blade, at: [0, -0.5, 0]}}}
+nodes: {n: p, tank: null}
+formulation: open-loop
+solver: {dt: 0.001, t_end: 2}
+)";
+  const ModelFile file = parse_model_text(model, "stall.yaml");
+  Simulation sim(file, test::build_plugins());
+  sim.start();
+  long iterations = 0, steps = 0;
+  while (sim.time() < 2.0 - 1e-9) {
+    sim.step();  // throws if a step fails: none may
+    iterations += sim.last_step().iterations;
+    ++steps;
+  }
+  EXPECT_LT(static_cast<double>(iterations) / static_cast<double>(steps), 1.1);
+  const double full = failing_wedge(stiff_clay, rake, depth, 1.0).horizontal;
+  const double push = output(sim, "cyl.Fs"), held = output(sim, "soil.Fh");
+  EXPECT_GT(full, 1.2 * push);           // the soil could hold more than the cylinder pushes
+  EXPECT_NEAR(held, push, 1e-3 * push);  // quasi-static creep: the forces balance
+  // The creep: the mobilised fraction tanh(v / 0.01)^2 = H / H_full.
+  const double creep = 0.01 * std::atanh(std::sqrt(held / full));
+  EXPECT_NEAR(sim.zd()[0], creep, 1e-6);
+  // The pump's flow: what the relief valve passes and what the creep takes.
+  EXPECT_NEAR(output(sim, "q_relief") + area * sim.zd()[0], 1e-4, 1e-9);
+  // The pressure where the relief valve passes that flow, between its
+  // cracking and full-open pressures (10 and 10.5 MPa over the tank's 0.1).
+  const double p = sim.states()[sim.state_index("p")];
+  EXPECT_GT(p, 10.1e6);
+  EXPECT_LT(p, 10.6e6);
+}
+
 // A 5 x 4 grid 0.5 m apart from (-1, -1) of the plane z = 0.1 - 0.05 x +
 // 0.02 y: between its points and beyond its last column along the slide the
 // edge's depth is the plane's, exactly (Catmull-Rom reproduces a plane; the
