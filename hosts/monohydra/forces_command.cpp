@@ -57,14 +57,13 @@ const SubsystemSpec* find_subsystem(const ModelFile& file, const std::string& na
 std::optional<BodyPoint> lip_point(const ModelFile& file, const std::string& text) {
   if (text.empty()) {
     const SubsystemSpec* soil = nullptr;
+    int soils = 0;
     for (const SubsystemSpec& s : file.subsystems)
       if (s.type == "bucket-soil") {
-        if (soil != nullptr)
-          soil = nullptr;
-        else
-          soil = &s;
+        soil = &s;
+        ++soils;
       }
-    if (soil != nullptr && soil->points.count("edge") > 0) return soil->points.at("edge").point;
+    if (soils == 1 && soil->points.count("edge") > 0) return soil->points.at("edge").point;
     std::cerr << "monohydra: forces: give the bucket lip as --lip BODY:X,Y,Z (m, in the body's "
                  "frame): the model has no single bucket-soil whose edge it would be\n";
     return std::nullopt;
@@ -189,7 +188,8 @@ int forces(const std::vector<std::string>& args) {
                 *pressure / 1e6, from.c_str(),
                 file.model.bodies[static_cast<size_t>(lip->body)].name.c_str(), lip->p_B[0],
                 lip->p_B[1], lip->p_B[2]);
-  std::cout << "ISO 6015 rated tool forces of " << models.front() << "\n  " << head;
+  // Both forces first: a refusal leaves nothing printed.
+  std::string lines = "ISO 6015 rated tool forces of " + models.front() + "\n  " + head;
   for (const auto& row : rows) {
     const std::optional<double> d = positive(*row.cylinder, "piston_diameter", models.front());
     const std::optional<double> l = positive(*row.cylinder, "length", models.front());
@@ -210,16 +210,17 @@ int forces(const std::vector<std::string>& args) {
     const std::string& joint = file.model.bodies[static_cast<size_t>(row.joint)].name;
     try {
       const ToolForce f = tool_force(file.model, spec);
-      std::cout << "  " << row.what << " '" << row.cylinder->name << "' about the " << joint
-                << "'s pivot: " << kilonewtons(f.largest.force) << " (" << pose(f.largest, joint)
-                << "); at the model's pose " << kilonewtons(f.initial.force) << " ("
-                << pose(f.initial, joint) << ")\n";
+      lines += "  " + std::string(row.what) + " '" + row.cylinder->name + "' about the " + joint +
+               "'s pivot: " + kilonewtons(f.largest.force) + " (" + pose(f.largest, joint) +
+               "); at the model's pose " + kilonewtons(f.initial.force) + " (" +
+               pose(f.initial, joint) + ")\n";
     } catch (const std::invalid_argument& err) {
       std::cerr << "monohydra: forces: " << row.what << " '" << row.cylinder->name
                 << "': " << err.what() << '\n';
       return 2;
     }
   }
+  std::cout << lines;
   return 0;
 }
 

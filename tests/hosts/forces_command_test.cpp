@@ -95,6 +95,23 @@ TEST(ForcesCommand, TheLipDefaultsToTheBucketSoilsEdgeAndThePressureScalesTheFor
     return at == std::string::npos ? 0.0 : std::stod(out.substr(at + 16));
   };
   EXPECT_NEAR(kn(half.output), 0.5 * kn(r.output), 0.1);
+  // Three bucket-soils (an odd count as well as more than one): whose edge
+  // is the lip is not the command's guess.
+  const size_t soil = model.find("  - {name: soil,");
+  ASSERT_NE(soil, std::string::npos);
+  std::string second = model.substr(soil, model.find("}}}\n", soil) + 4 - soil);
+  second.replace(second.find("name: soil"), 10, "name: soil2");
+  model.insert(soil, second);
+  second.replace(second.find("name: soil2"), 11, "name: soil3");
+  model.insert(soil, second);
+  const auto two = test::scratch_dir("forces") / "three-soils.yaml";
+  std::ofstream(two) << model;
+  const CliResult both =
+      run_cli("forces " + two.string() + " --bucket-cylinder bucket_cyl --arm-cylinder arm_cyl");
+  EXPECT_EQ(both.code, 2) << both.output;
+  EXPECT_NE(both.output.find("the model has no single bucket-soil whose edge it would be"),
+            std::string::npos)
+      << both.output;
 }
 
 TEST(ForcesCommand, BadInputIsRefusedWithWhatWasExpectedAndExitTwo) {
@@ -124,6 +141,7 @@ TEST(ForcesCommand, BadInputIsRefusedWithWhatWasExpectedAndExitTwo) {
     const CliResult r = run_cli(c.args);
     EXPECT_EQ(r.code, 2) << c.args << "\n" << r.output;
     EXPECT_NE(r.output.find(c.expected), std::string::npos) << c.args << "\n" << r.output;
+    EXPECT_EQ(r.output.find("ISO 6015"), std::string::npos) << r.output;  // nothing half printed
   }
 }
 
