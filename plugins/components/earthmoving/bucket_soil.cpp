@@ -20,6 +20,7 @@
 // No states: the force is the whole coupling.
 #include <Eigen/Core>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <unsupported/Eigen/AutoDiff>
 #include <utility>
@@ -30,6 +31,7 @@
 #include "height_field.hpp"
 #include "monohydra/cpp/checked_options.hpp"
 #include "monohydra/cpp/services.hpp"
+#include "scalar.hpp"
 #include "smooth.hpp"
 #include "soil_cutting.hpp"
 
@@ -38,7 +40,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDegree = kPi / 180.0;
-const double kNaN = std::nan("");
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // The rake angles the equation is used in: a blade flatter than 10 degrees
 // would bulldoze along its own length (cot rho -> infinity), one steeper
 // than 80 degrees is the bucket's back; rounded off over 5 degrees.
@@ -119,13 +121,9 @@ class BucketSoil {
     if (!inputs(eval, in)) return degenerate();
     EdgeForce<double> f;
     edge_force(in, f);
-    double power = 0.0;
-    for (int i = 0; i < 3; ++i) {
-      eval.point_f[3 * edge_ + i] += f.force[i];
-      power -= f.force[i] * in[9 + i];
-    }
-    const double values[7] = {f.horizontal, f.vertical,      f.penetration, f.depth,
-                              f.rake,       f.failure_angle, power};
+    for (int i = 0; i < 3; ++i) eval.point_f[3 * edge_ + i] += f.force[i];
+    const double values[7] = {f.horizontal, f.vertical,      f.penetration,   f.depth,
+                              f.rake,       f.failure_angle, power(f, in + 9)};
     for (int i = 0; i < 7; ++i) eval.outputs[out_[i]] = values[i];
     return MH_OK;
   }
@@ -166,8 +164,7 @@ class BucketSoil {
     EdgeForce<double> f;
     edge_force(in, f);
     stored = 0.0;
-    dissipation = 0.0;
-    for (int i = 0; i < 3; ++i) dissipation -= f.force[i] * in[9 + i];
+    dissipation = power(f, in + 9);
     return MH_OK;
   }
 
@@ -260,6 +257,11 @@ class BucketSoil {
     return MH_OK;
   }
 
+  // What the edge at velocity v does to the soil, -F . v (W).
+  static double power(const EdgeForce<double>& f, const double* v) {
+    return -(f.force[0] * v[0] + f.force[1] * v[1] + f.force[2] * v[2]);
+  }
+
   // The edge's, heel's and side's positions and the edge's velocity; false
   // when the blade or the edge's lateral axis has no direction.
   bool inputs(const mh_subsystem_eval& eval, double* in) const {
@@ -324,9 +326,6 @@ class BucketSoil {
     for (int i = 0; i < 2; ++i) f.force[i] = -f.horizontal * m[i] + bearing * u[i] / blade;
     f.force[2] = -f.vertical + bearing * u[2] / blade;
   }
-
-  static double value(double x) { return x; }
-  static double value(const Dual& x) { return x.value(); }
 
   const mh_host* host_;
   Soil soil_;

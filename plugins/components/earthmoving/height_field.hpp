@@ -12,6 +12,8 @@
 #include <utility>
 #include <vector>
 
+#include "scalar.hpp"
+
 namespace earth {
 
 class HeightField {
@@ -68,12 +70,6 @@ class HeightField {
   static S spline(const P& p0, const P& p1, const P& p2, const P& p3, const S& t) {
     return 0.5 * (2.0 * p1 + (p2 - p0) * t + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * t * t +
                   (3.0 * (p1 - p2) + p3 - p0) * t * t * t);
-  }
-
-  static double value(double x) { return x; }
-  template <class S>
-  static double value(const S& x) {
-    return x.value();
   }
 
   double x0_ = 0.0, y0_ = 0.0, spacing_ = 1.0;
