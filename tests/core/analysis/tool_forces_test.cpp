@@ -119,17 +119,37 @@ TEST(ToolForce, TheExcavatorsBucketLinkageEndsItsRangeAtTheDeadPoint) {
   EXPECT_LT(f.largest.force, 2.0 * f.initial.force);
 }
 
-TEST(ToolForce, APrismaticJointOrAnEmptyStrokeIsRefused) {
-  const ModelFile file = parse_model_text(kArm, "arm.yaml");
-  ToolForceSpec spec;
-  spec.coordinate = 5;
-  spec.area = 1.0;
-  spec.pressure = 1.0;
-  spec.length_max = 1.0;
-  EXPECT_THROW((void)tool_force(file.model, spec), std::invalid_argument);
-  spec.coordinate = 0;
-  spec.length_max = 0.0;
-  EXPECT_THROW((void)tool_force(file.model, spec), std::invalid_argument);
+// What tool_force refuses, by its message: a joint that is not revolute (a
+// slide, or no joint of the model), a stroke with nothing in it.
+TEST(ToolForce, APrismaticJointANonexistentOneOrAnEmptyStrokeIsRefused) {
+  const auto refusal = [](const ModelFile& file, int coordinate, double length_max) {
+    ToolForceSpec spec;
+    spec.coordinate = coordinate;
+    spec.area = 1.0;
+    spec.pressure = 1.0;
+    spec.length_max = length_max;
+    try {
+      (void)tool_force(file.model, spec);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string revolute = "the joint a tool force is taken about must be a revolute joint";
+  const ModelFile slide = parse_model_text(R"(units: {length: m, mass: kg, time: s, angle: rad}
+bodies:
+  - {name: slide, parent: ground, joint: {type: prismatic, at: [0, 0, 0], axis: [1, 0, 0]},
+     mass: 1, com: [0, 0, 0], inertia: [1, 1, 1]}
+formulation: open-loop
+solver: {dt: 0.001, t_end: 1}
+)",
+                                           "slide.yaml");
+  EXPECT_EQ(refusal(slide, 0, 1.0), revolute);
+  const ModelFile arm = parse_model_text(kArm, "arm.yaml");
+  EXPECT_EQ(refusal(arm, 2, 1.0), revolute);
+  EXPECT_EQ(refusal(arm, -1, 1.0), revolute);
+  EXPECT_EQ(refusal(arm, 0, 0.0),
+            "a tool force needs a positive area, pressure and step and a stroke with max > min");
 }
 
 }  // namespace
