@@ -6,10 +6,10 @@
 
 #include <cstdio>
 #include <fstream>
-#include <sstream>
 #include <string>
 
 #include "hosts/cli_runner.hpp"
+#include "models/excavator_dig_model.hpp"
 #include "monohydra/core/model_file.hpp"
 #include "monohydra/core/tool_forces.hpp"
 #include "test_support.hpp"
@@ -67,15 +67,7 @@ TEST(ForcesCommand, PrintsTheBucketAndArmCylindersToolForcesAtTheReliefSetting) 
 // Without --lip, the edge of the model's bucket-soil is the lip; --pressure
 // replaces the relief setting, and the forces scale with it.
 TEST(ForcesCommand, TheLipDefaultsToTheBucketSoilsEdgeAndThePressureScalesTheForces) {
-  std::ifstream in(excavator());
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string model = text.str();
-  model.insert(model.find("\nnodes:") + 1,
-               "  - {name: soil, type: bucket-soil, width: 1.2, density: 1800, friction_angle: "
-               "0.6,\n     points: {edge: {body: bucket, at: [1.25, 0, -0.58]}, heel: {body: "
-               "bucket, at: [0.85, 0, -0.58]},\n              side: {body: bucket, at: [1.25, "
-               "0.6, -0.58]}}}\n");
+  std::string model = test::excavator_dig_model(true);
   const auto path = test::scratch_dir("forces") / "excavator-dig.yaml";
   std::ofstream(path) << model;
   const CliResult r =

@@ -10,42 +10,16 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <map>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "models/excavator_dig_model.hpp"
 #include "monohydra/core/simulation.hpp"
 #include "test_support.hpp"
 
 namespace mh {
 namespace {
-
-// A cohesive sand 1.9 m below the slew's axis, the bucket's 1.2 m edge at
-// its floor's front (the bucket frame's (1.25, 0, -0.58)), the floor behind
-// it, the cut towards the machine (-x at slew 0).
-constexpr const char* kSoil =
-    "  - {name: soil, type: bucket-soil, width: 1.2, density: 1800, friction_angle: 0.6,\n"
-    "     interface_friction: 0.4, cohesion: 10e3, adhesion: 3e3, ground_level: -1.9,\n"
-    "     edge_thickness: 0.03,\n"
-    "     points: {edge: {body: bucket, at: [1.25, 0, -0.58]},\n"
-    "              heel: {body: bucket, at: [0.85, 0, -0.58]},\n"
-    "              side: {body: bucket, at: [1.25, 0.6, -0.58]}}}\n";
-
-std::string excavator(bool digging) {
-  std::ifstream in(test::source_path("models/excavator-ls.yaml"));
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string model = text.str();
-  const size_t nodes = model.find("\nnodes:");
-  EXPECT_NE(nodes, std::string::npos);
-  if (digging && nodes != std::string::npos) model.insert(nodes + 1, kSoil);
-  const size_t end = model.find("t_end: 22,");
-  EXPECT_NE(end, std::string::npos);
-  if (end != std::string::npos) model.replace(end, 10, "t_end: 8,");
-  return model;
-}
 
 struct CycleRun {
   std::vector<Eigen::VectorXd> z;
@@ -59,7 +33,7 @@ const CycleRun& run(bool digging, const std::string& formulation) {
   auto it = runs.find(key);
   if (it != runs.end()) return it->second;
   CycleRun& r = runs[key];
-  const ModelFile file = parse_model_text(excavator(digging), "excavator-dig.yaml");
+  const ModelFile file = parse_model_text(test::excavator_dig_model(digging), "excavator-dig.yaml");
   Simulation sim(file, test::build_plugins(), RunChoices{formulation, "", {}, {}});
   sim.start();
   const int arm = sim.state_index("p_arm_a"), bucket = sim.state_index("p_bucket_a");
