@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "api_arguments.hpp"
 #include "api_handle.hpp"
 #include "instance.hpp"
 #include "monohydra/core/input_error.hpp"
@@ -23,6 +24,7 @@ using mh::embed::ensure_started;
 using mh::embed::guarded;
 using mh::embed::Instance;
 using mh::embed::kNullHandle;
+using mh::embed::read_settings;
 using mh::embed::refuse;
 
 struct mhs_linearization {
@@ -57,19 +59,6 @@ mhs_status open(const mh::embed::OpenRequest& request, mhs_simulation** out) {
     sim->message = "an unknown exception while opening the model";
   }
   return MHS_FATAL;
-}
-
-// The settings as pairs, or why not.
-std::string read_settings(const mhs_setting* settings, size_t count,
-                          mh::embed::OpenRequest& request) {
-  if (count > 0 && settings == nullptr)
-    return "settings is NULL with a count of " + std::to_string(count);
-  for (size_t i = 0; i < count; ++i) {
-    if (settings[i].path == nullptr || settings[i].value == nullptr)
-      return "setting " + std::to_string(i) + " has a NULL path or value";
-    request.settings.emplace_back(settings[i].path, settings[i].value);
-  }
-  return "";
 }
 
 mhs_status refused_open(const std::string& why, mhs_simulation** out) {
@@ -193,22 +182,8 @@ MHS_API mhs_status mhs_variable(const mhs_simulation* csim, uint32_t index,
                                 mhs_variable_info* info) {
   auto* sim = const_cast<mhs_simulation*>(csim);
   return guarded(sim, [&](Instance& in) -> mhs_status {
-    if (info == nullptr) return refuse(sim, "mhs_variable: info is NULL");
-    if (info->struct_size < sizeof(mhs_variable_info))
-      return refuse(sim, "mhs_variable: info->struct_size is " + std::to_string(info->struct_size) +
-                             ", at least " + std::to_string(sizeof(mhs_variable_info)) +
-                             " expected");
-    if (index >= in.variables().size())
-      return refuse(sim, "mhs_variable: index " + std::to_string(index) + " is not below " +
-                             std::to_string(in.variables().size()));
-    const mh::embed::Variable& v = in.variables()[index];
-    info->kind = v.kind;
-    info->name = v.name.c_str();
-    info->qualified = v.qualified.c_str();
-    info->unit = v.unit.c_str();
-    info->min = v.min;
-    info->max = v.max;
-    return MHS_OK;
+    const std::string why = mh::embed::describe("mhs_variable", in.variables(), index, info);
+    return why.empty() ? MHS_OK : refuse(sim, why);
   });
 }
 
@@ -286,11 +261,8 @@ MHS_API mhs_status mhs_set_parameter(mhs_simulation* sim, const char* path, doub
     if (!std::isfinite(value))
       return refuse(sim, std::string("mhs_set_parameter: ") + path +
                              ": expected a finite value, got " + short_number(value));
-    // The shortest text that reads back as the same double.
-    char text[32];
-    const auto written = std::to_chars(text, text + sizeof text, value);
     try {
-      in.set_parameter(path, std::string(text, written.ptr));
+      in.set_parameter(path, mh::embed::exact_text(value));
     } catch (const std::invalid_argument& err) {
       return refuse(sim, std::string("mhs_set_parameter: ") + err.what());
     }

@@ -28,9 +28,10 @@ extern "C" {
 #endif
 
 #define MHS_API_VERSION_MAJOR 1u
-#define MHS_API_VERSION_MINOR                       \
-  4u /* 1.1: mhs_linearize; 1.2: mhs_set_parameter; \
-      1.3: mhs_track_sensitivities, mhs_get_sensitivities; 1.4: mhs_estimator_* */
+#define MHS_API_VERSION_MINOR                                                    \
+  5u /* 1.1: mhs_linearize; 1.2: mhs_set_parameter;                              \
+      1.3: mhs_track_sensitivities, mhs_get_sensitivities; 1.4: mhs_estimator_*; \
+      1.5: mhs_batch_* */
 
 #if defined(__GNUC__) || defined(__clang__)
 #define MHS_API __attribute__((visibility("default")))
@@ -306,6 +307,69 @@ MHS_API mhs_status mhs_estimator_state(mhs_simulation* sim, const mhs_estimator*
 MHS_API mhs_status mhs_estimator_innovations(mhs_simulation* sim, const mhs_estimator* est,
                                              double* innovation, double* sd, size_t count,
                                              double* nis);
+
+/* 1.5: a batch, many runs of one model stepped together (docs/batches.md).
+ * The model is read, its plugins loaded and its value table made once for
+ * every run; each run has its own state, its own parameters (by path, as
+ * mhs_set_parameter takes them) and its own inputs. Its calls step every run
+ * in parallel on the batch's threads; each run's result is, to the bit, the
+ * one it would have stepped alone (an mhs_simulation of the same model with
+ * the same parameters and inputs). A run whose step fails stops alone: it
+ * keeps its last accepted state and its reason (mhs_batch_run_status) and
+ * takes no step until mhs_batch_restore; the others go on. A batch is used
+ * by one thread at a time, as a run is. */
+typedef struct mhs_batch mhs_batch;
+typedef struct mhs_batch_snapshot mhs_batch_snapshot; /* every run's state */
+/* `runs` runs (at least 1) of the model at `model_path` with `count`
+ * settings over it, stepped on `threads` threads in all (0: one per core).
+ * As mhs_open_file: `*out` receives a handle also when the model did not
+ * open (MHS_FATAL, mhs_batch_message says why); free it with mhs_batch_free. */
+MHS_API mhs_status mhs_batch_open_file(const char* model_path, const mhs_setting* settings,
+                                       size_t count, uint32_t runs, uint32_t threads,
+                                       mhs_batch** out);
+MHS_API mhs_status mhs_batch_open_text(const char* yaml_text, const char* label,
+                                       const char* base_dir, const mhs_setting* settings,
+                                       size_t count, uint32_t runs, uint32_t threads,
+                                       mhs_batch** out);
+MHS_API void mhs_batch_free(mhs_batch* batch);
+/* Why the last call on `batch` returned what it did ("" after MHS_OK); a
+ * call that stopped runs names each ("run 3: t = ... s, step ...: ..."). */
+MHS_API const char* mhs_batch_message(const mhs_batch* batch);
+/* The number of runs and of threads. Either pointer may be NULL. */
+MHS_API mhs_status mhs_batch_size(const mhs_batch* batch, uint32_t* runs, uint32_t* threads);
+/* A value of run `run`'s model changed in place, as mhs_set_parameter. */
+MHS_API mhs_status mhs_batch_set_parameter(mhs_batch* batch, uint32_t run, const char* path,
+                                           double value);
+/* Starts every run not started (the first step or advance does it too). */
+MHS_API mhs_status mhs_batch_start(mhs_batch* batch);
+/* Every run that has not stopped takes `steps` steps, or steps until its
+ * time reaches `t` (s). MHS_OK: every run did; MHS_ERROR: some runs are
+ * stopped (now or before), the message names each, the others went on. */
+MHS_API mhs_status mhs_batch_step(mhs_batch* batch, uint64_t steps);
+MHS_API mhs_status mhs_batch_advance(mhs_batch* batch, double t);
+/* The values are numbered as mhs_variable numbers a run's. */
+MHS_API mhs_status mhs_batch_variable_count(const mhs_batch* batch, uint32_t* count);
+MHS_API mhs_status mhs_batch_variable(const mhs_batch* batch, uint32_t index,
+                                      mhs_variable_info* info);
+MHS_API mhs_status mhs_batch_find(const mhs_batch* batch, const char* name, uint32_t* index);
+/* Value `index` of every run, one per run in run order (`runs` the batch's). */
+MHS_API mhs_status mhs_batch_get(const mhs_batch* batch, uint32_t index, double* values,
+                                 size_t runs);
+/* Input `index` of every run from values[run], as mhs_set: all or nothing
+ * (MHS_ERROR names the run refused), MHS_WARNING naming the runs clamped. */
+MHS_API mhs_status mhs_batch_set(mhs_batch* batch, uint32_t index, const double* values,
+                                 size_t runs);
+/* Run `run`: MHS_OK, or MHS_ERROR when it is stopped, with its reason in
+ * `*message` (valid until the next call on `batch`); its time (s) and
+ * steps. Any pointer but `status` may be NULL. */
+MHS_API mhs_status mhs_batch_run_status(const mhs_batch* batch, uint32_t run, mhs_status* status,
+                                        double* t, int64_t* steps, const char** message);
+/* Every run's whole state: saved, and put back (each run's stop forgotten,
+ * as mhs_restore). A snapshot fits the batch it was made for. */
+MHS_API mhs_status mhs_batch_snapshot_new(mhs_batch* batch, mhs_batch_snapshot** out);
+MHS_API void mhs_batch_snapshot_free(mhs_batch_snapshot* snapshot);
+MHS_API mhs_status mhs_batch_save(mhs_batch* batch, mhs_batch_snapshot* snapshot);
+MHS_API mhs_status mhs_batch_restore(mhs_batch* batch, const mhs_batch_snapshot* snapshot);
 
 #ifdef __cplusplus
 }

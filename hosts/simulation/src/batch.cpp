@@ -1,0 +1,145 @@
+#include "batch.hpp"
+
+#include <cmath>
+#include <exception>
+#include <stdexcept>
+
+#include "instance.hpp"
+#include "monohydra/core/run_limits.hpp"
+#include "monohydra/cpp/number_text.hpp"
+
+namespace mh::embed {
+
+namespace {
+
+// One run's steps; a failure is the run's alone. Only a step's own failure
+// (SimulationError) is expected, but nothing may leave a pool's thread.
+template <class Steps>
+void stepped(BatchRun& run, Steps&& steps) {
+  if (!run.failure.empty()) return;
+  try {
+    if (!run.started) {
+      run.sim->start();
+      run.started = true;
+    }
+    steps(*run.sim);
+  } catch (const std::exception& err) {
+    run.failure = err.what();
+  }
+}
+
+}  // namespace
+
+BatchRun::BatchRun(const OpenedModel& opened) : changed(opened) {
+  sim = std::make_unique<Simulation>(opened.file, opened.registry, opened.choices,
+                                     warnings_into(warnings));
+}
+
+Batch::Batch(const OpenRequest& request, size_t runs, unsigned threads)
+    : opened_(std::make_unique<const OpenedModel>(request)), pool_(threads) {
+  if (runs == 0) throw std::invalid_argument("a batch needs at least one run");
+  runs_.reserve(runs);
+  for (size_t k = 0; k < runs; ++k) runs_.push_back(std::make_unique<BatchRun>(*opened_));
+  check_column_names(opened_->file, *runs_.front()->sim);
+  variables_ = std::make_unique<VariableTable>(*runs_.front()->sim, opened_->file.model);
+}
+
+void Batch::each(const std::function<void(BatchRun&)>& work) {
+  pool_.for_each(runs_.size(), [&](size_t k) { work(*runs_[k]); });
+}
+
+void Batch::set_parameter(size_t run, const std::string& path, const std::string& value) {
+  if (run >= runs_.size())
+    throw std::invalid_argument("run " + std::to_string(run) + ": the batch has " +
+                                std::to_string(runs_.size()) + " runs (0 .. " +
+                                std::to_string(runs_.size() - 1) + ")");
+  BatchRun& r = *runs_[run];
+  embed::set_parameter(*r.sim, *opened_, r.changed, path, value);
+}
+
+void Batch::start() {
+  each([](BatchRun& r) { stepped(r, [](Simulation&) {}); });
+}
+
+size_t Batch::step(long steps) {
+  each([&](BatchRun& r) {
+    stepped(r, [&](Simulation& s) {
+      for (long i = 0; i < steps; ++i) s.step();
+    });
+  });
+  size_t stopped = 0;
+  for (const auto& r : runs_) stopped += r->failure.empty() ? 0 : 1;
+  return stopped;
+}
+
+size_t Batch::advance(double t) {
+  each([&](BatchRun& r) {
+    stepped(r, [&](Simulation& s) {
+      const double dt = s.settings().dt;
+      while (s.time() < t - 1e-6 * dt) s.step();
+    });
+  });
+  size_t stopped = 0;
+  for (const auto& r : runs_) stopped += r->failure.empty() ? 0 : 1;
+  return stopped;
+}
+
+void Batch::values(const Variable& v, double* out) const {
+  for (size_t k = 0; k < runs_.size(); ++k) out[k] = value(*runs_[k]->sim, v);
+}
+
+std::string Batch::set_input(const Variable& v, const double* values) {
+  if (v.kind != MHS_INPUT)
+    throw std::invalid_argument("'" + v.name + "' is not an input (the model's inputs: are)");
+  for (size_t k = 0; k < runs_.size(); ++k) {
+    const std::string refused = runs_[k]->sim->input_refusal(v.index, values[k]);
+    if (!refused.empty()) throw std::invalid_argument("run " + std::to_string(k) + ": " + refused);
+  }
+  std::string clamped;
+  for (size_t k = 0; k < runs_.size(); ++k) {
+    const double took = runs_[k]->sim->set_input(v.index, values[k]);
+    if (took != values[k])
+      clamped += (clamped.empty() ? "" : "\n") + std::string("run ") + std::to_string(k) +
+                 ": input '" + v.name + "' clamped from " + monohydra::short_number(values[k]) +
+                 " to " + monohydra::short_number(took);
+  }
+  return clamped;
+}
+
+void Batch::save(std::vector<RunState>& into) const {
+  into.resize(runs_.size());
+  for (size_t k = 0; k < runs_.size(); ++k) runs_[k]->sim->save_state(into[k]);
+}
+
+void Batch::restore(const std::vector<RunState>& from) {
+  if (from.size() != runs_.size())
+    throw std::invalid_argument("the snapshot holds " + std::to_string(from.size()) +
+                                " runs, the batch has " + std::to_string(runs_.size()));
+  for (size_t k = 0; k < runs_.size(); ++k) {
+    runs_[k]->sim->restore_state(from[k]);
+    runs_[k]->started = true;
+    runs_[k]->failure.clear();
+  }
+}
+
+std::string Batch::failures() const {
+  std::string out;
+  for (size_t k = 0; k < runs_.size(); ++k)
+    if (!runs_[k]->failure.empty())
+      out += (out.empty() ? "" : "\n") + std::string("run ") + std::to_string(k) + ": " +
+             runs_[k]->failure;
+  return out;
+}
+
+std::string Batch::take_warnings() {
+  std::string out;
+  for (size_t k = 0; k < runs_.size(); ++k) {
+    std::string& w = runs_[k]->warnings;
+    if (w.empty()) continue;
+    out += (out.empty() ? "" : "\n") + std::string("run ") + std::to_string(k) + ": " + w;
+    w.clear();
+  }
+  return out;
+}
+
+}  // namespace mh::embed
