@@ -43,6 +43,10 @@ for _error in (Error, InputError, SimulationError):
 
 __all__ = [
     "Simulation",
+    "Batch",
+    "BatchSnapshot",
+    "RunStatus",
+    "RunStoppedWarning",
     "Estimator",
     "compare",
     "sweep",
@@ -652,3 +656,8 @@ def fit(model: Union[str, os.PathLike], data: Union[str, os.PathLike, Dict[str, 
         result[name] = np.array([float(r[i]) if r[i] else np.nan for r in rows], dtype=np.float64)
     result["identifiable"] = np.array([r[6] == "1" for r in rows], dtype=bool)
     return result
+
+from .batch import Batch, BatchSnapshot, RunStatus, RunStoppedWarning  # noqa: E402
+
+for _name in ("Batch", "BatchSnapshot", "RunStatus", "RunStoppedWarning"):
+    globals()[_name].__module__ = "monohydra"

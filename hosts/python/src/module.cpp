@@ -17,37 +17,18 @@
 #include <utility>
 #include <vector>
 
+#include "batch.hpp"
+#include "errors.hpp"
 #include "monohydra/simulation.hpp"
 
 namespace py = pybind11;
 
 namespace {
 
-// The exception a failed call raises, by what the call was.
-struct InputError : monohydra::Error {
-  explicit InputError(const monohydra::Error& e) : monohydra::Error(e) {}
-};
-struct SimulationError : monohydra::Error {
-  explicit SimulationError(const monohydra::Error& e) : monohydra::Error(e) {}
-};
-
-template <class Call>
-auto as_input(Call&& call) {
-  try {
-    return call();
-  } catch (const monohydra::Error& e) {
-    throw InputError(e);
-  }
-}
-
-template <class Call>
-auto as_run(Call&& call) {
-  try {
-    return call();
-  } catch (const monohydra::Error& e) {
-    throw SimulationError(e);
-  }
-}
+using monohydra::python::as_input;
+using monohydra::python::as_run;
+using monohydra::python::InputError;
+using monohydra::python::SimulationError;
 
 using Settings = monohydra::Simulation::Settings;
 
@@ -280,6 +261,7 @@ PYBIND11_MODULE(_monohydra, m) {
       PyErr_SetString(error.ptr(), e.what());
     }
   });
+  monohydra::python::bind_batch(m);
   m.attr("API_VERSION") = py::make_tuple(mhs_api_version() >> 16, mhs_api_version() & 0xffffu);
   m.attr("COORDINATE") = static_cast<int>(MHS_COORDINATE);
   m.attr("COORDINATE_RATE") = static_cast<int>(MHS_COORDINATE_RATE);

@@ -64,11 +64,13 @@ mhs_status refuse(mhs_batch* b, const std::string& why) {
   return MHS_ERROR;
 }
 
-// After a step or an advance: the runs stopped, each named.
+// After a step or an advance: the runs stopped, each named (MHS_DISCARD:
+// done for the others).
 mhs_status stopped(mhs_batch* b, size_t count) {
   if (count == 0) return MHS_OK;
-  return refuse(b, std::to_string(count) + " of " + std::to_string(b->batch->size()) +
-                       " runs are stopped (the others went on):\n" + b->batch->failures());
+  b->message = std::to_string(count) + " of " + std::to_string(b->batch->size()) +
+               " runs are stopped (the others went on):\n" + b->batch->failures();
+  return MHS_DISCARD;
 }
 
 mhs_status open(const mh::embed::OpenRequest& request, uint32_t runs, uint32_t threads,
@@ -78,7 +80,8 @@ mhs_status open(const mh::embed::OpenRequest& request, uint32_t runs, uint32_t t
   *out = b;
   try {
     b->batch = std::make_unique<Batch>(request, runs, threads);
-    return MHS_OK;
+    b->message = b->batch->take_warnings();  // the plugins' words while setting up
+    return b->message.empty() ? MHS_OK : MHS_WARNING;
   } catch (const std::bad_alloc&) {
     b->message = "out of memory while opening the batch";
   } catch (const std::exception& err) {
@@ -140,6 +143,16 @@ MHS_API mhs_status mhs_batch_size(const mhs_batch* cb, uint32_t* runs, uint32_t*
   return guarded(b, [&](Batch& batch) -> mhs_status {
     if (runs != nullptr) *runs = static_cast<uint32_t>(batch.size());
     if (threads != nullptr) *threads = batch.threads();
+    return MHS_OK;
+  });
+}
+
+MHS_API mhs_status mhs_batch_time(const mhs_batch* cb, double* dt, double* t_end) {
+  auto* b = const_cast<mhs_batch*>(cb);
+  return guarded(b, [&](Batch& batch) -> mhs_status {
+    const mh::SolverSettings& s = batch.run(0).sim->settings();
+    if (dt != nullptr) *dt = s.dt;
+    if (t_end != nullptr) *t_end = s.t_end;
     return MHS_OK;
   });
 }

@@ -96,4 +96,30 @@ TEST(SimulationCpp, FailingCallsThrowWithTheStatusAndTheLibrarysMessage) {
   }));
 }
 
+TEST(SimulationCpp, ABatchSaysHowManyRunsStoppedAndWhyWithoutThrowing) {
+  monohydra::Batch batch = monohydra::Batch::open_file(model("fourbar.yaml"), 3, 2);
+  EXPECT_EQ(batch.size(), 3u);
+  EXPECT_EQ(batch.threads(), 2u);
+  EXPECT_EQ(batch.dt(), 1e-3);
+  batch.set_parameter(2, "subsystems/valve/flow_coefficient", 2e-5);  // fails as the valve opens
+  EXPECT_EQ(batch.advance(0.5), 0u);
+  EXPECT_EQ(batch.advance(1.2), 1u);
+  EXPECT_NE(batch.warning().find("run 2: t = 1.001 s"), std::string::npos) << batch.warning();
+  const monohydra::Batch::RunStatus stopped = batch.status(2);
+  EXPECT_TRUE(stopped.stopped);
+  EXPECT_EQ(stopped.steps, 1000);
+  EXPECT_FALSE(batch.status(0).stopped);
+  const std::vector<double> z1 = batch.get("z1");
+  ASSERT_EQ(z1.size(), 3u);
+  EXPECT_EQ(z1[0], z1[1]);  // the same parameters, the same run
+  EXPECT_NE(z1[0], z1[2]);
+  try {
+    batch.advance(0.1);
+    ADD_FAILURE() << "an advance into the past did not throw";
+  } catch (const monohydra::Error& e) {
+    EXPECT_EQ(e.status(), MHS_ERROR);
+    EXPECT_NE(std::string(e.what()).find("before run 0's time"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace

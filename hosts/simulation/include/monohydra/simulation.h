@@ -44,7 +44,9 @@ typedef int32_t mhs_status;
 enum {
   MHS_OK = 0,      /* done */
   MHS_WARNING = 1, /* done, and a plugin warned: mhs_message() has its words */
-  MHS_DISCARD = 2, /* reserved (1.0 returns none) */
+  MHS_DISCARD = 2, /* (1.5) done in part: a batch's call that stepped its other runs
+                      while some are stopped (mhs_batch_run_status says which); a
+                      run's call returns none */
   MHS_ERROR = 3,   /* not done: a bad argument (nothing changed) or a failed step
                       (the run keeps its last accepted state and takes no step
                       until a snapshot is restored) */
@@ -323,7 +325,8 @@ typedef struct mhs_batch_snapshot mhs_batch_snapshot; /* every run's state */
 /* `runs` runs (at least 1) of the model at `model_path` with `count`
  * settings over it, stepped on `threads` threads in all (0: one per core).
  * As mhs_open_file: `*out` receives a handle also when the model did not
- * open (MHS_FATAL, mhs_batch_message says why); free it with mhs_batch_free. */
+ * open (MHS_FATAL, mhs_batch_message says why); free it with mhs_batch_free.
+ * MHS_WARNING: opened, and plugins warned while setting the runs up. */
 MHS_API mhs_status mhs_batch_open_file(const char* model_path, const mhs_setting* settings,
                                        size_t count, uint32_t runs, uint32_t threads,
                                        mhs_batch** out);
@@ -337,14 +340,17 @@ MHS_API void mhs_batch_free(mhs_batch* batch);
 MHS_API const char* mhs_batch_message(const mhs_batch* batch);
 /* The number of runs and of threads. Either pointer may be NULL. */
 MHS_API mhs_status mhs_batch_size(const mhs_batch* batch, uint32_t* runs, uint32_t* threads);
+/* The model's dt and t_end (s), the same for every run. Either may be NULL. */
+MHS_API mhs_status mhs_batch_time(const mhs_batch* batch, double* dt, double* t_end);
 /* A value of run `run`'s model changed in place, as mhs_set_parameter. */
 MHS_API mhs_status mhs_batch_set_parameter(mhs_batch* batch, uint32_t run, const char* path,
                                            double value);
 /* Starts every run not started (the first step or advance does it too). */
 MHS_API mhs_status mhs_batch_start(mhs_batch* batch);
 /* Every run that has not stopped takes `steps` steps, or steps until its
- * time reaches `t` (s). MHS_OK: every run did; MHS_ERROR: some runs are
- * stopped (now or before), the message names each, the others went on. */
+ * time reaches `t` (s). MHS_OK: every run did; MHS_DISCARD: some runs are
+ * stopped (now or before), the message names each, the others went on;
+ * MHS_ERROR: a bad argument, no run stepped. */
 MHS_API mhs_status mhs_batch_step(mhs_batch* batch, uint64_t steps);
 MHS_API mhs_status mhs_batch_advance(mhs_batch* batch, double t);
 /* The values are numbered as mhs_variable numbers a run's. */

@@ -357,4 +357,171 @@ class Simulation {
   mutable std::string warning_;
 };
 
+// Many runs of one model stepped together (mhs_batch_*, docs/batches.md):
+// the model is read and its plugins loaded once; each run has its own
+// parameters by path and inputs; calls step every run on the batch's
+// threads, and each run's result is the one it would have alone. A run
+// whose step fails stops alone: step() and advance() return how many runs
+// are stopped, status(k) says why; a bad argument throws Error.
+class Batch {
+ public:
+  using Settings = Simulation::Settings;
+  struct RunStatus {
+    bool stopped = false;
+    double time = 0.0;  // s, of its last accepted state
+    int64_t steps = 0;
+    std::string reason;  // why it stopped ("" when it did not)
+  };
+  class Snapshot {
+   public:
+    mhs_batch_snapshot* handle() const { return handle_.get(); }
+
+   private:
+    friend class Batch;
+    struct Free {
+      void operator()(mhs_batch_snapshot* s) const { mhs_batch_snapshot_free(s); }
+    };
+    explicit Snapshot(mhs_batch_snapshot* s) : handle_(s) {}
+    std::unique_ptr<mhs_batch_snapshot, Free> handle_;
+  };
+
+  // `runs` runs of the model at `path`, on `threads` threads (0: one per core).
+  static Batch open_file(const std::string& path, uint32_t runs, uint32_t threads = 0,
+                         const Settings& settings = {}) {
+    const std::vector<mhs_setting> s = c_settings(settings);
+    mhs_batch* raw = nullptr;
+    const mhs_status st =
+        mhs_batch_open_file(path.c_str(), s.data(), s.size(), runs, threads, &raw);
+    return opened(st, raw);
+  }
+  // The same from the model's text (`label` in messages, `base_dir` for its relative paths).
+  static Batch open_text(const std::string& yaml, const std::string& label,
+                         const std::string& base_dir, uint32_t runs, uint32_t threads = 0,
+                         const Settings& settings = {}) {
+    const std::vector<mhs_setting> s = c_settings(settings);
+    mhs_batch* raw = nullptr;
+    const mhs_status st = mhs_batch_open_text(yaml.c_str(), label.c_str(), base_dir.c_str(),
+                                              s.data(), s.size(), runs, threads, &raw);
+    return opened(st, raw);
+  }
+
+  uint32_t size() const {
+    uint32_t runs = 0;
+    check(mhs_batch_size(get(), &runs, nullptr));
+    return runs;
+  }
+  uint32_t threads() const {
+    uint32_t threads = 0;
+    check(mhs_batch_size(get(), nullptr, &threads));
+    return threads;
+  }
+  double dt() const {
+    double dt = 0.0;
+    check(mhs_batch_time(get(), &dt, nullptr));
+    return dt;
+  }
+  double t_end() const {
+    double t_end = 0.0;
+    check(mhs_batch_time(get(), nullptr, &t_end));
+    return t_end;
+  }
+  std::vector<Variable> variables() const {
+    uint32_t count = 0;
+    check(mhs_batch_variable_count(get(), &count));
+    std::vector<Variable> out(count);
+    for (uint32_t i = 0; i < count; ++i) {
+      mhs_variable_info info{};
+      info.struct_size = sizeof info;
+      check(mhs_batch_variable(get(), i, &info));
+      out[i] = {info.kind, info.name, info.qualified, info.unit, info.min, info.max};
+    }
+    return out;
+  }
+  void set_parameter(uint32_t run, const std::string& path, double value) {
+    check(mhs_batch_set_parameter(get(), run, path.c_str(), value));
+  }
+  size_t start() { return stepped(mhs_batch_start(get())); }
+  size_t step(uint64_t steps = 1) { return stepped(mhs_batch_step(get(), steps)); }
+  size_t advance(double t) { return stepped(mhs_batch_advance(get(), t)); }
+  uint32_t find(const std::string& name) const {
+    uint32_t index = 0;
+    check(mhs_batch_find(get(), name.c_str(), &index));
+    return index;
+  }
+  // Value `index` of every run, in run order.
+  std::vector<double> get(uint32_t index) const {
+    std::vector<double> out(size());
+    check(mhs_batch_get(get(), index, out.data(), out.size()));
+    return out;
+  }
+  std::vector<double> get(const std::string& name) const { return get(find(name)); }
+  // Input `index` of each run: all or nothing; clamped values are named in warning().
+  void set(uint32_t index, const std::vector<double>& values) {
+    check(mhs_batch_set(get(), index, values.data(), values.size()));
+  }
+  RunStatus status(uint32_t run) const {
+    RunStatus out;
+    mhs_status st = MHS_OK;
+    const char* reason = nullptr;
+    check(mhs_batch_run_status(get(), run, &st, &out.time, &out.steps, &reason));
+    out.stopped = st != MHS_OK;
+    out.reason = reason != nullptr ? reason : "";
+    return out;
+  }
+  Snapshot snapshot() {
+    mhs_batch_snapshot* raw = nullptr;
+    check(mhs_batch_snapshot_new(get(), &raw));
+    Snapshot s(raw);
+    check(mhs_batch_save(get(), s.handle()));
+    return s;
+  }
+  void restore(const Snapshot& s) { check(mhs_batch_restore(get(), s.handle())); }
+
+  mhs_batch* get() const { return handle_.get(); }
+  // The message of the last call that warned (MHS_WARNING) or stopped runs, or "".
+  const std::string& warning() const { return warning_; }
+
+ private:
+  struct Free {
+    void operator()(mhs_batch* b) const { mhs_batch_free(b); }
+  };
+  explicit Batch(mhs_batch* b) : handle_(b) {}
+  static std::vector<mhs_setting> c_settings(const Settings& settings) {
+    std::vector<mhs_setting> out;
+    for (const auto& [path, value] : settings) out.push_back({path.c_str(), value.c_str()});
+    return out;
+  }
+  static Batch opened(mhs_status status, mhs_batch* raw) {
+    Batch b(raw);  // freed by it whatever the status
+    if (status != MHS_OK && status != MHS_WARNING)
+      throw Error(status, raw != nullptr ? mhs_batch_message(raw) : "the model did not open");
+    if (status == MHS_WARNING) b.warning_ = mhs_batch_message(raw);
+    return b;
+  }
+  size_t stepped(mhs_status status) {
+    check(status);
+    if (status != MHS_DISCARD) return 0;
+    size_t stopped = 0;
+    for (uint32_t k = 0; k < size(); ++k) stopped += status_of(k) ? 1 : 0;
+    return stopped;
+  }
+  bool status_of(uint32_t run) const {
+    mhs_status st = MHS_OK;
+    check(mhs_batch_run_status(get(), run, &st, nullptr, nullptr, nullptr));
+    return st != MHS_OK;
+  }
+  void check(mhs_status status) const {
+    if (status == MHS_OK) return;
+    const char* message = mhs_batch_message(get());
+    if (status == MHS_WARNING || status == MHS_DISCARD) {
+      warning_ = message != nullptr ? message : "";
+      return;
+    }
+    throw Error(status, message != nullptr ? message : "monohydra: a batch call failed");
+  }
+
+  std::unique_ptr<mhs_batch, Free> handle_;
+  mutable std::string warning_;
+};
+
 }  // namespace monohydra

@@ -1,0 +1,187 @@
+#include "batch.hpp"
+
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "errors.hpp"
+#include "monohydra/simulation.hpp"
+
+namespace py = pybind11;
+
+namespace monohydra::python {
+
+namespace {
+
+// The steps a stepping call takes between two looks at Python's signals:
+// at the four-bar's 76 k instructions a step, a few milliseconds a run.
+constexpr uint64_t kStepsBetweenSignals = 100;
+
+// Raises what a signal handler raised (KeyboardInterrupt for Ctrl-C).
+void take_signals() {
+  const py::gil_scoped_acquire locked;
+  if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+}
+
+class BatchRuns {
+ public:
+  explicit BatchRuns(monohydra::Batch b) : batch_(std::move(b)) {}
+
+  static BatchRuns open_file(const std::string& path, uint32_t runs, uint32_t threads,
+                             const Simulation::Settings& settings) {
+    return BatchRuns(as_input([&] { return Batch::open_file(path, runs, threads, settings); }));
+  }
+  static BatchRuns open_text(const std::string& text, const std::string& label,
+                             const std::string& base_dir, uint32_t runs, uint32_t threads,
+                             const Simulation::Settings& settings) {
+    return BatchRuns(
+        as_input([&] { return Batch::open_text(text, label, base_dir, runs, threads, settings); }));
+  }
+
+  uint32_t runs() const {
+    return as_input([&] { return batch_.size(); });
+  }
+  uint32_t threads() const {
+    return as_input([&] { return batch_.threads(); });
+  }
+  double dt() const {
+    return as_input([&] { return batch_.dt(); });
+  }
+  double t_end() const {
+    return as_input([&] { return batch_.t_end(); });
+  }
+  // The warning of opening ("" none).
+  std::string warning() const { return batch_.warning(); }
+
+  std::vector<py::tuple> variables() const {
+    std::vector<py::tuple> out;
+    for (const monohydra::Variable& v : as_input([&] { return batch_.variables(); }))
+      out.push_back(
+          py::make_tuple(static_cast<int>(v.kind), v.name, v.qualified, v.unit, v.min, v.max));
+    return out;
+  }
+  uint32_t find(const std::string& name) const {
+    return as_input([&] { return batch_.find(name); });
+  }
+  void set_parameter(uint32_t run, const std::string& path, double value) {
+    as_input([&] {
+      batch_.set_parameter(run, path, value);
+      return 0;
+    });
+  }
+
+  // Each returns the message that names the runs stopped ("" when none is).
+  std::string start() {
+    const py::gil_scoped_release unlocked;
+    return stepped(as_input([&] { return batch_.start(); }));
+  }
+  std::string step(int64_t n) {
+    if (n < 0) throw InputError(Error(MHS_ERROR, "step: n must be >= 0"));
+    const py::gil_scoped_release unlocked;
+    auto left = static_cast<uint64_t>(n);
+    size_t stopped = 0;
+    while (left > 0) {
+      const uint64_t now = std::min(left, kStepsBetweenSignals);
+      stopped = as_input([&] { return batch_.step(now); });
+      left -= now;
+      if (left > 0) take_signals();
+    }
+    return stepped(stopped);
+  }
+  std::string advance(double t) {
+    const py::gil_scoped_release unlocked;
+    const double chunk = static_cast<double>(kStepsBetweenSignals) * dt();
+    double now = latest();
+    size_t stopped = 0;
+    do {  // at least once: a time before the runs' is refused there
+      now = std::min(t, now + chunk);
+      stopped = as_input([&] { return batch_.advance(now); });
+      if (now < t) take_signals();
+    } while (now < t);
+    return stepped(stopped);
+  }
+
+  py::array_t<double> get(uint32_t index) const {
+    const std::vector<double> v = as_input([&] { return batch_.get(index); });
+    py::array_t<double> out(static_cast<py::ssize_t>(v.size()));
+    std::copy(v.begin(), v.end(), out.mutable_data());
+    return out;
+  }
+  // The message naming the runs whose value was clamped ("" none).
+  std::string set(uint32_t index, const std::vector<double>& values) {
+    return as_input([&] {
+      batch_.set(index, values);
+      return batch_.warning();
+    });
+  }
+  // (stopped, time, steps, reason) of every run.
+  std::vector<py::tuple> status() const {
+    std::vector<py::tuple> out;
+    const uint32_t n = runs();
+    for (uint32_t k = 0; k < n; ++k) {
+      const Batch::RunStatus s = as_input([&] { return batch_.status(k); });
+      out.push_back(py::make_tuple(s.stopped, s.time, s.steps, s.reason));
+    }
+    return out;
+  }
+  std::shared_ptr<Batch::Snapshot> snapshot() {
+    return as_input([&] { return std::make_shared<Batch::Snapshot>(batch_.snapshot()); });
+  }
+  void restore(const std::shared_ptr<Batch::Snapshot>& s) {
+    as_input([&] {
+      batch_.restore(*s);
+      return 0;
+    });
+  }
+
+ private:
+  // The latest time of a run that is not stopped (the runs advance together).
+  double latest() const {
+    double t = 0.0;
+    const uint32_t n = batch_.size();
+    for (uint32_t k = 0; k < n; ++k) {
+      const Batch::RunStatus s = batch_.status(k);
+      if (!s.stopped) t = std::max(t, s.time);
+    }
+    return t;
+  }
+  std::string stepped(size_t stopped) const { return stopped == 0 ? "" : batch_.warning(); }
+
+  Batch batch_;
+};
+
+}  // namespace
+
+void bind_batch(py::module_& m) {
+  // Opaque to Python: monohydra.BatchSnapshot holds it.
+  const py::class_<Batch::Snapshot, std::shared_ptr<Batch::Snapshot>> snapshot(m, "_BatchSnapshot");
+  py::class_<BatchRuns>(m, "_Batch")
+      .def_static("open_file", &BatchRuns::open_file, py::arg("path"), py::arg("runs"),
+                  py::arg("threads"), py::arg("settings"))
+      .def_static("open_text", &BatchRuns::open_text, py::arg("text"), py::arg("label"),
+                  py::arg("base_dir"), py::arg("runs"), py::arg("threads"), py::arg("settings"))
+      .def_property_readonly("runs", &BatchRuns::runs)
+      .def_property_readonly("threads", &BatchRuns::threads)
+      .def_property_readonly("dt", &BatchRuns::dt)
+      .def_property_readonly("t_end", &BatchRuns::t_end)
+      .def_property_readonly("warning", &BatchRuns::warning)
+      .def("variables", &BatchRuns::variables)
+      .def("find", &BatchRuns::find, py::arg("name"))
+      .def("set_parameter", &BatchRuns::set_parameter, py::arg("run"), py::arg("path"),
+           py::arg("value"))
+      .def("start", &BatchRuns::start)
+      .def("step", &BatchRuns::step, py::arg("n") = 1)
+      .def("advance", &BatchRuns::advance, py::arg("t"))
+      .def("get", &BatchRuns::get, py::arg("index"))
+      .def("set", &BatchRuns::set, py::arg("index"), py::arg("values"))
+      .def("status", &BatchRuns::status)
+      .def("snapshot", &BatchRuns::snapshot)
+      .def("restore", &BatchRuns::restore, py::arg("snapshot"));
+}
+
+}  // namespace monohydra::python
