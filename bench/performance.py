@@ -1662,6 +1662,13 @@ Measured by `studies/speedup.sh` and kept in `docs/sweeps.md` (section
 "Speed-up"), copied here by this script:
 
 {sweep_speedup}
+
+## Batches: speed-up over one thread, and what a run costs
+
+Measured by `bench/batch_scaling.sh` and kept in `docs/batches.md` (section
+"Measured"), copied here by this script:
+
+{batch_scaling}
 """.format(
         head=git_head(), date=datetime.date.today().isoformat(), cpus=cpus, model=model,
         reps=max([e.get("repetitions", 1) for e in data.get("benchmarks", [])] or [1]), ncpu=ctx.get("num_cpus", "?"),
@@ -1683,22 +1690,23 @@ Measured by `studies/speedup.sh` and kept in `docs/sweeps.md` (section
         budget=budget_section(budget, res,
                               "left out by --no-profile" if a.no_profile else "valgrind missing"),
         profile=profile_section(rows, why), base_chain=base_chain,
-        sweep_speedup=sweep_speedup())
+        sweep_speedup=section("sweeps.md", "Speed-up"),
+        batch_scaling=section("batches.md", "Measured"))
     with open(a.out, "w") as f:
         f.write(page)
     print("wrote %s and %s" % (a.out, a.svg), file=sys.stderr)
 
 
-def sweep_speedup():
-    """The body of docs/sweeps.md's "## Speed-up" section (one source for both pages)."""
-    path = os.path.join(ROOT, "docs", "sweeps.md")
+def section(page, title):
+    """The body of docs/PAGE's "## TITLE" section (one source for both pages)."""
+    path = os.path.join(ROOT, "docs", page)
     try:
         text = open(path).read()
     except OSError:
-        return "(docs/sweeps.md not found)"
-    m = re.search(r"^## Speed-up\n(.*?)(?=^## |\Z)", text, re.S | re.M)
+        return "(docs/%s not found)" % page
+    m = re.search(r"^## %s\n(.*?)(?=^## |\Z)" % re.escape(title), text, re.S | re.M)
     if not m:
-        return "(docs/sweeps.md has no Speed-up section)"
+        return "(docs/%s has no %s section)" % (page, title)
     return m.group(1).strip()
 
 

@@ -13,6 +13,21 @@ namespace mh {
 
 namespace {
 
+// Per body: mass, centre of mass (3), inertia (3 x 3, column-major).
+constexpr size_t kModelValuesPerBody = 13;
+
+// The values a run changes in place (RunState::model_values), then gravity.
+void model_values_of(const Model& model, std::vector<double>& out) {
+  out.resize(model.bodies.size() * kModelValuesPerBody + 3);
+  size_t at = 0;
+  for (const Body& b : model.bodies) {
+    out[at++] = b.mass;
+    for (int i = 0; i < 3; ++i) out[at++] = b.com_B[i];
+    for (int i = 0; i < 9; ++i) out[at++] = b.inertia_B(i % 3, i / 3);
+  }
+  for (int i = 0; i < 3; ++i) out[at++] = model.gravity[i];
+}
+
 // The instance's MH_EXT_STATE, read as this host's struct (abi_struct.hpp).
 template <class Table>
 mh_state_extension state_extension_of(const Table* self, const Table& ops, InstanceHost& host) {
@@ -113,6 +128,7 @@ void Simulation::Engine::save_state(RunState& into) {
     into.input_follows_table[k] = signals.inputs[k].follows_table ? 1 : 0;
   }
   into.input_jump_pending = signals.jump_pending;
+  model_values_of(model, into.model_values);
   into.rates_jacobian_valid = stages.rates_jacobian_valid;
   if (stages.rates_jacobian_valid) into.rates_jacobian = stages.rates_jacobian;
   into.part_sizes.resize(snapshot.parts.size());
@@ -255,6 +271,49 @@ void Simulation::Engine::restore_state(const RunState& from) {
     if (!factored) solver.reuse.invalidate();  // the next step factors anew
   }
   last_plugin_error.clear();
+}
+
+std::string Simulation::model_differences(const RunState& from) const {
+  if (from.run_key != engine_->run_key()) return "";  // restore refuses it on its own terms
+  const Model& now = engine_->model;
+  std::vector<double> mine;
+  model_values_of(now, mine);
+  if (from.model_values.size() != mine.size())
+    return "the snapshot holds " + std::to_string(from.model_values.size()) +
+           " values of its model, this run's model has " + std::to_string(mine.size());
+  std::string out;
+  int named = 0, more = 0;
+  const auto note = [&](const std::string& what, const std::string& unit, double here,
+                        double there) {
+    if (named == 4) {
+      ++more;
+      return;
+    }
+    ++named;
+    out += (out.empty() ? "" : "; ") + what + " " + short_number(here) + " " + unit +
+           " in this run, " + short_number(there) + " " + unit + " in the snapshot";
+  };
+  static const char* const kAxes[] = {"x", "y", "z"};
+  for (size_t b = 0; b < now.bodies.size(); ++b) {
+    const size_t at = b * kModelValuesPerBody;
+    const std::string body = "body '" + now.bodies[b].name + "'";
+    if (mine[at] != from.model_values[at])
+      note(body + " mass", "kg", mine[at], from.model_values[at]);
+    for (size_t i = 0; i < 3; ++i)
+      if (mine[at + 1 + i] != from.model_values[at + 1 + i])
+        note(body + " centre of mass " + kAxes[i], "m", mine[at + 1 + i],
+             from.model_values[at + 1 + i]);
+    for (size_t i = 0; i < 9; ++i)
+      if (mine[at + 4 + i] != from.model_values[at + 4 + i])
+        note(body + " inertia " + kAxes[i % 3] + kAxes[i / 3], "kg m^2", mine[at + 4 + i],
+             from.model_values[at + 4 + i]);
+  }
+  const size_t g = now.bodies.size() * kModelValuesPerBody;
+  for (size_t i = 0; i < 3; ++i)
+    if (mine[g + i] != from.model_values[g + i])
+      note(std::string("gravity ") + kAxes[i], "m/s^2", mine[g + i], from.model_values[g + i]);
+  if (more > 0) out += "; and " + std::to_string(more) + " more";
+  return out;
 }
 
 RunState Simulation::save_state() const {

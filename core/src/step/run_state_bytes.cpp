@@ -14,7 +14,7 @@ namespace mh {
 namespace {
 
 constexpr char kMagic[8] = {'M', 'H', 'S', 'T', 'A', 'T', 'E', '\0'};
-constexpr uint32_t kFormatVersion = 1;
+constexpr uint32_t kFormatVersion = 2;  // 2: the model values (RunState::model_values)
 constexpr uint32_t kByteOrder = 0x01020304u;
 // TangentReuse keeps its members private and is copied as its bytes: the
 // other build's layout must be this one's.
@@ -192,6 +192,7 @@ void write_run_state_bytes(const RunState& s, std::vector<unsigned char>& out) {
   w.list(s.input_values);
   w.list(s.input_follows_table);
   w.flag(s.input_jump_pending);
+  w.list(s.model_values);
   w.list(s.part_sizes);
   w.list(s.part_bytes);
   const uint64_t payload = w.size() - kHeader;
@@ -281,6 +282,7 @@ void read_run_state_bytes(const unsigned char* data, std::size_t size, RunState&
     if (f > 1)
       throw RunStateError("the state's bytes are damaged (a flag reads " + std::to_string(f) + ")");
   s.input_jump_pending = r.flag();
+  r.list(s.model_values);
   r.list(s.part_sizes);
   r.list(s.part_bytes);
   if (r.left() != 0)

@@ -21,6 +21,7 @@ import shutil
 import subprocess
 import tempfile
 import time as _time
+import warnings
 from typing import Dict, List, NamedTuple, Optional, Union
 
 import numpy as np
@@ -41,8 +42,20 @@ from ._monohydra import (
 for _error in (Error, InputError, SimulationError):
     _error.__module__ = "monohydra"  # shown as monohydra.InputError, where users catch it
 
+
+class ModelWarning(UserWarning):
+    """What a model's plugins warned of, or an input clamped to its range."""
+
+
+def _warn(message: str) -> None:
+    """A call's warning ("": none) through Python's warnings module."""
+    if message:
+        warnings.warn(message, ModelWarning, stacklevel=3)
+
 __all__ = [
     "Simulation",
+    "Linearization",
+    "ModelWarning",
     "Batch",
     "BatchSnapshot",
     "RunStatus",
@@ -79,6 +92,25 @@ class Variable(NamedTuple):
     unit: str
     range: Optional[tuple]
     qualified: str
+
+
+class Linearization(NamedTuple):
+    """A run's state-space matrices (Simulation.linearize): float64 NumPy
+    arrays A (n x n), B (n x m), C (p x n), D (p x m), the time t (s) they
+    were taken at, and the names and SI units of the states X, inputs u and
+    outputs Y."""
+
+    A: np.ndarray
+    B: np.ndarray
+    C: np.ndarray
+    D: np.ndarray
+    t: float
+    states: List[str]
+    state_units: List[str]
+    inputs: List[str]
+    input_units: List[str]
+    outputs: List[str]
+    output_units: List[str]
 
 
 class Snapshot:
@@ -189,6 +221,7 @@ class Simulation:
             self._run = _Run.open_text(text, "<text>", os.getcwd(), settings)
         else:
             self._run = _Run.open_file(text, settings)
+        _warn(self._run.warning())
         self._variables = [
             Variable(name, _KINDS.get(kind, str(kind)), unit,
                      (lo, hi) if lo <= hi else None, qualified)
@@ -251,7 +284,7 @@ class Simulation:
         """Sets one of the model's inputs from now on (a change is a jump at
         the current time); refused (InputError) when not finite or outside its
         declared range, unless the input clamps."""
-        self._run.set(self._index(name), float(value))
+        _warn(self._run.set(self._index(name), float(value)))
 
     def set_parameter(self, path: str, value: float) -> None:
         """Changes a value of the model in place, before start or between
@@ -285,33 +318,54 @@ class Simulation:
         return self._run.get(self._index(name))
 
     def start(self) -> None:
-        self._run.start()
+        _warn(self._run.start())
 
     def step(self, n: int = 1) -> None:
-        """n steps of dt (the GIL released)."""
-        self._run.step(int(n))
+        """n steps of dt (the GIL released; Ctrl-C stops it between two steps)."""
+        _warn(self._run.step(int(n)))
 
     def advance(self, t: float) -> None:
-        """Steps until the time reaches t."""
-        self._run.advance(float(t))
+        """Steps until the time reaches t (Ctrl-C stops it between two steps)."""
+        _warn(self._run.advance(float(t)))
 
     def run(self, t_end: Optional[float] = None) -> Results:
         """Steps from the current state to t_end (default: the model's),
-        returning the rows `monohydra run` writes from here on."""
-        values, texts = self._run.rows_to(self.t_end if t_end is None else float(t_end))
+        returning the rows `monohydra run` writes from here on. A step that
+        fails raises SimulationError whose `results` holds the rows before
+        it; a t_end whose rows would not fit in memory raises InputError."""
+        values, texts, failed, warned = self._run.rows_to(
+            self.t_end if t_end is None else float(t_end))
+        _warn(warned)
         columns = self._run.row_names()
         units = {}
         for name in columns:
             v = self._by_name.get(name)
             units[name] = v.unit if v else _ROW_UNITS.get(name, "")
-        return Results(columns, units, values, self._run.header(), texts)
+        results = Results(columns, units, values, self._run.header(), texts)
+        if failed:
+            error = SimulationError(failed)
+            error.results = results
+            raise error
+        return results
+
+    def linearize(self, outputs: List[str]) -> "Linearization":
+        """The state-space matrices about the last accepted state,
+        dX/dt = A X + B u, Y = C X + D u, over the model's inputs u and the
+        values named in `outputs` (coordinates, rates, states, outputs); the
+        run goes on as if it had not been asked (docs/embedding.md)."""
+        a, b, c, d, t, states, sunits, inputs, iunits, outs, ounits = self._run.linearize(
+            [str(o) for o in outputs])
+        return Linearization(a, b, c, d, t, states, sunits, inputs, iunits, outs, ounits)
 
     # Snapshots.
     def snapshot(self) -> Snapshot:
         return Snapshot(self._run.snapshot())
 
     def restore(self, snapshot: Snapshot) -> None:
+        """The run back to the snapshot's state; a ModelWarning names any value
+        changed in place (a mass, gravity) that differs from the snapshot's."""
         self._run.restore(snapshot.data)
+        _warn(self._run.warning())
 
 
 class Estimator:

@@ -18,16 +18,6 @@ namespace monohydra::python {
 
 namespace {
 
-// The steps a stepping call takes between two looks at Python's signals:
-// at the four-bar's 76 k instructions a step, a few milliseconds a run.
-constexpr uint64_t kStepsBetweenSignals = 100;
-
-// Raises what a signal handler raised (KeyboardInterrupt for Ctrl-C).
-void take_signals() {
-  const py::gil_scoped_acquire locked;
-  if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-}
-
 class BatchRuns {
  public:
   explicit BatchRuns(monohydra::Batch b) : batch_(std::move(b)) {}

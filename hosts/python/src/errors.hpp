@@ -4,6 +4,10 @@
 // registers them).
 #pragma once
 
+#include <pybind11/pybind11.h>
+
+#include <cstdint>
+
 #include "monohydra/simulation.hpp"
 
 namespace monohydra::python {
@@ -32,6 +36,17 @@ auto as_run(Call&& call) {
   } catch (const monohydra::Error& e) {
     throw SimulationError(e);
   }
+}
+
+// The steps a stepping call takes between two looks at Python's signals:
+// at the four-bar's 76 k instructions a step, a few milliseconds.
+constexpr uint64_t kStepsBetweenSignals = 100;
+
+// With the GIL released: raises what a signal handler raised
+// (KeyboardInterrupt for Ctrl-C), between two steps.
+inline void take_signals() {
+  const pybind11::gil_scoped_acquire locked;
+  if (PyErr_CheckSignals() != 0) throw pybind11::error_already_set();
 }
 
 }  // namespace monohydra::python

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -28,7 +29,9 @@ namespace {
 using monohydra::python::as_input;
 using monohydra::python::as_run;
 using monohydra::python::InputError;
+using monohydra::python::kStepsBetweenSignals;
 using monohydra::python::SimulationError;
+using monohydra::python::take_signals;
 
 using Settings = monohydra::Simulation::Settings;
 
@@ -95,60 +98,96 @@ class Run {
         [&] { return monohydra::Simulation::open_text(text, label, base_dir, settings); }));
   }
 
-  void start() {
-    py::gil_scoped_release unlocked;
+  // The stepping calls release the GIL, look at Python's signals every
+  // kStepsBetweenSignals steps (Ctrl-C: KeyboardInterrupt, the run at an
+  // accepted state) and return what the plugins warned of ("" nothing).
+  std::string start() {
+    const py::gil_scoped_release unlocked;
     as_run([&] {
       sim_.start();
       return 0;
     });
+    return sim_.take_warning();
   }
-  void step(int64_t n) {
+  std::string step(int64_t n) {
     if (n < 0) throw InputError(monohydra::Error(MHS_ERROR, "step: n must be >= 0"));
-    py::gil_scoped_release unlocked;
-    as_run([&] {
-      for (int64_t k = 0; k < n; ++k) sim_.step();
-      return 0;
-    });
-  }
-  void advance(double t) {
-    py::gil_scoped_release unlocked;
-    as_run([&] {
-      sim_.advance(t);
-      return 0;
-    });
-  }
-
-  // Steps to t_end, keeping every row the command line would write from the
-  // current state on (its values and its CSV text): (values, texts).
-  std::pair<py::array_t<double>, std::vector<std::string>> rows_to(double t_end) {
-    std::vector<double> values;
-    std::vector<std::string> texts;
-    size_t columns = 0;
-    {
-      py::gil_scoped_release unlocked;
+    const py::gil_scoped_release unlocked;
+    std::string warned;
+    for (int64_t k = 0; k < n; ++k) {
       as_run([&] {
-        const double half = 0.5 * sim_.dt();
-        const auto keep = [&] {
-          if (!sim_.row_due()) return;
-          const std::vector<double> row = sim_.row();
-          columns = row.size();
-          values.insert(values.end(), row.begin(), row.end());
-          texts.push_back(sim_.row_text(false));
-        };
-        sim_.advance(sim_.time());  // starts the run if it has not (no step taken)
-        keep();
-        while (sim_.time() < t_end - half) {
-          sim_.step();
-          keep();
-        }
+        sim_.step();
         return 0;
       });
+      gather(warned);
+      if ((k + 1) % static_cast<int64_t>(kStepsBetweenSignals) == 0 && k + 1 < n) take_signals();
     }
-    if (columns == 0) columns = sim_.row_names().size();
+    return warned;
+  }
+  std::string advance(double t) {
+    const py::gil_scoped_release unlocked;
+    const double chunk = static_cast<double>(kStepsBetweenSignals) * dt();
+    std::string warned;
+    double now = time();
+    do {  // at least once: a time before the run's is refused there
+      now = std::min(t, now + chunk);
+      as_run([&] {
+        sim_.advance(now);
+        return 0;
+      });
+      gather(warned);
+      if (now < t) take_signals();
+    } while (now < t);
+    return warned;
+  }
+
+  // The most values run() keeps (8 bytes each, and their text): a t_end
+  // that would keep more is refused before the first step, not found out
+  // by running out of memory.
+  static constexpr double kMostKeptValues = 5e7;
+
+  // Steps to t_end, keeping every row the command line would write from the
+  // current state on: (values, texts, why it stopped early: "" when it did
+  // not, warnings). A step that fails ends it with the rows before it.
+  std::tuple<py::array_t<double>, std::vector<std::string>, std::string, std::string> rows_to(
+      double t_end) {
+    std::vector<double> values;
+    std::vector<std::string> texts;
+    std::string failed, warned;
+    const size_t columns = as_input([&] { return sim_.row_names().size(); });
+    const double steps = (t_end - time()) / dt();
+    if (steps * static_cast<double>(columns) > kMostKeptValues)
+      throw InputError(monohydra::Error(
+          MHS_ERROR, "run(t_end=" + std::to_string(t_end) + "): up to " +
+                         std::to_string(static_cast<long long>(steps)) + " rows of " +
+                         std::to_string(columns) +
+                         " columns is more than run() keeps (5e7 values); step with advance() "
+                         "and read value(), or run to an earlier t_end"));
+    {
+      const py::gil_scoped_release unlocked;
+      const double half = 0.5 * dt();
+      const auto keep = [&] {
+        if (!sim_.row_due()) return;
+        const std::vector<double> row = sim_.row();
+        values.insert(values.end(), row.begin(), row.end());
+        texts.push_back(sim_.row_text(false));
+      };
+      try {
+        sim_.advance(sim_.time());  // starts the run if it has not (no step taken)
+        keep();
+        for (uint64_t k = 1; sim_.time() < t_end - half; ++k) {
+          sim_.step();
+          gather(warned);
+          keep();
+          if (k % kStepsBetweenSignals == 0) take_signals();
+        }
+      } catch (const monohydra::Error& e) {
+        failed = e.what();
+      }
+    }
     const auto rows = static_cast<py::ssize_t>(texts.size());
     py::array_t<double> out({rows, static_cast<py::ssize_t>(columns)});
     std::copy(values.begin(), values.end(), out.mutable_data());
-    return {out, texts};
+    return {out, texts, failed, warned};
   }
 
   double time() const {
@@ -182,7 +221,7 @@ class Run {
   std::string set(uint32_t index, double value) {
     return as_input([&] {
       sim_.set(index, value);
-      return sim_.warning();
+      return sim_.take_warning();
     });
   }
   void set_parameter(const std::string& path, double value) {
@@ -190,6 +229,25 @@ class Run {
       sim_.set_parameter(path, value);
       return 0;
     });
+  }
+  std::string warning() { return sim_.take_warning(); }
+
+  // (A, B, C, D as n x n ... NumPy arrays, t, states, state units, inputs,
+  // input units, outputs, output units).
+  py::tuple linearize(const std::vector<std::string>& outputs) {
+    const monohydra::Linearization lin = as_input([&] { return sim_.linearize(outputs); });
+    const auto matrix = [](const std::vector<double>& column_major, uint32_t rows, uint32_t cols) {
+      py::array_t<double> out({static_cast<py::ssize_t>(rows), static_cast<py::ssize_t>(cols)});
+      auto view = out.mutable_unchecked<2>();
+      for (uint32_t j = 0; j < cols; ++j)
+        for (uint32_t i = 0; i < rows; ++i)
+          view(i, j) = column_major[static_cast<size_t>(j) * rows + i];
+      return out;
+    };
+    return py::make_tuple(matrix(lin.A, lin.n, lin.n), matrix(lin.B, lin.n, lin.m),
+                          matrix(lin.C, lin.p, lin.n), matrix(lin.D, lin.p, lin.m), lin.t,
+                          lin.states, lin.state_units, lin.inputs, lin.input_units, lin.outputs,
+                          lin.output_units);
   }
   void track_sensitivities(const std::vector<std::string>& paths) {
     as_input([&] {
@@ -239,6 +297,13 @@ class Run {
   }
 
  private:
+  // A warning of the call just made, added to those of the steps before.
+  void gather(std::string& warned) {
+    const std::string w = sim_.take_warning();
+    if (w.empty() || warned.find(w) != std::string::npos) return;
+    warned += (warned.empty() ? "" : "\n") + w;
+  }
+
   monohydra::Simulation sim_;
 };
 
@@ -276,6 +341,8 @@ PYBIND11_MODULE(_monohydra, m) {
       .def("start", &Run::start)
       .def("step", &Run::step, py::arg("n") = 1)
       .def("advance", &Run::advance, py::arg("t"))
+      .def("warning", &Run::warning)
+      .def("linearize", &Run::linearize, py::arg("outputs"))
       .def("rows_to", &Run::rows_to, py::arg("t_end"))
       .def_property_readonly("time", &Run::time)
       .def_property_readonly("steps", &Run::steps)

@@ -65,9 +65,10 @@ class Batch {
   std::string set_input(const Variable& v, const double* values);
 
   // Every run's whole state, and every run put back into one (its failure
-  // forgotten, as mhs_restore does).
+  // forgotten, as mhs_restore does). Returns the runs whose model has other
+  // values than at the save, each "run k: ..." (Simulation::model_differences).
   void save(std::vector<RunState>& into) const;
-  void restore(const std::vector<RunState>& from);
+  std::string restore(const std::vector<RunState>& from);
 
   // The runs that failed, each "run k: reason", one per line ("": none).
   std::string failures() const;

@@ -327,8 +327,13 @@ MHS_API mhs_status mhs_batch_restore(mhs_batch* b, const mhs_batch_snapshot* sna
     if (snapshot->of != &batch)
       return refuse(b, "mhs_batch_restore: the snapshot was made for another batch");
     if (!snapshot->saved) return refuse(b, "mhs_batch_restore: the snapshot holds no state yet");
-    batch.restore(snapshot->runs);
-    return MHS_OK;
+    const std::string differ = batch.restore(snapshot->runs);
+    if (differ.empty()) return MHS_OK;
+    b->message =
+        "mhs_batch_restore: saved with other values of the model (the runs go on as "
+        "their models now are):\n" +
+        differ;
+    return MHS_WARNING;
   });
 }
 

@@ -9,6 +9,7 @@
 #include <memory>
 #include <new>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "api_arguments.hpp"
@@ -50,7 +51,9 @@ mhs_status open(const mh::embed::OpenRequest& request, mhs_simulation** out) {
   *out = sim;
   try {
     sim->instance = std::make_unique<Instance>(request);
-    return MHS_OK;
+    // The plugins' words while setting up.
+    sim->message = std::exchange(sim->instance->warnings, std::string());
+    return sim->message.empty() ? MHS_OK : MHS_WARNING;
   } catch (const std::bad_alloc&) {
     sim->message = "out of memory while opening the model";
   } catch (const std::exception& err) {
@@ -69,6 +72,13 @@ mhs_status refused_open(const std::string& why, mhs_simulation** out) {
 }
 
 }  // namespace
+
+namespace mh::embed {
+const mhs_simulation*& refused_in_use() {
+  thread_local const mhs_simulation* run = nullptr;
+  return run;
+}
+}  // namespace mh::embed
 
 extern "C" {
 
@@ -104,7 +114,13 @@ MHS_API void mhs_free(mhs_simulation* sim) {
 }
 
 MHS_API const char* mhs_message(const mhs_simulation* sim) {
-  return sim == nullptr ? kNullHandle : sim->message.c_str();
+  if (sim == nullptr) return kNullHandle;
+  if (mh::embed::refused_in_use() == sim) return mh::embed::kInUse;
+  return sim->message.c_str();
+}
+
+MHS_API void mhs_cancel(mhs_simulation* sim) {
+  if (sim != nullptr) sim->cancelled.store(true, std::memory_order_release);
 }
 
 MHS_API mhs_status mhs_start(mhs_simulation* sim) {
@@ -145,6 +161,12 @@ MHS_API mhs_status mhs_advance(mhs_simulation* sim, double t) {
       return refuse(sim, "mhs_advance: t = " + short_number(t) + " s is before the run's time " +
                              short_number(s.time()) + " s");
     while (s.time() < t - 1e-6 * dt) {
+      if (sim->cancelled.load(std::memory_order_relaxed) && mh::embed::cancel_asked(sim)) {
+        sim->message = "mhs_advance: cancelled (mhs_cancel) at t = " + short_number(s.time()) +
+                       " s, step " + std::to_string(s.step_index()) +
+                       "; the run goes on from there";
+        return MHS_DISCARD;
+      }
       try {
         s.step();
       } catch (const mh::SimulationError& err) {
@@ -405,10 +427,15 @@ MHS_API mhs_status mhs_restore(mhs_simulation* sim, const mhs_snapshot* snapshot
   return guarded(sim, [&](Instance& in) -> mhs_status {
     if (snapshot == nullptr) return refuse(sim, "mhs_restore: the snapshot is NULL");
     if (!snapshot->saved) return refuse(sim, "mhs_restore: the snapshot holds no state yet");
+    const std::string differ = in.sim().model_differences(snapshot->state);
     in.sim().restore_state(snapshot->state);
     sim->started = true;
     sim->failure.clear();
-    return MHS_OK;
+    sim->message.clear();  // what the failure said goes with it
+    if (differ.empty()) return MHS_OK;
+    sim->message = "mhs_restore: the snapshot was saved with other values of the model (" + differ +
+                   "): the run goes on from its state as this run's model";
+    return MHS_WARNING;
   });
 }
 

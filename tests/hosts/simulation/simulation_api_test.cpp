@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -586,7 +588,138 @@ TEST(EmbeddingBadCalls, UnknownNamesIndicesAndTimesAreRefusedNamingThem) {
   double t = 0.0;
   ASSERT_EQ(mhs_time(sim.get(), &t, nullptr, nullptr, nullptr), MHS_OK);
   EXPECT_EQ(t, 0.5);  // nothing refused changed the run
-  EXPECT_STREQ(mhs_message(sim.get()), "");
+  // The refusal's words stay through the calls that succeed, until the next
+  // call that does not.
+  EXPECT_NE(std::string(mhs_message(sim.get())).find("mhs_row_text"), std::string::npos)
+      << mhs_message(sim.get());
+  EXPECT_EQ(mhs_advance(sim.get(), 0.25), MHS_ERROR);
+  EXPECT_STREQ(mhs_message(sim.get()), "mhs_advance: t = 0.25 s is before the run's time 0.5 s");
+}
+
+TEST(EmbeddingSnapshot, ARestoreIntoAModelWithOtherValuesWarnsNamingThem) {
+  Sim sim = open("fourbar.yaml");
+  ASSERT_TRUE(ok(mhs_advance(sim.get(), 0.2)));
+  mhs_snapshot* raw = nullptr;
+  ASSERT_EQ(mhs_snapshot_new(sim.get(), &raw), MHS_OK);
+  Snapshot snap(raw);
+  ASSERT_EQ(mhs_save(sim.get(), snap.get()), MHS_OK);
+  ASSERT_EQ(mhs_restore(sim.get(), snap.get()), MHS_OK);  // the same model: nothing to say
+  ASSERT_EQ(mhs_set_parameter(sim.get(), "bodies/body3/mass", 60.0), MHS_OK);
+  ASSERT_EQ(mhs_set_parameter(sim.get(), "gravity/1", -9.0), MHS_OK);
+  ASSERT_TRUE(ok(mhs_advance(sim.get(), 0.3)));
+  EXPECT_EQ(mhs_restore(sim.get(), snap.get()), MHS_WARNING);
+  const std::string message = mhs_message(sim.get());
+  EXPECT_NE(message.find("body 'body3' mass 60 kg in this run, 50 kg in the snapshot"),
+            std::string::npos)
+      << message;
+  EXPECT_NE(message.find("gravity y -9 m/s^2 in this run, -9.81 m/s^2 in the snapshot"),
+            std::string::npos)
+      << message;
+  double t = 0.0;
+  ASSERT_EQ(mhs_time(sim.get(), &t, nullptr, nullptr, nullptr), MHS_OK);
+  EXPECT_NEAR(t, 0.2, 1e-12);  // restored, as the changed model
+  // The same through bytes, as another process would restore them.
+  const void* bytes = nullptr;
+  size_t size = 0;
+  ASSERT_EQ(mhs_snapshot_bytes(sim.get(), snap.get(), &bytes, &size), MHS_OK);
+  std::vector<unsigned char> copy(static_cast<const unsigned char*>(bytes),
+                                  static_cast<const unsigned char*>(bytes) + size);
+  ASSERT_EQ(mhs_snapshot_new(sim.get(), &raw), MHS_OK);
+  Snapshot read(raw);
+  ASSERT_EQ(mhs_snapshot_read(sim.get(), read.get(), copy.data(), copy.size()), MHS_OK);
+  EXPECT_EQ(mhs_restore(sim.get(), read.get()), MHS_WARNING);
+  // Set back, nothing to say.
+  ASSERT_EQ(mhs_set_parameter(sim.get(), "bodies/body3/mass", 50.0), MHS_OK);
+  ASSERT_EQ(mhs_set_parameter(sim.get(), "gravity/1", -9.81), MHS_OK);
+  EXPECT_EQ(mhs_restore(sim.get(), read.get()), MHS_OK) << mhs_message(sim.get());
+}
+
+TEST(EmbeddingBadCalls, AFailuresMessageIsKeptUntilTheNextFailureOrARestore) {
+  Sim sim =
+      open("fourbar.yaml", {{"solver/max_iterations", "1"}, {"solver/max_step_halvings", "0"}});
+  ASSERT_TRUE(ok(mhs_start(sim.get())));
+  mhs_snapshot* raw = nullptr;
+  ASSERT_EQ(mhs_snapshot_new(sim.get(), &raw), MHS_OK);
+  Snapshot start(raw);
+  ASSERT_EQ(mhs_save(sim.get(), start.get()), MHS_OK);
+  ASSERT_EQ(mhs_advance(sim.get(), 2.0), MHS_ERROR);  // fails as the valve opens
+  const std::string failure = mhs_message(sim.get());
+  EXPECT_NE(failure.find("Newton did not converge"), std::string::npos) << failure;
+  double t = 0.0;
+  uint32_t z1 = 0;
+  double value = 0.0;
+  ASSERT_EQ(mhs_time(sim.get(), &t, nullptr, nullptr, nullptr), MHS_OK);
+  ASSERT_EQ(mhs_find(sim.get(), "z1", &z1), MHS_OK);
+  ASSERT_EQ(mhs_get(sim.get(), &z1, 1, &value), MHS_OK);
+  EXPECT_EQ(mhs_message(sim.get()), failure);  // three calls later, still there
+  ASSERT_EQ(mhs_restore(sim.get(), start.get()), MHS_OK);
+  EXPECT_STREQ(mhs_message(sim.get()), "");  // gone with the failure
+}
+
+TEST(EmbeddingThreads, ASecondThreadsCallOnABusyRunIsRefusedAndChangesNothing) {
+  Sim sim = open("fourbar.yaml");
+  ASSERT_TRUE(ok(mhs_start(sim.get())));
+  // One long call in another thread (days of model time, until cancelled);
+  // tried again when this thread's call refused it.
+  std::thread stepping([&] {
+    while (mhs_advance(sim.get(), 1e6) == MHS_ERROR) {
+    }
+  });
+  // This thread's calls go through until the other's call begins, then
+  // each is refused whole with its own message.
+  int refused = 0;
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (refused == 0 && std::chrono::steady_clock::now() < until) {
+    double t = -1.0;
+    const mhs_status st = mhs_time(sim.get(), &t, nullptr, nullptr, nullptr);
+    if (st == MHS_OK) continue;
+    ++refused;
+    EXPECT_EQ(st, MHS_ERROR);
+    EXPECT_EQ(t, -1.0);  // nothing written
+    EXPECT_NE(std::string(mhs_message(sim.get())).find("another thread is in a call"),
+              std::string::npos)
+        << mhs_message(sim.get());
+  }
+  mhs_cancel(sim.get());
+  stepping.join();
+  EXPECT_EQ(refused, 1);
+  // Alone again: calls go through, and the message is the run's own (the
+  // other thread's cancelled advance).
+  double t = 0.0;
+  EXPECT_EQ(mhs_time(sim.get(), &t, nullptr, nullptr, nullptr), MHS_OK);
+  EXPECT_GT(t, 0.0);
+  EXPECT_NE(std::string(mhs_message(sim.get())).find("cancelled"), std::string::npos)
+      << mhs_message(sim.get());
+}
+
+TEST(EmbeddingThreads, CancelEndsALongAdvanceBetweenTwoStepsAndTheRunGoesOn) {
+  Sim sim = open("fourbar.yaml");
+  ASSERT_TRUE(ok(mhs_start(sim.get())));
+  std::thread canceller([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    mhs_cancel(sim.get());
+  });
+  const mhs_status st = mhs_advance(sim.get(), 1e6);  // days of model time
+  canceller.join();
+  EXPECT_EQ(st, MHS_DISCARD);
+  const std::string message = mhs_message(sim.get());
+  EXPECT_NE(message.find("mhs_advance: cancelled (mhs_cancel) at t = "), std::string::npos)
+      << message;
+  double t = 0.0, dt = 0.0;
+  int64_t steps = 0;
+  ASSERT_EQ(mhs_time(sim.get(), &t, &steps, &dt, nullptr), MHS_OK);
+  EXPECT_GT(t, 0.0);
+  EXPECT_LT(t, 1e3);
+  EXPECT_NEAR(t, static_cast<double>(steps) * dt, 1e-9);  // at a step
+  EXPECT_EQ(mhs_advance(sim.get(), t + 0.01), MHS_OK) << mhs_message(sim.get());
+  // A cancel with no call in flight ends the next one at its start.
+  mhs_cancel(sim.get());
+  EXPECT_EQ(mhs_advance(sim.get(), t + 0.02), MHS_DISCARD);
+  double after = 0.0;
+  ASSERT_EQ(mhs_time(sim.get(), &after, nullptr, nullptr, nullptr), MHS_OK);
+  EXPECT_NEAR(after, t + 0.01, 1e-9);
+  EXPECT_EQ(mhs_advance(sim.get(), t + 0.02), MHS_OK);
+  mhs_cancel(nullptr);  // ignored
 }
 
 TEST(EmbeddingBadCalls, AFailedStepStopsTheRunUntilASnapshotIsRestored) {
@@ -899,7 +1032,11 @@ TEST(EmbeddingParameters, AMassChangedBetweenStepsGoesOnAsTheChangedModelFromThe
   advance_to(changed.get(), 4.0);
 
   Sim reopened = open("fourbar.yaml", {{"bodies/body3/mass", "80"}});
-  ASSERT_EQ(mhs_restore(reopened.get(), at2.get()), MHS_OK) << mhs_message(reopened.get());
+  // Restored into the other model on purpose: the restore says so.
+  ASSERT_EQ(mhs_restore(reopened.get(), at2.get()), MHS_WARNING) << mhs_message(reopened.get());
+  EXPECT_NE(std::string(mhs_message(reopened.get())).find("mass 80 kg in this run"),
+            std::string::npos)
+      << mhs_message(reopened.get());
   advance_to(reopened.get(), 4.0);
   EXPECT_EQ(motion(changed.get()), motion(reopened.get()));
 
@@ -923,7 +1060,7 @@ TEST(EmbeddingParameters, ALoadPickedUpBetweenStepsGoesOnAsTheLoadedModelFromThe
   advance_to(changed.get(), 1.0);
 
   Sim reopened = open("excavator.yaml", {{"t_end", "1"}, {"bodies/bucket/payload/mass", "1800"}});
-  ASSERT_EQ(mhs_restore(reopened.get(), at.get()), MHS_OK) << mhs_message(reopened.get());
+  ASSERT_EQ(mhs_restore(reopened.get(), at.get()), MHS_WARNING) << mhs_message(reopened.get());
   advance_to(reopened.get(), 1.0);
   // Within the steps' Newton tolerances (the rates agree to 4e-10 of
   // themselves), not to the bit as the four-bar's mass above: what the run

@@ -77,6 +77,10 @@ struct RunState {
   std::vector<double> input_values;
   std::vector<uint8_t> input_follows_table;
   bool input_jump_pending = false;
+  // The values of the model a run changes in place when it was saved (each
+  // body's mass, centre of mass and inertia, then gravity: model_values_of):
+  // Simulation::model_differences names those a run has otherwise.
+  std::vector<double> model_values;
   // The instances' own states (state.h), one after the other in the run's
   // order (formulation, integrator, subsystems), and each one's length.
   std::vector<uint64_t> part_sizes;

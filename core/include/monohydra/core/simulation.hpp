@@ -118,6 +118,13 @@ class Simulation {
   RunState save_state() const;
   void save_state(RunState& into) const;
   void restore_state(const RunState& from);
+  // The values changed in place (a body's mass, centre of mass or inertia,
+  // gravity) that differ between this run's model and the one `from` was
+  // saved with, each named with both values ("" when none does, or when the
+  // state is of another run, which restore refuses). A restore does not
+  // change them: a host that restores for its user says so; the filters
+  // restore on purpose into moved parameters.
+  std::string model_differences(const RunState& from) const;
 
   // Real-time mode (`monohydra run --real-time`), the one mode whose results
   // depend on the machine: Newton stops after `iteration_cap` iterations or

@@ -6,12 +6,17 @@
  *
  * The rules, as FMI 3.0's C API keeps them:
  * - Every call returns a status (MHS_OK ... MHS_FATAL) and never throws,
- *   aborts or exits; mhs_message() says why a call did not return MHS_OK.
+ *   aborts or exits; mhs_message() says why the last call that did not
+ *   return MHS_OK did not (kept through later calls that do, until the next
+ *   that does not, or a restore).
  * - Every array travels with its length; strings are UTF-8, NUL-terminated,
  *   owned by the library and valid until the next call on the same handle.
  * - Instances are independent: several may run at once, in several threads,
- *   each used by one thread at a time. Opening a model is serialized inside
- *   the library (its plugins are loaded once per process).
+ *   each used by one thread at a time: a call while another thread is in a
+ *   call on the same instance is refused (MHS_ERROR; that thread's
+ *   mhs_message says so) and changes nothing. mhs_cancel is the exception:
+ *   any thread, or a signal handler, may call it. Opening a model is
+ *   serialized inside the library (its plugins are loaded once per process).
  * - Units are SI, as the model's components declare them.
  *
  * Versioning is the SDK's: within one major version the API only grows
@@ -44,9 +49,10 @@ typedef int32_t mhs_status;
 enum {
   MHS_OK = 0,      /* done */
   MHS_WARNING = 1, /* done, and a plugin warned: mhs_message() has its words */
-  MHS_DISCARD = 2, /* (1.5) done in part: a batch's call that stepped its other runs
-                      while some are stopped (mhs_batch_run_status says which); a
-                      run's call returns none */
+  MHS_DISCARD = 2, /* (1.5) done in part: an advance that mhs_cancel ended between two
+                      steps (the run is at that accepted state and goes on from it);
+                      a batch's call that stepped its other runs while some are
+                      stopped (mhs_batch_run_status says which) */
   MHS_ERROR = 3,   /* not done: a bad argument (nothing changed) or a failed step
                       (the run keeps its last accepted state and takes no step
                       until a snapshot is restored) */
@@ -74,7 +80,8 @@ typedef struct mhs_setting {
  * then the plugins installed beside this library) and sets every instance
  * up. `*out` receives a handle whenever `out` is not NULL, also when the
  * model did not open (status MHS_FATAL): its mhs_message() says why (file,
- * line, field, what was expected); free it with mhs_free either way. */
+ * line, field, what was expected); free it with mhs_free either way.
+ * MHS_WARNING (1.5): opened, and plugins warned while setting up. */
 MHS_API mhs_status mhs_open_file(const char* model_path, const mhs_setting* settings, size_t count,
                                  mhs_simulation** out);
 /* The same from the model's text: `label` names it in messages, `base_dir`
@@ -84,9 +91,16 @@ MHS_API mhs_status mhs_open_text(const char* yaml_text, const char* label, const
 /* Destroys the run and every plugin instance of it. NULL is ignored. */
 MHS_API void mhs_free(mhs_simulation* sim);
 
-/* Why the last call on `sim` returned what it did ("" after MHS_OK). Valid
- * until the next call on `sim`; for a NULL handle, a text saying so. */
+/* What the last call on `sim` that did not return MHS_OK said, kept until
+ * the next such call or a restore ("" when there was none). Valid until
+ * the next call on `sim`; for a NULL handle, a text saying so; on a thread
+ * refused because another was in a call on `sim`, that refusal. */
 MHS_API const char* mhs_message(const mhs_simulation* sim);
+/* (1.5) Ends the call in flight on `sim` at the next look between two steps
+ * (mhs_advance returns MHS_DISCARD: the run is at an accepted state and goes
+ * on from it), or, with no such call in flight, the next one at its start.
+ * Any thread may call it, and a signal handler (it only sets a flag). */
+MHS_API void mhs_cancel(mhs_simulation* sim);
 
 /* The consistent state at t = 0 (the paper's initial conditions). The first
  * mhs_step, mhs_advance or mhs_restore starts the run when this was not called. */
@@ -207,7 +221,11 @@ MHS_API void mhs_snapshot_free(mhs_snapshot* snapshot);
  * into the same snapshot allocates nothing for the host's part). */
 MHS_API mhs_status mhs_save(mhs_simulation* sim, mhs_snapshot* snapshot);
 /* Puts a saved state back: all of it or, when refused (another model or
- * settings, damaged bytes), nothing. A run whose step failed steps again. */
+ * settings, damaged bytes), nothing. A run whose step failed steps again.
+ * (1.5) MHS_WARNING when a value changed in place (a body's mass, centre of
+ * mass or inertia, gravity) differs from what it was at the save: the state
+ * is restored and goes on as the run's model now is; the message names each
+ * value with both. */
 MHS_API mhs_status mhs_restore(mhs_simulation* sim, const mhs_snapshot* snapshot);
 /* The snapshot as bytes (owned by the snapshot, valid until it changes) and
  * a snapshot read back from such bytes; messages go to `sim`. */
@@ -371,7 +389,8 @@ MHS_API mhs_status mhs_batch_set(mhs_batch* batch, uint32_t index, const double*
 MHS_API mhs_status mhs_batch_run_status(const mhs_batch* batch, uint32_t run, mhs_status* status,
                                         double* t, int64_t* steps, const char** message);
 /* Every run's whole state: saved, and put back (each run's stop forgotten,
- * as mhs_restore). A snapshot fits the batch it was made for. */
+ * and MHS_WARNING naming the runs whose model values differ, as
+ * mhs_restore). A snapshot fits the batch it was made for. */
 MHS_API mhs_status mhs_batch_snapshot_new(mhs_batch* batch, mhs_batch_snapshot** out);
 MHS_API void mhs_batch_snapshot_free(mhs_batch_snapshot* snapshot);
 MHS_API mhs_status mhs_batch_save(mhs_batch* batch, mhs_batch_snapshot* snapshot);

@@ -142,6 +142,15 @@ class Estimator {
   std::unique_ptr<mhs_estimator, Free> handle_;
 };
 
+// The state-space matrices of a run about its accepted state (mhs_linearize):
+// dX/dt = A X + B u, Y = C X + D u; each matrix column-major.
+struct Linearization {
+  uint32_t n = 0, m = 0, p = 0;  // states, inputs, outputs
+  double t = 0.0;                // s, when it was taken
+  std::vector<double> A, B, C, D;
+  std::vector<std::string> states, state_units, inputs, input_units, outputs, output_units;
+};
+
 class Simulation {
  public:
   using Settings = std::vector<std::pair<std::string, std::string>>;  // {path, value}
@@ -320,10 +329,52 @@ class Simulation {
     return Estimator(get(), raw);
   }
 
-  // The C handle, for the calls this layer does not wrap (mhs_linearize).
+  // About the last accepted state, over the model's inputs and these values
+  // (by name: coordinates, rates, states, outputs); the run is left as it was.
+  Linearization linearize(const std::vector<std::string>& outputs) {
+    std::vector<uint32_t> indices;
+    indices.reserve(outputs.size());
+    for (const std::string& name : outputs) indices.push_back(find(name));
+    mhs_linearization* raw = nullptr;
+    check(mhs_linearize(get(), indices.data(), indices.size(), &raw));
+    const std::unique_ptr<mhs_linearization, void (*)(mhs_linearization*)> lin(
+        raw, mhs_linearization_free);
+    Linearization out;
+    check(mhs_linearization_size(get(), lin.get(), &out.n, &out.m, &out.p, &out.t));
+    const auto matrix = [&](char which, size_t rows, size_t cols) {
+      std::vector<double> v(rows * cols);
+      check(mhs_linearization_matrix(get(), lin.get(), which, v.data(), v.size()));
+      return v;
+    };
+    out.A = matrix('A', out.n, out.n);
+    out.B = matrix('B', out.n, out.m);
+    out.C = matrix('C', out.p, out.n);
+    out.D = matrix('D', out.p, out.m);
+    const auto names = [&](mhs_linear_role role, uint32_t count, std::vector<std::string>& name,
+                           std::vector<std::string>& unit) {
+      for (uint32_t k = 0; k < count; ++k) {
+        const char* nm = nullptr;
+        const char* un = nullptr;
+        check(mhs_linearization_name(get(), lin.get(), role, k, &nm, &un));
+        name.emplace_back(nm);
+        unit.emplace_back(un);
+      }
+    };
+    names(MHS_LINEAR_STATE, out.n, out.states, out.state_units);
+    names(MHS_LINEAR_INPUT, out.m, out.inputs, out.input_units);
+    names(MHS_LINEAR_OUTPUT, out.p, out.outputs, out.output_units);
+    return out;
+  }
+
+  // The C handle, for the calls this layer does not wrap.
   mhs_simulation* get() const { return handle_.get(); }
   // The message of the last call that warned (MHS_WARNING), or "".
   const std::string& warning() const { return warning_; }
+  // The same, forgotten once read: each warning read once.
+  std::string take_warning() { return std::exchange(warning_, std::string()); }
+  // Ends the call in flight at the next look between two steps (mhs_cancel):
+  // from another thread or a signal handler.
+  void cancel() { mhs_cancel(get()); }
 
  private:
   struct Free {
@@ -341,6 +392,7 @@ class Simulation {
     Simulation sim(raw);  // freed by it whatever the status
     if (status != MHS_OK && status != MHS_WARNING)
       throw Error(status, raw != nullptr ? mhs_message(raw) : "the model did not open");
+    if (status == MHS_WARNING) sim.warning_ = mhs_message(raw);
     return sim;
   }
   void check(mhs_status status) const {
