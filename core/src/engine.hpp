@@ -385,8 +385,8 @@ struct NewtonState {
 // groups it differences, and the formulation's blocks.
 struct TangentWorkspace {
   Eigen::VectorXd r_pert, eps;
-  Eigen::VectorXd xd_pert, xdd_pert;  // rates of a perturbed x (forward differences)
-  std::unique_ptr<SparsePattern> pattern;
+  Eigen::VectorXd xd_pert, xdd_pert;             // rates of a perturbed x (forward differences)
+  std::shared_ptr<const SparsePattern> pattern;  // shared by the runs of a batch
   std::vector<double> values;
   std::vector<std::vector<int>> groups;
   std::vector<char> group_needs_fd;

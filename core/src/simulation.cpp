@@ -726,6 +726,18 @@ bool Simulation::explicit_integration() const {
 int Simulation::tangent_nonzeros() const {
   return engine_->tangent_ws.pattern->nonzeros();
 }
+bool Simulation::share_fixed_parts(const Simulation& like) {
+  Engine& e = *engine_;
+  const Engine& o = *like.engine_;
+  if (e.accepted.started)
+    throw std::invalid_argument("share_fixed_parts: the run has started; share before start()");
+  if (*e.tangent_ws.pattern != *o.tangent_ws.pattern) return false;
+  e.tangent_ws.pattern = o.tangent_ws.pattern;
+  e.solver.linear_solver =
+      make_linear_solver(*e.tangent_ws.pattern, e.settings.linear, o.solver.linear_solver.get());
+  return true;
+}
+
 const SparsePattern& Simulation::tangent_pattern() const {
   return *engine_->tangent_ws.pattern;
 }

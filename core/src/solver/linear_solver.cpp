@@ -16,7 +16,7 @@ LinearSolverKind resolve_linear_solver(const SparsePattern& pattern, LinearSolve
 }
 
 std::unique_ptr<LinearSolver> make_linear_solver(const SparsePattern& pattern,
-                                                 LinearSolverKind kind) {
+                                                 LinearSolverKind kind, const LinearSolver* like) {
   switch (resolve_linear_solver(pattern, kind)) {
     case LinearSolverKind::umfpack:
       return std::make_unique<UmfpackSolver>(pattern);
@@ -26,6 +26,8 @@ std::unique_ptr<LinearSolver> make_linear_solver(const SparsePattern& pattern,
     case LinearSolverKind::automatic:
       break;
   }
+  if (const auto* klu = dynamic_cast<const KluSolver*>(like); klu != nullptr)
+    return std::make_unique<KluSolver>(pattern, *klu);
   return std::make_unique<KluSolver>(pattern);
 }
 

@@ -69,7 +69,7 @@ void Simulation::Engine::build_pattern() {
         entries.emplace_back(k, n_m + a);
       }
   }
-  tangent_ws.pattern = std::make_unique<SparsePattern>(n, std::move(entries));
+  tangent_ws.pattern = std::make_shared<const SparsePattern>(n, std::move(entries));
   tangent_ws.any_points = false;
   for (const auto& s : subsystems)
     tangent_ws.any_points = tangent_ws.any_points || !s.points.empty();

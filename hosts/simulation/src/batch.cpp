@@ -52,6 +52,9 @@ Batch::Batch(const OpenRequest& request, size_t runs, unsigned threads)
   });
   for (size_t k = 0; k < runs; ++k)
     if (!failed[k].empty()) throw std::runtime_error("run " + std::to_string(k) + ": " + failed[k]);
+  // The tangent's pattern and its symbolic analysis are the same for every
+  // run of one model: the first run's serve them all.
+  for (size_t k = 1; k < runs; ++k) runs_[k]->sim->share_fixed_parts(*runs_.front()->sim);
   check_column_names(opened_->file, *runs_.front()->sim);
   variables_ = std::make_unique<VariableTable>(*runs_.front()->sim, opened_->file.model);
 }

@@ -105,5 +105,41 @@ TEST(LinearSolver, AutoTakesDenseLuForADensePatternAndKluForASparseOne) {
     EXPECT_EQ(resolve_linear_solver(tangent_like(6, 0), kind), kind);
 }
 
+TEST(LinearSolver, AKluSolverLikeAnotherOfItsPatternSolvesAsItsOwnAnalysisDoes) {
+  const SparsePattern p = tangent_like(6, 10);
+  const int n = p.size();
+  const auto first = make_linear_solver(p, LinearSolverKind::klu);
+  const auto alone = make_linear_solver(p, LinearSolverKind::klu);
+  const auto shared = make_linear_solver(p, LinearSolverKind::klu, first.get());
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int round = 0; round < 3; ++round) {
+    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n, n);
+    for (int c = 0; c < n; ++c)
+      for (int k = p.column_start()[c]; k < p.column_start()[c + 1]; ++k)
+        A(p.row_index()[k], c) = u(rng);
+    A.diagonal().array() += 8.0;
+    const std::vector<double> v = values_of(p, A);
+    ASSERT_TRUE(alone->factor(v.data()));
+    ASSERT_TRUE(shared->factor(v.data()));
+    Eigen::VectorXd b = Eigen::VectorXd::NullaryExpr(n, [&] { return u(rng); });
+    Eigen::VectorXd x_alone = b, x_shared = b;
+    alone->solve(x_alone.data());
+    shared->solve(x_shared.data());
+    // The same ordering, so the same arithmetic: equal to the bit.
+    EXPECT_EQ(x_alone, x_shared) << "round " << round;
+    EXPECT_LT((A * x_shared - b).norm(), 1e-12 * b.norm());
+  }
+  // Another pattern is analysed anew, and solves its own matrix.
+  const SparsePattern q = tangent_like(3, 5);
+  const auto other = make_linear_solver(q, LinearSolverKind::klu, first.get());
+  Eigen::MatrixXd B = Eigen::MatrixXd::Identity(q.size(), q.size()) * 2.0;
+  const std::vector<double> w = values_of(q, B);
+  ASSERT_TRUE(other->factor(w.data()));
+  Eigen::VectorXd c = Eigen::VectorXd::Ones(q.size());
+  other->solve(c.data());
+  EXPECT_TRUE(c.isApprox(Eigen::VectorXd::Constant(q.size(), 0.5)));
+}
+
 }  // namespace
 }  // namespace mh

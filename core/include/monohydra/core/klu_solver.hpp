@@ -14,6 +14,11 @@ namespace mh {
 class KluSolver final : public LinearSolver {
  public:
   explicit KluSolver(const SparsePattern& pattern);  // klu_analyze
+  // For the same pattern as `like`'s: its analysis (the pattern's arrays and
+  // KLU's symbolic ordering) shared, not made again, since KLU only reads it
+  // when factoring and solving: the runs of a batch analyse their tangent
+  // once. A pattern that differs is analysed anew.
+  KluSolver(const SparsePattern& pattern, const KluSolver& like);
   ~KluSolver() override;
   KluSolver(const KluSolver&) = delete;
   KluSolver& operator=(const KluSolver&) = delete;
@@ -31,6 +36,7 @@ class KluSolver final : public LinearSolver {
   int full_factorizations() const { return full_factorizations_; }
 
  private:
+  struct Analysis;
   struct Impl;
   std::unique_ptr<Impl> impl_;
   double rcond_ = 0.0;

@@ -51,8 +51,11 @@ constexpr double kAutoDenseDensity = 0.5;
 // The kind `auto` stands for on `pattern`; any other kind as it is.
 LinearSolverKind resolve_linear_solver(const SparsePattern& pattern, LinearSolverKind kind);
 
-// The shipped solver of that kind for `pattern` (its symbolic analysis done here).
+// The shipped solver of that kind for `pattern` (its symbolic analysis done
+// here, or shared with `like`'s when that is a KLU solver of the same
+// pattern: klu_solver.hpp).
 std::unique_ptr<LinearSolver> make_linear_solver(const SparsePattern& pattern,
-                                                 LinearSolverKind kind = LinearSolverKind::klu);
+                                                 LinearSolverKind kind = LinearSolverKind::klu,
+                                                 const LinearSolver* like = nullptr);
 
 }  // namespace mh

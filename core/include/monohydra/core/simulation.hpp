@@ -375,6 +375,12 @@ class Simulation {
   int tangent_nonzeros() const;
   // The tangent's sparsity pattern (tangent.cpp build_pattern), analysed once.
   const SparsePattern& tangent_pattern() const;
+  // Before start: this run takes the fixed parts `like` (a run of the same
+  // model) has made, instead of keeping its own: the tangent's sparsity
+  // pattern and the linear solver's symbolic analysis (KLU's). False, and
+  // nothing changes, when the patterns differ. A batch's runs share their
+  // first run's.
+  bool share_fixed_parts(const Simulation& like);
 
   struct Engine;
 

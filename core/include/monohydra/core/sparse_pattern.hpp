@@ -24,6 +24,11 @@ class SparsePattern {
   // one residual evaluation per group differentiates every column in it.
   std::vector<std::vector<int>> column_groups() const;
 
+  bool operator==(const SparsePattern& other) const {
+    return n_ == other.n_ && column_start_ == other.column_start_ && row_index_ == other.row_index_;
+  }
+  bool operator!=(const SparsePattern& other) const { return !(*this == other); }
+
  private:
   int n_;
   std::vector<int> column_start_;
