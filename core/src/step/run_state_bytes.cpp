@@ -4,6 +4,7 @@
 // machine's own representation), then FNV-1a 64 of everything before it.
 #include "monohydra/core/run_state_bytes.hpp"
 
+#include <complex>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -66,6 +67,26 @@ class Writer {
   size_t size() const { return out_.size(); }
   unsigned char* at(size_t offset) { return out_.data() + offset; }
 
+  // One field of the state, by its type (walk below): the reader's
+  // overloads read back what these write.
+  void field(double v) { put(v); }
+  void field(long v) { put<int64_t>(v); }
+  void field(int v) { put<int32_t>(v); }
+  void field(size_t v) { put<uint64_t>(v); }
+  void field(bool v) { flag(v); }
+  void field(const std::complex<double>& v) {
+    put(v.real());
+    put(v.imag());
+  }
+  void field(const std::string& v) { text(v); }
+  void field(const Eigen::VectorXd& v) { vec(v); }
+  void field(const Eigen::MatrixXd& v) { mat(v); }
+  template <class T>
+  void field(const std::vector<T>& v) {
+    list(v);
+  }
+  void field(const TangentReuse& v) { raw(&v, sizeof v); }
+
  private:
   std::vector<unsigned char>& out_;
 };
@@ -123,6 +144,24 @@ class Reader {
   }
   size_t left() const { return left_; }
 
+  void field(double& v) { v = get<double>(); }
+  void field(long& v) { v = static_cast<long>(get<int64_t>()); }
+  void field(int& v) { v = get<int32_t>(); }
+  void field(size_t& v) { v = static_cast<size_t>(get<uint64_t>()); }
+  void field(bool& v) { v = flag(); }
+  void field(std::complex<double>& v) {
+    const double re = get<double>();
+    v = {re, get<double>()};
+  }
+  void field(std::string& v) { text(v); }
+  void field(Eigen::VectorXd& v) { vec(v); }
+  void field(Eigen::MatrixXd& v) { mat(v); }
+  template <class T>
+  void field(std::vector<T>& v) {
+    list(v);
+  }
+  void field(TangentReuse& v) { raw(&v, sizeof v); }
+
  private:
   void need(size_t n) const {
     if (n > left_) throw RunStateError("the state's bytes are cut short");
@@ -130,6 +169,66 @@ class Reader {
   const unsigned char* p_;
   size_t left_;
 };
+
+// Every field of a run's state, in the bytes' order, written once for both
+// directions: `State` is const RunState with a Writer, RunState with a Reader.
+template <class State, class Io>
+void walk(State& s, Io& io) {
+  io.field(s.run_key);
+  auto& a = s.accepted;
+  io.field(a.t);
+  io.field(a.step);
+  io.field(a.attempt_t);
+  io.field(a.attempt_step);
+  io.field(a.z);
+  io.field(a.zd);
+  io.field(a.zdd);
+  io.field(a.started);
+  auto& e = s.energy;
+  for (auto* v : {&e.ke0, &e.pe0, &e.ke, &e.pe, &e.work, &e.power_k, &e.stored0, &e.stored,
+                  &e.dissipated, &e.dissipation_k, &e.phi_norm})
+    io.field(*v);
+  for (auto* v : {&s.x, &s.xd, &s.xdd, &s.y, &s.ydot, &s.outputs}) io.field(*v);
+  io.field(s.next_event);
+  io.field(s.stability_due);
+  io.field(s.stability_next_step);
+  io.field(s.stability_worst_excess);
+  auto& st = s.stability;
+  io.field(st.checks);
+  io.field(st.unstable);
+  io.field(st.t);
+  io.field(st.step);
+  io.field(st.h);
+  io.field(st.amplification);
+  io.field(st.eigenvalue);
+  io.field(st.stable_dt);
+  io.field(st.cpu_seconds);
+  io.field(st.skipped);
+  auto& c = s.counters;
+  for (auto* v : {&c.kinematics_passes, &c.residual_evaluations, &c.derivative_passes,
+                  &c.constraint_position_passes, &c.constraint_rate_passes})
+    io.field(*v);
+  auto& ls = s.last_step;
+  for (auto* v : {&ls.iterations, &ls.retries, &ls.tangents, &ls.damped}) io.field(*v);
+  io.field(ls.converged);
+  io.field(ls.unconverged);
+  io.field(ls.increment_norms);
+  io.field(ls.residual_norms);
+  io.field(s.constraint_z);
+  io.field(s.constraint_zd);
+  io.field(s.constraint_positions_valid);
+  io.field(s.constraint_rates_valid);
+  io.field(s.reuse);
+  io.field(s.kept_tangent);
+  io.field(s.rates_jacobian_valid);
+  io.field(s.rates_jacobian);
+  io.field(s.input_values);
+  io.field(s.input_follows_table);
+  io.field(s.input_jump_pending);
+  io.field(s.model_values);
+  io.field(s.part_sizes);
+  io.field(s.part_bytes);
+}
 
 }  // namespace
 
@@ -140,61 +239,7 @@ void write_run_state_bytes(const RunState& s, std::vector<unsigned char>& out) {
   w.put(kByteOrder);
   w.put(kLayout);
   w.put<uint64_t>(0);  // the payload's length, once known
-  w.text(s.run_key);
-  const AcceptedPoint& a = s.accepted;
-  w.put(a.t);
-  w.put<int64_t>(a.step);
-  w.put(a.attempt_t);
-  w.put<int64_t>(a.attempt_step);
-  w.vec(a.z);
-  w.vec(a.zd);
-  w.vec(a.zdd);
-  w.flag(a.started);
-  const EnergyBalance& e = s.energy;
-  for (double v : {e.ke0, e.pe0, e.ke, e.pe, e.work, e.power_k, e.stored0, e.stored, e.dissipated,
-                   e.dissipation_k, e.phi_norm})
-    w.put(v);
-  for (const Eigen::VectorXd* v : {&s.x, &s.xd, &s.xdd, &s.y, &s.ydot, &s.outputs}) w.vec(*v);
-  w.put<uint64_t>(s.next_event);
-  w.flag(s.stability_due);
-  w.put<int64_t>(s.stability_next_step);
-  w.put(s.stability_worst_excess);
-  const ExplicitStability& st = s.stability;
-  w.put<int32_t>(st.checks);
-  w.flag(st.unstable);
-  w.put(st.t);
-  w.put<int64_t>(st.step);
-  w.put(st.h);
-  w.put(st.amplification);
-  w.put(st.eigenvalue.real());
-  w.put(st.eigenvalue.imag());
-  w.put(st.stable_dt);
-  w.put(st.cpu_seconds);
-  w.put<int32_t>(st.skipped);
-  const Simulation::WorkCounters& c = s.counters;
-  for (long v : {c.kinematics_passes, c.residual_evaluations, c.derivative_passes,
-                 c.constraint_position_passes, c.constraint_rate_passes})
-    w.put<int64_t>(v);
-  const StepStats& ls = s.last_step;
-  for (int v : {ls.iterations, ls.retries, ls.tangents, ls.damped}) w.put<int32_t>(v);
-  w.flag(ls.converged);
-  w.put(ls.unconverged);
-  w.list(ls.increment_norms);
-  w.list(ls.residual_norms);
-  w.vec(s.constraint_z);
-  w.vec(s.constraint_zd);
-  w.flag(s.constraint_positions_valid);
-  w.flag(s.constraint_rates_valid);
-  w.raw(&s.reuse, sizeof s.reuse);
-  w.list(s.kept_tangent);
-  w.flag(s.rates_jacobian_valid);
-  w.mat(s.rates_jacobian);
-  w.list(s.input_values);
-  w.list(s.input_follows_table);
-  w.flag(s.input_jump_pending);
-  w.list(s.model_values);
-  w.list(s.part_sizes);
-  w.list(s.part_bytes);
+  walk(s, w);
   const uint64_t payload = w.size() - kHeader;
   std::memcpy(w.at(kHeader - sizeof payload), &payload, sizeof payload);
   w.put(fnv1a(w.at(0), w.size()));
@@ -227,64 +272,10 @@ void read_run_state_bytes(const unsigned char* data, std::size_t size, RunState&
     throw RunStateError("the state's bytes are damaged (their checksum does not match)");
 
   Reader r(data + kHeader, static_cast<size_t>(payload));
-  r.text(s.run_key);
-  AcceptedPoint& a = s.accepted;
-  a.t = r.get<double>();
-  a.step = static_cast<long>(r.get<int64_t>());
-  a.attempt_t = r.get<double>();
-  a.attempt_step = static_cast<long>(r.get<int64_t>());
-  r.vec(a.z);
-  r.vec(a.zd);
-  r.vec(a.zdd);
-  a.started = r.flag();
-  EnergyBalance& e = s.energy;
-  for (double* v : {&e.ke0, &e.pe0, &e.ke, &e.pe, &e.work, &e.power_k, &e.stored0, &e.stored,
-                    &e.dissipated, &e.dissipation_k, &e.phi_norm})
-    *v = r.get<double>();
-  for (Eigen::VectorXd* v : {&s.x, &s.xd, &s.xdd, &s.y, &s.ydot, &s.outputs}) r.vec(*v);
-  s.next_event = static_cast<size_t>(r.get<uint64_t>());
-  s.stability_due = r.flag();
-  s.stability_next_step = static_cast<long>(r.get<int64_t>());
-  s.stability_worst_excess = r.get<double>();
-  ExplicitStability& st = s.stability;
-  st.checks = r.get<int32_t>();
-  st.unstable = r.flag();
-  st.t = r.get<double>();
-  st.step = static_cast<long>(r.get<int64_t>());
-  st.h = r.get<double>();
-  st.amplification = r.get<double>();
-  const double re = r.get<double>();
-  st.eigenvalue = {re, r.get<double>()};
-  st.stable_dt = r.get<double>();
-  st.cpu_seconds = r.get<double>();
-  st.skipped = r.get<int32_t>();
-  Simulation::WorkCounters& c = s.counters;
-  for (long* v : {&c.kinematics_passes, &c.residual_evaluations, &c.derivative_passes,
-                  &c.constraint_position_passes, &c.constraint_rate_passes})
-    *v = static_cast<long>(r.get<int64_t>());
-  StepStats& ls = s.last_step;
-  for (int* v : {&ls.iterations, &ls.retries, &ls.tangents, &ls.damped}) *v = r.get<int32_t>();
-  ls.converged = r.flag();
-  ls.unconverged = r.get<double>();
-  r.list(ls.increment_norms);
-  r.list(ls.residual_norms);
-  r.vec(s.constraint_z);
-  r.vec(s.constraint_zd);
-  s.constraint_positions_valid = r.flag();
-  s.constraint_rates_valid = r.flag();
-  r.raw(&s.reuse, sizeof s.reuse);
-  r.list(s.kept_tangent);
-  s.rates_jacobian_valid = r.flag();
-  r.mat(s.rates_jacobian);
-  r.list(s.input_values);
-  r.list(s.input_follows_table);
+  walk(s, r);
   for (uint8_t f : s.input_follows_table)
     if (f > 1)
       throw RunStateError("the state's bytes are damaged (a flag reads " + std::to_string(f) + ")");
-  s.input_jump_pending = r.flag();
-  r.list(s.model_values);
-  r.list(s.part_sizes);
-  r.list(s.part_bytes);
   if (r.left() != 0)
     throw RunStateError("the state's bytes run on: " + std::to_string(r.left()) +
                         " bytes after its last field");

@@ -100,6 +100,24 @@ mhs_status refused_open(const std::string& why, mhs_batch** out) {
 
 }  // namespace
 
+namespace {
+
+// Why a per-run array is refused ("" when it is not).
+std::string per_run(const char* call, const Batch& batch, uint32_t index, const void* values,
+                    size_t runs) {
+  const auto& table = batch.variables().list();
+  if (values == nullptr) return std::string(call) + ": values is NULL";
+  if (runs != batch.size())
+    return std::string(call) + ": " + std::to_string(runs) + " values for " +
+           std::to_string(batch.size()) + " runs";
+  if (index >= table.size())
+    return std::string(call) + ": index " + std::to_string(index) + " is not below " +
+           std::to_string(table.size());
+  return "";
+}
+
+}  // namespace
+
 extern "C" {
 
 MHS_API mhs_status mhs_batch_open_file(const char* model_path, const mhs_setting* settings,
@@ -230,24 +248,6 @@ MHS_API mhs_status mhs_batch_find(const mhs_batch* cb, const char* name, uint32_
     return MHS_OK;
   });
 }
-
-namespace {
-
-// Why a per-run array is refused ("" when it is not).
-std::string per_run(const char* call, const Batch& batch, uint32_t index, const void* values,
-                    size_t runs) {
-  const auto& table = batch.variables().list();
-  if (values == nullptr) return std::string(call) + ": values is NULL";
-  if (runs != batch.size())
-    return std::string(call) + ": " + std::to_string(runs) + " values for " +
-           std::to_string(batch.size()) + " runs";
-  if (index >= table.size())
-    return std::string(call) + ": index " + std::to_string(index) + " is not below " +
-           std::to_string(table.size());
-  return "";
-}
-
-}  // namespace
 
 MHS_API mhs_status mhs_batch_get(const mhs_batch* cb, uint32_t index, double* values, size_t runs) {
   auto* b = const_cast<mhs_batch*>(cb);
