@@ -457,14 +457,17 @@ struct SensitivityState {
   Eigen::PartialPivLU<Eigen::MatrixXd> schur_lu;
   mh_state_extension formulation_state{};
   std::vector<unsigned char> before_step, after_step;  // the formulation's state bytes
-  // A step's work.
-  Eigen::VectorXd xs, xds, xdds;  // the converged iterate, before accept corrects it
-  Eigen::VectorXd xdq, xddq, rp, rm, col, outputs_saved, y_saved, ydot_saved;
-  Eigen::VectorXd xp, xdp, xddp, xm, xdm, xddm;
-  Eigen::VectorXd zp, zdp, zddp, zm, zdm, zddm, outp, outm;
-  Eigen::MatrixXd rhs;            // n x k
-  Eigen::VectorXd mu, mu_solved;  // m: the border's multipliers of one column
-  double t_eval = 0.0;            // the step's evaluation time (an event's left limit)
+  // A step's work: buffers the differences and the solves fill and read
+  // within one step, sized once (nothing of the run's state).
+  struct Work {
+    Eigen::VectorXd xs, xds, xdds;  // the converged iterate, before accept corrects it
+    Eigen::VectorXd xdq, xddq, rp, rm, col, outputs_saved, y_saved, ydot_saved;
+    Eigen::VectorXd xp, xdp, xddp, xm, xdm, xddm;
+    Eigen::VectorXd zp, zdp, zddp, zm, zdm, zddm, outp, outm;
+    Eigen::MatrixXd rhs;            // n x k
+    Eigen::VectorXd mu, mu_solved;  // m: the border's multipliers of one column
+    double t_eval = 0.0;            // the step's evaluation time (an event's left limit)
+  } work;
   // The model's values a parameter's difference moves, as they were.
   struct BodyValues {
     double mass = 0.0;

@@ -210,19 +210,23 @@ void Simulation::Engine::track_sensitivities(const std::vector<ParameterDirectio
     map.map.xdd_offset = map.xdd_off.data();
   }
   const auto cols = static_cast<Eigen::Index>(k);
-  for (Eigen::MatrixXd* mtx : {&sens.dx, &sens.dxd, &sens.dxdd, &sens.rhs}) mtx->setZero(n, cols);
+  for (Eigen::MatrixXd* mtx : {&sens.dx, &sens.dxd, &sens.dxdd, &sens.work.rhs})
+    mtx->setZero(n, cols);
   for (Eigen::MatrixXd* mtx : {&sens.dz, &sens.dzd, &sens.dzdd}) mtx->setZero(N, cols);
   sens.doutputs.setZero(n_o, cols);
   sens.dy.setZero(n_s, cols);
   for (Eigen::VectorXd* v :
-       {&sens.xs, &sens.xds, &sens.xdds, &sens.xdq, &sens.xddq, &sens.rp, &sens.rm, &sens.col,
-        &sens.xp, &sens.xdp, &sens.xddp, &sens.xm, &sens.xdm, &sens.xddm})
+       {&sens.work.xs, &sens.work.xds, &sens.work.xdds, &sens.work.xdq, &sens.work.xddq,
+        &sens.work.rp, &sens.work.rm, &sens.work.col, &sens.work.xp, &sens.work.xdp,
+        &sens.work.xddp, &sens.work.xm, &sens.work.xdm, &sens.work.xddm})
     v->setZero(n);
-  for (Eigen::VectorXd* v : {&sens.zp, &sens.zdp, &sens.zddp, &sens.zm, &sens.zdm, &sens.zddm})
+  for (Eigen::VectorXd* v : {&sens.work.zp, &sens.work.zdp, &sens.work.zddp, &sens.work.zm,
+                             &sens.work.zdm, &sens.work.zddm})
     v->setZero(N);
-  for (Eigen::VectorXd* v : {&sens.outputs_saved, &sens.outp, &sens.outm}) v->setZero(n_o);
-  sens.y_saved.setZero(n_s);
-  sens.ydot_saved.setZero(n_s);
+  for (Eigen::VectorXd* v : {&sens.work.outputs_saved, &sens.work.outp, &sens.work.outm})
+    v->setZero(n_o);
+  sens.work.y_saved.setZero(n_s);
+  sens.work.ydot_saved.setZero(n_s);
 
   sens.bordered =
       m > 0 && formulation.ops.get_extension != nullptr &&
@@ -239,8 +243,8 @@ void Simulation::Engine::track_sensitivities(const std::vector<ParameterDirectio
     sens.border_solved.setZero(n, m);
     sens.schur.setZero(m, m);
     sens.schur_lu = Eigen::PartialPivLU<Eigen::MatrixXd>(m);
-    sens.mu.setZero(m);
-    sens.mu_solved.setZero(m);
+    sens.work.mu.setZero(m);
+    sens.work.mu_solved.setZero(m);
   }
   // The formulation's outputs of its own iteration (the multipliers) follow
   // no differentiable map of the columns when it converges on Phi = 0.
@@ -403,22 +407,22 @@ void Simulation::Engine::start_sensitivities() {
       restore_parameter(j);
       if (initial) close_loops();
       const bool plus = sign > 0.0;
-      (plus ? sens.xp : sens.xm) = x;
-      (plus ? sens.xdp : sens.xdm) = xd;
-      (plus ? sens.xddp : sens.xddm) = xdd;
-      (plus ? sens.zp : sens.zm) = accepted.z;
-      (plus ? sens.zdp : sens.zdm) = accepted.zd;
-      (plus ? sens.zddp : sens.zddm) = accepted.zdd;
-      (plus ? sens.outp : sens.outm) = registry.outputs;
+      (plus ? sens.work.xp : sens.work.xm) = x;
+      (plus ? sens.work.xdp : sens.work.xdm) = xd;
+      (plus ? sens.work.xddp : sens.work.xddm) = xdd;
+      (plus ? sens.work.zp : sens.work.zm) = accepted.z;
+      (plus ? sens.work.zdp : sens.work.zdm) = accepted.zd;
+      (plus ? sens.work.zddp : sens.work.zddm) = accepted.zdd;
+      (plus ? sens.work.outp : sens.work.outm) = registry.outputs;
     }
     const auto c = static_cast<Eigen::Index>(j);
-    sens.dx.col(c) = (sens.xp - sens.xm) / (2.0 * h);
-    sens.dxd.col(c) = (sens.xdp - sens.xdm) / (2.0 * h);
-    sens.dxdd.col(c) = (sens.xddp - sens.xddm) / (2.0 * h);
-    sens.dz.col(c) = (sens.zp - sens.zm) / (2.0 * h);
-    sens.dzd.col(c) = (sens.zdp - sens.zdm) / (2.0 * h);
-    sens.dzdd.col(c) = (sens.zddp - sens.zddm) / (2.0 * h);
-    sens.doutputs.col(c) = (sens.outp - sens.outm) / (2.0 * h);
+    sens.dx.col(c) = (sens.work.xp - sens.work.xm) / (2.0 * h);
+    sens.dxd.col(c) = (sens.work.xdp - sens.work.xdm) / (2.0 * h);
+    sens.dxdd.col(c) = (sens.work.xddp - sens.work.xddm) / (2.0 * h);
+    sens.dz.col(c) = (sens.work.zp - sens.work.zm) / (2.0 * h);
+    sens.dzd.col(c) = (sens.work.zdp - sens.work.zdm) / (2.0 * h);
+    sens.dzdd.col(c) = (sens.work.zddp - sens.work.zddm) / (2.0 * h);
+    sens.doutputs.col(c) = (sens.work.outp - sens.work.outm) / (2.0 * h);
   }
   states.y = y0;
   start_run();
@@ -448,10 +452,10 @@ void Simulation::Engine::load_formulation_state(const std::vector<unsigned char>
 // At the converged iterate, before the formulation's accept: the columns of
 // the unknowns as Newton's solution moves them (the step's second part).
 void Simulation::Engine::sensitivities_before_accept(double t_eval, double t_next, double h) {
-  sens.t_eval = t_eval;
-  sens.xs = x;
-  sens.xds = xd;
-  sens.xdds = xdd;
+  sens.work.t_eval = t_eval;
+  sens.work.xs = x;
+  sens.work.xds = xd;
+  sens.work.xdds = xdd;
   // The tangent at the converged iterate (a kept factorization may be of an
   // earlier one; the last residual call was at this one).
   check(assemble_tangent(t_eval), "tangent assembly (sensitivities)");
@@ -467,56 +471,56 @@ void Simulation::Engine::sensitivities_before_accept(double t_eval, double t_nex
                     [&] { return shadow.ops.begin_step(shadow.self, t_next, h, &map.map); }),
           "integrator", integrator_name, "begin_step (a sensitivity's instance)");
     // r's derivative along (0, xd_off, xdd_off, p): x held.
-    const double step = difference_step(j, sens.xs, kLargestRateMove);
+    const double step = difference_step(j, sens.work.xs, kLargestRateMove);
     for (const double sign : {1.0, -1.0}) {
       for (int i = 0; i < n; ++i) {
         const auto kind = registry.kinds[static_cast<size_t>(i)];
-        sens.xdq[i] =
-            sens.xds[i] + (kind == MH_UNKNOWN_ALGEBRAIC ? 0.0 : sign * step * map.xd_off[i]);
-        sens.xddq[i] =
-            sens.xdds[i] + (kind == MH_UNKNOWN_SECOND_ORDER ? sign * step * map.xdd_off[i] : 0.0);
+        sens.work.xdq[i] =
+            sens.work.xds[i] + (kind == MH_UNKNOWN_ALGEBRAIC ? 0.0 : sign * step * map.xd_off[i]);
+        sens.work.xddq[i] = sens.work.xdds[i] +
+                            (kind == MH_UNKNOWN_SECOND_ORDER ? sign * step * map.xdd_off[i] : 0.0);
       }
       perturb_parameter(j, sign * step);
-      const mh_status st =
-          residual_at(t_eval, sens.xs, sens.xdq, sens.xddq, sign > 0.0 ? sens.rp : sens.rm);
+      const mh_status st = residual_at(t_eval, sens.work.xs, sens.work.xdq, sens.work.xddq,
+                                       sign > 0.0 ? sens.work.rp : sens.work.rm);
       restore_parameter(j);
       check(st, "residual evaluation (sensitivities)");
     }
-    sens.rhs.col(static_cast<Eigen::Index>(j)) = -(sens.rp - sens.rm) / (2.0 * step);
+    sens.work.rhs.col(static_cast<Eigen::Index>(j)) = -(sens.work.rp - sens.work.rm) / (2.0 * step);
   }
   if (sens.bordered) {
     // [J G^T; G 0] [S; mu] = [b; 0], G = [Phi_z 0]: S = J^-1 b - J^-1 G^T mu,
     // mu from G S = 0 (m more solves with the same factorization).
-    kinematics_at(sens.xs.data(), sens.xds.data());
+    kinematics_at(sens.work.xs.data(), sens.work.xds.data());
     constraints_at_kinematics(false);
     sens.border.setZero();
     sens.border.topRows(N) = cons.phi_z.transpose();
     for (int i = 0; i < m; ++i) {
-      sens.col = sens.border.col(i);
-      solver.linear_solver->solve(sens.col.data());
-      sens.border_solved.col(i) = sens.col;
+      sens.work.col = sens.border.col(i);
+      solver.linear_solver->solve(sens.work.col.data());
+      sens.border_solved.col(i) = sens.work.col;
     }
     sens.schur.noalias() = sens.border.transpose() * sens.border_solved;
     sens.schur_lu.compute(sens.schur);
   }
   for (size_t j = 0; j < k; ++j) {
     const auto cj = static_cast<Eigen::Index>(j);
-    sens.col = sens.rhs.col(cj);
-    solver.linear_solver->solve(sens.col.data());
+    sens.work.col = sens.work.rhs.col(cj);
+    solver.linear_solver->solve(sens.work.col.data());
     if (sens.bordered) {
-      sens.mu.noalias() = sens.border.transpose() * sens.col;
-      sens.mu_solved = sens.schur_lu.solve(sens.mu);
-      sens.col.noalias() -= sens.border_solved * sens.mu_solved;
+      sens.work.mu.noalias() = sens.border.transpose() * sens.work.col;
+      sens.work.mu_solved = sens.schur_lu.solve(sens.work.mu);
+      sens.work.col.noalias() -= sens.border_solved * sens.work.mu_solved;
     }
-    sens.dx.col(cj) = sens.col;
-    column_rates(registry.kinds, c, sens.col, sens.shadow_maps[j], sens.dxd.col(cj),
+    sens.dx.col(cj) = sens.work.col;
+    column_rates(registry.kinds, c, sens.work.col, sens.shadow_maps[j], sens.dxd.col(cj),
                  sens.dxdd.col(cj));
   }
   if (!sens.dx.allFinite() || !sens.dxd.allFinite() || !sens.dxdd.allFinite())
     fail("sensitivities: a column of the step's solution is not finite");
   // The converged iterate's evaluation again, at p: what accept reads of
   // the last residual call (and the outputs of the step).
-  check(residual_at(t_eval, sens.xs, sens.xds, sens.xdds, r), "residual evaluation");
+  check(residual_at(t_eval, sens.work.xs, sens.work.xds, sens.work.xdds, r), "residual evaluation");
 }
 
 // The step replayed from the formulation's state before it, at the
@@ -525,15 +529,15 @@ void Simulation::Engine::sensitivities_before_accept(double t_eval, double t_nex
 void Simulation::Engine::replay_accept(size_t j, double amount, double t_next, bool plus) {
   const auto cj = static_cast<Eigen::Index>(j);
   load_formulation_state(sens.before_step);
-  Eigen::VectorXd& xq = plus ? sens.xp : sens.xm;
-  Eigen::VectorXd& xdq = plus ? sens.xdp : sens.xdm;
-  Eigen::VectorXd& xddq = plus ? sens.xddp : sens.xddm;
-  xq = sens.xs + amount * sens.dx.col(cj);
-  xdq = sens.xds + amount * sens.dxd.col(cj);
-  xddq = sens.xdds + amount * sens.dxdd.col(cj);
+  Eigen::VectorXd& xq = plus ? sens.work.xp : sens.work.xm;
+  Eigen::VectorXd& xdq = plus ? sens.work.xdp : sens.work.xdm;
+  Eigen::VectorXd& xddq = plus ? sens.work.xddp : sens.work.xddm;
+  xq = sens.work.xs + amount * sens.dx.col(cj);
+  xdq = sens.work.xds + amount * sens.dxd.col(cj);
+  xddq = sens.work.xdds + amount * sens.dxdd.col(cj);
   perturb_parameter(j, amount);
   formulation_begin_step(map_ws.map.coefficients, t_next, xq, xdq, xddq);
-  mh_status st = residual_at(sens.t_eval, xq, xdq, xddq, plus ? sens.rp : sens.rm);
+  mh_status st = residual_at(sens.work.t_eval, xq, xdq, xddq, plus ? sens.work.rp : sens.work.rm);
   if (status_ok(st)) {
     uint32_t flags = 0;
     st = in_flight(*formulation_host, InstanceHost::Op::accept, [&] {
@@ -546,9 +550,9 @@ void Simulation::Engine::replay_accept(size_t j, double amount, double t_next, b
   if (status_ok(st))
     st = in_flight(*formulation_host, InstanceHost::Op::coordinates, [&] {
       const mh_coordinate_buffers out{sizeof(mh_coordinate_buffers), static_cast<uint32_t>(N),
-                                      (plus ? sens.zp : sens.zm).data(),
-                                      (plus ? sens.zdp : sens.zdm).data(),
-                                      (plus ? sens.zddp : sens.zddm).data()};
+                                      (plus ? sens.work.zp : sens.work.zm).data(),
+                                      (plus ? sens.work.zdp : sens.work.zdm).data(),
+                                      (plus ? sens.work.zddp : sens.work.zddm).data()};
       return formulation.ops.coordinates(formulation.self, &out);
     });
   if (status_ok(st) && formulation.ops.write_outputs != nullptr)
@@ -560,7 +564,7 @@ void Simulation::Engine::replay_accept(size_t j, double amount, double t_next, b
   // After the run's own accept: no shorter step can cure it (check() would
   // retry a step already accepted).
   if (!status_ok(st)) fail(status_reason(st, "formulation step replayed for a sensitivity"));
-  (plus ? sens.outp : sens.outm) = registry.outputs;
+  (plus ? sens.work.outp : sens.work.outm) = registry.outputs;
 }
 
 // After the run's own accept (and the integrator's): the formulation's
@@ -569,56 +573,56 @@ void Simulation::Engine::replay_accept(size_t j, double amount, double t_next, b
 // run's.
 void Simulation::Engine::sensitivities_after_accept(double t_next, uint32_t flags, bool event) {
   save_formulation_state(sens.after_step);
-  sens.outputs_saved = registry.outputs;
-  sens.y_saved = states.y;
-  sens.ydot_saved = states.ydot;
+  sens.work.outputs_saved = registry.outputs;
+  sens.work.y_saved = states.y;
+  sens.work.ydot_saved = states.ydot;
   const size_t k = sens.params.size();
   for (size_t j = 0; j < k; ++j) {
-    const double step = difference_step(j, sens.xs, kLargestMove);
+    const double step = difference_step(j, sens.work.xs, kLargestMove);
     replay_accept(j, step, t_next, true);
     replay_accept(j, -step, t_next, false);
     const auto cj = static_cast<Eigen::Index>(j);
     const double scale = 1.0 / (2.0 * step);
-    sens.dx.col(cj) = (sens.xp - sens.xm) * scale;
-    sens.dxd.col(cj) = (sens.xdp - sens.xdm) * scale;
-    sens.dxdd.col(cj) = (sens.xddp - sens.xddm) * scale;
-    sens.dz.col(cj) = (sens.zp - sens.zm) * scale;
-    sens.dzd.col(cj) = (sens.zdp - sens.zdm) * scale;
-    sens.dzdd.col(cj) = (sens.zddp - sens.zddm) * scale;
-    sens.doutputs.col(cj) = (sens.outp - sens.outm) * scale;
+    sens.dx.col(cj) = (sens.work.xp - sens.work.xm) * scale;
+    sens.dxd.col(cj) = (sens.work.xdp - sens.work.xdm) * scale;
+    sens.dxdd.col(cj) = (sens.work.xddp - sens.work.xddm) * scale;
+    sens.dz.col(cj) = (sens.work.zp - sens.work.zm) * scale;
+    sens.dzd.col(cj) = (sens.work.zdp - sens.work.zdm) * scale;
+    sens.dzdd.col(cj) = (sens.work.zddp - sens.work.zddm) * scale;
+    sens.doutputs.col(cj) = (sens.work.outp - sens.work.outm) * scale;
   }
   load_formulation_state(sens.after_step);
   std::swap(sens.before_step, sens.after_step);  // the next step's "before"
-  registry.outputs = sens.outputs_saved;
-  states.y = sens.y_saved;
-  states.ydot = sens.ydot_saved;
+  registry.outputs = sens.work.outputs_saved;
+  states.y = sens.work.y_saved;
+  states.ydot = sens.work.ydot_saved;
   if (event) {
     // The state rates' right limit (rates_after_jump), differenced along
     // each column: y, z, zd moved, the rows solved for ydot again.
     // The accepted z, zd, kept in the replay's buffers (used up by now):
     // the step allocates nothing.
-    Eigen::VectorXd& z_acc = sens.zm;
-    Eigen::VectorXd& zd_acc = sens.zdm;
+    Eigen::VectorXd& z_acc = sens.work.zm;
+    Eigen::VectorXd& zd_acc = sens.work.zdm;
     z_acc = accepted.z;
     zd_acc = accepted.zd;
     for (size_t j = 0; j < k; ++j) {
       const auto cj = static_cast<Eigen::Index>(j);
-      const double step = difference_step(j, sens.xs, kLargestRateMove);
+      const double step = difference_step(j, sens.work.xs, kLargestRateMove);
       for (const double sign : {1.0, -1.0}) {
         perturb_parameter(j, sign * step);
-        states.y = sens.y_saved + sign * step * sens.dx.col(cj).tail(n_s);
-        states.ydot = sens.ydot_saved;
-        sens.zp = z_acc + sign * step * sens.dz.col(cj);
-        sens.zdp = zd_acc + sign * step * sens.dzd.col(cj);
-        kinematics_at(sens.zp.data(), sens.zdp.data());
+        states.y = sens.work.y_saved + sign * step * sens.dx.col(cj).tail(n_s);
+        states.ydot = sens.work.ydot_saved;
+        sens.work.zp = z_acc + sign * step * sens.dz.col(cj);
+        sens.work.zdp = zd_acc + sign * step * sens.dzd.col(cj);
+        kinematics_at(sens.work.zp.data(), sens.work.zdp.data());
         solve_initial_rates(std::nextafter(accepted.t, HUGE_VAL));
         restore_parameter(j);
-        (sign > 0.0 ? sens.rp : sens.rm).tail(n_s) = states.ydot;
+        (sign > 0.0 ? sens.work.rp : sens.work.rm).tail(n_s) = states.ydot;
       }
-      sens.dxd.col(cj).tail(n_s) = (sens.rp.tail(n_s) - sens.rm.tail(n_s)) / (2.0 * step);
+      sens.dxd.col(cj).tail(n_s) = (sens.work.rp.tail(n_s) - sens.work.rm.tail(n_s)) / (2.0 * step);
     }
-    states.y = sens.y_saved;
-    states.ydot = sens.ydot_saved;
+    states.y = sens.work.y_saved;
+    states.ydot = sens.work.ydot_saved;
   }
   kinematics_at(accepted.z.data(), accepted.zd.data());
   sens.dy = sens.dx.bottomRows(n_s);
