@@ -9,6 +9,7 @@
 #include <limits>
 #include <utility>
 
+#include "same_bits.hpp"
 #include "stability_text.hpp"
 
 namespace mh::cli {
@@ -35,13 +36,7 @@ RunRecord two_row_record() {
   return rec;
 }
 
-// Equal to the bit: -0.0 is not 0.0.
-bool same_bits(double a, double b) {
-  uint64_t x = 0, y = 0;
-  std::memcpy(&x, &a, sizeof x);
-  std::memcpy(&y, &b, sizeof y);
-  return x == y;
-}
+using mh::test::same_bits;
 
 std::string stream_of(const RunRecord& rec) {
   std::string bytes;

@@ -17,6 +17,7 @@
 
 #include "build_paths.hpp"
 #include "monohydra/simulation.h"
+#include "same_bits.hpp"
 
 namespace {
 
@@ -102,12 +103,7 @@ std::vector<double> column(mhs_batch* b, uint32_t index, size_t runs) {
   return out;
 }
 
-bool same_bits(double a, double b) {
-  uint64_t x = 0, y = 0;
-  std::memcpy(&x, &a, sizeof a);
-  std::memcpy(&y, &b, sizeof b);
-  return x == y;
-}
+using mh::test::same_bits;
 
 TEST(EmbeddingBatch, EachRunOfABatchOnTwoThreadsIsThatRunSteppedAloneToTheBit) {
   const size_t n = 6;
