@@ -40,10 +40,27 @@ class RunStatus(NamedTuple):
 
 
 class BatchSnapshot:
-    """Every run's whole state (Batch.snapshot); fits the batch it came from."""
+    """Every run's whole state (Batch.snapshot), as bytes: picklable, and
+    restored into a batch of as many runs of the same model, in this process
+    or another of the same build."""
 
-    def __init__(self, handle):
-        self._handle = handle
+    def __init__(self, data: bytes):
+        self.data = bytes(data)
+
+    def __getstate__(self):
+        return self.data
+
+    def __setstate__(self, data):
+        self.data = data
+
+    def __eq__(self, other):
+        return isinstance(other, BatchSnapshot) and self.data == other.data
+
+    def __hash__(self):
+        return hash(self.data)
+
+    def __repr__(self):
+        return f"<monohydra.BatchSnapshot, {len(self.data)} bytes>"
 
 
 class Batch:
@@ -185,5 +202,9 @@ class Batch:
         """Every run back to the snapshot, stops forgotten."""
         if not isinstance(snapshot, BatchSnapshot):
             raise TypeError("restore: expected a BatchSnapshot of this batch")
-        self._batch.restore(snapshot._handle)
+        message = self._batch.restore(snapshot.data)
         self._stopped.clear()
+        if message:
+            from . import ModelWarning
+
+            warnings.warn(message, ModelWarning, stacklevel=2)

@@ -119,13 +119,21 @@ class BatchRuns {
     }
     return out;
   }
-  std::shared_ptr<Batch::Snapshot> snapshot() {
-    return as_input([&] { return std::make_shared<Batch::Snapshot>(batch_.snapshot()); });
+  // Every run's state as bytes (mhs_batch_snapshot_bytes), and back.
+  py::bytes snapshot() {
+    return as_input([&] {
+      const std::vector<unsigned char> bytes = batch_.bytes(batch_.snapshot());
+      return py::bytes(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+    });
   }
-  void restore(const std::shared_ptr<Batch::Snapshot>& s) {
-    as_input([&] {
-      batch_.restore(*s);
-      return 0;
+  // The message naming runs whose model values differ from the snapshot's ("" none).
+  std::string restore(const py::bytes& data) {
+    const std::string raw = data;  // a copy: the bytes object is Python's
+    return as_input([&] {
+      const Batch::Snapshot s =
+          batch_.snapshot_from(std::vector<unsigned char>(raw.begin(), raw.end()));
+      batch_.restore(s);
+      return batch_.warning();
     });
   }
 
@@ -171,7 +179,7 @@ void bind_batch(py::module_& m) {
       .def("set", &BatchRuns::set, py::arg("index"), py::arg("values"))
       .def("status", &BatchRuns::status)
       .def("snapshot", &BatchRuns::snapshot)
-      .def("restore", &BatchRuns::restore, py::arg("snapshot"));
+      .def("restore", &BatchRuns::restore, py::arg("data"));
 }
 
 }  // namespace monohydra::python

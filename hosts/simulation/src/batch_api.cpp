@@ -2,6 +2,8 @@
 // and runs inside one guard that turns every exception into a status and a
 // message, as a run's calls do (simulation_api.cpp).
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <exception>
 #include <memory>
 #include <new>
@@ -11,6 +13,7 @@
 #include "api_arguments.hpp"
 #include "batch.hpp"
 #include "monohydra/core/run_state.hpp"
+#include "monohydra/core/run_state_bytes.hpp"
 #include "monohydra/cpp/number_text.hpp"
 #include "monohydra/simulation.h"
 
@@ -23,6 +26,8 @@ struct mhs_batch_snapshot {
   const mh::embed::Batch* of = nullptr;  // the batch it was made for
   std::vector<mh::RunState> runs;
   bool saved = false;
+  std::vector<unsigned char> bytes;  // the runs' bytes (mhs_batch_snapshot_bytes)
+  bool bytes_current = false;        // bytes are runs'
 };
 
 namespace {
@@ -57,6 +62,24 @@ mhs_status guarded(mhs_batch* b, Body&& body) {
     return MHS_WARNING;
   }
   return status;
+}
+
+constexpr unsigned char kBatchMagic[8] = {'M', 'H', 'B', 'A', 'T', 'C', 'H', '1'};
+
+void append(std::vector<unsigned char>& out, uint64_t v) {
+  unsigned char raw[sizeof v];
+  std::memcpy(raw, &v, sizeof v);
+  out.insert(out.end(), raw, raw + sizeof v);
+}
+
+// Takes n bytes off the front (into `into` when it is a uint64); false when
+// fewer are left.
+bool take(const unsigned char*& p, size_t& left, size_t n, uint64_t* into) {
+  if (n > left) return false;
+  if (into != nullptr) std::memcpy(into, p, sizeof *into);
+  p += n;
+  left -= n;
+  return true;
 }
 
 mhs_status refuse(mhs_batch* b, const std::string& why) {
@@ -315,6 +338,7 @@ MHS_API mhs_status mhs_batch_save(mhs_batch* b, mhs_batch_snapshot* snapshot) {
         return refuse(
             b, "mhs_batch_save: run " + std::to_string(k) + " has not started (mhs_batch_start)");
     snapshot->saved = false;
+    snapshot->bytes_current = false;
     batch.save(snapshot->runs);
     snapshot->saved = true;
     return MHS_OK;
@@ -334,6 +358,73 @@ MHS_API mhs_status mhs_batch_restore(mhs_batch* b, const mhs_batch_snapshot* sna
         "their models now are):\n" +
         differ;
     return MHS_WARNING;
+  });
+}
+
+// The bytes: "MHBATCH1", the run count, then each run's length and its
+// bytes (run_state_bytes.hpp: each with its own version, layout and checksum).
+MHS_API mhs_status mhs_batch_snapshot_bytes(mhs_batch* b, mhs_batch_snapshot* snapshot,
+                                            const void** bytes, size_t* size) {
+  return guarded(b, [&](Batch& batch) -> mhs_status {
+    if (snapshot == nullptr || bytes == nullptr || size == nullptr)
+      return refuse(b, "mhs_batch_snapshot_bytes: the snapshot, bytes or size is NULL");
+    if (snapshot->of != &batch)
+      return refuse(b, "mhs_batch_snapshot_bytes: the snapshot was made for another batch");
+    if (!snapshot->saved)
+      return refuse(b, "mhs_batch_snapshot_bytes: the snapshot holds no state yet");
+    if (!snapshot->bytes_current) {
+      std::vector<unsigned char>& out = snapshot->bytes;
+      out.assign(kBatchMagic, kBatchMagic + sizeof kBatchMagic);
+      append(out, static_cast<uint64_t>(snapshot->runs.size()));
+      std::vector<unsigned char> one;
+      for (const mh::RunState& run : snapshot->runs) {
+        mh::write_run_state_bytes(run, one);
+        append(out, static_cast<uint64_t>(one.size()));
+        out.insert(out.end(), one.begin(), one.end());
+      }
+      snapshot->bytes_current = true;
+    }
+    *bytes = snapshot->bytes.data();
+    *size = snapshot->bytes.size();
+    return MHS_OK;
+  });
+}
+
+MHS_API mhs_status mhs_batch_snapshot_read(mhs_batch* b, mhs_batch_snapshot* snapshot,
+                                           const void* bytes, size_t size) {
+  return guarded(b, [&](Batch& batch) -> mhs_status {
+    if (snapshot == nullptr || (bytes == nullptr && size > 0))
+      return refuse(b, "mhs_batch_snapshot_read: the snapshot or bytes is NULL");
+    if (snapshot->of != &batch)
+      return refuse(b, "mhs_batch_snapshot_read: the snapshot was made for another batch");
+    const auto* p = static_cast<const unsigned char*>(bytes);
+    size_t left = size;
+    uint64_t runs = 0;
+    if (size < sizeof kBatchMagic || std::memcmp(p, kBatchMagic, sizeof kBatchMagic) != 0 ||
+        !take(p, left, sizeof kBatchMagic, nullptr) || !take(p, left, sizeof runs, &runs))
+      return refuse(b, "mhs_batch_snapshot_read: the bytes are not a batch's snapshot");
+    if (runs != batch.size())
+      return refuse(b, "mhs_batch_snapshot_read: the bytes hold " + std::to_string(runs) +
+                           " runs, the batch has " + std::to_string(batch.size()));
+    std::vector<mh::RunState> read(batch.size());
+    for (size_t k = 0; k < read.size(); ++k) {
+      uint64_t length = 0;
+      if (!take(p, left, sizeof length, &length) || length > left)
+        return refuse(
+            b, "mhs_batch_snapshot_read: the bytes are cut short at run " + std::to_string(k));
+      try {
+        mh::read_run_state_bytes(p, static_cast<size_t>(length), read[k]);
+      } catch (const mh::RunStateError& err) {
+        return refuse(b, "mhs_batch_snapshot_read: run " + std::to_string(k) + ": " + err.what());
+      }
+      p += length;
+      left -= static_cast<size_t>(length);
+    }
+    if (left != 0) return refuse(b, "mhs_batch_snapshot_read: the bytes run on after the last run");
+    snapshot->runs = std::move(read);
+    snapshot->saved = true;
+    snapshot->bytes_current = false;
+    return MHS_OK;
   });
 }
 

@@ -5,6 +5,7 @@ every run back; each run takes its own input; bad arguments raise
 InputError naming them."""
 
 import os
+import pickle
 import signal
 import threading
 import warnings
@@ -79,8 +80,9 @@ def test_ctrl_c_stops_a_long_advance_between_two_steps():
     assert list(batch.time) == pytest.approx([t + 0.01] * 2)
 
 
-def test_a_snapshot_repeats_every_run_to_the_bit():
-    batch = monohydra.Batch(FOURBAR, options=[{MASS: 40.0}, {MASS: 60.0}])
+def test_a_snapshot_repeats_every_run_to_the_bit_here_and_pickled_in_another_batch():
+    options = [{MASS: 40.0}, {MASS: 60.0}]
+    batch = monohydra.Batch(FOURBAR, options=options)
     batch.advance(0.9)
     snap = batch.snapshot()
     batch.advance(1.4)
@@ -89,6 +91,17 @@ def test_a_snapshot_repeats_every_run_to_the_bit():
     assert list(batch.time) == pytest.approx([0.9, 0.9])
     batch.advance(1.4)
     assert batch.value("p2").tobytes() == first.tobytes()
+    # Pickled, into another batch of the same model and parameters.
+    other = monohydra.Batch(FOURBAR, options=options)
+    other.restore(pickle.loads(pickle.dumps(snap)))
+    other.advance(1.4)
+    assert other.value("p2").tobytes() == first.tobytes()
+    # Into a batch of other masses: restored, and a warning names them.
+    lighter = monohydra.Batch(FOURBAR, options=[{MASS: 40.0}, {MASS: 45.0}])
+    with pytest.warns(monohydra.ModelWarning, match="run 1: body 'body3' mass 45 kg in this run"):
+        lighter.restore(snap)
+    with pytest.raises(monohydra.InputError, match="the bytes hold 2 runs, the batch has 3"):
+        monohydra.Batch(FOURBAR, runs=3).restore(snap)
 
 
 def test_each_run_takes_its_own_input():

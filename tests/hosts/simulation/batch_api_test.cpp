@@ -284,6 +284,22 @@ TEST(EmbeddingBatch, BadCallsReturnAStatusAndAMessageNamingWhatIsWrong) {
   ASSERT_EQ(mhs_batch_advance(other.get(), 0.1), MHS_OK);
   EXPECT_EQ(mhs_batch_save(other.get(), snap), MHS_ERROR);
   EXPECT_NE(std::string(mhs_batch_message(other.get())).find("another batch"), std::string::npos);
+  // Bytes that are not a batch's snapshot, or cut short, are refused.
+  ASSERT_EQ(mhs_batch_snapshot_new(b.get(), &snap), MHS_OK);
+  ASSERT_EQ(mhs_batch_save(b.get(), snap), MHS_OK);
+  const void* bytes = nullptr;
+  size_t size = 0;
+  ASSERT_EQ(mhs_batch_snapshot_bytes(b.get(), snap, &bytes, &size), MHS_OK);
+  std::vector<unsigned char> copy(static_cast<const unsigned char*>(bytes),
+                                  static_cast<const unsigned char*>(bytes) + size);
+  const unsigned char junk[] = "not a snapshot at all";
+  says(mhs_batch_snapshot_read(b.get(), snap, junk, sizeof junk), "not a batch's snapshot");
+  says(mhs_batch_snapshot_read(b.get(), snap, copy.data(), copy.size() / 2), "cut short");
+  copy[copy.size() - 3] ^= 0xff;  // in run 1's checksum
+  says(mhs_batch_snapshot_read(b.get(), snap, copy.data(), copy.size()), "run 1: ");
+  copy[copy.size() - 3] ^= 0xff;
+  EXPECT_EQ(mhs_batch_snapshot_read(b.get(), snap, copy.data(), copy.size()), MHS_OK);
+  EXPECT_EQ(mhs_batch_restore(b.get(), snap), MHS_OK) << mhs_batch_message(b.get());
   mhs_batch_snapshot_free(snap);
 }
 

@@ -662,10 +662,11 @@ TEST(EmbeddingThreads, ASecondThreadsCallOnABusyRunIsRefusedAndChangesNothing) {
   stepping.join();
   EXPECT_EQ(refused, 1);
   // Alone again: calls go through, and the message is the run's own (the
-  // other thread's cancelled advance).
-  double t = 0.0;
+  // other thread's cancelled advance, cancelled before or after its first
+  // step: a slow machine may not have taken one).
+  double t = -1.0;
   EXPECT_EQ(mhs_time(sim.get(), &t, nullptr, nullptr, nullptr), MHS_OK);
-  EXPECT_GT(t, 0.0);
+  EXPECT_GE(t, 0.0);
   EXPECT_NE(std::string(mhs_message(sim.get())).find("cancelled"), std::string::npos)
       << mhs_message(sim.get());
 }

@@ -395,6 +395,14 @@ MHS_API mhs_status mhs_batch_snapshot_new(mhs_batch* batch, mhs_batch_snapshot**
 MHS_API void mhs_batch_snapshot_free(mhs_batch_snapshot* snapshot);
 MHS_API mhs_status mhs_batch_save(mhs_batch* batch, mhs_batch_snapshot* snapshot);
 MHS_API mhs_status mhs_batch_restore(mhs_batch* batch, const mhs_batch_snapshot* snapshot);
+/* A batch's snapshot as bytes (each run's as mhs_snapshot_bytes writes it,
+ * after the run count; owned by the snapshot, valid until it changes), and
+ * a snapshot read back from such bytes, for a batch of as many runs of the
+ * same model, in this process or another of the same build. */
+MHS_API mhs_status mhs_batch_snapshot_bytes(mhs_batch* batch, mhs_batch_snapshot* snapshot,
+                                            const void** bytes, size_t* size);
+MHS_API mhs_status mhs_batch_snapshot_read(mhs_batch* batch, mhs_batch_snapshot* snapshot,
+                                           const void* bytes, size_t size);
 
 #ifdef __cplusplus
 }

@@ -528,6 +528,21 @@ class Batch {
     return s;
   }
   void restore(const Snapshot& s) { check(mhs_batch_restore(get(), s.handle())); }
+  // The snapshot as bytes, and one read back from them (in another process too).
+  std::vector<unsigned char> bytes(const Snapshot& s) {
+    const void* data = nullptr;
+    size_t size = 0;
+    check(mhs_batch_snapshot_bytes(get(), s.handle(), &data, &size));
+    const auto* p = static_cast<const unsigned char*>(data);
+    return std::vector<unsigned char>(p, p + size);
+  }
+  Snapshot snapshot_from(const std::vector<unsigned char>& data) {
+    mhs_batch_snapshot* raw = nullptr;
+    check(mhs_batch_snapshot_new(get(), &raw));
+    Snapshot s(raw);
+    check(mhs_batch_snapshot_read(get(), s.handle(), data.data(), data.size()));
+    return s;
+  }
 
   mhs_batch* get() const { return handle_.get(); }
   // The message of the last call that warned (MHS_WARNING) or stopped runs, or "".
