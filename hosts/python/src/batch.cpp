@@ -138,14 +138,12 @@ class BatchRuns {
   }
 
  private:
-  // The latest time of a run that is not stopped (the runs advance together).
+  // The latest time of any run, stopped or not: an advance to a time before
+  // it is refused, so the chunks start there.
   double latest() const {
     double t = 0.0;
     const uint32_t n = batch_.size();
-    for (uint32_t k = 0; k < n; ++k) {
-      const Batch::RunStatus s = batch_.status(k);
-      if (!s.stopped) t = std::max(t, s.time);
-    }
+    for (uint32_t k = 0; k < n; ++k) t = std::max(t, batch_.status(k).time);
     return t;
   }
   std::string stepped(size_t stopped) const { return stopped == 0 ? "" : batch_.warning(); }

@@ -59,6 +59,14 @@ def test_a_failing_run_stops_alone_and_a_warning_names_it_once():
         warnings.simplefilter("error")  # named once: no second warning
         batch.advance(1.3)
     assert list(batch.time) == pytest.approx([1.3, 1.0, 1.3])
+    # A batch whose every run stopped advances nothing, and says nothing new.
+    alone = monohydra.Batch(FOURBAR, options=[{FLOW: 2e-5}])
+    with pytest.warns(monohydra.RunStoppedWarning):
+        alone.advance(1.2)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        alone.advance(1.5)
+    assert alone.status()[0].stopped and alone.status()[0].time == pytest.approx(1.0)
 
 
 def test_ctrl_c_stops_a_long_advance_between_two_steps():
