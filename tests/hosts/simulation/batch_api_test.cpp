@@ -284,6 +284,7 @@ TEST(EmbeddingBatch, BadCallsReturnAStatusAndAMessageNamingWhatIsWrong) {
   ASSERT_EQ(mhs_batch_advance(other.get(), 0.1), MHS_OK);
   EXPECT_EQ(mhs_batch_save(other.get(), snap), MHS_ERROR);
   EXPECT_NE(std::string(mhs_batch_message(other.get())).find("another batch"), std::string::npos);
+  mhs_batch_snapshot_free(snap);
   // Bytes that are not a batch's snapshot, or cut short, are refused.
   ASSERT_EQ(mhs_batch_snapshot_new(b.get(), &snap), MHS_OK);
   ASSERT_EQ(mhs_batch_save(b.get(), snap), MHS_OK);
