@@ -38,9 +38,8 @@ BatchRun::BatchRun(const OpenedModel& opened) : changed(opened) {
 Batch::Batch(const OpenRequest& request, size_t runs, unsigned threads)
     : opened_(std::make_unique<const OpenedModel>(request)), pool_(threads) {
   if (runs == 0) throw std::invalid_argument("a batch needs at least one run");
-  // Each run set up on the pool's threads: each thread's allocations come
-  // from its own heap arena, so two runs stepped at once share fewer cache
-  // lines than runs set up one after the other by one thread.
+  // Each run set up on the pool's threads (its plugins' set-up as well as
+  // its steps run beside the other runs').
   runs_.resize(runs);
   std::vector<std::string> failed(runs);
   pool_.for_each(runs, [&](size_t k) {
