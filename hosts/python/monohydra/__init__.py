@@ -130,13 +130,13 @@ class Snapshot:
         self.data = data
 
     def __eq__(self, other):
-        return isinstance(other, Snapshot) and self.data == other.data
+        return type(other) is type(self) and self.data == other.data
 
     def __hash__(self):
         return hash(self.data)
 
     def __repr__(self):
-        return f"<monohydra.Snapshot of {len(self.data)} bytes>"
+        return f"<monohydra.{type(self).__name__} of {len(self.data)} bytes>"
 
 
 class Results:

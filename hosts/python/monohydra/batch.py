@@ -22,6 +22,7 @@ from typing import Dict, List, NamedTuple, Optional, Sequence, Union
 
 import numpy as np
 
+from . import Snapshot
 from ._monohydra import _Batch
 
 
@@ -39,28 +40,12 @@ class RunStatus(NamedTuple):
     reason: str
 
 
-class BatchSnapshot:
+class BatchSnapshot(Snapshot):
     """Every run's whole state (Batch.snapshot), as bytes: picklable, and
     restored into a batch of as many runs of the same model, in this process
-    or another of the same build."""
+    or another of the same build. A Snapshot's bytes, of a batch."""
 
-    def __init__(self, data: bytes):
-        self.data = bytes(data)
-
-    def __getstate__(self):
-        return self.data
-
-    def __setstate__(self, data):
-        self.data = data
-
-    def __eq__(self, other):
-        return isinstance(other, BatchSnapshot) and self.data == other.data
-
-    def __hash__(self):
-        return hash(self.data)
-
-    def __repr__(self):
-        return f"<monohydra.BatchSnapshot, {len(self.data)} bytes>"
+    __slots__ = ()
 
 
 class Batch:
