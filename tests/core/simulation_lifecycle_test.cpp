@@ -15,6 +15,15 @@
 namespace mh {
 namespace {
 
+// A pendulum on a revolute joint: the smallest model that runs.
+constexpr const char* kPendulum = R"(units: {length: m, mass: kg, time: s, angle: deg}
+bodies:
+  - {name: arm, parent: ground, joint: {type: revolute, at: [0, 0, 0], axis: [0, 0, 1]},
+     mass: 1, shape: {type: beam, length: 1}, z0: -60}
+formulation: open-loop
+solver: {dt: 0.001, t_end: 1}
+)";
+
 TEST(SimulationLifecycle, ATemporaryModelFileIsRefusedAtCompileTime) {
   static_assert(
       !std::is_constructible_v<Simulation, ModelFile&&, const PluginRegistry&, const RunChoices&>);
@@ -24,14 +33,7 @@ TEST(SimulationLifecycle, ATemporaryModelFileIsRefusedAtCompileTime) {
 }
 
 TEST(SimulationLifecycle, ASecondStartIsRefusedNamingTheTimeAndStepAndTheFirstRunIsKept) {
-  const std::string text = R"(units: {length: m, mass: kg, time: s, angle: deg}
-bodies:
-  - {name: arm, parent: ground, joint: {type: revolute, at: [0, 0, 0], axis: [0, 0, 1]},
-     mass: 1, shape: {type: beam, length: 1}, z0: -60}
-formulation: open-loop
-solver: {dt: 0.001, t_end: 1}
-)";
-  const ModelFile file = parse_model_text(text, "pendulum.yaml");
+  const ModelFile file = parse_model_text(kPendulum, "pendulum.yaml");
   Simulation sim(file, test::build_plugins());
   sim.start();
   for (int k = 0; k < 5; ++k) sim.step();
@@ -63,14 +65,7 @@ TEST(SimulationLifecycle, RunsSharingTheirFixedPartsStepAsTheirOwnWouldToTheBit)
   EXPECT_EQ(sharing.z(), alone.z());
   EXPECT_EQ(sharing.states(), alone.states());
   // Another pattern is not taken (a pendulum's); a started run takes none.
-  const ModelFile other = parse_model_text(R"(units: {length: m, mass: kg, time: s, angle: deg}
-bodies:
-  - {name: arm, parent: ground, joint: {type: revolute, at: [0, 0, 0], axis: [0, 0, 1]},
-     mass: 1, shape: {type: beam, length: 1}, z0: -60}
-formulation: open-loop
-solver: {dt: 0.001, t_end: 1}
-)",
-                                           "pendulum.yaml");
+  const ModelFile other = parse_model_text(kPendulum, "pendulum.yaml");
   Simulation pendulum(other, plugins);
   EXPECT_FALSE(pendulum.share_fixed_parts(first));
   EXPECT_NE(&pendulum.tangent_pattern(), &first.tangent_pattern());
