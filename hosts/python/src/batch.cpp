@@ -73,26 +73,16 @@ class BatchRuns {
   std::string step(int64_t n) {
     if (n < 0) throw InputError(Error(MHS_ERROR, "step: n must be >= 0"));
     const py::gil_scoped_release unlocked;
-    auto left = static_cast<uint64_t>(n);
     size_t stopped = 0;
-    while (left > 0) {
-      const uint64_t now = std::min(left, kStepsBetweenSignals);
-      stopped = as_input([&] { return batch_.step(now); });
-      left -= now;
-      if (left > 0) take_signals();
-    }
+    step_in_chunks(static_cast<uint64_t>(n),
+                   [&](uint64_t k) { stopped = as_input([&] { return batch_.step(k); }); });
     return stepped(stopped);
   }
   std::string advance(double t) {
     const py::gil_scoped_release unlocked;
-    const double chunk = static_cast<double>(kStepsBetweenSignals) * dt();
-    double now = latest();
     size_t stopped = 0;
-    do {  // at least once: a time before the runs' is refused there
-      now = std::min(t, now + chunk);
-      stopped = as_input([&] { return batch_.advance(now); });
-      if (now < t) take_signals();
-    } while (now < t);
+    advance_in_chunks(latest(), t, dt(),
+                      [&](double to) { stopped = as_input([&] { return batch_.advance(to); }); });
     return stepped(stopped);
   }
 

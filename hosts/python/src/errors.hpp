@@ -49,4 +49,30 @@ inline void take_signals() {
   if (PyErr_CheckSignals() != 0) throw pybind11::error_already_set();
 }
 
+// `steps(k)` for k summing to n, k at most kStepsBetweenSignals, Python's
+// signals taken between two calls.
+template <class Steps>
+void step_in_chunks(uint64_t n, Steps&& steps) {
+  while (n > 0) {
+    const uint64_t now = n < kStepsBetweenSignals ? n : kStepsBetweenSignals;
+    steps(now);
+    n -= now;
+    if (n > 0) take_signals();
+  }
+}
+
+// `advance(to)` from `from` to `t` by kStepsBetweenSignals steps of `dt` at
+// a time, Python's signals taken between two calls; at least one call (a
+// time before the run's is refused there).
+template <class Advance>
+void advance_in_chunks(double from, double t, double dt, Advance&& advance) {
+  const double chunk = static_cast<double>(kStepsBetweenSignals) * dt;
+  double now = from;
+  do {
+    now = now + chunk < t ? now + chunk : t;
+    advance(now);
+    if (now < t) take_signals();
+  } while (now < t);
+}
+
 }  // namespace monohydra::python

@@ -26,11 +26,13 @@ namespace py = pybind11;
 
 namespace {
 
+using monohydra::python::advance_in_chunks;
 using monohydra::python::as_input;
 using monohydra::python::as_run;
 using monohydra::python::InputError;
 using monohydra::python::kStepsBetweenSignals;
 using monohydra::python::SimulationError;
+using monohydra::python::step_in_chunks;
 using monohydra::python::take_signals;
 
 using Settings = monohydra::Simulation::Settings;
@@ -113,30 +115,27 @@ class Run {
     if (n < 0) throw InputError(monohydra::Error(MHS_ERROR, "step: n must be >= 0"));
     const py::gil_scoped_release unlocked;
     std::string warned;
-    for (int64_t k = 0; k < n; ++k) {
-      as_run([&] {
-        sim_.step();
-        return 0;
-      });
-      gather(warned);
-      if ((k + 1) % static_cast<int64_t>(kStepsBetweenSignals) == 0 && k + 1 < n) take_signals();
-    }
+    step_in_chunks(static_cast<uint64_t>(n), [&](uint64_t k) {
+      for (uint64_t i = 0; i < k; ++i) {
+        as_run([&] {
+          sim_.step();
+          return 0;
+        });
+        gather(warned);
+      }
+    });
     return warned;
   }
   std::string advance(double t) {
     const py::gil_scoped_release unlocked;
-    const double chunk = static_cast<double>(kStepsBetweenSignals) * dt();
     std::string warned;
-    double now = time();
-    do {  // at least once: a time before the run's is refused there
-      now = std::min(t, now + chunk);
+    advance_in_chunks(time(), t, dt(), [&](double to) {
       as_run([&] {
-        sim_.advance(now);
+        sim_.advance(to);
         return 0;
       });
       gather(warned);
-      if (now < t) take_signals();
-    } while (now < t);
+    });
     return warned;
   }
 
