@@ -71,10 +71,6 @@ void Batch::set_parameter(size_t run, const std::string& path, const std::string
   embed::set_parameter(*r.sim, *opened_, r.changed, path, value);
 }
 
-void Batch::start() {
-  each([](BatchRun& r) { stepped(r, [](Simulation&) {}); });
-}
-
 size_t Batch::step(long steps) {
   each([&](BatchRun& r) {
     stepped(r, [&](Simulation& s) {

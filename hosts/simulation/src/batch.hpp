@@ -42,15 +42,13 @@ class Batch {
   size_t size() const { return runs_.size(); }
   unsigned threads() const { return pool_.threads(); }
   const VariableTable& variables() const { return *variables_; }
-  const OpenedModel& model() const { return *opened_; }
   const BatchRun& run(size_t k) const { return *runs_.at(k); }
 
   // A value of run k's model changed in place (opened_model.hpp).
   void set_parameter(size_t run, const std::string& path, const std::string& value);
 
-  // Each run not started yet starts (in parallel: a start closes the loops).
-  void start();
-  // Every run that has not failed takes `steps` steps, or steps until its
+  // Every run that has not failed (and has not started: it starts first,
+  // so step(0) starts them all) takes `steps` steps, or steps until its
   // time reaches `t` (within a millionth of a step). A run whose step fails
   // keeps its last accepted state and its reason, and takes no step until
   // a restore; the others go on. Returns how many runs are stopped.
