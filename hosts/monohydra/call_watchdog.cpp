@@ -17,11 +17,14 @@ namespace mh::cli {
 namespace {
 
 std::atomic<double> g_limit{0.0};
+// The record of the thread that steps the run (the one that started the
+// watchdog): a thread's own record is its thread_local (plugin_call.hpp).
+std::atomic<const PluginCallInFlight*> g_record{nullptr};
 std::atomic<pid_t> g_watched_pid{0};  // the process whose thread is running
 std::atomic<pid_t> g_running_pid{0};  // the process whose thread has entered watch()
 
 [[noreturn]] void stop_hung(const PluginCallSite& site, double seconds) {
-  const PluginCallInFlight& record = plugin_call_in_flight();
+  const PluginCallInFlight& record = *g_record.load(std::memory_order_relaxed);
   char message[1024];
   const int n = std::snprintf(
       message, sizeof message,
@@ -48,7 +51,9 @@ void watch() {
   for (;;) {
     std::this_thread::sleep_for(kPeriod);
     const double limit = g_limit.load(std::memory_order_relaxed);
-    const PluginCallInFlight& record = plugin_call_in_flight();
+    const PluginCallInFlight* watched = g_record.load(std::memory_order_relaxed);
+    if (watched == nullptr) continue;
+    const PluginCallInFlight& record = *watched;
     const PluginCallSite* site = record.site.load(std::memory_order_relaxed);
     const unsigned long entered = record.entered.load(std::memory_order_relaxed);
     if (site == nullptr || site != last_site || entered != last_entered || !(limit > 0.0)) {
@@ -66,6 +71,7 @@ void watch() {
 
 void start_call_watchdog(double seconds) {
   g_limit.store(seconds, std::memory_order_relaxed);
+  g_record.store(&plugin_call_in_flight(), std::memory_order_relaxed);
   const pid_t self = ::getpid();
   if (g_watched_pid.exchange(self) == self) return;  // this process has its thread
   if (!(seconds > 0.0)) {

@@ -15,7 +15,8 @@ constexpr double kDefaultCallTimeout = 60.0;
 
 // Starts this process's watchdog with `seconds` (<= 0: none). Call again in
 // a forked child: threads do not survive fork. A second call in the same
-// process changes the limit.
+// process changes the limit. Watches the calls of the thread that calls it
+// (the one that steps the run).
 void start_call_watchdog(double seconds);
 
 }  // namespace mh::cli

@@ -35,28 +35,33 @@ static_assert(std::atomic<const PluginCallSite*>::is_always_lock_free &&
                   std::atomic<unsigned long>::is_always_lock_free,
               "a signal handler reads the record: its fields must be lock-free");
 
-// The process's record (one stepping engine per process reports crashes);
-// constant-initialized, so reading it from a signal handler is safe.
+// This thread's record: each thread that steps a run marks its own calls (a
+// batch steps its runs on several threads; one record written by all of
+// them would pass one cache line between the cores at every plugin call and
+// name another thread's call). A crash handler runs on the crashing thread
+// and reads that thread's; a watchdog thread reads the stepping thread's
+// through the address that thread gave it. Constant-initialized, so reading
+// it from a signal handler is safe.
 inline PluginCallInFlight& plugin_call_in_flight() {
-  static PluginCallInFlight record;
+  static thread_local PluginCallInFlight record;
   return record;
 }
 
 class PluginCallScope {
  public:
   explicit PluginCallScope(const PluginCallSite& site)
-      : previous_(plugin_call_in_flight().site.load(std::memory_order_relaxed)) {
-    PluginCallInFlight& record = plugin_call_in_flight();
-    record.site.store(&site, std::memory_order_relaxed);
-    // One thread marks calls: a load and a store, no locked read-modify-write.
-    record.entered.store(record.entered.load(std::memory_order_relaxed) + 1,
-                         std::memory_order_relaxed);
+      : record_(plugin_call_in_flight()), previous_(record_.site.load(std::memory_order_relaxed)) {
+    record_.site.store(&site, std::memory_order_relaxed);
+    // One thread marks its calls: a load and a store, no locked read-modify-write.
+    record_.entered.store(record_.entered.load(std::memory_order_relaxed) + 1,
+                          std::memory_order_relaxed);
   }
-  ~PluginCallScope() { plugin_call_in_flight().site.store(previous_, std::memory_order_relaxed); }
+  ~PluginCallScope() { record_.site.store(previous_, std::memory_order_relaxed); }
   PluginCallScope(const PluginCallScope&) = delete;
   PluginCallScope& operator=(const PluginCallScope&) = delete;
 
  private:
+  PluginCallInFlight& record_;
   const PluginCallSite* previous_;
 };
 
