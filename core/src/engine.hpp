@@ -3,8 +3,11 @@
 // (simulation.cpp), consistent initial states (initial_state.cpp), the
 // integrator's map (integrator_map.cpp), the tangent (tangent.cpp), the
 // step's Newton problem (newton_solve.cpp), the step (time_step.cpp) and the
-// energy balance (energy_balance.cpp). Everything here is sized in the
-// constructor and start(); step() allocates nothing.
+// energy balance (energy_balance.cpp). The engine holds what its model fixes
+// at set-up (plugin instances, names, sizes, the constraints), the run's data
+// (RunData, run_state.hpp: everything a step changes, a snapshot's copy) and
+// a workspace (Workspace: what a step works in and recomputes). Everything
+// here is sized in the constructor and start(); step() allocates nothing.
 #pragma once
 
 #include <Eigen/Core>
@@ -208,7 +211,6 @@ struct PlantedError {
 // point_force_jacobian (6, 7), named as the check names them (subsystem.h).
 inline constexpr const char* kDerivativeArrayNames[8] = {"dR/dy", "dR/dydot", "dR/dp", "dR/dv",
                                                          "dF/dy", "dF/dydot", "dF/dp", "dF/dv"};
-inline constexpr const char* kTangentBlockNames[3] = {"dr/dx", "dr/dxd", "dr/dxdd"};
 // After the formulation's tangent op wrote its blocks.
 inline void apply_planted(const PlantedError& planted, Eigen::MatrixXd* const blocks[3]) {
   if (!planted.formulation) return;
@@ -282,7 +284,8 @@ struct UnknownRegistry {
   std::vector<uint8_t> kinds;              // n: mh_unknown_kind of every unknown
   Eigen::VectorXd tol;                     // n: Newton's increment tolerances
   std::vector<VariableInfo> output_info;
-  Eigen::VectorXd outputs, outputs_k;  // of the last evaluation; accepted
+  Eigen::VectorXd outputs;      // of the last evaluation (accepted: RunData::outputs)
+  std::vector<Visual> visuals;  // what the subsystems declared of their look (monohydra.visual/1)
 };
 
 // The subsystems' states, their nodes, the structure of their rates and the
@@ -290,8 +293,7 @@ struct UnknownRegistry {
 struct StateSet {
   std::vector<VariableInfo> state_info;  // n_s: CSV name, qualified name, unit, role
   std::set<std::string> declared_names;  // qualified states and outputs: each once
-  Eigen::VectorXd y, ydot;               // current (iterate or accepted)
-  Eigen::VectorXd y_k, ydot_k;           // accepted at t_k
+  Eigen::VectorXd y, ydot;               // of the iterate (accepted: RunData::y, ydot)
   Eigen::VectorXd state_tol;
   std::vector<Node> nodes;
   std::vector<char> algebraic;              // states whose rate no row involves (constructor)
@@ -301,7 +303,6 @@ struct StateSet {
   // Per event: -1, or the input whose table jumps there (an event only while
   // the input follows its table).
   std::vector<int> time_event_inputs;
-  size_t next_event = 0;  // the first event after the accepted time
 };
 
 // The integrator's map of the step (integrator_map.cpp).
@@ -313,18 +314,13 @@ struct StepMapState {
 // An explicit integrator's stages (explicit_step.cpp): Newton on the rates,
 // x held, with a dense difference Jacobian; and the step's stability
 // (explicit_stability.cpp), checked before the first step, after every
-// restart and every kStabilityInterval steps.
+// restart and every kStabilityInterval steps. The rates Jacobian Newton may reuse and the checks'
+// schedule and findings are the run's (RunData); rates_lu factors RunData::rates_jacobian.
 struct ExplicitStages {
-  bool rates_jacobian_valid = false;  // rates_lu factors a Jacobian Newton may reuse
   Eigen::VectorXd xs, xds, xdds, r_rates, r_rates_pert, rates_step, rate_scale;
-  Eigen::MatrixXd rates_jacobian;
   Eigen::PartialPivLU<Eigen::MatrixXd> rates_lu;
   static constexpr long kStabilityInterval = 1000;
   std::unique_ptr<StageAmplification> amplification;  // its own integrator instance
-  bool stability_due = false;
-  long stability_next_step = 0;
-  double stability_worst_excess = 0.0;
-  ExplicitStability stability;
 };
 
 // One evaluation of the mechanics and subsystems (host_services.cpp): where
@@ -337,22 +333,19 @@ struct EvaluationState {
   Eigen::VectorXd z_iterate, zd_iterate;  // of the last MH_EVAL_SUBSYSTEMS evaluation
   bool kinematics_valid = false;          // data's kinematics are those of data.z, data.zd
   Eigen::VectorXd kin_z, kin_zd;          // kinematics_at's copies (no aliasing with data.z)
-  Simulation::WorkCounters counters;      // since start()
 };
 
 // Cut-joint constraints (m rows) and the assembled initial state
 // (loop_assembly.cpp, host_services.cpp). phi, phi_z hold the constraints at
-// con_z when constraints_valid, phi_dot_zd at (con_z, con_zd) when also
-// constraint_rates_valid: a formulation asks for them at the same kinematics
-// more than once per iteration (its multiplier update, then the residual),
-// and the accepted state's measure after its projections.
+// RunData::constraint_z when constraint_positions_valid, phi_dot_zd at
+// (constraint_z, constraint_zd) when also constraint_rates_valid: a
+// formulation asks for them at the same kinematics more than once per
+// iteration (its multiplier update, then the residual), and the accepted
+// state's measure after its projections.
 struct ConstraintState {
   Constraints constraints;
   Eigen::VectorXd phi, phi_dot_zd;
   Eigen::MatrixXd phi_z;
-  bool constraints_valid = false;
-  bool constraint_rates_valid = false;
-  Eigen::VectorXd con_z, con_zd;
   Eigen::VectorXd z0, zd0;
 };
 
@@ -366,8 +359,9 @@ struct DerivativesWorkspace {
   Eigen::VectorXd saved_outputs, rows_discard, zdd_eval, v_eval;
 };
 
-// The step's Newton (newton_solve.cpp): increments, the linear solver,
-// full or modified Newton, real time's limits and the step's statistics.
+// The step's Newton (newton_solve.cpp): increments, the linear solver and
+// real time's limits (full or modified Newton and the step's statistics are
+// the run's: RunData::reuse, last_step).
 struct NewtonState {
   Eigen::VectorXd dx;
   Eigen::VectorXd dx_trial, dx_correction;  // the line search's (solver.line_search)
@@ -375,10 +369,8 @@ struct NewtonState {
   // solver.newton: articulated: Newton's matrix is dxdd_dx M', factored by
   // the articulated-body recursion at every iterate (articulated_solve.hpp).
   std::unique_ptr<ArticulatedWorkspace> articulated;
-  TangentReuse reuse;     // full, per-step or modified Newton (solver.newton)
   int real_time_cap = 0;  // real-time mode: Newton iterations per step at most (0: off)
   std::chrono::steady_clock::time_point step_deadline{};  // real-time mode: wall clock
-  StepStats stats;
 };
 
 // The step's tangent (tangent.cpp): its pattern and values, the column
@@ -487,6 +479,31 @@ struct SensitivityState {
     double saved = 0.0;
   };
   std::vector<ComponentOption> options;
+  // The shadows' factory: the run's integrator's (the registry outlives the run).
+  const ComponentInfo* integrator_info = nullptr;
+};
+
+// What the step works in and recomputes from the run's data: nothing here
+// is part of a run's state (a snapshot neither saves nor restores it).
+struct Workspace {
+  Eigen::VectorXd r;  // Newton's residual
+  StepMapState map_ws;
+  ExplicitStages stages;
+  EvaluationState eval;
+  DerivativesWorkspace derivs;
+  NewtonState solver;
+  TangentWorkspace tangent_ws;
+  CouplingWorkspace coupling;
+  SnapshotParts snapshot;
+  RateFactorization rate_factor;  // analysis/state_slots.cpp
+};
+
+// What the plugins said (host_services.cpp): their log lines, the last
+// error one logged and the first bad option one reported.
+struct PluginReports {
+  LogSink log;
+  std::string last_plugin_error;
+  std::unique_ptr<InputError> option_error;
 };
 
 struct Simulation::Engine {
@@ -495,9 +512,7 @@ struct Simulation::Engine {
   Model model;
   Data data;
   SolverSettings settings;
-  LogSink log;
-  std::string last_plugin_error;             // the most recent error a plugin logged
-  std::unique_ptr<InputError> option_error;  // the first bad option a plugin reported
+  PluginReports reports;
 
   // Formulation: its n_m unknowns are the first entries of the Newton vector.
   std::string formulation_name;
@@ -509,12 +524,10 @@ struct Simulation::Engine {
   std::string integrator_name;
   std::unique_ptr<InstanceHost> integrator_host;  // outlives the instance
   IntegratorProxy integrator;
-  const ComponentInfo* integrator_info = nullptr;  // its factory (the registry outlives the run)
   bool explicit_method = false;
   mh_explicit_method explicit_ops{};
   // Subsystems and their states (the last n_s unknowns).
   std::vector<SubsystemInstance> subsystems;
-  std::vector<Visual> visuals;  // what they declared of their look (monohydra.visual/1)
 
   int N = 0;    // joint coordinates
   int m = 0;    // constraint rows
@@ -522,27 +535,19 @@ struct Simulation::Engine {
   int n_s = 0;  // subsystem states
   int n = 0;    // unknowns: n_m + n_s
   int n_o = 0;  // outputs
-  // Newton's unknowns x = [formulation unknowns; subsystem states], the
-  // rates the map gives them, and the residual.
-  Eigen::VectorXd x, xd, xdd, r;
+  // What the step changes: Newton's unknowns x = [formulation unknowns;
+  // subsystem states] and their rates, the accepted point, the states,
+  // inputs, counters and what Newton keeps (run_state.hpp). A snapshot is
+  // its copy.
+  RunData run;
+  Workspace work;
 
   UnknownRegistry registry;
   StateSet states;
   Signals signals;  // components' time signals and the model's inputs (signals.hpp)
-  StepMapState map_ws;
-  ExplicitStages stages;
-  EvaluationState eval;
   ConstraintState cons;
-  DerivativesWorkspace derivs;
-  NewtonState solver;
-  TangentWorkspace tangent_ws;
-  CouplingWorkspace coupling;
-  EnergyBalance energy;
-  AcceptedPoint accepted;
-  SnapshotParts snapshot;
   SensitivityState sens;
-  RateFactorization rate_factor;  // analysis/state_slots.cpp
-  PlantedError planted;           // tests of the checks only (analysis/subsystem_blocks.cpp)
+  PlantedError planted;  // tests of the checks only (analysis/subsystem_blocks.cpp)
   // Component options resolved once (Simulation::component_parameter_handle).
   struct OptionHandle {
     std::string path;
@@ -775,7 +780,8 @@ inline TangentReuse::Mode reuse_mode(NewtonKind kind) {
 
 inline void refresh_signals(SubsystemInstance& s, const mh_subsystem_eval& ev) {
   if (s.signals_begin != s.signals_end)
-    s.host->engine->signals.refresh(s.signals_begin, s.signals_end, ev.t, ev.y);
+    s.host->engine->signals.refresh(s.signals_begin, s.signals_end, ev.t, ev.y,
+                                    s.host->engine->run);
 }
 
 inline mh_status evaluate_instance(SubsystemInstance& s, const mh_subsystem_eval& ev) {

@@ -27,8 +27,10 @@ void require_op(bool present, const std::string& who, const char* op) {
 // reported one (file, line, field), else the instance and its logged reason.
 [[noreturn]] static void throw_setup_failure(Simulation::Engine& e, const SourceMark& mark,
                                              const std::string& who) {
-  if (e.option_error) throw InputError(*e.option_error);
-  throw InputError(mark, who, e.last_plugin_error.empty() ? "setup failed" : e.last_plugin_error);
+  if (e.reports.option_error) throw InputError(*e.reports.option_error);
+  throw InputError(
+      mark, who,
+      e.reports.last_plugin_error.empty() ? "setup failed" : e.reports.last_plugin_error);
 }
 
 // The settings the plugins will read, checked once, before any of them does.
@@ -86,7 +88,7 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
   Engine& e = *engine_;
   e.file = &file;
   e.settings = checked_settings(file, choices);
-  e.log = std::move(log);
+  e.reports.log = std::move(log);
   e.N = e.model.num_coordinates();
   for (const auto& b : e.model.bodies) {
     e.registry.coordinate_names.push_back(b.coordinate.empty() ? b.name : b.coordinate);
@@ -99,7 +101,7 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
   forward_kinematics(e.model, e.data, e.cons.z0, e.cons.zd0);
 
   // The model's inputs, before the subsystems whose options read them.
-  e.signals.make_inputs(file.inputs);
+  e.signals.make_inputs(file.inputs, e.run);
   // Subsystems, in model order (find_state sees the instances before it).
   e.subsystems.resize(file.subsystems.size());
   for (size_t i = 0; i < file.subsystems.size(); ++i) {
@@ -117,7 +119,7 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
       throw InputError(spec.mark, "subsystems '" + spec.name + "'.type", err.what());
     }
     s.host->set_library(info->library);
-    e.last_plugin_error.clear();
+    e.reports.last_plugin_error.clear();
     s.api = SubsystemProxy(in_flight(*s.host, InstanceHost::Op::create, [&] {
       return info->subsystem_factory.create(static_cast<const mh_subsystem_factory*>(info->factory),
                                             &s.host->table, spec.type.c_str());
@@ -164,7 +166,7 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
   }
   e.states.y.conservativeResize(e.n_s);
   e.states.state_tol.conservativeResize(e.n_s);
-  e.eval.scratch_rows.setZero(e.n_s);
+  e.work.eval.scratch_rows.setZero(e.n_s);
   e.registry.outputs.setZero(
       e.n_o);  // the subsystems' so far; the formulation's are appended below
   e.classify_states();
@@ -187,7 +189,7 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
   e.make_host(*e.formulation_host, fwho, fopts, file.formulation.mark,
               InstanceHost::Role::formulation, -1);
   e.formulation_host->set_library(finfo->library);
-  e.last_plugin_error.clear();
+  e.reports.last_plugin_error.clear();
   e.formulation = FormulationProxy(in_flight(*e.formulation_host, InstanceHost::Op::create, [&] {
     return finfo->formulation_factory.create(
         static_cast<const mh_formulation_factory*>(finfo->factory), &e.formulation_host->table,
@@ -206,7 +208,7 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
   e.check_unread_options(*e.formulation_host);
   require_moving_unknowns(e, fwho);
   e.registry.outputs.conservativeResize(e.n_o);
-  e.registry.outputs_k.setZero(e.n_o);
+  e.run.outputs.setZero(e.n_o);
 
   // The integrator, over every unknown: the formulation's, then the states.
   e.n = e.n_m + e.n_s;
@@ -230,7 +232,7 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
   e.make_host(*e.integrator_host, iwho, iopts, file.integrator.mark, InstanceHost::Role::integrator,
               -1);
   e.integrator_host->set_library(iinfo->library);
-  e.last_plugin_error.clear();
+  e.reports.last_plugin_error.clear();
   e.integrator = IntegratorProxy(in_flight(*e.integrator_host, InstanceHost::Op::create, [&] {
     return iinfo->integrator_factory.create(
         static_cast<const mh_integrator_factory*>(iinfo->factory), &e.integrator_host->table,
@@ -238,7 +240,7 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
   }));
   if (!e.integrator) throw_setup_failure(e, file.integrator.mark, iwho);
   mark_destroy(e.integrator, *e.integrator_host);
-  e.integrator_info = iinfo;
+  e.sens.integrator_info = iinfo;
   const mh_integrator& in = e.integrator.ops;
   if (in.explicit_method != nullptr) {
     // An explicit method's own operations, read as this host's (abi_struct.hpp).
@@ -275,7 +277,7 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
         iinfo->integrator_factory.create(static_cast<const mh_integrator_factory*>(iinfo->factory),
                                          &e.integrator_host->table, e.integrator_name.c_str());
     if (probe == nullptr) throw_setup_failure(e, file.integrator.mark, iwho);
-    e.stages.amplification = std::make_unique<StageAmplification>(probe);
+    e.work.stages.amplification = std::make_unique<StageAmplification>(probe);
   }
 
   for (const auto& v : e.states.state_info) {
@@ -288,7 +290,7 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
   }
   e.build_pattern();  // and the linear solver the model chose analyses it
   if (e.settings.newton == NewtonKind::automatic) e.settings.newton = e.automatic_newton();
-  e.solver.reuse.set_mode(reuse_mode(e.settings.newton));
+  e.run.reuse.set_mode(reuse_mode(e.settings.newton));
   if (e.settings.newton == NewtonKind::articulated) e.size_articulated();
   e.size_derivatives();
   e.size_explicit();
@@ -323,7 +325,7 @@ std::string Simulation::Engine::articulated_refusal() const {
 // and the block holds more than 6 entries a coordinate.
 NewtonKind Simulation::Engine::automatic_newton() const {
   if (!articulated_refusal().empty() || N == 0) return NewtonKind::per_step;
-  const auto entries = static_cast<double>(tangent_ws.mech_row_index.size());
+  const auto entries = static_cast<double>(work.tangent_ws.mech_row_index.size());
   return entries > 6.0 * N ? NewtonKind::articulated : NewtonKind::per_step;
 }
 
@@ -334,13 +336,13 @@ void Simulation::Engine::size_articulated() {
   if (!why.empty())
     throw InputError(settings.mark, "solver.newton",
                      "expected auto, full, per-step or modified here: articulated " + why);
-  solver.articulated = std::make_unique<ArticulatedWorkspace>(model);
+  work.solver.articulated = std::make_unique<ArticulatedWorkspace>(model);
 }
 
 Simulation::~Simulation() = default;
 
 const ExplicitStability& Simulation::explicit_stability() const {
-  return engine_->stages.stability;
+  return engine_->run.stability;
 }
 const SolverSettings& Simulation::settings() const {
   return engine_->settings;
@@ -348,7 +350,7 @@ const SolverSettings& Simulation::settings() const {
 void Simulation::start() {
   // The plugins' histories begin at the first start: a second one would go on
   // from the last accepted state, not from t = 0, so it is refused.
-  if (engine_->accepted.started)
+  if (engine_->run.accepted.started)
     engine_->fail(
         "start() on a simulation that has already started: a new run needs a new "
         "Simulation");
@@ -358,11 +360,12 @@ void Simulation::step() {
   engine_->step_once();
 }
 void Simulation::set_real_time(int iteration_cap) {
-  engine_->solver.real_time_cap = iteration_cap > 0 ? iteration_cap : 0;
-  engine_->solver.step_deadline = std::chrono::steady_clock::time_point::max();  // until one is set
+  engine_->work.solver.real_time_cap = iteration_cap > 0 ? iteration_cap : 0;
+  engine_->work.solver.step_deadline =
+      std::chrono::steady_clock::time_point::max();  // until one is set
 }
 void Simulation::set_step_deadline(std::chrono::steady_clock::time_point deadline) {
-  engine_->solver.step_deadline = deadline;
+  engine_->work.solver.step_deadline = deadline;
 }
 const std::vector<InputSpec>& Simulation::inputs() const {
   return engine_->file->inputs;
@@ -371,7 +374,7 @@ int Simulation::input_index(const std::string& name) const {
   return engine_->signals.find_input(name);
 }
 double Simulation::input(int k) const {
-  return engine_->signals.input_value(k, engine_->accepted.t);
+  return engine_->signals.input_value(k, engine_->run.accepted.t, engine_->run);
 }
 std::string Simulation::input_refusal(int k, double value) const {
   const Signals& signals = engine_->signals;
@@ -394,10 +397,11 @@ double Simulation::set_input(int k, double value) {
   InputSignal& in = signals.inputs[static_cast<size_t>(k)];
   const InputSpec& spec = *in.spec;
   if (spec.min < spec.max) value = std::clamp(value, spec.min, spec.max);  // out_of_range: clamp
-  const double before = signals.input_value(k, engine_->accepted.t);
-  in.value = value;
-  in.follows_table = false;
-  if (engine_->accepted.started && value != before) signals.jump_pending = true;
+  RunData& run = engine_->run;
+  const double before = signals.input_value(k, run.accepted.t, run);
+  run.input_values[static_cast<size_t>(k)] = value;
+  run.input_follows_table[static_cast<size_t>(k)] = 0;
+  if (run.accepted.started && value != before) run.input_jump_pending = true;
   return value;
 }
 namespace {
@@ -406,7 +410,7 @@ namespace {
 // A Data of its own: the engine's holds the last evaluation's kinematics.
 std::pair<double, double> mechanical_energy(const Simulation::Engine& e) {
   Data data(e.model);
-  forward_kinematics(e.model, data, e.accepted.z, e.accepted.zd);
+  forward_kinematics(e.model, data, e.run.accepted.z, e.run.accepted.zd);
   return {mh::kinetic_energy(e.model, data), mh::potential_energy(e.model, data)};
 }
 
@@ -414,18 +418,18 @@ std::pair<double, double> mechanical_energy(const Simulation::Engine& e) {
 // references moved by its jump and the kept factorization dropped.
 template <class Change>
 void change_in_place(Simulation::Engine& e, Change&& change) {
-  if (!e.accepted.started) {
+  if (!e.run.accepted.started) {
     change();
     return;
   }
   const auto [ke_before, pe_before] = mechanical_energy(e);
   change();
   const auto [ke_after, pe_after] = mechanical_energy(e);
-  e.energy.ke0 += ke_after - ke_before;
-  e.energy.pe0 += pe_after - pe_before;
-  e.energy.ke = ke_after;
-  e.energy.pe = pe_after;
-  e.solver.reuse.invalidate();  // modified Newton's factorization is of the old model
+  e.run.energy.ke0 += ke_after - ke_before;
+  e.run.energy.pe0 += pe_after - pe_before;
+  e.run.energy.ke = ke_after;
+  e.run.energy.pe = pe_after;
+  e.run.reuse.invalidate();  // modified Newton's factorization is of the old model
 }
 
 }  // namespace
@@ -469,7 +473,7 @@ void Simulation::set_initial_state(int coordinate, double z0, double zd0) {
                                 std::to_string(e.N));
   Body& b = e.model.bodies[static_cast<size_t>(coordinate)];
   const std::string name = "body '" + b.name + "'";
-  if (e.accepted.started)
+  if (e.run.accepted.started)
     throw std::invalid_argument(name +
                                 ": an initial coordinate changes only before the run starts (it "
                                 "is the state start() begins from)");
@@ -551,19 +555,20 @@ void Simulation::set_component_parameter(int handle, double value) {
       throw std::invalid_argument(h.path + ": " + std::to_string(value) +
                                   " is not a finite number");
     *option.constant = value;
-    e.solver.reuse.invalidate();
+    e.run.reuse.invalidate();
     return;
   }
   const SubsystemInstance& s = e.subsystems[static_cast<size_t>(option.instance)];
-  e.last_plugin_error.clear();
+  e.reports.last_plugin_error.clear();
   const mh_status st = normalized(in_flight(*s.host, InstanceHost::Op::parameter, [&] {
     return option.ext.set(s.api.self, option.index, value);
   }));
   if (!status_ok(st))
-    throw std::invalid_argument(
-        h.path + ": " +
-        (e.last_plugin_error.empty() ? "refused by the component" : e.last_plugin_error));
-  e.solver.reuse.invalidate();  // modified Newton's factorization is of the old value
+    throw std::invalid_argument(h.path + ": " +
+                                (e.reports.last_plugin_error.empty()
+                                     ? "refused by the component"
+                                     : e.reports.last_plugin_error));
+  e.run.reuse.invalidate();  // modified Newton's factorization is of the old value
 }
 
 Simulation::ParameterRange Simulation::component_parameter_range(const std::string& subsystem,
@@ -617,10 +622,10 @@ const Model& Simulation::model() const {
 }
 
 double Simulation::time() const {
-  return engine_->accepted.t;
+  return engine_->run.accepted.t;
 }
 long Simulation::step_index() const {
-  return engine_->accepted.step;
+  return engine_->run.accepted.step;
 }
 const std::string& Simulation::formulation_name() const {
   return engine_->formulation_name;
@@ -635,19 +640,19 @@ const std::vector<VariableInfo>& Simulation::output_info() const {
   return engine_->registry.output_info;
 }
 const Eigen::VectorXd& Simulation::z() const {
-  return engine_->accepted.z;
+  return engine_->run.accepted.z;
 }
 const Eigen::VectorXd& Simulation::zd() const {
-  return engine_->accepted.zd;
+  return engine_->run.accepted.zd;
 }
 const Eigen::VectorXd& Simulation::zdd() const {
-  return engine_->accepted.zdd;
+  return engine_->run.accepted.zdd;
 }
 const Eigen::VectorXd& Simulation::states() const {
-  return engine_->states.y_k;
+  return engine_->run.y;
 }
 const Eigen::VectorXd& Simulation::state_rates() const {
-  return engine_->states.ydot_k;
+  return engine_->run.ydot;
 }
 const std::vector<std::string>& Simulation::coordinate_names() const {
   return engine_->registry.coordinate_names;
@@ -656,7 +661,7 @@ const std::vector<std::string>& Simulation::state_names() const {
   return state_names_;
 }
 const Eigen::VectorXd& Simulation::outputs() const {
-  return engine_->registry.outputs_k;
+  return engine_->run.outputs;
 }
 const std::vector<std::string>& Simulation::output_names() const {
   return output_names_;
@@ -668,7 +673,7 @@ const std::vector<std::string>& Simulation::output_units() const {
   return output_units_;
 }
 const std::vector<Visual>& Simulation::visuals() const {
-  return engine_->visuals;
+  return engine_->registry.visuals;
 }
 static int index_of(const std::vector<VariableInfo>& vars, const std::string& name) {
   for (size_t i = 0; i < vars.size(); ++i)
@@ -682,22 +687,22 @@ int Simulation::state_index(const std::string& name) const {
   return index_of(engine_->states.state_info, name);
 }
 double Simulation::kinetic_energy() const {
-  return engine_->energy.ke - engine_->energy.ke0;
+  return engine_->run.energy.ke - engine_->run.energy.ke0;
 }
 double Simulation::potential_energy() const {
-  return engine_->energy.pe - engine_->energy.pe0;
+  return engine_->run.energy.pe - engine_->run.energy.pe0;
 }
 double Simulation::work() const {
-  return engine_->energy.work;
+  return engine_->run.energy.work;
 }
 double Simulation::drift() const {
   return kinetic_energy() + potential_energy() - work();
 }
 double Simulation::stored_energy() const {
-  return engine_->energy.stored - engine_->energy.stored0;
+  return engine_->run.energy.stored - engine_->run.energy.stored0;
 }
 double Simulation::dissipated_energy() const {
-  return engine_->energy.dissipated;
+  return engine_->run.energy.dissipated;
 }
 std::vector<std::string> Simulation::subsystem_names() const {
   std::vector<std::string> names;
@@ -709,10 +714,10 @@ void Simulation::dissipation_powers(double* out) {
   engine_->energy_terms(stored, dissipation, out);
 }
 double Simulation::phi_norm() const {
-  return engine_->energy.phi_norm;
+  return engine_->run.energy.phi_norm;
 }
 const StepStats& Simulation::last_step() const {
-  return engine_->solver.stats;
+  return engine_->run.last_step;
 }
 int Simulation::num_unknowns() const {
   return engine_->n;
@@ -724,22 +729,22 @@ bool Simulation::explicit_integration() const {
   return engine_->explicit_method;
 }
 int Simulation::tangent_nonzeros() const {
-  return engine_->tangent_ws.pattern->nonzeros();
+  return engine_->work.tangent_ws.pattern->nonzeros();
 }
 bool Simulation::share_fixed_parts(const Simulation& like) {
   Engine& e = *engine_;
   const Engine& o = *like.engine_;
-  if (e.accepted.started)
+  if (e.run.accepted.started)
     throw std::invalid_argument("share_fixed_parts: the run has started; share before start()");
-  if (*e.tangent_ws.pattern != *o.tangent_ws.pattern) return false;
-  e.tangent_ws.pattern = o.tangent_ws.pattern;
-  e.solver.linear_solver =
-      make_linear_solver(*e.tangent_ws.pattern, e.settings.linear, o.solver.linear_solver.get());
+  if (*e.work.tangent_ws.pattern != *o.work.tangent_ws.pattern) return false;
+  e.work.tangent_ws.pattern = o.work.tangent_ws.pattern;
+  e.work.solver.linear_solver = make_linear_solver(*e.work.tangent_ws.pattern, e.settings.linear,
+                                                   o.work.solver.linear_solver.get());
   return true;
 }
 
 const SparsePattern& Simulation::tangent_pattern() const {
-  return *engine_->tangent_ws.pattern;
+  return *engine_->work.tangent_ws.pattern;
 }
 
 namespace {
@@ -748,7 +753,7 @@ namespace {
 // NULL). Refused with a reason instead of calling through a null pointer.
 void refuse_explicit(const Simulation::Engine& e, const char* what) {
   if (e.explicit_method)
-    throw SimulationError(e.accepted.t, e.accepted.step,
+    throw SimulationError(e.run.accepted.t, e.run.accepted.step,
                           std::string(what) +
                               " needs an implicit integrator's step; this run's integrator is "
                               "explicit and takes no Newton step");
@@ -757,11 +762,11 @@ void refuse_explicit(const Simulation::Engine& e, const char* what) {
 // The assembled tangent's values as a dense matrix, through its pattern.
 Eigen::MatrixXd dense_tangent(const Simulation::Engine& e) {
   Eigen::MatrixXd J = Eigen::MatrixXd::Zero(e.n, e.n);
-  const auto& colptr = e.tangent_ws.pattern->column_start();
-  const auto& rows = e.tangent_ws.pattern->row_index();
+  const auto& colptr = e.work.tangent_ws.pattern->column_start();
+  const auto& rows = e.work.tangent_ws.pattern->row_index();
   for (int c = 0; c < e.n; ++c)
     for (int k = colptr[c]; k < colptr[c + 1]; ++k)
-      J(rows[k], c) = e.tangent_ws.values[static_cast<size_t>(k)];
+      J(rows[k], c) = e.work.tangent_ws.values[static_cast<size_t>(k)];
   return J;
 }
 
@@ -770,50 +775,50 @@ Eigen::MatrixXd dense_tangent(const Simulation::Engine& e) {
 Eigen::MatrixXd Simulation::assembled_tangent() {
   Engine& e = *engine_;
   refuse_explicit(e, "the assembled tangent");
-  const double t_next = e.accepted.t + e.settings.dt;
+  const double t_next = e.run.accepted.t + e.settings.dt;
   e.prepare_step(t_next, e.settings.dt);
-  if (!status_ok(e.residual(t_next, e.x, e.r)) || !status_ok(e.assemble_tangent(t_next)))
-    throw SimulationError(e.accepted.t, e.accepted.step,
-                          "tangent assembly failed: " + e.last_plugin_error);
+  if (!status_ok(e.residual(t_next, e.run.x, e.work.r)) || !status_ok(e.assemble_tangent(t_next)))
+    throw SimulationError(e.run.accepted.t, e.run.accepted.step,
+                          "tangent assembly failed: " + e.reports.last_plugin_error);
   return dense_tangent(e);
 }
 
 Eigen::MatrixXd Simulation::finite_difference_tangent() {
   Engine& e = *engine_;
   refuse_explicit(e, "the differenced tangent");
-  const double t_next = e.accepted.t + e.settings.dt;
+  const double t_next = e.run.accepted.t + e.settings.dt;
   e.prepare_step(t_next, e.settings.dt);
   Eigen::MatrixXd J(e.n, e.n);
-  e.residual(t_next, e.x, e.r);
+  e.residual(t_next, e.run.x, e.work.r);
   for (int c = 0; c < e.n; ++c) {
-    const double h = 1e-8 * std::max(1e-2, std::abs(e.x[c]));
-    e.x[c] += h;
-    e.residual(t_next, e.x, e.tangent_ws.r_pert);
-    e.x[c] -= h;
-    J.col(c) = (e.tangent_ws.r_pert - e.r) / h;
+    const double h = 1e-8 * std::max(1e-2, std::abs(e.run.x[c]));
+    e.run.x[c] += h;
+    e.residual(t_next, e.run.x, e.work.tangent_ws.r_pert);
+    e.run.x[c] -= h;
+    J.col(c) = (e.work.tangent_ws.r_pert - e.work.r) / h;
   }
-  e.residual(t_next, e.x, e.r);
+  e.residual(t_next, e.run.x, e.work.r);
   return J;
 }
 
 Eigen::MatrixXd Simulation::central_difference_tangent() {
   Engine& e = *engine_;
   refuse_explicit(e, "the differenced tangent");
-  const double t_next = e.accepted.t + e.settings.dt;
+  const double t_next = e.run.accepted.t + e.settings.dt;
   e.prepare_step(t_next, e.settings.dt);
   Eigen::MatrixXd J(e.n, e.n);
   for (int c = 0; c < e.n; ++c) {
-    const double h = 1e-6 * std::max(1e-2, std::abs(e.x[c]));
-    const double x0 = e.x[c];
-    e.x[c] = x0 + h;
-    e.residual(t_next, e.x, e.tangent_ws.r_pert);
-    J.col(c) = e.tangent_ws.r_pert;
-    e.x[c] = x0 - h;
-    e.residual(t_next, e.x, e.tangent_ws.r_pert);
-    e.x[c] = x0;
-    J.col(c) = (J.col(c) - e.tangent_ws.r_pert) / (2.0 * h);
+    const double h = 1e-6 * std::max(1e-2, std::abs(e.run.x[c]));
+    const double x0 = e.run.x[c];
+    e.run.x[c] = x0 + h;
+    e.residual(t_next, e.run.x, e.work.tangent_ws.r_pert);
+    J.col(c) = e.work.tangent_ws.r_pert;
+    e.run.x[c] = x0 - h;
+    e.residual(t_next, e.run.x, e.work.tangent_ws.r_pert);
+    e.run.x[c] = x0;
+    J.col(c) = (J.col(c) - e.work.tangent_ws.r_pert) / (2.0 * h);
   }
-  e.residual(t_next, e.x, e.r);
+  e.residual(t_next, e.run.x, e.work.r);
   return J;
 }
 
@@ -822,31 +827,31 @@ Simulation::TangentSample Simulation::tangent_sample(double h) {
   refuse_explicit(e, "the tangent sample");
   TangentSample out;
   out.h = h;
-  e.prepare_step(e.accepted.t + e.settings.dt, e.settings.dt);
-  const Eigen::VectorXd x0 = e.x;  // the model's own prediction: every value in range
-  const double t_next = e.accepted.t + h;
+  e.prepare_step(e.run.accepted.t + e.settings.dt, e.settings.dt);
+  const Eigen::VectorXd x0 = e.run.x;  // the model's own prediction: every value in range
+  const double t_next = e.run.accepted.t + h;
   if (h != e.settings.dt) {
     e.begin_step(t_next, h);
-    e.x = x0;
-    e.rates_of(e.x, e.xd, e.xdd);
-    e.formulation_begin_step(e.map_ws.map.coefficients, t_next, e.x, e.xd, e.xdd);
+    e.run.x = x0;
+    e.rates_of(e.run.x, e.run.xd, e.run.xdd);
+    e.formulation_begin_step(e.work.map_ws.map.coefficients, t_next, e.run.x, e.run.xd, e.run.xdd);
   }
-  if (!status_ok(e.residual(t_next, e.x, e.r)) || !status_ok(e.assemble_tangent(t_next)))
-    throw SimulationError(e.accepted.t, e.accepted.step,
-                          "tangent assembly failed: " + e.last_plugin_error);
+  if (!status_ok(e.residual(t_next, e.run.x, e.work.r)) || !status_ok(e.assemble_tangent(t_next)))
+    throw SimulationError(e.run.accepted.t, e.run.accepted.step,
+                          "tangent assembly failed: " + e.reports.last_plugin_error);
   out.analytic = dense_tangent(e);
-  const Eigen::VectorXd r0 = e.r;
+  const Eigen::VectorXd r0 = e.work.r;
   difference_columns(
-      e.x, e.n, r0,
+      e.run.x, e.n, r0,
       [&]() -> const Eigen::VectorXd& {
-        if (!status_ok(e.residual(t_next, e.x, e.tangent_ws.r_pert)))
-          throw SimulationError(e.accepted.t, e.accepted.step,
-                                "residual failed at a perturbed x: " + e.last_plugin_error);
-        return e.tangent_ws.r_pert;
+        if (!status_ok(e.residual(t_next, e.run.x, e.work.tangent_ws.r_pert)))
+          throw SimulationError(e.run.accepted.t, e.run.accepted.step,
+                                "residual failed at a perturbed x: " + e.reports.last_plugin_error);
+        return e.work.tangent_ws.r_pert;
       },
       out);
-  e.x = x0;
-  e.residual(t_next, e.x, e.r);
+  e.run.x = x0;
+  e.residual(t_next, e.run.x, e.work.r);
   return out;
 }
 
@@ -854,22 +859,22 @@ Simulation::FormulationBlocks Simulation::formulation_blocks(bool differences) {
   Engine& e = *engine_;
   refuse_explicit(e, "the formulation's blocks");
   FormulationBlocks out;
-  const double t_next = e.accepted.t + e.settings.dt;
+  const double t_next = e.run.accepted.t + e.settings.dt;
   e.prepare_step(t_next, e.settings.dt);
-  const Eigen::VectorXd x0 = e.x, xd0 = e.xd, xdd0 = e.xdd;
+  const Eigen::VectorXd x0 = e.run.x, xd0 = e.run.xd, xdd0 = e.run.xdd;
   const int n_m = e.n_m;
   // r(x, xd, xdd) of the formulation's rows, the three arguments given
   // independently (the subsystems' rows land in `full` through the host).
   Eigen::VectorXd full(e.n);
   Eigen::VectorXd args[3] = {x0, xd0, xdd0};
   const auto rows_at = [&]() -> Eigen::VectorXd {
-    e.xd = args[1];
-    e.xdd = args[2];
+    e.run.xd = args[1];
+    e.run.xdd = args[2];
     full.setZero();
-    if (!status_ok(e.residual_at(t_next, args[0], e.xd, e.xdd, full)))
-      throw SimulationError(
-          e.accepted.t, e.accepted.step,
-          "formulation '" + e.formulation_name + "' residual failed: " + e.last_plugin_error);
+    if (!status_ok(e.residual_at(t_next, args[0], e.run.xd, e.run.xdd, full)))
+      throw SimulationError(e.run.accepted.t, e.run.accepted.step,
+                            "formulation '" + e.formulation_name +
+                                "' residual failed: " + e.reports.last_plugin_error);
     return full.head(n_m);
   };
   const Eigen::VectorXd r0 = rows_at();
@@ -878,15 +883,15 @@ Simulation::FormulationBlocks Simulation::formulation_blocks(bool differences) {
   if (e.formulation.ops.tangent != nullptr) {
     out.given.assign(static_cast<size_t>(n_m), 0);
     const mh_unknown_values at = monohydra::unknown_values(
-        t_next, static_cast<size_t>(n_m), args[0].data(), e.xd.data(), e.xdd.data());
+        t_next, static_cast<size_t>(n_m), args[0].data(), e.run.xd.data(), e.run.xdd.data());
     const mh_tangent_blocks blocks{sizeof(mh_tangent_blocks), static_cast<uint32_t>(n_m),
                                    analytic[0].data(),        analytic[1].data(),
                                    analytic[2].data(),        out.given.data()};
     const mh_status st = normalized(e.formulation.ops.tangent(e.formulation.self, &at, &blocks));
     if (!status_ok(st))
-      throw SimulationError(
-          e.accepted.t, e.accepted.step,
-          "formulation '" + e.formulation_name + "' tangent failed: " + e.last_plugin_error);
+      throw SimulationError(e.run.accepted.t, e.run.accepted.step,
+                            "formulation '" + e.formulation_name +
+                                "' tangent failed: " + e.reports.last_plugin_error);
     Eigen::MatrixXd* const written[3] = {&analytic[0], &analytic[1], &analytic[2]};
     apply_planted(e.planted, written);
   }
@@ -896,8 +901,8 @@ Simulation::FormulationBlocks Simulation::formulation_blocks(bool differences) {
     t.analytic = analytic[b];
     if (differences) difference_columns(args[b], n_m, r0, rows_at, t);
   }
-  e.x = x0;
-  e.residual(t_next, e.x, e.r);  // the engine at the prediction again, rates by the map
+  e.run.x = x0;
+  e.residual(t_next, e.run.x, e.work.r);  // the engine at the prediction again, rates by the map
   return out;
 }
 
@@ -905,26 +910,28 @@ Simulation::CoordinateMaps Simulation::coordinate_maps() {
   Engine& e = *engine_;
   refuse_explicit(e, "the coordinate maps");
   if (e.formulation.ops.mechanics_map == nullptr)
-    throw SimulationError(e.accepted.t, e.accepted.step, "the formulation gives no mechanics_map");
-  const double t_next = e.accepted.t + e.settings.dt;
+    throw SimulationError(e.run.accepted.t, e.run.accepted.step,
+                          "the formulation gives no mechanics_map");
+  const double t_next = e.run.accepted.t + e.settings.dt;
   e.prepare_step(t_next, e.settings.dt);
   CoordinateMaps out;
   out.dz_dx_cd.setZero(e.N, e.n_m);
   out.dzd_dx_cd.setZero(e.N, e.n_m);
   for (int c = 0; c < e.n_m; ++c) {
-    const double h = 1e-6 * std::max(1e-2, std::abs(e.x[c]));
-    const double x0 = e.x[c];
+    const double h = 1e-6 * std::max(1e-2, std::abs(e.run.x[c]));
+    const double x0 = e.run.x[c];
     for (int side = 0; side < 2; ++side) {
-      e.x[c] = x0 + (side == 0 ? h : -h);
-      e.residual(t_next, e.x, e.tangent_ws.r_pert);
+      e.run.x[c] = x0 + (side == 0 ? h : -h);
+      e.residual(t_next, e.run.x, e.work.tangent_ws.r_pert);
       const double w = (side == 0 ? 1.0 : -1.0) / (2.0 * h);
-      out.dz_dx_cd.col(c) += w * e.eval.z_iterate;
-      out.dzd_dx_cd.col(c) += w * e.eval.zd_iterate;
+      out.dz_dx_cd.col(c) += w * e.work.eval.z_iterate;
+      out.dzd_dx_cd.col(c) += w * e.work.eval.zd_iterate;
     }
-    e.x[c] = x0;
+    e.run.x[c] = x0;
   }
-  if (!status_ok(e.residual(t_next, e.x, e.r)))
-    throw SimulationError(e.accepted.t, e.accepted.step, "residual failed: " + e.last_plugin_error);
+  if (!status_ok(e.residual(t_next, e.run.x, e.work.r)))
+    throw SimulationError(e.run.accepted.t, e.run.accepted.step,
+                          "residual failed: " + e.reports.last_plugin_error);
   Eigen::MatrixXd dzd_dx = Eigen::MatrixXd::Zero(e.N, e.n_m);
   Eigen::MatrixXd dzd_dxd = Eigen::MatrixXd::Zero(e.N, e.n_m);
   Eigen::MatrixXd dr_dQ = Eigen::MatrixXd::Zero(e.n_m, e.N);
@@ -937,13 +944,13 @@ Simulation::CoordinateMaps Simulation::coordinate_maps() {
                              dzd_dxd.data(),
                              dr_dQ.data()};
   if (!status_ok(normalized(e.formulation.ops.mechanics_map(e.formulation.self, &map))))
-    throw SimulationError(e.accepted.t, e.accepted.step,
-                          "mechanics_map failed: " + e.last_plugin_error);
+    throw SimulationError(e.run.accepted.t, e.run.accepted.step,
+                          "mechanics_map failed: " + e.reports.last_plugin_error);
   out.dzd_dx = dzd_dx;
   for (int c = 0; c < e.n_m; ++c) {
     const uint8_t kind = e.registry.kinds[static_cast<size_t>(c)];
-    const double cv = kind == MH_UNKNOWN_SECOND_ORDER  ? e.map_ws.map.coefficients.dxd_dx_second
-                      : kind == MH_UNKNOWN_FIRST_ORDER ? e.map_ws.map.coefficients.dxd_dx_first
+    const double cv = kind == MH_UNKNOWN_SECOND_ORDER ? e.work.map_ws.map.coefficients.dxd_dx_second
+                      : kind == MH_UNKNOWN_FIRST_ORDER ? e.work.map_ws.map.coefficients.dxd_dx_first
                                                        : 0.0;
     out.dzd_dx.col(c) += cv * dzd_dxd.col(c);
   }
@@ -951,7 +958,7 @@ Simulation::CoordinateMaps Simulation::coordinate_maps() {
 }
 
 const Simulation::WorkCounters& Simulation::counters() const {
-  return engine_->eval.counters;
+  return engine_->run.counters;
 }
 
 Simulation::MechanicsDerivatives Simulation::mechanics_derivatives(const Eigen::VectorXd& z,
@@ -961,22 +968,22 @@ Simulation::MechanicsDerivatives Simulation::mechanics_derivatives(const Eigen::
   mh_mech_derivatives_request rq{};
   rq.struct_size = sizeof(rq);
   rq.flags = MH_DERIV_DYNAMICS;
-  rq.t = e.accepted.t;
+  rq.t = e.run.accepted.t;
   rq.z = z.data();
   rq.zd = zd.data();
   rq.zdd = zdd.data();
   if (!status_ok(e.mechanics_derivatives(rq)))
-    throw SimulationError(e.accepted.t, e.accepted.step,
-                          "mech_derivatives failed: " + e.last_plugin_error);
-  return {e.derivs.K, e.derivs.C};
+    throw SimulationError(e.run.accepted.t, e.run.accepted.step,
+                          "mech_derivatives failed: " + e.reports.last_plugin_error);
+  return {e.work.derivs.K, e.work.derivs.C};
 }
 
 Eigen::VectorXd Simulation::dynamics_residual(const Eigen::VectorXd& z, const Eigen::VectorXd& zd,
                                               const Eigen::VectorXd& zdd) {
   Engine& e = *engine_;
-  if (!status_ok(e.evaluate_mechanics(MH_EVAL_DYNAMICS, e.accepted.t, z.data(), zd.data())))
-    throw SimulationError(e.accepted.t, e.accepted.step,
-                          "evaluation failed: " + e.last_plugin_error);
+  if (!status_ok(e.evaluate_mechanics(MH_EVAL_DYNAMICS, e.run.accepted.t, z.data(), zd.data())))
+    throw SimulationError(e.run.accepted.t, e.run.accepted.step,
+                          "evaluation failed: " + e.reports.last_plugin_error);
   return e.data.M * zdd - e.data.Q;
 }
 

@@ -147,17 +147,17 @@ class RunRestorer {
 Linearization linearize(Simulation& sim, const std::vector<std::string>& output_names,
                         const LinearizeOptions& options) {
   Simulation::Engine& e = *sim.engine_;
-  if (!e.accepted.started)
-    throw SimulationError(e.accepted.t, e.accepted.step,
+  if (!e.run.accepted.started)
+    throw SimulationError(e.run.accepted.t, e.run.accepted.step,
                           "linearize: the run has not started (call start() first)");
   if (e.explicit_method)
-    throw SimulationError(e.accepted.t, e.accepted.step,
+    throw SimulationError(e.run.accepted.t, e.run.accepted.step,
                           "linearize: the run's integrator '" + e.integrator_name +
                               "' is explicit; the linearisation differences an implicit step");
   Linearization out;
   const std::vector<OutputRef> refs = resolve_outputs(e, output_names, out.outputs);
-  out.t = e.accepted.t;
-  out.step = e.accepted.step;
+  out.t = e.run.accepted.t;
+  out.step = e.run.accepted.step;
   out.h = e.settings.dt;
   const double h = e.settings.dt;
 
@@ -183,7 +183,7 @@ Linearization linearize(Simulation& sim, const std::vector<std::string>& output_
   // The rates' Jacobian factored afresh at this state, for all of its
   // perturbed states (and kept for a correction after it): a map that does
   // not depend on which state the kept one was of.
-  e.rate_factor.valid = false;
+  e.work.rate_factor.valid = false;
 
   // Y at the current (consistent) state, and X and the formulation's
   // outputs after the step from it.
@@ -193,13 +193,13 @@ Linearization linearize(Simulation& sim, const std::vector<std::string>& output_
       const OutputRef& r = refs[static_cast<size_t>(k)];
       switch (r.kind) {
         case OutputKind::coordinate:
-          y_now[k] = e.accepted.z[r.index];
+          y_now[k] = e.run.accepted.z[r.index];
           break;
         case OutputKind::coordinate_rate:
-          y_now[k] = e.accepted.zd[r.index];
+          y_now[k] = e.run.accepted.zd[r.index];
           break;
         case OutputKind::state:
-          y_now[k] = e.states.y_k[r.index];
+          y_now[k] = e.run.y[r.index];
           break;
         case OutputKind::output:
           y_now[k] = e.registry.outputs[r.index];  // of the state's evaluation
@@ -211,7 +211,7 @@ Linearization linearize(Simulation& sim, const std::vector<std::string>& output_
     for (Eigen::Index k = 0; k < n; ++k) x_next[k] = slot_value(e, slots[static_cast<size_t>(k)]);
     for (Eigen::Index k = 0; k < p; ++k) {
       const OutputRef& r = refs[static_cast<size_t>(k)];
-      y_next[k] = r.kind == OutputKind::output ? e.registry.outputs_k[r.index] : 0.0;
+      y_next[k] = r.kind == OutputKind::output ? e.run.outputs[r.index] : 0.0;
     }
   };
   // One side of a central difference: the perturbed state made consistent,
@@ -233,7 +233,7 @@ Linearization linearize(Simulation& sim, const std::vector<std::string>& output_
       sim.restore_state(saved);
       perturb();
       consistent.make(what);
-      if (kept.keeps_factorization()) e.solver.reuse = kept;
+      if (kept.keeps_factorization()) e.run.reuse = kept;
       read_now();
       try {
         e.step_once();
@@ -246,7 +246,7 @@ Linearization linearize(Simulation& sim, const std::vector<std::string>& output_
             std::string("linearize: the step from the state ") + what + " failed: " + err.reason());
       }
     }
-    kept = e.solver.reuse;
+    kept = e.run.reuse;
     kept.set_mode(TangentReuse::Mode::modified);
     read_next();
   };
@@ -301,7 +301,7 @@ Linearization linearize(Simulation& sim, const std::vector<std::string>& output_
             slot_value(e, s) += sign * step;
             return;
           }
-          Eigen::VectorXd& v = s.rate ? e.xd : e.x;
+          Eigen::VectorXd& v = s.rate ? e.run.xd : e.run.x;
           v.head(e.N) += (sign * step) * tangent_space.col(s.unknown);
         },
         2.0 * step, what.c_str(), phi, c, g_x, k, options.central);

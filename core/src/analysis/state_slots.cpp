@@ -39,17 +39,17 @@ std::vector<StateSlot> state_slots(const Simulation::Engine& e) {
 }
 
 double& slot_value(Simulation::Engine& e, const StateSlot& s) {
-  return s.rate ? e.xd[s.unknown] : e.x[s.unknown];
+  return s.rate ? e.run.xd[s.unknown] : e.run.x[s.unknown];
 }
 
 double& rate_unknown(Simulation::Engine& e, int i) {
   switch (e.registry.kinds[static_cast<size_t>(i)]) {
     case MH_UNKNOWN_SECOND_ORDER:
-      return e.xdd[i];
+      return e.run.xdd[i];
     case MH_UNKNOWN_FIRST_ORDER:
-      return e.xd[i];
+      return e.run.xd[i];
     default:
-      return e.x[i];
+      return e.run.x[i];
   }
 }
 
@@ -69,8 +69,8 @@ std::string unknown_label(const Simulation::Engine& e, int i) {
 }
 
 Eigen::MatrixXd constraint_tangent_space(Simulation::Engine& e) {
-  if (!e.tangent_ws.coordinate_unknowns || e.m == 0) return {};
-  e.kinematics_at(e.accepted.z.data(), e.accepted.zd.data());
+  if (!e.work.tangent_ws.coordinate_unknowns || e.m == 0) return {};
+  e.kinematics_at(e.run.accepted.z.data(), e.run.accepted.zd.data());
   e.constraints_at_kinematics(false);
   return Eigen::MatrixXd::Identity(e.N, e.N) -
          e.cons.phi_z.completeOrthogonalDecomposition().pseudoInverse() * e.cons.phi_z;
@@ -99,37 +99,38 @@ ConsistentState::ConsistentState(Simulation::Engine& e, std::string who)
 
 void ConsistentState::make(const char* what) {
   Simulation::Engine& e = e_;
-  const double t = std::nextafter(e.accepted.t, HUGE_VAL);
+  const double t = std::nextafter(e.run.accepted.t, HUGE_VAL);
   // The formulation's own prediction starts from its accepted state (no
   // step: h = 0 from its time), as at an explicit stage.
-  e.formulation_begin_step(monohydra::step_coefficients(e.settings.dt, 0.0, 0.0, 0.0), e.accepted.t,
-                           e.x, e.xd, e.xdd);
+  e.formulation_begin_step(monohydra::step_coefficients(e.settings.dt, 0.0, 0.0, 0.0),
+                           e.run.accepted.t, e.run.x, e.run.xd, e.run.xdd);
   for (int i = 0; i < e.n; ++i) {
     const uint8_t k = e.registry.kinds[static_cast<size_t>(i)];
-    if (k != MH_UNKNOWN_SECOND_ORDER) e.xdd[i] = 0.0;
-    if (k == MH_UNKNOWN_ALGEBRAIC) e.xd[i] = 0.0;
+    if (k != MH_UNKNOWN_SECOND_ORDER) e.run.xdd[i] = 0.0;
+    if (k == MH_UNKNOWN_ALGEBRAIC) e.run.xd[i] = 0.0;
   }
-  RateFactorization& f = e.rate_factor;
-  if (!f.valid || f.step != e.accepted.step || f.scale.size() != scale_.size() || f.scale != scale_)
+  RateFactorization& f = e.work.rate_factor;
+  if (!f.valid || f.step != e.run.accepted.step || f.scale.size() != scale_.size() ||
+      f.scale != scale_)
     factor(t, what);
   solve_kept(t, 0, what);
   // The subsystems' rates again, unless the formulation's accept left its
   // unknowns, rates and accelerations as they were (no projection moved
   // them): then they are this solve's already.
-  before_ << e.x.head(e.n_m), e.xd.head(e.n_m), e.xdd.head(e.n_m);
+  before_ << e.run.x.head(e.n_m), e.run.xd.head(e.n_m), e.run.xdd.head(e.n_m);
   accept(what);
-  after_ << e.x.head(e.n_m), e.xd.head(e.n_m), e.xdd.head(e.n_m);
+  after_ << e.run.x.head(e.n_m), e.run.xd.head(e.n_m), e.run.xdd.head(e.n_m);
   if (e.n_s > 0 && after_ != before_) solve_kept(t, e.n_m, what);
-  e.states.y_k = e.states.y;
-  e.states.ydot_k = e.states.ydot;
-  e.kinematics_at(e.accepted.z.data(), e.accepted.zd.data());
-  e.solver.reuse.invalidate();
+  e.run.y = e.states.y;
+  e.run.ydot = e.states.ydot;
+  e.kinematics_at(e.run.accepted.z.data(), e.run.accepted.zd.data());
+  e.run.reuse.invalidate();
   e.restart_integrator();
 }
 
 void ConsistentState::solve_kept(double t, int begin, const char* what) {
   Simulation::Engine& e = e_;
-  RateFactorization& f = e.rate_factor;
+  RateFactorization& f = e.work.rate_factor;
   for (int i = begin; i < e.n; ++i) start_[i] = rate_unknown(e, i);
   if (solve(t, begin, begin == 0 ? f.full : f.states, what, kKeptIterations)) return;
   // The kept Jacobian is too far from this state's: factored here, and
@@ -137,16 +138,17 @@ void ConsistentState::solve_kept(double t, int begin, const char* what) {
   for (int i = begin; i < e.n; ++i) rate_unknown(e, i) = start_[i];
   factor(t, what);
   if (!solve(t, begin, begin == 0 ? f.full : f.states, what, kRateIterations))
-    throw SimulationError(e.accepted.t, e.accepted.step,
+    throw SimulationError(e.run.accepted.t, e.run.accepted.step,
                           who_ + ": the rates at the state " + what + " did not converge in " +
                               std::to_string(kRateIterations) + " iterations");
 }
 
 void ConsistentState::evaluate(double t, Eigen::VectorXd& r, const char* what) {
-  if (!status_ok(e_.residual_at(t, e_.x, e_.xd, e_.xdd, r)) || !r.allFinite())
-    throw SimulationError(e_.accepted.t, e_.accepted.step,
-                          who_ + ": the residual failed at the state " + what +
-                              (e_.last_plugin_error.empty() ? "" : ": " + e_.last_plugin_error));
+  if (!status_ok(e_.residual_at(t, e_.run.x, e_.run.xd, e_.run.xdd, r)) || !r.allFinite())
+    throw SimulationError(
+        e_.run.accepted.t, e_.run.accepted.step,
+        who_ + ": the residual failed at the state " + what +
+            (e_.reports.last_plugin_error.empty() ? "" : ": " + e_.reports.last_plugin_error));
 }
 
 bool ConsistentState::solve(double t, int begin, const Eigen::FullPivLU<Eigen::MatrixXd>& lu,
@@ -157,7 +159,7 @@ bool ConsistentState::solve(double t, int begin, const Eigen::FullPivLU<Eigen::M
   double last = HUGE_VAL;  // the largest scaled increment of the iteration before
   for (int it = 0; it < iterations && !converged; ++it) {
     evaluate(t, r_, what);
-    row_rates_.tail(count) = e.rate_factor.row_scale.tail(count).asDiagonal() * r_.tail(count);
+    row_rates_.tail(count) = e.work.rate_factor.row_scale.tail(count).asDiagonal() * r_.tail(count);
     du_.tail(count) = -(scale_.tail(count).asDiagonal() * lu.solve(row_rates_.tail(count)));
     converged = true;
     double largest = 0.0;
@@ -185,14 +187,15 @@ void ConsistentState::accept(const char* what) {
   uint32_t flags = 0;
   e.check(in_flight(*e.formulation_host, InstanceHost::Op::accept,
                     [&] {
-                      const mh_unknown_buffers values = monohydra::unknown_buffers(
-                          static_cast<size_t>(e.n_m), e.x.data(), e.xd.data(), e.xdd.data());
-                      return e.formulation.ops.accept(e.formulation.self, e.accepted.t, &c, &values,
-                                                      &flags);
+                      const mh_unknown_buffers values =
+                          monohydra::unknown_buffers(static_cast<size_t>(e.n_m), e.run.x.data(),
+                                                     e.run.xd.data(), e.run.xdd.data());
+                      return e.formulation.ops.accept(e.formulation.self, e.run.accepted.t, &c,
+                                                      &values, &flags);
                     }),
           "formulation accept");
   if ((flags & MH_ACCEPT_REDEFINED) != 0)
-    throw SimulationError(e.accepted.t, e.accepted.step,
+    throw SimulationError(e.run.accepted.t, e.run.accepted.step,
                           who_ + ": formulation '" + e.formulation_name +
                               "' redefined its unknowns at the state " + what +
                               " (a new partition): try a step later");
@@ -200,7 +203,8 @@ void ConsistentState::accept(const char* what) {
                     [&] {
                       const mh_coordinate_buffers out{
                           sizeof(mh_coordinate_buffers), static_cast<uint32_t>(e.N),
-                          e.accepted.z.data(), e.accepted.zd.data(), e.accepted.zdd.data()};
+                          e.run.accepted.z.data(), e.run.accepted.zd.data(),
+                          e.run.accepted.zdd.data()};
                       return e.formulation.ops.coordinates(e.formulation.self, &out);
                     }),
           "formulation coordinates");
@@ -208,7 +212,7 @@ void ConsistentState::accept(const char* what) {
 
 void ConsistentState::factor(double t, const char* what) {
   Simulation::Engine& e = e_;
-  RateFactorization& f = e.rate_factor;
+  RateFactorization& f = e.work.rate_factor;
   f.valid = false;
   Eigen::MatrixXd J(e.n, e.n);
   evaluate(t, r_, what);
@@ -234,12 +238,12 @@ void ConsistentState::factor(double t, const char* what) {
   // No subsystem states: no LU of an empty block (Eigen asserts on its norm).
   if (e.n_s > 0) f.states.compute(J.bottomRightCorner(e.n_s, e.n_s));
   if (!f.full.isInvertible() || (e.n_s > 0 && !f.states.isInvertible()))
-    throw SimulationError(e.accepted.t, e.accepted.step,
+    throw SimulationError(e.run.accepted.t, e.run.accepted.step,
                           who_ +
                               ": the rows do not determine the rates at the accepted "
                               "state (a singular mass matrix or state row?)");
   f.scale = scale_;
-  f.step = e.accepted.step;
+  f.step = e.run.accepted.step;
   f.valid = true;
 }
 

@@ -14,8 +14,8 @@ namespace mh {
 namespace {
 
 const Simulation::Engine& started(const Simulation::Engine* e, const char* what) {
-  if (!e->accepted.started)
-    throw SimulationError(e->accepted.t, e->accepted.step,
+  if (!e->run.accepted.started)
+    throw SimulationError(e->run.accepted.t, e->run.accepted.step,
                           std::string(what) + ": the run has not started (call start() first)");
   return *e;
 }
@@ -39,7 +39,7 @@ Eigen::VectorXd state_values(const Simulation& sim) {
   Eigen::VectorXd out(static_cast<Eigen::Index>(slots.size()));
   for (size_t k = 0; k < slots.size(); ++k)
     out[static_cast<Eigen::Index>(k)] =
-        slots[k].rate ? e.xd[slots[k].unknown] : e.x[slots[k].unknown];
+        slots[k].rate ? e.run.xd[slots[k].unknown] : e.run.x[slots[k].unknown];
   return out;
 }
 
@@ -47,12 +47,12 @@ void set_state_values(Simulation& sim, const Eigen::VectorXd& values) {
   Simulation::Engine& e = *sim.engine_;
   started(&e, "set_state_values");
   if (e.explicit_method)
-    throw SimulationError(e.accepted.t, e.accepted.step,
+    throw SimulationError(e.run.accepted.t, e.run.accepted.step,
                           "set_state_values: the run's integrator '" + e.integrator_name +
                               "' is explicit (a state is made consistent through an implicit "
                               "step's residual)");
   if (e.sens.active)
-    throw SimulationError(e.accepted.t, e.accepted.step,
+    throw SimulationError(e.run.accepted.t, e.run.accepted.step,
                           "set_state_values: the run tracks forward sensitivities, whose columns "
                           "belong to the state it reached");
   const std::vector<StateSlot> slots = state_slots(e);
@@ -78,8 +78,8 @@ void set_state_values(Simulation& sim, const Eigen::VectorXd& values) {
       dx.head(e.N) = tangent_space * dx.head(e.N);
       dxd.head(e.N) = tangent_space * dxd.head(e.N);
     }
-    e.x += dx;
-    e.xd += dxd;
+    e.run.x += dx;
+    e.run.xd += dxd;
     ConsistentState consistent(e, "set_state_values");
     consistent.make("set from outside");
     if (e.formulation.ops.write_outputs != nullptr)
@@ -90,7 +90,7 @@ void set_state_values(Simulation& sim, const Eigen::VectorXd& values) {
                                                                  static_cast<uint32_t>(e.n_o));
                         }),
               "formulation write_outputs");
-    e.registry.outputs_k = e.registry.outputs;
+    e.run.outputs = e.registry.outputs;
     e.measure_mechanism();  // KE, PE and |Phi| of the result rows, at the new state
   } catch (...) {
     sim.restore_state(saved);

@@ -44,7 +44,8 @@ void Simulation::plant_derivative_error(const std::string& instance, const std::
   // The formulation's tangent blocks, or an instance's derivative arrays.
   const bool formulation = instance.empty();
   const SubsystemInstance* s = formulation ? nullptr : &instance_named(e, instance);
-  const char* const* names = formulation ? kTangentBlockNames : kDerivativeArrayNames;
+  const char* const* names =
+      formulation ? Simulation::FormulationBlocks::kNames : kDerivativeArrayNames;
   const int count = formulation ? 3 : 8;
   int array = -1;
   std::string known;
@@ -66,22 +67,23 @@ std::vector<Simulation::DerivativeBlock> Simulation::subsystem_blocks(const std:
                                                                       bool differences) {
   Engine& e = *engine_;
   if (e.explicit_method)
-    throw SimulationError(e.accepted.t, e.accepted.step,
+    throw SimulationError(e.run.accepted.t, e.run.accepted.step,
                           "a subsystem's blocks need an implicit integrator's step; this run's "
                           "integrator is explicit");
   SubsystemInstance& s = instance_named(e, instance);
-  const double t_next = e.accepted.t + e.settings.dt;
+  const double t_next = e.run.accepted.t + e.settings.dt;
   e.prepare_step(t_next, e.settings.dt);
   const auto failed = [&](const std::string& what) {
-    return SimulationError(e.accepted.t, e.accepted.step,
-                           "subsystem '" + instance + "' " + what + ": " + e.last_plugin_error);
+    return SimulationError(
+        e.run.accepted.t, e.run.accepted.step,
+        "subsystem '" + instance + "' " + what + ": " + e.reports.last_plugin_error);
   };
   // The iterate's rows, then every instance's points where the iterate's
   // kinematics put them (the residual may have evaluated elsewhere last).
-  if (!status_ok(e.residual(t_next, e.x, e.r))) throw failed("residual failed");
-  e.kinematics_at(e.eval.z_iterate.data(), e.eval.zd_iterate.data());
+  if (!status_ok(e.residual(t_next, e.run.x, e.work.r))) throw failed("residual failed");
+  e.kinematics_at(e.work.eval.z_iterate.data(), e.work.eval.zd_iterate.data());
   reset_applied_forces(e.model, e.data);
-  if (!status_ok(e.evaluate_subsystems(t_next, e.eval.scratch_rows.data())))
+  if (!status_ok(e.evaluate_subsystems(t_next, e.work.eval.scratch_rows.data())))
     throw failed("evaluate failed");
   const Eigen::VectorXd saved_outputs = e.registry.outputs;
 
@@ -225,7 +227,7 @@ std::vector<Simulation::DerivativeBlock> Simulation::subsystem_blocks(const std:
   block(7, true, 3, velocity_names);
 
   e.registry.outputs = saved_outputs;
-  e.residual(t_next, e.x, e.r);  // the engine at the prediction again
+  e.residual(t_next, e.run.x, e.work.r);  // the engine at the prediction again
   return out;
 }
 

@@ -68,8 +68,8 @@ mh_status no_place(const mh_host* host, const char* service, const char* key) {
   InstanceHost& h = *static_cast<InstanceHost*>(host->host_data);
   const std::string msg = std::string(service) + "('" + (key != nullptr ? key : "") +
                           "'): expected a place for the result, got NULL";
-  h.engine->last_plugin_error = h.source + ": " + msg;
-  if (h.engine->log) h.engine->log(MH_LOG_ERROR, h.source, msg);
+  h.engine->reports.last_plugin_error = h.source + ": " + msg;
+  if (h.engine->reports.log) h.engine->reports.log(MH_LOG_ERROR, h.source, msg);
   return MH_ERROR;
 }
 
@@ -78,8 +78,8 @@ void host_log(const mh_host* host, mh_log_level level, const char* message) {
   if (hp == nullptr) return;
   InstanceHost& h = *hp;
   const std::string msg = log_text(message);
-  if (level >= MH_LOG_ERROR) h.engine->last_plugin_error = h.source + ": " + msg;
-  if (h.engine->log) h.engine->log(level, h.source, msg);
+  if (level >= MH_LOG_ERROR) h.engine->reports.last_plugin_error = h.source + ": " + msg;
+  if (h.engine->reports.log) h.engine->reports.log(level, h.source, msg);
 }
 
 const OptionValue* lookup(InstanceHost& h, const char* key) {
@@ -98,9 +98,10 @@ std::string field_of(const InstanceHost& h, const char* key) {
 mh_status report(InstanceHost& h, const SourceMark& mark, const char* key,
                  const std::string& expected) {
   const InputError err(mark, field_of(h, key), expected);
-  h.engine->last_plugin_error = err.what();
-  if (!h.engine->option_error) h.engine->option_error = std::make_unique<InputError>(err);
-  if (h.engine->log) h.engine->log(MH_LOG_ERROR, h.source, err.what());
+  h.engine->reports.last_plugin_error = err.what();
+  if (!h.engine->reports.option_error)
+    h.engine->reports.option_error = std::make_unique<InputError>(err);
+  if (h.engine->reports.log) h.engine->reports.log(MH_LOG_ERROR, h.source, err.what());
   return MH_ERROR;
 }
 
@@ -349,9 +350,10 @@ mh_status host_add_point(const mh_host* host, const char* key, int32_t* index) {
   if (it == s.spec->points.end()) {
     const InputError err(s.spec->mark, "subsystems '" + s.spec->name + "'.points",
                          "expected a point '" + k + "' ({body: NAME, at: [x, y, z]})");
-    h.engine->last_plugin_error = err.what();
-    if (!h.engine->option_error) h.engine->option_error = std::make_unique<InputError>(err);
-    if (h.engine->log) h.engine->log(MH_LOG_ERROR, h.source, err.what());
+    h.engine->reports.last_plugin_error = err.what();
+    if (!h.engine->reports.option_error)
+      h.engine->reports.option_error = std::make_unique<InputError>(err);
+    if (h.engine->reports.log) h.engine->reports.log(MH_LOG_ERROR, h.source, err.what());
     return MH_ERROR;
   }
   s.points.push_back(it->second.point);
@@ -517,12 +519,12 @@ mh_status host_mech_derivatives(const mh_host* host, const mh_mech_derivatives_r
   mh_mech_derivatives out{};
   out.struct_size = sizeof(out);
   const bool con = e.m > 0;
-  out.K = (rq.flags & MH_DERIV_DYNAMICS) != 0 ? nonnull(e.derivs.K.data()) : nullptr;
-  out.C = (rq.flags & MH_DERIV_DYNAMICS) != 0 ? nonnull(e.derivs.C.data()) : nullptr;
-  out.dPhizT_v_dz = needs_v && con ? e.derivs.dPhizT_v_dz.data() : nullptr;
+  out.K = (rq.flags & MH_DERIV_DYNAMICS) != 0 ? nonnull(e.work.derivs.K.data()) : nullptr;
+  out.C = (rq.flags & MH_DERIV_DYNAMICS) != 0 ? nonnull(e.work.derivs.C.data()) : nullptr;
+  out.dPhizT_v_dz = needs_v && con ? e.work.derivs.dPhizT_v_dz.data() : nullptr;
   const bool acc = (rq.flags & MH_DERIV_CONSTRAINT_ACCELERATIONS) != 0 && con;
-  out.dA_dz = acc ? e.derivs.dA_dz.data() : nullptr;
-  out.dA_dzd = acc ? e.derivs.dA_dzd.data() : nullptr;
+  out.dA_dz = acc ? e.work.derivs.dA_dz.data() : nullptr;
+  out.dA_dzd = acc ? e.work.derivs.dA_dzd.data() : nullptr;
   if (!write_struct(result, out)) return MH_ERROR;
   return s;
 }
@@ -649,7 +651,7 @@ mh_status read_signal(const mh_host* host, const char* what, bool port, const ch
   if (s.signals_end == 0) s.signals_begin = signals.list.size();
   signals.values.push_back(signal.state >= 0  ? e.states.y[signal.state]
                            : signal.input < 0 ? signal.table.value(0.0)
-                                              : signals.input_value(signal.input, 0.0));
+                                              : signals.input_value(signal.input, 0.0, e.run));
   signal.value = &signals.values.back();
   signals.list.push_back(std::move(signal));
   s.signals_end = signals.list.size();
@@ -720,7 +722,7 @@ mh_status host_add_visual(const mh_host* host, const mh_visual_spec* spec_in) {
   v.rod_diameter = spec.rod_diameter;
   v.state_a = spec.state_a;
   v.state_b = spec.state_b;
-  h.engine->visuals.push_back(std::move(v));
+  h.engine->registry.visuals.push_back(std::move(v));
   return MH_OK;
 }
 
@@ -767,7 +769,7 @@ mh_status host_mechanical_pattern(const mh_host* host, uint32_t* num_columns,
              "mechanical_pattern: expected num_columns, column_start and row_index, got NULL");
     return MH_ERROR;
   }
-  const auto& ws = hp->engine->tangent_ws;
+  const auto& ws = hp->engine->work.tangent_ws;
   if (!ws.coordinate_unknowns || ws.mech_column_start.empty()) {
     host_log(host, MH_LOG_ERROR,
              ws.pattern == nullptr
@@ -935,7 +937,7 @@ mh_status Simulation::Engine::evaluate_subsystems(double t_eval, double* rows) {
     }
     total_power += s.power;
   }
-  eval.power = total_power;
+  work.eval.power = total_power;
   return MH_OK;
 }
 
@@ -944,19 +946,19 @@ mh_status Simulation::Engine::evaluate_subsystems(double t_eval, double* rows) {
 // tangent (the dependent coordinates' last check, M' and Q', derivatives).
 void Simulation::Engine::kinematics_at(const double* zq, const double* zdq) {
   const Eigen::Map<const Eigen::VectorXd> zm(zq, N), zdm(zdq, N);
-  const bool same_z = eval.kinematics_valid && data.z == zm;
+  const bool same_z = work.eval.kinematics_valid && data.z == zm;
   if (same_z && data.zd == zdm) return;
-  eval.kin_zd = zdm;
+  work.eval.kin_zd = zdm;
   if (same_z) {
     // New rates at the same z (a projection of zd, a rate column): the
     // positions and rotations stand.
-    forward_velocities(model, data, eval.kin_zd);
+    forward_velocities(model, data, work.eval.kin_zd);
   } else {
-    eval.kin_z = zm;
-    forward_kinematics(model, data, eval.kin_z, eval.kin_zd);
+    work.eval.kin_z = zm;
+    forward_kinematics(model, data, work.eval.kin_z, work.eval.kin_zd);
   }
-  eval.kinematics_valid = true;
-  ++eval.counters.kinematics_passes;
+  work.eval.kinematics_valid = true;
+  ++run.counters.kinematics_passes;
 }
 
 mh_status Simulation::Engine::evaluate_mechanics(uint32_t flags, double t_eval, const double* zq,
@@ -976,17 +978,17 @@ mh_status Simulation::Engine::evaluate_loads(uint32_t flags, double t_eval, cons
   kinematics_at(zq, zdq);
   // The iterate's rows only inside a residual call (rows_target set); any
   // other evaluation leaves them alone.
-  const bool iterate = (flags & MH_EVAL_SUBSYSTEMS) != 0 && eval.rows_target != nullptr;
+  const bool iterate = (flags & MH_EVAL_SUBSYSTEMS) != 0 && work.eval.rows_target != nullptr;
   if ((flags & (MH_EVAL_DYNAMICS | MH_EVAL_SUBSYSTEMS)) != 0) {
     reset_applied_forces(model, data);
-    const mh_status st =
-        evaluate_subsystems(t_eval, iterate ? eval.rows_target : eval.scratch_rows.data());
+    const mh_status st = evaluate_subsystems(
+        t_eval, iterate ? work.eval.rows_target : work.eval.scratch_rows.data());
     if (!status_ok(st)) return st;
     if (iterate) {
-      eval.iterate_evaluated = true;
-      eval.z_iterate =
+      work.eval.iterate_evaluated = true;
+      work.eval.z_iterate =
           data.z;  // where the analytic coupling differentiates (subsystem_coupling.cpp)
-      eval.zd_iterate = data.zd;
+      work.eval.zd_iterate = data.zd;
     }
   }
   return MH_OK;
@@ -997,18 +999,18 @@ void Simulation::Engine::constraints_at_kinematics(bool rates) {
   // zd after its dependent coordinates converge) need only the velocity
   // terms, and a caller that reads positions only (MH_EVAL_POSITIONS_ONLY:
   // double-step's dependent solve, the accepted state's |Phi|) none.
-  if (!(cons.constraints_valid && cons.con_z == data.z)) {
+  if (!(run.constraint_positions_valid && run.constraint_z == data.z)) {
     evaluate_constraint_positions(model, data, cons.constraints, cons.phi, cons.phi_z);
-    cons.con_z = data.z;  // sized N after the first call: no allocation after it
-    cons.constraints_valid = true;
-    cons.constraint_rates_valid = false;
-    ++eval.counters.constraint_position_passes;
+    run.constraint_z = data.z;  // sized N after the first call: no allocation after it
+    run.constraint_positions_valid = true;
+    run.constraint_rates_valid = false;
+    ++run.counters.constraint_position_passes;
   }
-  if (!rates || (cons.constraint_rates_valid && cons.con_zd == data.zd)) return;
+  if (!rates || (run.constraint_rates_valid && run.constraint_zd == data.zd)) return;
   evaluate_constraint_velocity_terms(data, cons.constraints, cons.phi_dot_zd);
-  cons.con_zd = data.zd;
-  cons.constraint_rates_valid = true;
-  ++eval.counters.constraint_rate_passes;
+  run.constraint_zd = data.zd;
+  run.constraint_rates_valid = true;
+  ++run.counters.constraint_rate_passes;
 }
 
 }  // namespace mh

@@ -18,8 +18,8 @@
 namespace mh {
 
 void Simulation::Engine::size_derivatives() {
-  derivs.dyn_ws = std::make_unique<DynamicsDerivativesWorkspace>(model);
-  derivs.con_ws = std::make_unique<ConstraintDerivativesWorkspace>(model);
+  work.derivs.dyn_ws = std::make_unique<DynamicsDerivativesWorkspace>(model);
+  work.derivs.con_ws = std::make_unique<ConstraintDerivativesWorkspace>(model);
   size_t terms = 0;
   for (auto& s : subsystems) {
     const size_t P = s.points.size();
@@ -30,17 +30,18 @@ void Simulation::Engine::size_derivatives() {
     s.v_pert.assign(3 * P, 0.0);
     s.f_base.assign(3 * P, 0.0);
   }
-  derivs.force_terms.assign(terms, PointForceTerm{});
-  for (Eigen::MatrixXd* M : {&derivs.K, &derivs.C, &derivs.dPhizT_v_dz}) M->setZero(N, N);
+  work.derivs.force_terms.assign(terms, PointForceTerm{});
+  for (Eigen::MatrixXd* M : {&work.derivs.K, &work.derivs.C, &work.derivs.dPhizT_v_dz})
+    M->setZero(N, N);
   // K and C are zeroed here and written by dynamics_derivatives alone, with
   // the same force terms every call: it need not zero them again (O(N^2)).
-  derivs.dyn_ws->zero_unrelated = false;
-  derivs.dA_dz.setZero(m, N);
-  derivs.dA_dzd.setZero(m, N);
-  derivs.saved_outputs.setZero(n_o);
-  derivs.rows_discard.setZero(n_s);
-  derivs.zdd_eval.setZero(N);
-  derivs.v_eval.setZero(m);
+  work.derivs.dyn_ws->zero_unrelated = false;
+  work.derivs.dA_dz.setZero(m, N);
+  work.derivs.dA_dzd.setZero(m, N);
+  work.derivs.saved_outputs.setZero(n_o);
+  work.derivs.rows_discard.setZero(n_s);
+  work.derivs.zdd_eval.setZero(N);
+  work.derivs.v_eval.setZero(m);
 }
 
 namespace {
@@ -88,7 +89,7 @@ mh_status differenced_point_forces(SubsystemInstance& s, mh_subsystem_eval ev) {
 // K or C is not finite: the point-force derivatives a plugin gave are
 // searched for the writer (differenced ones come from finite forces).
 mh_status Simulation::Engine::refuse_nonfinite_derivatives() {
-  last_plugin_error = "the mechanics' derivatives K, C are not finite";
+  reports.last_plugin_error = "the mechanics' derivatives K, C are not finite";
   for (const SubsystemInstance& s : subsystems) {
     if (s.points.empty() || s.api.ops.point_force_jacobian == nullptr) continue;
     const std::pair<const std::vector<double>*, const char*> given[] = {{&s.dF_dp, "dF_dp"},
@@ -96,7 +97,8 @@ mh_status Simulation::Engine::refuse_nonfinite_derivatives() {
     for (const auto& [buffer, name] : given) {
       const size_t i = first_nonfinite(buffer->data(), buffer->size());
       if (i == buffer->size()) continue;
-      last_plugin_error = nonfinite_reason((*buffer)[i], i, *s.host, "point_force_jacobian", name);
+      reports.last_plugin_error =
+          nonfinite_reason((*buffer)[i], i, *s.host, "point_force_jacobian", name);
       return MH_ERROR;
     }
   }
@@ -106,15 +108,16 @@ mh_status Simulation::Engine::refuse_nonfinite_derivatives() {
 // K and C where they can be non-zero: the mechanical pattern of coordinate
 // unknowns (zero elsewhere, never written), else every entry.
 bool Simulation::Engine::derivatives_finite() const {
-  if (!tangent_ws.coordinate_unknowns)
-    return all_finite(derivs.K.data(), static_cast<size_t>(derivs.K.size())) &&
-           all_finite(derivs.C.data(), static_cast<size_t>(derivs.C.size()));
-  const auto& start = tangent_ws.mech_column_start;
-  const auto& rows = tangent_ws.mech_row_index;
+  if (!work.tangent_ws.coordinate_unknowns)
+    return all_finite(work.derivs.K.data(), static_cast<size_t>(work.derivs.K.size())) &&
+           all_finite(work.derivs.C.data(), static_cast<size_t>(work.derivs.C.size()));
+  const auto& start = work.tangent_ws.mech_column_start;
+  const auto& rows = work.tangent_ws.mech_row_index;
   for (int c = 0; c + 1 < static_cast<int>(start.size()); ++c)
     for (int32_t k = start[static_cast<size_t>(c)]; k < start[static_cast<size_t>(c) + 1]; ++k) {
       const int row = rows[static_cast<size_t>(k)];
-      if (!std::isfinite(derivs.K(row, c)) || !std::isfinite(derivs.C(row, c))) return false;
+      if (!std::isfinite(work.derivs.K(row, c)) || !std::isfinite(work.derivs.C(row, c)))
+        return false;
     }
   return true;
 }
@@ -122,16 +125,16 @@ bool Simulation::Engine::derivatives_finite() const {
 mh_status Simulation::Engine::mechanics_derivatives(const mh_mech_derivatives_request& rq) {
   kinematics_at(rq.z, rq.zd);
   if ((rq.flags & MH_DERIV_DYNAMICS) != 0) {
-    ++eval.counters.derivative_passes;
+    ++run.counters.derivative_passes;
     // The subsystems at this motion, their states held: forces and their
     // derivatives. Outputs are restored after: they stay the iterate's.
-    derivs.saved_outputs = registry.outputs;
-    const double saved_power = eval.power;
+    work.derivs.saved_outputs = registry.outputs;
+    const double saved_power = work.eval.power;
     reset_applied_forces(model, data);
-    mh_status st = evaluate_subsystems(rq.t, derivs.rows_discard.data());
+    mh_status st = evaluate_subsystems(rq.t, work.derivs.rows_discard.data());
     if (!status_ok(st)) return st;
     size_t term = 0;
-    mh_subsystem_eval ev = subsystem_eval(rq.t, derivs.rows_discard.data());
+    mh_subsystem_eval ev = subsystem_eval(rq.t, work.derivs.rows_discard.data());
     for (auto& s : subsystems) {
       const size_t P = s.points.size();
       if (P == 0) continue;
@@ -152,7 +155,7 @@ mh_status Simulation::Engine::mechanics_derivatives(const mh_mech_derivatives_re
       // dependence of F_a on point b's motion.
       for (size_t a = 0; a < P; ++a) {
         for (size_t b = 0; b < P; ++b) {
-          PointForceTerm& ft = derivs.force_terms[term++];
+          PointForceTerm& ft = work.derivs.force_terms[term++];
           ft.point = s.points[a];
           ft.other = s.points[b];
           ft.F_W = a == b ? Eigen::Vector3d(s.f[3 * a], s.f[3 * a + 1], s.f[3 * a + 2])
@@ -176,22 +179,22 @@ mh_status Simulation::Engine::mechanics_derivatives(const mh_mech_derivatives_re
         }
       }
     }
-    registry.outputs = derivs.saved_outputs;
-    eval.power = saved_power;
-    derivs.zdd_eval = Eigen::Map<const Eigen::VectorXd>(rq.zdd, N);
-    dynamics_derivatives(model, data, derivs.zdd_eval, derivs.force_terms, *derivs.dyn_ws, derivs.K,
-                         derivs.C);
+    registry.outputs = work.derivs.saved_outputs;
+    work.eval.power = saved_power;
+    work.derivs.zdd_eval = Eigen::Map<const Eigen::VectorXd>(rq.zdd, N);
+    dynamics_derivatives(model, data, work.derivs.zdd_eval, work.derivs.force_terms,
+                         *work.derivs.dyn_ws, work.derivs.K, work.derivs.C);
     if (!derivatives_finite()) return refuse_nonfinite_derivatives();
   }
   if ((rq.flags & MH_DERIV_CONSTRAINT_FORCES) != 0 && m > 0) {
-    derivs.v_eval = Eigen::Map<const Eigen::VectorXd>(rq.v, m);
-    constraint_force_derivative(model, data, cons.constraints, derivs.v_eval, *derivs.con_ws,
-                                derivs.dPhizT_v_dz);
+    work.derivs.v_eval = Eigen::Map<const Eigen::VectorXd>(rq.v, m);
+    constraint_force_derivative(model, data, cons.constraints, work.derivs.v_eval,
+                                *work.derivs.con_ws, work.derivs.dPhizT_v_dz);
   }
   if ((rq.flags & MH_DERIV_CONSTRAINT_ACCELERATIONS) != 0 && m > 0) {
-    derivs.zdd_eval = Eigen::Map<const Eigen::VectorXd>(rq.zdd, N);
-    constraint_acceleration_derivatives(model, data, cons.constraints, derivs.zdd_eval,
-                                        *derivs.con_ws, derivs.dA_dz, derivs.dA_dzd);
+    work.derivs.zdd_eval = Eigen::Map<const Eigen::VectorXd>(rq.zdd, N);
+    constraint_acceleration_derivatives(model, data, cons.constraints, work.derivs.zdd_eval,
+                                        *work.derivs.con_ws, work.derivs.dA_dz, work.derivs.dA_dzd);
   }
   return MH_OK;
 }

@@ -65,9 +65,9 @@ void column_rates(const std::vector<uint8_t>& kinds, const mh_step_coefficients&
 void hand_column(Simulation::Engine& e, size_t j, bool restart) {
   IntegratorProxy& shadow = e.sens.shadows[j];
   const auto cj = static_cast<Eigen::Index>(j);
-  const mh_unknown_values at =
-      monohydra::unknown_values(e.accepted.t, static_cast<size_t>(e.n), e.sens.dx.col(cj).data(),
-                                e.sens.dxd.col(cj).data(), e.sens.dxdd.col(cj).data());
+  const mh_unknown_values at = monohydra::unknown_values(
+      e.run.accepted.t, static_cast<size_t>(e.n), e.sens.dx.col(cj).data(),
+      e.sens.dxd.col(cj).data(), e.sens.dxdd.col(cj).data());
   if (restart)
     e.check(in_flight(*e.integrator_host, InstanceHost::Op::restart,
                       [&] { return shadow.ops.restart(shadow.self, &at); }),
@@ -105,7 +105,7 @@ double Simulation::Engine::difference_step(size_t j, const Eigen::VectorXd& at,
 }
 
 void Simulation::Engine::track_sensitivities(const std::vector<ParameterDirection>& parameters) {
-  if (accepted.started)
+  if (run.accepted.started)
     throw std::invalid_argument("sensitivities are tracked from start(): ask for them before it");
   if (explicit_method)
     throw std::invalid_argument("integrator '" + integrator_name +
@@ -162,7 +162,9 @@ void Simulation::Engine::track_sensitivities(const std::vector<ParameterDirectio
     if (p.subsystem.empty()) continue;
     options[j] = find_component_option(p);
   }
+  const ComponentInfo* integrator_info = sens.integrator_info;  // the run's, set up once
   sens = SensitivityState{};
+  sens.integrator_info = integrator_info;
   sens.options = std::move(options);
   const size_t k = parameters.size();
   if (k == 0) return;
@@ -184,13 +186,14 @@ void Simulation::Engine::track_sensitivities(const std::vector<ParameterDirectio
   problem.dt = settings.dt;
   sens.shadow_maps.resize(k);
   for (size_t j = 0; j < k; ++j) {
-    const mh_integrator* made = integrator_info->integrator_factory.create(
-        static_cast<const mh_integrator_factory*>(integrator_info->factory),
+    const mh_integrator* made = sens.integrator_info->integrator_factory.create(
+        static_cast<const mh_integrator_factory*>(sens.integrator_info->factory),
         &integrator_host->table, integrator_name.c_str());
     if (made == nullptr)
-      throw std::invalid_argument("integrator '" + integrator_name +
-                                  "' could not make an instance for a parameter's sensitivities" +
-                                  (last_plugin_error.empty() ? "" : ": " + last_plugin_error));
+      throw std::invalid_argument(
+          "integrator '" + integrator_name +
+          "' could not make an instance for a parameter's sensitivities" +
+          (reports.last_plugin_error.empty() ? "" : ": " + reports.last_plugin_error));
     sens.shadows.emplace_back(made);
     IntegratorProxy& shadow = sens.shadows.back();
     mark_destroy(shadow, *integrator_host);
@@ -233,7 +236,7 @@ void Simulation::Engine::track_sensitivities(const std::vector<ParameterDirectio
       in_flight(*formulation_host, InstanceHost::Op::get_extension, [&] {
         return formulation.ops.get_extension(formulation.self, MH_EXT_CONSTRAINED_AT_CONVERGENCE);
       }) != nullptr;
-  if (sens.bordered && !tangent_ws.coordinate_unknowns)
+  if (sens.bordered && !work.tangent_ws.coordinate_unknowns)
     throw std::invalid_argument("formulation '" + formulation_name + "' declares " +
                                 MH_EXT_CONSTRAINED_AT_CONVERGENCE + " without " +
                                 MH_EXT_COORDINATE_UNKNOWNS +
@@ -407,12 +410,12 @@ void Simulation::Engine::start_sensitivities() {
       restore_parameter(j);
       if (initial) close_loops();
       const bool plus = sign > 0.0;
-      (plus ? sens.work.xp : sens.work.xm) = x;
-      (plus ? sens.work.xdp : sens.work.xdm) = xd;
-      (plus ? sens.work.xddp : sens.work.xddm) = xdd;
-      (plus ? sens.work.zp : sens.work.zm) = accepted.z;
-      (plus ? sens.work.zdp : sens.work.zdm) = accepted.zd;
-      (plus ? sens.work.zddp : sens.work.zddm) = accepted.zdd;
+      (plus ? sens.work.xp : sens.work.xm) = run.x;
+      (plus ? sens.work.xdp : sens.work.xdm) = run.xd;
+      (plus ? sens.work.xddp : sens.work.xddm) = run.xdd;
+      (plus ? sens.work.zp : sens.work.zm) = run.accepted.z;
+      (plus ? sens.work.zdp : sens.work.zdm) = run.accepted.zd;
+      (plus ? sens.work.zddp : sens.work.zddm) = run.accepted.zdd;
       (plus ? sens.work.outp : sens.work.outm) = registry.outputs;
     }
     const auto c = static_cast<Eigen::Index>(j);
@@ -453,16 +456,16 @@ void Simulation::Engine::load_formulation_state(const std::vector<unsigned char>
 // the unknowns as Newton's solution moves them (the step's second part).
 void Simulation::Engine::sensitivities_before_accept(double t_eval, double t_next, double h) {
   sens.work.t_eval = t_eval;
-  sens.work.xs = x;
-  sens.work.xds = xd;
-  sens.work.xdds = xdd;
+  sens.work.xs = run.x;
+  sens.work.xds = run.xd;
+  sens.work.xdds = run.xdd;
   // The tangent at the converged iterate (a kept factorization may be of an
   // earlier one; the last residual call was at this one).
   check(assemble_tangent(t_eval), "tangent assembly (sensitivities)");
-  if (!solver.linear_solver->factor(tangent_ws.values.data()))
-    fail("sensitivities: " + solver.linear_solver->error());
-  solver.reuse.invalidate();  // the factorization is the sensitivities' now
-  const mh_step_coefficients& c = map_ws.map.coefficients;
+  if (!work.solver.linear_solver->factor(work.tangent_ws.values.data()))
+    fail("sensitivities: " + work.solver.linear_solver->error());
+  run.reuse.invalidate();  // the factorization is the sensitivities' now
+  const mh_step_coefficients& c = work.map_ws.map.coefficients;
   const size_t k = sens.params.size();
   for (size_t j = 0; j < k; ++j) {
     IntegratorProxy& shadow = sens.shadows[j];
@@ -497,7 +500,7 @@ void Simulation::Engine::sensitivities_before_accept(double t_eval, double t_nex
     sens.border.topRows(N) = cons.phi_z.transpose();
     for (int i = 0; i < m; ++i) {
       sens.work.col = sens.border.col(i);
-      solver.linear_solver->solve(sens.work.col.data());
+      work.solver.linear_solver->solve(sens.work.col.data());
       sens.border_solved.col(i) = sens.work.col;
     }
     sens.schur.noalias() = sens.border.transpose() * sens.border_solved;
@@ -506,7 +509,7 @@ void Simulation::Engine::sensitivities_before_accept(double t_eval, double t_nex
   for (size_t j = 0; j < k; ++j) {
     const auto cj = static_cast<Eigen::Index>(j);
     sens.work.col = sens.work.rhs.col(cj);
-    solver.linear_solver->solve(sens.work.col.data());
+    work.solver.linear_solver->solve(sens.work.col.data());
     if (sens.bordered) {
       sens.work.mu.noalias() = sens.border.transpose() * sens.work.col;
       sens.work.mu_solved = sens.schur_lu.solve(sens.work.mu);
@@ -520,7 +523,8 @@ void Simulation::Engine::sensitivities_before_accept(double t_eval, double t_nex
     fail("sensitivities: a column of the step's solution is not finite");
   // The converged iterate's evaluation again, at p: what accept reads of
   // the last residual call (and the outputs of the step).
-  check(residual_at(t_eval, sens.work.xs, sens.work.xds, sens.work.xdds, r), "residual evaluation");
+  check(residual_at(t_eval, sens.work.xs, sens.work.xds, sens.work.xdds, work.r),
+        "residual evaluation");
 }
 
 // The step replayed from the formulation's state before it, at the
@@ -536,15 +540,15 @@ void Simulation::Engine::replay_accept(size_t j, double amount, double t_next, b
   xdq = sens.work.xds + amount * sens.dxd.col(cj);
   xddq = sens.work.xdds + amount * sens.dxdd.col(cj);
   perturb_parameter(j, amount);
-  formulation_begin_step(map_ws.map.coefficients, t_next, xq, xdq, xddq);
+  formulation_begin_step(work.map_ws.map.coefficients, t_next, xq, xdq, xddq);
   mh_status st = residual_at(sens.work.t_eval, xq, xdq, xddq, plus ? sens.work.rp : sens.work.rm);
   if (status_ok(st)) {
     uint32_t flags = 0;
     st = in_flight(*formulation_host, InstanceHost::Op::accept, [&] {
       const mh_unknown_buffers values =
           monohydra::unknown_buffers(static_cast<size_t>(n_m), xq.data(), xdq.data(), xddq.data());
-      return formulation.ops.accept(formulation.self, t_next, &map_ws.map.coefficients, &values,
-                                    &flags);
+      return formulation.ops.accept(formulation.self, t_next, &work.map_ws.map.coefficients,
+                                    &values, &flags);
     });
   }
   if (status_ok(st))
@@ -603,8 +607,8 @@ void Simulation::Engine::sensitivities_after_accept(double t_next, uint32_t flag
     // the step allocates nothing.
     Eigen::VectorXd& z_acc = sens.work.zm;
     Eigen::VectorXd& zd_acc = sens.work.zdm;
-    z_acc = accepted.z;
-    zd_acc = accepted.zd;
+    z_acc = run.accepted.z;
+    zd_acc = run.accepted.zd;
     for (size_t j = 0; j < k; ++j) {
       const auto cj = static_cast<Eigen::Index>(j);
       const double step = difference_step(j, sens.work.xs, kLargestRateMove);
@@ -615,7 +619,7 @@ void Simulation::Engine::sensitivities_after_accept(double t_next, uint32_t flag
         sens.work.zp = z_acc + sign * step * sens.dz.col(cj);
         sens.work.zdp = zd_acc + sign * step * sens.dzd.col(cj);
         kinematics_at(sens.work.zp.data(), sens.work.zdp.data());
-        solve_initial_rates(std::nextafter(accepted.t, HUGE_VAL));
+        solve_initial_rates(std::nextafter(run.accepted.t, HUGE_VAL));
         restore_parameter(j);
         (sign > 0.0 ? sens.work.rp : sens.work.rm).tail(n_s) = states.ydot;
       }
@@ -624,7 +628,7 @@ void Simulation::Engine::sensitivities_after_accept(double t_next, uint32_t flag
     states.y = sens.work.y_saved;
     states.ydot = sens.work.ydot_saved;
   }
-  kinematics_at(accepted.z.data(), accepted.zd.data());
+  kinematics_at(run.accepted.z.data(), run.accepted.zd.data());
   sens.dy = sens.dx.bottomRows(n_s);
   const bool restart = event || (flags & MH_ACCEPT_REDEFINED) != 0;
   for (size_t j = 0; j < k; ++j) hand_column(*this, j, restart);

@@ -23,42 +23,45 @@ class StepProblem final : public NewtonProblem {
       : e_(e), t_eval_(t_eval), t_next_(t_next) {}
 
   void residual(Eigen::VectorXd& f) override {
-    e_.check(e_.residual(t_eval_, e_.x, f), "residual evaluation");
-    e_.solver.stats.residual_norms.push_back(f.lpNorm<Eigen::Infinity>());
+    e_.check(e_.residual(t_eval_, e_.run.x, f), "residual evaluation");
+    e_.run.last_step.residual_norms.push_back(f.lpNorm<Eigen::Infinity>());
   }
-  bool needs_setup() override { return e_.solver.reuse.needs_tangent(e_.map_ws.map.coefficients); }
+  bool needs_setup() override {
+    return e_.run.reuse.needs_tangent(e_.work.map_ws.map.coefficients);
+  }
   void setup() override {
-    if (e_.solver.articulated) {
+    if (e_.work.solver.articulated) {
       // dxdd_dx M' at the iterate: its kinematics are the last residual's
       // (x = z, the formulation's MH_EXT_COORDINATE_UNKNOWNS).
-      e_.kinematics_at(e_.x.data(), e_.xd.data());
-      if (!(e_.map_ws.map.coefficients.dxdd_dx_second > 0.0))
+      e_.kinematics_at(e_.run.x.data(), e_.run.xd.data());
+      if (!(e_.work.map_ws.map.coefficients.dxdd_dx_second > 0.0))
         e_.fail_step(
             "solver.newton: articulated needs the integrator's map to tie the "
             "accelerations to the coordinates (dxdd_dx > 0)");
-      if (!articulated_factor(e_.model, e_.data, *e_.solver.articulated))
+      if (!articulated_factor(e_.model, e_.data, *e_.work.solver.articulated))
         e_.fail_step(
             "the mass matrix M' is singular (a joint whose subtree has no inertia about "
             "its axis): solver.newton: articulated cannot factor it");
     } else {
       e_.check(e_.assemble_tangent(t_eval_), "tangent assembly");
-      if (!e_.solver.linear_solver->factor(e_.tangent_ws.values.data()))
-        e_.fail_step(e_.solver.linear_solver->error());
+      if (!e_.work.solver.linear_solver->factor(e_.work.tangent_ws.values.data()))
+        e_.fail_step(e_.work.solver.linear_solver->error());
     }
-    e_.solver.reuse.factored(e_.map_ws.map.coefficients);
-    ++e_.solver.stats.tangents;
+    e_.run.reuse.factored(e_.work.map_ws.map.coefficients);
+    ++e_.run.last_step.tangents;
   }
   void solve(const Eigen::VectorXd& f, Eigen::VectorXd& du) override {
     du = -f;
-    if (e_.solver.articulated) {  // (dxdd_dx M')^-1, Eq. (37) with the mass matrix for the tangent
-      articulated_solve(e_.model, *e_.solver.articulated, du);
-      du /= e_.map_ws.map.coefficients.dxdd_dx_second;
+    if (e_.work.solver
+            .articulated) {  // (dxdd_dx M')^-1, Eq. (37) with the mass matrix for the tangent
+      articulated_solve(e_.model, *e_.work.solver.articulated, du);
+      du /= e_.work.map_ws.map.coefficients.dxdd_dx_second;
       return;
     }
-    e_.solver.linear_solver->solve(du.data());
+    e_.work.solver.linear_solver->solve(du.data());
   }
-  void add(const Eigen::VectorXd& du) override { e_.x += du; }
-  void subtract(const Eigen::VectorXd& du) override { e_.x -= du; }
+  void add(const Eigen::VectorXd& du) override { e_.run.x += du; }
+  void subtract(const Eigen::VectorXd& du) override { e_.run.x -= du; }
   double measure(const Eigen::VectorXd& du, int& worst_i) override {
     double worst = 0.0;
     for (int i = 0; i < e_.n; ++i) {
@@ -73,31 +76,31 @@ class StepProblem final : public NewtonProblem {
   // Modified Newton: an increment of a kept factorization that grew is undone
   // and the next iteration factors anew.
   bool keep(double size) override {
-    ++e_.solver.stats.iterations;
-    e_.solver.stats.increment_norms.push_back(size);
-    e_.solver.reuse.increment(size);
-    return !e_.solver.reuse.diverging();
+    ++e_.run.last_step.iterations;
+    e_.run.last_step.increment_norms.push_back(size);
+    e_.run.reuse.increment(size);
+    return !e_.run.reuse.diverging();
   }
   bool accepted() override {
     if (e_.formulation.ops.iteration_done == nullptr) return false;
-    e_.rates_of(e_.x, e_.xd, e_.xdd);
+    e_.rates_of(e_.run.x, e_.run.xd, e_.run.xdd);
     e_.check(normalized(in_flight(*e_.formulation_host, InstanceHost::Op::iteration_done,
                                   [&] {
                                     const mh_unknown_values at = monohydra::unknown_values(
-                                        t_next_, static_cast<size_t>(e_.n_m), e_.x.data(),
-                                        e_.xd.data(), e_.xdd.data());
+                                        t_next_, static_cast<size_t>(e_.n_m), e_.run.x.data(),
+                                        e_.run.xd.data(), e_.run.xdd.data());
                                     return e_.formulation.ops.iteration_done(e_.formulation.self,
                                                                              &at);
                                   })),
              "formulation iteration");
     return true;
   }
-  bool converged(double size) override { return e_.solver.reuse.converged(size); }
+  bool converged(double size) override { return e_.run.reuse.converged(size); }
   // Real-time mode: a late or over-long step is accepted as it stands.
   bool stop_early(int iteration) override {
-    return e_.solver.real_time_cap > 0 &&
-           (iteration + 1 >= e_.solver.real_time_cap ||
-            std::chrono::steady_clock::now() >= e_.solver.step_deadline);
+    return e_.work.solver.real_time_cap > 0 &&
+           (iteration + 1 >= e_.work.solver.real_time_cap ||
+            std::chrono::steady_clock::now() >= e_.work.solver.step_deadline);
   }
 
  private:
@@ -108,21 +111,22 @@ class StepProblem final : public NewtonProblem {
 }  // namespace
 
 void Simulation::Engine::newton_solve(double t_eval, double t_next) {
-  solver.reuse.begin_step();
+  run.reuse.begin_step();
   StepProblem problem(*this, t_eval, t_next);
   // Real-time mode replaces the iteration limit by its cap, at which the step
   // is accepted rather than failed.
-  const int limit = solver.real_time_cap > 0 ? solver.real_time_cap : settings.max_iterations;
-  NewtonDamping damping{solver.dx_trial, solver.dx_correction};
-  const NewtonOutcome out =
-      newton_iterate(problem, limit, r, solver.dx, settings.line_search ? &damping : nullptr);
-  solver.stats.damped += out.damped;
+  const int limit =
+      work.solver.real_time_cap > 0 ? work.solver.real_time_cap : settings.max_iterations;
+  NewtonDamping damping{work.solver.dx_trial, work.solver.dx_correction};
+  const NewtonOutcome out = newton_iterate(problem, limit, work.r, work.solver.dx,
+                                           settings.line_search ? &damping : nullptr);
+  run.last_step.damped += out.damped;
   switch (out.end) {
     case NewtonOutcome::End::converged:
       return;
     case NewtonOutcome::End::stopped:
-      solver.stats.converged = false;
-      solver.stats.unconverged = std::max(solver.stats.unconverged, out.size);
+      run.last_step.converged = false;
+      run.last_step.unconverged = std::max(run.last_step.unconverged, out.size);
       return;
     case NewtonOutcome::End::not_finite:
       fail_step("the residual is not finite in the row of " + unknown_name(out.row) +
@@ -147,12 +151,12 @@ void Simulation::Engine::newton_solve(double t_eval, double t_next) {
 // rates into a scratch row set, and names the first that writes a non-finite
 // value into `row` (only when a step has already failed: no cost otherwise).
 std::string Simulation::Engine::nonfinite_source(int row) {
-  mh_subsystem_eval ev = subsystem_eval(accepted.attempt_t, eval.scratch_rows.data());
+  mh_subsystem_eval ev = subsystem_eval(run.accepted.attempt_t, work.eval.scratch_rows.data());
   for (auto& s : subsystems) {
-    eval.scratch_rows.setZero();
+    work.eval.scratch_rows.setZero();
     point_at(ev, s);
     const mh_status st = normalized(evaluate_instance(s, ev));
-    if (status_ok(st) && !std::isfinite(eval.scratch_rows[row]))
+    if (status_ok(st) && !std::isfinite(work.eval.scratch_rows[row]))
       return "subsystem '" + s.spec->name + "' (" + s.spec->type + ")";
   }
   return "the subsystems' sum (no single instance wrote a non-finite value)";

@@ -11,7 +11,7 @@ void Simulation::Engine::energy_terms(double& stored_out, double& dissipation_ou
                                       double* per_instance) {
   stored_out = 0.0;
   dissipation_out = 0.0;
-  mh_subsystem_eval ev = subsystem_eval(accepted.t, eval.scratch_rows.data());
+  mh_subsystem_eval ev = subsystem_eval(run.accepted.t, work.eval.scratch_rows.data());
   for (size_t i = 0; i < subsystems.size(); ++i) {
     auto& s = subsystems[i];
     if (per_instance != nullptr) per_instance[i] = 0.0;
@@ -32,8 +32,8 @@ void Simulation::Engine::energy_terms(double& stored_out, double& dissipation_ou
 // At t = 0, with the kinematics at (z0, zd0) in data and the states solved.
 void Simulation::Engine::start_energy_balance() {
   reset_applied_forces(model, data);
-  check(evaluate_subsystems(accepted.t, eval.scratch_rows.data()), "subsystem evaluation");
-  energy.power_k = eval.power;
+  check(evaluate_subsystems(run.accepted.t, work.eval.scratch_rows.data()), "subsystem evaluation");
+  run.energy.power_k = work.eval.power;
   if (formulation.ops.write_outputs != nullptr)
     check(in_flight(*formulation_host, InstanceHost::Op::write_outputs,
                     [&] {
@@ -42,34 +42,35 @@ void Simulation::Engine::start_energy_balance() {
                     }),
           "formulation write_outputs");
   check_outputs("at the start");
-  registry.outputs_k = registry.outputs;
-  energy_terms(energy.stored0, energy.dissipation_k);
-  energy.stored = energy.stored0;
-  energy.dissipated = 0.0;
-  energy.ke0 = mh::kinetic_energy(model, data);
-  energy.pe0 = mh::potential_energy(model, data);
-  energy.work = 0.0;
+  run.outputs = registry.outputs;
+  energy_terms(run.energy.stored0, run.energy.dissipation_k);
+  run.energy.stored = run.energy.stored0;
+  run.energy.dissipated = 0.0;
+  run.energy.ke0 = mh::kinetic_energy(model, data);
+  run.energy.pe0 = mh::potential_energy(model, data);
+  run.energy.work = 0.0;
   measure_mechanism();
 }
 
 // After a converged step of length h: `power` is the converged iterate's.
 void Simulation::Engine::update_energy_balance(double h) {
-  energy.work += 0.5 * h * (energy.power_k + eval.power);  // W = integral of F . v, trapezoidal
-  energy.power_k = eval.power;
+  run.energy.work +=
+      0.5 * h * (run.energy.power_k + work.eval.power);  // W = integral of F . v, trapezoidal
+  run.energy.power_k = work.eval.power;
   double dissipation = 0.0;
-  energy_terms(energy.stored, dissipation);
-  energy.dissipated += 0.5 * h * (energy.dissipation_k + dissipation);
-  energy.dissipation_k = dissipation;
+  energy_terms(run.energy.stored, dissipation);
+  run.energy.dissipated += 0.5 * h * (run.energy.dissipation_k + dissipation);
+  run.energy.dissipation_k = dissipation;
 }
 
 // KE, PE and |Phi| at the accepted state (kinematics in data).
 void Simulation::Engine::measure_mechanism() {
-  energy.ke = mh::kinetic_energy(model, data);
-  energy.pe = mh::potential_energy(model, data);
-  energy.phi_norm = 0.0;
+  run.energy.ke = mh::kinetic_energy(model, data);
+  run.energy.pe = mh::potential_energy(model, data);
+  run.energy.phi_norm = 0.0;
   if (m > 0) {
     constraints_at_kinematics(false);  // usually the formulation's last evaluation, kept
-    energy.phi_norm = cons.phi.norm();
+    run.energy.phi_norm = cons.phi.norm();
   }
 }
 

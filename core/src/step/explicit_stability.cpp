@@ -137,16 +137,16 @@ std::vector<std::complex<double>> Simulation::Engine::rates_eigenvalues(double t
   Eigen::MatrixXd jacobian(size, size);
   Eigen::VectorXd plus(size);
   const auto rates_at = [&](Eigen::Index j, double delta, Eigen::VectorXd& out) {
-    stages.xs = x;
-    stages.xds = xd;
-    stages.xdds = xdd;
-    if (j >= 0) (entries[j].velocity ? stages.xds : stages.xs)[entries[j].i] += delta;
-    formulation_begin_step(monohydra::step_coefficients(h, 0.0, 0.0, 0.0), t_eval, stages.xs,
-                           stages.xds, stages.xdds);
-    solve_rates(t_eval, h, stages.xs, stages.xds, stages.xdds);
+    work.stages.xs = run.x;
+    work.stages.xds = run.xd;
+    work.stages.xdds = run.xdd;
+    if (j >= 0) (entries[j].velocity ? work.stages.xds : work.stages.xs)[entries[j].i] += delta;
+    formulation_begin_step(monohydra::step_coefficients(h, 0.0, 0.0, 0.0), t_eval, work.stages.xs,
+                           work.stages.xds, work.stages.xdds);
+    solve_rates(t_eval, h, work.stages.xs, work.stages.xds, work.stages.xdds);
     for (Eigen::Index row = 0; row < size; ++row) {
       const Entry& e = entries[row];
-      out[row] = e.velocity ? stages.xdds[e.i] : stages.xds[e.i];
+      out[row] = e.velocity ? work.stages.xdds[e.i] : work.stages.xds[e.i];
     }
   };
   Eigen::VectorXd minus(size);
@@ -158,8 +158,8 @@ std::vector<std::complex<double>> Simulation::Engine::rates_eigenvalues(double t
     // their round-off (a velocity at rest with a tolerance of 1e-10 m would
     // otherwise be stepped by 1e-12 m/s); central differences keep the
     // linearisation's error second order in them.
-    const double step_x = 1e-6 * std::max(std::abs(x[e.i]), 1e4 * registry.tol[e.i]);
-    const double delta = e.velocity ? std::max(1e-6 * std::abs(xd[e.i]), step_x / h) : step_x;
+    const double step_x = 1e-6 * std::max(std::abs(run.x[e.i]), 1e4 * registry.tol[e.i]);
+    const double delta = e.velocity ? std::max(1e-6 * std::abs(run.xd[e.i]), step_x / h) : step_x;
     rates_at(j, delta, plus);
     rates_at(j, -delta, minus);
     jacobian.col(j) = (plus - minus) / (2.0 * delta);
@@ -175,71 +175,72 @@ std::vector<std::complex<double>> Simulation::Engine::rates_eigenvalues(double t
 }
 
 void Simulation::Engine::check_explicit_stability(double h) {
-  stages.stability_due = false;
-  stages.stability_next_step = accepted.step + stages.kStabilityInterval;
-  if (settings.explicit_stability == ExplicitStabilityPolicy::off || !stages.amplification) return;
+  run.stability_due = false;
+  run.stability_next_step = run.accepted.step + work.stages.kStabilityInterval;
+  if (settings.explicit_stability == ExplicitStabilityPolicy::off || !work.stages.amplification)
+    return;
   const double cpu0 = cpu_now();
   // The check only looks: its rate solves leave the step's statistics and
   // the rates' kept Jacobian as they were (a fresh Jacobian every check
   // would change how the step's Newton converges, and so its results).
-  const StepStats kept = solver.stats;
-  const Eigen::MatrixXd kept_jacobian = stages.rates_jacobian;
-  const Eigen::PartialPivLU<Eigen::MatrixXd> kept_lu = stages.rates_lu;
-  const bool kept_valid = stages.rates_jacobian_valid;
+  const StepStats kept = run.last_step;
+  const Eigen::MatrixXd kept_jacobian = run.rates_jacobian;
+  const Eigen::PartialPivLU<Eigen::MatrixXd> kept_lu = work.stages.rates_lu;
+  const bool kept_valid = run.rates_jacobian_valid;
   std::vector<std::complex<double>> eigenvalues;
   bool linearised = true;
   try {
-    eigenvalues = rates_eigenvalues(accepted.t, h);
+    eigenvalues = rates_eigenvalues(run.accepted.t, h);
   } catch (const SimulationError&) {
     // A rate solve at a perturbed state failed (Newton on the rates near a
     // throttle's zero pressure drop): this check is skipped, the step goes
     // on as it would without it, and the next check is due as usual.
     linearised = false;
   }
-  solver.stats = kept;
-  stages.rates_jacobian = kept_jacobian;
-  stages.rates_lu = kept_lu;
-  stages.rates_jacobian_valid = kept_valid;
-  last_plugin_error.clear();
+  run.last_step = kept;
+  run.rates_jacobian = kept_jacobian;
+  work.stages.rates_lu = kept_lu;
+  run.rates_jacobian_valid = kept_valid;
+  reports.last_plugin_error.clear();
   if (!linearised) {
-    ++stages.stability.skipped;
-    stages.stability.cpu_seconds += cpu_now() - cpu0;
+    ++run.stability.skipped;
+    run.stability.cpu_seconds += cpu_now() - cpu0;
     return;
   }
   double worst = 0.0;
   std::complex<double> worst_lambda;
   try {
     for (const auto& l : eigenvalues) {
-      const double e = stages.amplification->excess(l, h);
+      const double e = work.stages.amplification->excess(l, h);
       if (!(e <= worst)) {
         worst = e;
         worst_lambda = l;
       }
     }
-    const double stable_dt = stages.amplification->largest_stable_step(eigenvalues, h);
-    stages.stability.stable_dt = std::min(stages.stability.stable_dt, stable_dt);
+    const double stable_dt = work.stages.amplification->largest_stable_step(eigenvalues, h);
+    run.stability.stable_dt = std::min(run.stability.stable_dt, stable_dt);
   } catch (const std::runtime_error& err) {
     fail(std::string(err.what()) + " (integrator '" + integrator_name + "')");
   }
-  ++stages.stability.checks;
+  ++run.stability.checks;
   const bool unstable = worst > 1.0 + kAmplificationTolerance;
-  if (stages.stability.checks == 1 || worst > stages.stability_worst_excess) {
-    stages.stability_worst_excess = worst;
-    stages.stability.t = accepted.t;
-    stages.stability.step = accepted.step + 1;
-    stages.stability.h = h;
-    stages.stability.eigenvalue = worst_lambda;
-    stages.stability.amplification = std::abs(stages.amplification->factor(worst_lambda, h));
+  if (run.stability.checks == 1 || worst > run.stability_worst_excess) {
+    run.stability_worst_excess = worst;
+    run.stability.t = run.accepted.t;
+    run.stability.step = run.accepted.step + 1;
+    run.stability.h = h;
+    run.stability.eigenvalue = worst_lambda;
+    run.stability.amplification = std::abs(work.stages.amplification->factor(worst_lambda, h));
   }
-  stages.stability.unstable = stages.stability.unstable || unstable;
-  stages.stability.cpu_seconds += cpu_now() - cpu0;
+  run.stability.unstable = run.stability.unstable || unstable;
+  run.stability.cpu_seconds += cpu_now() - cpu0;
   if (unstable && settings.explicit_stability == ExplicitStabilityPolicy::error)
     fail(  // the worst check is this one: the first unstable one stops the run
         "the explicit integrator '" + integrator_name + "' is unstable at h = " + short_number(h) +
         " s: the mode lambda = " + short_number(worst_lambda.real()) +
         (worst_lambda.imag() < 0 ? " - " : " + ") + short_number(std::abs(worst_lambda.imag())) +
-        "i 1/s has |R(h lambda)| = " + short_number(stages.stability.amplification) +
-        " > 1; stable below h ~ " + short_number(stages.stability.stable_dt) +
+        "i 1/s has |R(h lambda)| = " + short_number(run.stability.amplification) +
+        " > 1; stable below h ~ " + short_number(run.stability.stable_dt) +
         " s (solver.explicit_stability: error)");
 }
 

@@ -32,11 +32,12 @@ constexpr double kRateRelative = 1e-10;
 
 void Simulation::Engine::size_explicit() {
   if (!explicit_method) return;
-  for (Eigen::VectorXd* v : {&stages.xs, &stages.xds, &stages.xdds, &stages.r_rates,
-                             &stages.r_rates_pert, &stages.rates_step, &stages.rate_scale})
+  for (Eigen::VectorXd* v :
+       {&work.stages.xs, &work.stages.xds, &work.stages.xdds, &work.stages.r_rates,
+        &work.stages.r_rates_pert, &work.stages.rates_step, &work.stages.rate_scale})
     v->setZero(n);
-  stages.rates_jacobian.setZero(n, n);
-  stages.rates_lu = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
+  run.rates_jacobian.setZero(n, n);
+  work.stages.rates_lu = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
 }
 
 namespace {
@@ -52,27 +53,27 @@ class StageRatesProblem final : public NewtonProblem {
 
   void residual(Eigen::VectorXd& f) override {
     e_.check(e_.residual_at(t_eval_, xq_, xdq_, xddq_, f), "residual evaluation");
-    if (evaluated_) e_.solver.stats.residual_norms.push_back(f.lpNorm<Eigen::Infinity>());
+    if (evaluated_) e_.run.last_step.residual_norms.push_back(f.lpNorm<Eigen::Infinity>());
     evaluated_ = true;
   }
-  bool needs_setup() override { return !e_.stages.rates_jacobian_valid; }
+  bool needs_setup() override { return !e_.run.rates_jacobian_valid; }
   void setup() override {
     for (int j = 0; j < e_.n; ++j) {
       double& u = unknown(j);
       const double saved = u;
-      const double d = 1.5e-8 * std::max(std::abs(u), e_.stages.rate_scale[j] * 1e3);
+      const double d = 1.5e-8 * std::max(std::abs(u), e_.work.stages.rate_scale[j] * 1e3);
       u = saved + d;
-      e_.check(e_.residual_at(t_eval_, xq_, xdq_, xddq_, e_.stages.r_rates_pert),
+      e_.check(e_.residual_at(t_eval_, xq_, xdq_, xddq_, e_.work.stages.r_rates_pert),
                "residual evaluation");
       u = saved;
-      e_.stages.rates_jacobian.col(j) = (e_.stages.r_rates_pert - e_.stages.r_rates) / d;
+      e_.run.rates_jacobian.col(j) = (e_.work.stages.r_rates_pert - e_.work.stages.r_rates) / d;
     }
-    e_.stages.rates_lu.compute(e_.stages.rates_jacobian);
-    e_.stages.rates_jacobian_valid = true;
-    ++e_.solver.stats.tangents;
+    e_.work.stages.rates_lu.compute(e_.run.rates_jacobian);
+    e_.run.rates_jacobian_valid = true;
+    ++e_.run.last_step.tangents;
   }
   void solve(const Eigen::VectorXd& f, Eigen::VectorXd& du) override {
-    du.noalias() = e_.stages.rates_lu.solve(f);
+    du.noalias() = e_.work.stages.rates_lu.solve(f);
     du = -du;
   }
   void add(const Eigen::VectorXd& du) override {
@@ -84,7 +85,7 @@ class StageRatesProblem final : public NewtonProblem {
   double measure(const Eigen::VectorXd& du, int& worst_i) override {
     double worst = 0.0;
     for (int i = 0; i < e_.n; ++i) {
-      const double ratio = std::abs(du[i]) / (kRateTolerance * e_.stages.rate_scale[i] +
+      const double ratio = std::abs(du[i]) / (kRateTolerance * e_.work.stages.rate_scale[i] +
                                               kRateRelative * std::abs(unknown(i)));
       if (!(ratio <= worst)) {
         worst = ratio;
@@ -94,14 +95,14 @@ class StageRatesProblem final : public NewtonProblem {
     return worst;
   }
   bool keep(double size) override {
-    ++e_.solver.stats.iterations;
-    e_.solver.stats.increment_norms.push_back(size);
+    ++e_.run.last_step.iterations;
+    e_.run.last_step.increment_norms.push_back(size);
     return true;
   }
   // A kept Jacobian that no longer halves the increment is renewed.
   bool converged(double size) override {
     if (size <= 1.0) return true;
-    if (!(size <= 0.5 * last_)) e_.stages.rates_jacobian_valid = false;
+    if (!(size <= 0.5 * last_)) e_.run.rates_jacobian_valid = false;
     last_ = size;
     return false;
   }
@@ -132,15 +133,15 @@ void Simulation::Engine::solve_rates(double t_eval, double h, Eigen::VectorXd& x
                                      Eigen::VectorXd& xdq, Eigen::VectorXd& xddq) {
   for (int i = 0; i < n; ++i) {
     const uint8_t k = registry.kinds[static_cast<size_t>(i)];
-    stages.rate_scale[i] = k == MH_UNKNOWN_SECOND_ORDER  ? registry.tol[i] / (h * h)
-                           : k == MH_UNKNOWN_FIRST_ORDER ? registry.tol[i] / h
-                                                         : registry.tol[i];
+    work.stages.rate_scale[i] = k == MH_UNKNOWN_SECOND_ORDER  ? registry.tol[i] / (h * h)
+                                : k == MH_UNKNOWN_FIRST_ORDER ? registry.tol[i] / h
+                                                              : registry.tol[i];
     if (k != MH_UNKNOWN_SECOND_ORDER) xddq[i] = 0.0;
     if (k == MH_UNKNOWN_ALGEBRAIC) xdq[i] = 0.0;
   }
   StageRatesProblem problem(*this, t_eval, xq, xdq, xddq);
   const NewtonOutcome out =
-      newton_iterate(problem, settings.max_iterations, stages.r_rates, stages.rates_step);
+      newton_iterate(problem, settings.max_iterations, work.stages.r_rates, work.stages.rates_step);
   switch (out.end) {
     case NewtonOutcome::End::converged:
     case NewtonOutcome::End::stopped:
@@ -165,47 +166,48 @@ void Simulation::Engine::explicit_attempt(double t_eval, double h) {
   // The formulations' projections (Eqs. 20-21) weigh velocity against
   // position corrections by the map's coefficients; an explicit step hands
   // them the trapezoidal rule's for its h.
-  mh_step_coefficients& c = map_ws.map.coefficients;
+  mh_step_coefficients& c = work.map_ws.map.coefficients;
   c.struct_size = sizeof(c);
   c.h = h;
   c.dxd_dx_second = 2.0 / h;
   c.dxdd_dx_second = 4.0 / (h * h);
   c.dxd_dx_first = 2.0 / h;
-  if (stages.stability_due || accepted.step >= stages.stability_next_step)
+  if (run.stability_due || run.accepted.step >= run.stability_next_step)
     check_explicit_stability(h);
   const uint32_t num_stages = explicit_ops.num_stages;
   for (uint32_t s = 0; s < num_stages; ++s) {
-    stages.xs = x;  // guesses: the accepted values
-    stages.xds = xd;
-    stages.xdds = xdd;
-    double t_stage = accepted.t;
+    work.stages.xs = run.x;  // guesses: the accepted values
+    work.stages.xds = run.xd;
+    work.stages.xdds = run.xdd;
+    double t_stage = run.accepted.t;
     // The integrator's status, named only when it failed (Engine::check):
     // no string is built on the step's path.
     check(in_flight(*integrator_host, InstanceHost::Op::stage_state,
                     [&] {
-                      const mh_unknown_buffers out = monohydra::unknown_buffers(
-                          static_cast<size_t>(n), stages.xs.data(), stages.xds.data(), nullptr);
+                      const mh_unknown_buffers out =
+                          monohydra::unknown_buffers(static_cast<size_t>(n), work.stages.xs.data(),
+                                                     work.stages.xds.data(), nullptr);
                       return explicit_ops.stage_state(integrator.self, s, h, &t_stage, &out);
                     }),
           "integrator", integrator_name, "stage_state");
-    if (!(t_stage >= accepted.t && t_stage <= accepted.t + h))
+    if (!(t_stage >= run.accepted.t && t_stage <= run.accepted.t + h))
       fail("integrator '" + integrator_name + "' put stage " + std::to_string(s) +
            " at t = " + short_number(t_stage) + " s, outside the step [" +
-           short_number(accepted.t) + ", " + short_number(accepted.t + h) + "] s");
+           short_number(run.accepted.t) + ", " + short_number(run.accepted.t + h) + "] s");
     for (int i = 0; i < n; ++i)
-      if (!std::isfinite(stages.xs[i]) || !std::isfinite(stages.xds[i]))
+      if (!std::isfinite(work.stages.xs[i]) || !std::isfinite(work.stages.xds[i]))
         fail("the explicit integrator '" + integrator_name + "' diverged at stage " +
              std::to_string(s) + ": " + unknown_name(i) + " is not finite (h = " + short_number(h) +
              " s; a smaller step may be within its stability bound)");
     // A stage has no map: its coefficients are h alone (formulation.h).
-    formulation_begin_step(monohydra::step_coefficients(h, 0.0, 0.0, 0.0), t_stage, stages.xs,
-                           stages.xds, stages.xdds);
-    solve_rates(std::min(t_stage, t_eval), h, stages.xs, stages.xds, stages.xdds);
+    formulation_begin_step(monohydra::step_coefficients(h, 0.0, 0.0, 0.0), t_stage, work.stages.xs,
+                           work.stages.xds, work.stages.xdds);
+    solve_rates(std::min(t_stage, t_eval), h, work.stages.xs, work.stages.xds, work.stages.xdds);
     check(in_flight(*integrator_host, InstanceHost::Op::stage_rates,
                     [&] {
                       const mh_unknown_values solved = monohydra::unknown_values(
-                          t_stage, static_cast<size_t>(n), stages.xs.data(), stages.xds.data(),
-                          stages.xdds.data());
+                          t_stage, static_cast<size_t>(n), work.stages.xs.data(),
+                          work.stages.xds.data(), work.stages.xdds.data());
                       return explicit_ops.stage_rates(integrator.self, s, &solved);
                     }),
           "integrator", integrator_name, "stage_rates");
@@ -213,16 +215,16 @@ void Simulation::Engine::explicit_attempt(double t_eval, double h) {
   check(in_flight(*integrator_host, InstanceHost::Op::finish_step,
                   [&] {
                     const mh_unknown_buffers out = monohydra::unknown_buffers(
-                        static_cast<size_t>(n), x.data(), xd.data(), nullptr);
+                        static_cast<size_t>(n), run.x.data(), run.xd.data(), nullptr);
                     return explicit_ops.finish_step(integrator.self, h, &out);
                   }),
         "integrator", integrator_name, "finish_step");
   for (int i = 0; i < n; ++i)
-    if (!std::isfinite(x[i]) || !std::isfinite(xd[i]))
+    if (!std::isfinite(run.x[i]) || !std::isfinite(run.xd[i]))
       fail("the explicit integrator '" + integrator_name + "' diverged: " + unknown_name(i) +
            " is not finite at the step's end (h = " + short_number(h) +
            " s; a smaller step may be within its stability bound)");
-  solve_rates(t_eval, h, x, xd, xdd);
+  solve_rates(t_eval, h, run.x, run.xd, run.xdd);
 }
 
 }  // namespace mh

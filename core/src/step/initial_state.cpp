@@ -221,7 +221,7 @@ void Simulation::Engine::solve_algebraic_and_equilibrium() {
   if (equilibrium) {
     if (m > 0) {
       evaluate_constraints(model, data, cons.constraints, cons.phi, cons.phi_z, cons.phi_dot_zd);
-      cons.constraints_valid = false;  // at kinematics of its own, not kept
+      run.constraint_positions_valid = false;  // at kinematics of its own, not kept
       R = Eigen::FullPivLU<Eigen::MatrixXd>(cons.phi_z).kernel();
     } else {
       R = Eigen::MatrixXd::Identity(N, N);
@@ -236,7 +236,7 @@ void Simulation::Engine::solve_algebraic_and_equilibrium() {
       const mh_status st =
           evaluate_mechanics(MH_EVAL_DYNAMICS, t0, cons.z0.data(), zero_rates.data());
       check(st, "equilibrium: subsystem evaluation");
-      std::copy(eval.scratch_rows.data(), eval.scratch_rows.data() + n_s, f.data());
+      std::copy(work.eval.scratch_rows.data(), work.eval.scratch_rows.data() + n_s, f.data());
       out.tail(R.cols()) = R.transpose() * data.Q;
     } else {
       rows_at(*this, t0, f);

@@ -57,7 +57,7 @@ void Simulation::Engine::close_loops() {
       forward_kinematics(e.model, e.data, e.cons.z0, e.cons.zd0);
       evaluate_constraints(e.model, e.data, e.cons.constraints, e.cons.phi, e.cons.phi_z,
                            e.cons.phi_dot_zd);
-      e.cons.constraints_valid = false;  // at kinematics of its own, not kept
+      e.run.constraint_positions_valid = false;  // at kinematics of its own, not kept
       f = e.cons.phi;
       residual_norm = f.lpNorm<Eigen::Infinity>();
     }

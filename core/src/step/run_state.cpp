@@ -40,8 +40,8 @@ mh_state_extension state_extension_of(const Table* self, const Table& ops, Insta
 }  // namespace
 
 void Simulation::Engine::find_state_parts() {
-  if (snapshot.found) return;
-  snapshot.parts.clear();
+  if (work.snapshot.found) return;
+  work.snapshot.parts.clear();
   const auto add = [&](const void* self, mh_state_extension ext, InstanceHost& host,
                        bool keeps_state) {
     StatePart part;
@@ -54,7 +54,7 @@ void Simulation::Engine::find_state_parts() {
       part.size = in_flight(host, InstanceHost::Op::get_extension, [&] { return ext.size(self); });
     }
     if (!complete && !keeps_state) return;  // nothing of its own
-    snapshot.parts.push_back(part);
+    work.snapshot.parts.push_back(part);
   };
   add(formulation.self, state_extension_of(formulation.self, formulation.ops, *formulation_host),
       *formulation_host, true);
@@ -63,8 +63,8 @@ void Simulation::Engine::find_state_parts() {
   for (SubsystemInstance& s : subsystems)
     add(s.api.self, state_extension_of(s.api.self, s.api.ops, *s.host), *s.host,
         s.api.ops.accept != nullptr);
-  snapshot.key = run_key();
-  snapshot.found = true;
+  work.snapshot.key = run_key();
+  work.snapshot.found = true;
 }
 
 // What makes a state of this run one of another: the plugins, the step, the
@@ -83,61 +83,33 @@ std::string Simulation::Engine::run_key() const {
 }
 
 void Simulation::Engine::save_state(RunState& into) {
-  if (!accepted.started)
+  if (!run.accepted.started)
     throw RunStateError(
         "a run's state is saved between steps, after start(): this run has not "
         "started");
   find_state_parts();
   uint64_t total = 0;
-  for (const StatePart& part : snapshot.parts) {
+  for (const StatePart& part : work.snapshot.parts) {
     if (part.ext.save == nullptr)
       throw RunStateError(part.host->label +
                           " keeps state between steps and cannot save it (it offers no " +
                           MH_EXT_STATE + " extension, docs/sdk.md): this run cannot be saved");
     total += part.size;
   }
-  into.run_key = snapshot.key;
-  into.accepted = accepted;
-  into.energy = energy;
-  into.x = x;
-  into.xd = xd;
-  into.xdd = xdd;
-  into.y = states.y_k;
-  into.ydot = states.ydot_k;
-  into.outputs = registry.outputs_k;
-  into.next_event = states.next_event;
-  into.stability_due = stages.stability_due;
-  into.stability_next_step = stages.stability_next_step;
-  into.stability_worst_excess = stages.stability_worst_excess;
-  into.stability = stages.stability;
-  into.counters = eval.counters;
-  into.last_step = solver.stats;
-  into.constraint_z = cons.con_z;
-  into.constraint_zd = cons.con_zd;
-  into.constraint_positions_valid = cons.constraints_valid;
-  into.constraint_rates_valid = cons.constraint_rates_valid;
-  into.reuse = solver.reuse;
-  if (solver.reuse.keeps_factorization())
-    into.kept_tangent.assign(tangent_ws.values.begin(), tangent_ws.values.end());
+  into.run_key = work.snapshot.key;
+  into.data = run;
+  if (run.reuse.keeps_factorization())
+    into.kept_tangent.assign(work.tangent_ws.values.begin(), work.tangent_ws.values.end());
   else
     into.kept_tangent.clear();
-  into.input_values.resize(signals.inputs.size());
-  into.input_follows_table.resize(signals.inputs.size());
-  for (size_t k = 0; k < signals.inputs.size(); ++k) {
-    into.input_values[k] = signals.inputs[k].value;
-    into.input_follows_table[k] = signals.inputs[k].follows_table ? 1 : 0;
-  }
-  into.input_jump_pending = signals.jump_pending;
   model_values_of(model, into.model_values);
-  into.rates_jacobian_valid = stages.rates_jacobian_valid;
-  if (stages.rates_jacobian_valid) into.rates_jacobian = stages.rates_jacobian;
-  into.part_sizes.resize(snapshot.parts.size());
+  into.part_sizes.resize(work.snapshot.parts.size());
   into.part_bytes.resize(static_cast<size_t>(total));
   size_t at = 0;
-  for (size_t k = 0; k < snapshot.parts.size(); ++k) {
-    const StatePart& part = snapshot.parts[k];
+  for (size_t k = 0; k < work.snapshot.parts.size(); ++k) {
+    const StatePart& part = work.snapshot.parts[k];
     into.part_sizes[k] = part.size;
-    last_plugin_error.clear();
+    reports.last_plugin_error.clear();
     const mh_status st = in_flight(*part.host, InstanceHost::Op::save_state, [&] {
       return part.ext.save(part.self, into.part_bytes.data() + at, part.size);
     });
@@ -149,57 +121,57 @@ void Simulation::Engine::save_state(RunState& into) {
 
 void Simulation::Engine::restore_state(const RunState& from) {
   find_state_parts();
-  if (from.run_key != snapshot.key)
+  if (from.run_key != work.snapshot.key)
     throw RunStateError(
         "the state is not one of this run: it was saved from another model, formulation, "
         "integrator or step (formulation '" +
         from.run_key.substr(0, from.run_key.find('|')) + "', this run's '" + formulation_name +
         "')");
-  bool sizes_match = from.part_sizes.size() == snapshot.parts.size();
+  bool sizes_match = from.part_sizes.size() == work.snapshot.parts.size();
   uint64_t total = 0;
-  for (size_t k = 0; sizes_match && k < snapshot.parts.size(); ++k) {
-    sizes_match = from.part_sizes[k] == snapshot.parts[k].size;
+  for (size_t k = 0; sizes_match && k < work.snapshot.parts.size(); ++k) {
+    sizes_match = from.part_sizes[k] == work.snapshot.parts[k].size;
     total += from.part_sizes[k];
   }
   if (!sizes_match || total != from.part_bytes.size())
     throw RunStateError(
         "the state's plugin parts are not this run's (another build of a plugin, or bytes "
         "changed): it cannot be restored");
-  for (const StatePart& part : snapshot.parts)
+  for (const StatePart& part : work.snapshot.parts)
     if (part.ext.load == nullptr)
       throw RunStateError(part.host->label +
                           " keeps state between steps and cannot load it (it offers no " +
                           MH_EXT_STATE + " extension, docs/sdk.md): no state can be restored");
   // A run restored before it started: start() sizes what the steps use; the
   // state then overwrites what start computed.
-  if (!accepted.started) start();
+  if (!run.accepted.started) start();
   // A state read from bytes (run_state_bytes.hpp) has the right key but its
   // lengths come from the bytes: each is this run's, or nothing is restored.
   const auto sized = [](const Eigen::VectorXd& v, Eigen::Index len) { return v.size() == len; };
-  const Eigen::Index nz = accepted.z.size(), nx = x.size();
+  const RunData& d = from.data;
+  const Eigen::Index nz = run.accepted.z.size(), nx = run.x.size();
   const bool lengths_match =
-      from.accepted.started && sized(from.accepted.z, nz) && sized(from.accepted.zd, nz) &&
-      sized(from.accepted.zdd, nz) && sized(from.x, nx) && sized(from.xd, nx) &&
-      sized(from.xdd, nx) && sized(from.y, states.y_k.size()) &&
-      sized(from.ydot, states.ydot_k.size()) && sized(from.outputs, registry.outputs_k.size()) &&
-      from.next_event <= states.time_events.size() &&
-      (!from.constraint_positions_valid || sized(from.constraint_z, nz)) &&
-      (!from.constraint_rates_valid || sized(from.constraint_zd, nz)) &&
-      (!from.rates_jacobian_valid ||
-       (from.rates_jacobian.rows() == nx && from.rates_jacobian.cols() == nx)) &&
-      from.input_values.size() == signals.inputs.size() &&
-      from.input_follows_table.size() == signals.inputs.size();
+      d.accepted.started && sized(d.accepted.z, nz) && sized(d.accepted.zd, nz) &&
+      sized(d.accepted.zdd, nz) && sized(d.x, nx) && sized(d.xd, nx) && sized(d.xdd, nx) &&
+      sized(d.y, run.y.size()) && sized(d.ydot, run.ydot.size()) &&
+      sized(d.outputs, run.outputs.size()) && d.next_event <= states.time_events.size() &&
+      (!d.constraint_positions_valid || sized(d.constraint_z, nz)) &&
+      (!d.constraint_rates_valid || sized(d.constraint_zd, nz)) &&
+      (!d.rates_jacobian_valid ||
+       (d.rates_jacobian.rows() == nx && d.rates_jacobian.cols() == nx)) &&
+      d.input_values.size() == signals.inputs.size() &&
+      d.input_follows_table.size() == signals.inputs.size();
   if (!lengths_match)
     throw RunStateError(
         "the state's lengths are not this run's (its bytes were changed): it cannot be restored");
   // All parts or none: should one instance refuse its bytes, those loaded
   // before it take back what they had.
-  RunState& before = snapshot.before;
+  RunState& before = work.snapshot.before;
   save_state(before);
   size_t at = 0;
-  for (size_t k = 0; k < snapshot.parts.size(); ++k) {
-    const StatePart& part = snapshot.parts[k];
-    last_plugin_error.clear();
+  for (size_t k = 0; k < work.snapshot.parts.size(); ++k) {
+    const StatePart& part = work.snapshot.parts[k];
+    reports.last_plugin_error.clear();
     const mh_status st = in_flight(*part.host, InstanceHost::Op::load_state, [&] {
       return part.ext.load(part.self, from.part_bytes.data() + at, part.size);
     });
@@ -207,7 +179,7 @@ void Simulation::Engine::restore_state(const RunState& from) {
       const std::string reason = status_reason(st, part.host->label + " load_state");
       size_t back = 0;
       for (size_t j = 0; j < k; ++j) {
-        const StatePart& done = snapshot.parts[j];
+        const StatePart& done = work.snapshot.parts[j];
         (void)in_flight(*done.host, InstanceHost::Op::load_state, [&] {
           return done.ext.load(done.self, before.part_bytes.data() + back, done.size);
         });
@@ -217,60 +189,40 @@ void Simulation::Engine::restore_state(const RunState& from) {
     }
     at += static_cast<size_t>(part.size);
   }
-  accepted = from.accepted;
-  x = from.x;
-  xd = from.xd;
-  xdd = from.xdd;
-  states.y = from.y;
-  states.ydot = from.ydot;
-  states.y_k = from.y;
-  states.ydot_k = from.ydot;
-  registry.outputs = from.outputs;
-  registry.outputs_k = from.outputs;
-  states.next_event = from.next_event;
-  for (size_t k = 0; k < signals.inputs.size(); ++k) {
-    signals.inputs[k].value = from.input_values[k];
-    signals.inputs[k].follows_table = from.input_follows_table[k] != 0;
-  }
-  signals.jump_pending = from.input_jump_pending;
-  stages.stability_due = from.stability_due;
-  stages.stability_next_step = from.stability_next_step;
-  stages.stability_worst_excess = from.stability_worst_excess;
-  stages.stability = from.stability;
-  stages.rates_jacobian_valid = from.rates_jacobian_valid;
-  if (from.rates_jacobian_valid) {
-    stages.rates_jacobian = from.rates_jacobian;
-    stages.rates_lu.compute(stages.rates_jacobian);  // the factors the saved run kept
-  }
+  run = from.data;
+  // The iterate's copies as the accepted state (the next step starts there).
+  states.y = run.y;
+  states.ydot = run.ydot;
+  registry.outputs = run.outputs;
+  if (run.rates_jacobian_valid)
+    work.stages.rates_lu.compute(run.rates_jacobian);  // the factors the saved run kept
   // The host's caches as the saved run left them: the constraints at their
   // point, then the kinematics at the accepted state (accept_step's), and
   // the saved counters (these passes are not the run's work).
-  eval.kinematics_valid = false;
-  eval.iterate_evaluated = false;
-  cons.constraints_valid = false;
-  cons.constraint_rates_valid = false;
-  if (m > 0 && from.constraint_positions_valid) {
-    kinematics_at(from.constraint_z.data(),
-                  (from.constraint_rates_valid ? from.constraint_zd : accepted.zd).data());
-    constraints_at_kinematics(from.constraint_rates_valid);
-    eval.kinematics_valid = false;
+  work.eval.kinematics_valid = false;
+  work.eval.iterate_evaluated = false;
+  run.constraint_positions_valid = false;
+  run.constraint_rates_valid = false;
+  if (m > 0 && d.constraint_positions_valid) {
+    kinematics_at(d.constraint_z.data(),
+                  (d.constraint_rates_valid ? d.constraint_zd : d.accepted.zd).data());
+    constraints_at_kinematics(d.constraint_rates_valid);
+    work.eval.kinematics_valid = false;
   }
-  kinematics_at(accepted.z.data(), accepted.zd.data());
-  energy = from.energy;
-  eval.counters = from.counters;
-  solver.stats = from.last_step;
-  solver.reuse = from.reuse;
-  solver.reuse.set_mode(reuse_mode(settings.newton));  // this run's kind, not the saved one's
-  if (from.reuse.keeps_factorization()) {
+  kinematics_at(run.accepted.z.data(), run.accepted.zd.data());
+  run.counters = d.counters;
+  run.reuse.set_mode(reuse_mode(settings.newton));  // this run's kind, not the saved one's
+  if (d.reuse.keeps_factorization()) {
     // The factors modified Newton kept, made again from the same values.
-    bool factored = from.kept_tangent.size() == tangent_ws.values.size();
+    std::vector<double>& values = work.tangent_ws.values;
+    bool factored = from.kept_tangent.size() == values.size();
     if (factored) {
-      std::copy(from.kept_tangent.begin(), from.kept_tangent.end(), tangent_ws.values.begin());
-      factored = solver.linear_solver->factor(tangent_ws.values.data());
+      std::copy(from.kept_tangent.begin(), from.kept_tangent.end(), values.begin());
+      factored = work.solver.linear_solver->factor(values.data());
     }
-    if (!factored) solver.reuse.invalidate();  // the next step factors anew
+    if (!factored) run.reuse.invalidate();  // the next step factors anew
   }
-  last_plugin_error.clear();
+  reports.last_plugin_error.clear();
 }
 
 std::string Simulation::model_differences(const RunState& from) const {

@@ -15,7 +15,9 @@ namespace mh {
 namespace {
 
 constexpr char kMagic[8] = {'M', 'H', 'S', 'T', 'A', 'T', 'E', '\0'};
-constexpr uint32_t kFormatVersion = 2;  // 2: the model values (RunState::model_values)
+// 2: the model values (RunState::model_values); 3: the run's data
+// (RunData) whole, then what RunState keeps beside it.
+constexpr uint32_t kFormatVersion = 3;
 constexpr uint32_t kByteOrder = 0x01020304u;
 // TangentReuse keeps its members private and is copied as its bytes: the
 // other build's layout must be this one's.
@@ -170,11 +172,10 @@ class Reader {
   size_t left_;
 };
 
-// Every field of a run's state, in the bytes' order, written once for both
-// directions: `State` is const RunState with a Writer, RunState with a Reader.
-template <class State, class Io>
-void walk(State& s, Io& io) {
-  io.field(s.run_key);
+// Every field of a run's data, in the bytes' order, written once for both
+// directions: `Data` is const RunData with a Writer, RunData with a Reader.
+template <class Data, class Io>
+void walk_data(Data& s, Io& io) {
   auto& a = s.accepted;
   io.field(a.t);
   io.field(a.step);
@@ -219,12 +220,19 @@ void walk(State& s, Io& io) {
   io.field(s.constraint_positions_valid);
   io.field(s.constraint_rates_valid);
   io.field(s.reuse);
-  io.field(s.kept_tangent);
   io.field(s.rates_jacobian_valid);
   io.field(s.rates_jacobian);
   io.field(s.input_values);
   io.field(s.input_follows_table);
   io.field(s.input_jump_pending);
+}
+
+// A run's state: its key, its data, then what a snapshot keeps beside them.
+template <class State, class Io>
+void walk(State& s, Io& io) {
+  io.field(s.run_key);
+  walk_data(s.data, io);
+  io.field(s.kept_tangent);
   io.field(s.model_values);
   io.field(s.part_sizes);
   io.field(s.part_bytes);
@@ -273,7 +281,7 @@ void read_run_state_bytes(const unsigned char* data, std::size_t size, RunState&
 
   Reader r(data + kHeader, static_cast<size_t>(payload));
   walk(s, r);
-  for (uint8_t f : s.input_follows_table)
+  for (uint8_t f : s.data.input_follows_table)
     if (f > 1)
       throw RunStateError("the state's bytes are damaged (a flag reads " + std::to_string(f) + ")");
   if (r.left() != 0)

@@ -2,17 +2,19 @@
 
 namespace mh {
 
-void Signals::make_inputs(const std::vector<InputSpec>& specs) {
+void Signals::make_inputs(const std::vector<InputSpec>& specs, RunData& run) {
   inputs.clear();
+  run.input_values.clear();
+  run.input_follows_table.clear();
   for (const InputSpec& spec : specs) {
     InputSignal in;
     in.spec = &spec;
     std::string error;
     if (!spec.table.empty())
       in.table.assign(spec.table.data(), static_cast<uint32_t>(spec.table.size() / 2), error);
-    in.follows_table = !spec.table.empty();
-    in.value = spec.initial;
     inputs.push_back(std::move(in));
+    run.input_follows_table.push_back(spec.table.empty() ? 0 : 1);
+    run.input_values.push_back(spec.initial);
   }
 }
 

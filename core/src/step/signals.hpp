@@ -17,14 +17,15 @@
 
 #include "model/time_table.hpp"
 #include "monohydra/core/model_file.hpp"
+#include "monohydra/core/run_state.hpp"
 
 namespace mh {
 
+// An input's value and whether it still follows its table are the run's
+// (RunData::input_values, input_follows_table): a snapshot holds them.
 struct InputSignal {
   const InputSpec* spec = nullptr;
-  TimeTable table;             // its own (empty: none)
-  double value = 0.0;          // held, once set (or its initial value)
-  bool follows_table = false;  // nothing has set it and it has a table
+  TimeTable table;  // its own (empty: none)
 };
 
 struct Signal {
@@ -50,24 +51,25 @@ struct Signals {
   std::vector<Signal> list;
   std::deque<double> values;  // a deque: the components keep the values' addresses
   std::vector<ConstantSignal> constants;
-  bool jump_pending = false;  // an input changed between steps (Simulation::set_input)
   // The jumps of inputs' tables that components read (time, input): events
   // while the input follows its table (merged into the run's at setup).
   std::vector<std::pair<double, int>> input_events;
 
-  void make_inputs(const std::vector<InputSpec>& specs);
+  // The inputs of `specs`, their values (run's) as the model gives them.
+  void make_inputs(const std::vector<InputSpec>& specs, RunData& run);
   int find_input(const std::string& name) const;  // -1 when absent
-  double input_value(int k, double t) const {
-    const InputSignal& in = inputs[static_cast<size_t>(k)];
-    return in.follows_table ? in.table.value(t) : in.value;
+  // Input k at time t in a run whose values are `run`'s.
+  double input_value(int k, double t, const RunData& run) const {
+    const auto i = static_cast<size_t>(k);
+    return run.input_follows_table[i] != 0 ? inputs[i].table.value(t) : run.input_values[i];
   }
   // Writes the signals [begin, end) (one instance's) at time t and states y.
-  void refresh(size_t begin, size_t end, double t, const double* y) {
+  void refresh(size_t begin, size_t end, double t, const double* y, const RunData& run) {
     for (size_t k = begin; k < end; ++k) {
       const Signal& s = list[k];
       *s.value = s.state >= 0  ? y[s.state]
                  : s.input < 0 ? s.table.value(t)
-                               : input_value(s.input, t);
+                               : input_value(s.input, t, run);
     }
   }
 };

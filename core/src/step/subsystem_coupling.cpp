@@ -20,24 +20,24 @@
 namespace mh {
 
 void Simulation::Engine::size_coupling() {
-  coupling.coupling_possible = formulation.ops.mechanics_map != nullptr && n_m > 0;
+  work.coupling.coupling_possible = formulation.ops.mechanics_map != nullptr && n_m > 0;
   for (const auto& s : subsystems) {
     if (s.points.empty()) continue;
     for (int a : s.touched)
-      if (tangent_ws.column_analytic[static_cast<size_t>(a)] == 0)
-        coupling.coupling_possible = false;
+      if (work.tangent_ws.column_analytic[static_cast<size_t>(a)] == 0)
+        work.coupling.coupling_possible = false;
   }
-  for (Eigen::MatrixXd* M :
-       {&coupling.map_dz_dx, &coupling.map_dzd_dx, &coupling.map_dzd_dxd, &coupling.map_dzd_total})
+  for (Eigen::MatrixXd* M : {&work.coupling.map_dz_dx, &work.coupling.map_dzd_dx,
+                             &work.coupling.map_dzd_dxd, &work.coupling.map_dzd_total})
     M->setZero(N, n_m);
-  coupling.map_dr_dQ.setZero(n_m, N);
-  coupling.point_jp.setZero(3, N);
-  coupling.point_jv.setZero(3, N);
-  coupling.point_dp_dx.setZero(3, n_m);
-  coupling.point_dv_dx.setZero(3, n_m);
-  coupling.dr_dF.setZero(n_m, 3);
-  for (Eigen::VectorXd* v : {&eval.z_iterate, &eval.zd_iterate, &tangent_ws.z_base,
-                             &tangent_ws.zd_base, &eval.kin_z, &eval.kin_zd})
+  work.coupling.map_dr_dQ.setZero(n_m, N);
+  work.coupling.point_jp.setZero(3, N);
+  work.coupling.point_jv.setZero(3, N);
+  work.coupling.point_dp_dx.setZero(3, n_m);
+  work.coupling.point_dv_dx.setZero(3, n_m);
+  work.coupling.dr_dF.setZero(n_m, 3);
+  for (Eigen::VectorXd* v : {&work.eval.z_iterate, &work.eval.zd_iterate, &work.tangent_ws.z_base,
+                             &work.tangent_ws.zd_base, &work.eval.kin_z, &work.eval.kin_zd})
     v->setZero(N);
   for (auto& s : subsystems) {
     const size_t k = s.touched.size();
@@ -52,8 +52,8 @@ void Simulation::Engine::size_coupling() {
     for (size_t a = 0; a < k; ++a)
       for (int c = 0; c < n_m; ++c) {
         const size_t at = a * static_cast<size_t>(n_m) + static_cast<size_t>(c);
-        s.rows_in_mech[at] = tangent_ws.pattern->slot(n_m + s.touched[a], c);
-        s.mech_in_cols[at] = tangent_ws.pattern->slot(c, n_m + s.touched[a]);
+        s.rows_in_mech[at] = work.tangent_ws.pattern->slot(n_m + s.touched[a], c);
+        s.mech_in_cols[at] = work.tangent_ws.pattern->slot(c, n_m + s.touched[a]);
       }
   }
 }
@@ -146,40 +146,41 @@ void point_velocity_jacobian(const Model& model, const Data& data, const BodyPoi
 // How the formulation's mechanics depended on x at the last residual call
 // (the iterate), and where that iterate's kinematics were.
 mh_status Simulation::Engine::read_mechanics_map() {
-  for (Eigen::MatrixXd* M :
-       {&coupling.map_dz_dx, &coupling.map_dzd_dx, &coupling.map_dzd_dxd, &coupling.map_dr_dQ})
+  for (Eigen::MatrixXd* M : {&work.coupling.map_dz_dx, &work.coupling.map_dzd_dx,
+                             &work.coupling.map_dzd_dxd, &work.coupling.map_dr_dQ})
     M->setZero();
-  tangent_ws.z_base = eval.z_iterate;
-  tangent_ws.zd_base = eval.zd_iterate;
+  work.tangent_ws.z_base = work.eval.z_iterate;
+  work.tangent_ws.zd_base = work.eval.zd_iterate;
   // The coordinates' derivatives serve only the mechanical columns the
   // formulation's tangent gave: without one, the formulation need not compute them.
   bool any_given = false;
-  for (uint8_t g : tangent_ws.mech_column_given) any_given = any_given || g != 0;
+  for (uint8_t g : work.tangent_ws.mech_column_given) any_given = any_given || g != 0;
   return normalized(in_flight(*formulation_host, InstanceHost::Op::mechanics_map, [&] {
     const mh_mechanics_map map{sizeof(mh_mechanics_map),
                                static_cast<uint32_t>(N),
                                static_cast<uint32_t>(n_m),
-                               any_given ? coupling.map_dz_dx.data() : nullptr,
-                               any_given ? coupling.map_dzd_dx.data() : nullptr,
-                               any_given ? coupling.map_dzd_dxd.data() : nullptr,
-                               coupling.map_dr_dQ.data()};
+                               any_given ? work.coupling.map_dz_dx.data() : nullptr,
+                               any_given ? work.coupling.map_dzd_dx.data() : nullptr,
+                               any_given ? work.coupling.map_dzd_dxd.data() : nullptr,
+                               work.coupling.map_dr_dQ.data()};
     return formulation.ops.mechanics_map(formulation.self, &map);
   }));
 }
 
 mh_status Simulation::Engine::couple_subsystems(double t_eval) {
   mh_status st = MH_OK;
-  const mh_step_coefficients& cf = map_ws.map.coefficients;
+  const mh_step_coefficients& cf = work.map_ws.map.coefficients;
   for (int c = 0; c < n_m; ++c) {
     const uint8_t kind = registry.kinds[static_cast<size_t>(c)];
     const double cv = kind == MH_UNKNOWN_SECOND_ORDER  ? cf.dxd_dx_second
                       : kind == MH_UNKNOWN_FIRST_ORDER ? cf.dxd_dx_first
                                                        : 0.0;
-    coupling.map_dzd_total.col(c) = coupling.map_dzd_dx.col(c) + cv * coupling.map_dzd_dxd.col(c);
+    work.coupling.map_dzd_total.col(c) =
+        work.coupling.map_dzd_dx.col(c) + cv * work.coupling.map_dzd_dxd.col(c);
   }
   // The kinematics of the iterate (the formulation's tangent may have left
   // them there already).
-  kinematics_at(tangent_ws.z_base.data(), tangent_ws.zd_base.data());
+  kinematics_at(work.tangent_ws.z_base.data(), work.tangent_ws.zd_base.data());
   // Zero the coupling entries; instances that share a state add to them. The
   // mechanical columns the host differenced hold their whole columns already.
   for (const auto& s : subsystems) {
@@ -189,14 +190,14 @@ mh_status Simulation::Engine::couple_subsystems(double t_eval) {
     for (size_t e = 0; e < s.rows_in_mech.size(); ++e) {
       const int below = s.rows_in_mech[e];
       if (below < 0) continue;
-      if (tangent_ws.mech_column_given[e % static_cast<size_t>(n_m)] != 0)
-        tangent_ws.values[static_cast<size_t>(below)] = 0.0;
-      tangent_ws.values[static_cast<size_t>(s.mech_in_cols[e])] = 0.0;
+      if (work.tangent_ws.mech_column_given[e % static_cast<size_t>(n_m)] != 0)
+        work.tangent_ws.values[static_cast<size_t>(below)] = 0.0;
+      work.tangent_ws.values[static_cast<size_t>(s.mech_in_cols[e])] = 0.0;
     }
   }
-  derivs.saved_outputs = registry.outputs;
+  work.derivs.saved_outputs = registry.outputs;
   const double dydot_dy = cf.dxd_dx_first;
-  mh_subsystem_eval ev = subsystem_eval(t_eval, derivs.rows_discard.data());
+  mh_subsystem_eval ev = subsystem_eval(t_eval, work.derivs.rows_discard.data());
   for (auto& s : subsystems) {
     const size_t P = s.points.size();
     if (P == 0) continue;
@@ -229,49 +230,53 @@ mh_status Simulation::Engine::couple_subsystems(double t_eval) {
       }
     } else {
       st = difference_instance(s, ev, states.y, states.ydot, states.algebraic, dydot_dy,
-                               derivs.rows_discard);
+                               work.derivs.rows_discard);
     }
     if (!status_ok(st)) {
-      registry.outputs = derivs.saved_outputs;
+      registry.outputs = work.derivs.saved_outputs;
       return st;
     }
     for (size_t a = 0; a < P; ++a) {
       const BodyPoint& pt = s.points[a];
       if (pt.body == kGround) continue;  // a fixed point: no motion, its force goes to the ground
       const Eigen::Vector3d p(s.p[3 * a], s.p[3 * a + 1], s.p[3 * a + 2]);
-      point_jacobian(model, data, pt, coupling.point_jp);
-      point_velocity_jacobian(model, data, pt, p, coupling.point_jv);
-      coupling.point_dp_dx.noalias() = coupling.point_jp * coupling.map_dz_dx;
-      coupling.point_dv_dx.noalias() = coupling.point_jv * coupling.map_dz_dx;
-      coupling.point_dv_dx.noalias() += coupling.point_jp * coupling.map_dzd_total;
+      point_jacobian(model, data, pt, work.coupling.point_jp);
+      point_velocity_jacobian(model, data, pt, p, work.coupling.point_jv);
+      work.coupling.point_dp_dx.noalias() = work.coupling.point_jp * work.coupling.map_dz_dx;
+      work.coupling.point_dv_dx.noalias() = work.coupling.point_jv * work.coupling.map_dz_dx;
+      work.coupling.point_dv_dx.noalias() += work.coupling.point_jp * work.coupling.map_dzd_total;
       // The instance's rows in the mechanical columns.
       for (size_t row = 0; row < k; ++row) {
         const int* slots = s.rows_in_mech.data() + row * static_cast<size_t>(n_m);
         for (int c = 0; c < n_m; ++c) {
-          if (tangent_ws.mech_column_given[static_cast<size_t>(c)] == 0) continue;  // differenced
+          if (work.tangent_ws.mech_column_given[static_cast<size_t>(c)] == 0)
+            continue;  // differenced
           const int slot = slots[c];
           if (slot < 0) continue;  // c moves none of its points
           double d = 0.0;
           for (int i = 0; i < 3; ++i)
-            d += s.dR_dp[(3 * a + static_cast<size_t>(i)) * k + row] * coupling.point_dp_dx(i, c) +
-                 s.dR_dv[(3 * a + static_cast<size_t>(i)) * k + row] * coupling.point_dv_dx(i, c);
-          tangent_ws.values[static_cast<size_t>(slot)] += d;
+            d += s.dR_dp[(3 * a + static_cast<size_t>(i)) * k + row] *
+                     work.coupling.point_dp_dx(i, c) +
+                 s.dR_dv[(3 * a + static_cast<size_t>(i)) * k + row] *
+                     work.coupling.point_dv_dx(i, c);
+          work.tangent_ws.values[static_cast<size_t>(slot)] += d;
         }
       }
       // The mechanical rows in the instance's state columns: dr/dQ' J_p^T,
       // formed once per point, times each state's dF.
-      coupling.dr_dF.noalias() = coupling.map_dr_dQ * coupling.point_jp.transpose();
+      work.coupling.dr_dF.noalias() = work.coupling.map_dr_dQ * work.coupling.point_jp.transpose();
       for (size_t b = 0; b < k; ++b) {
         const Eigen::Vector3d dF(s.dF_dy[b * n3 + 3 * a], s.dF_dy[b * n3 + 3 * a + 1],
                                  s.dF_dy[b * n3 + 3 * a + 2]);
         const int* slots = s.mech_in_cols.data() + b * static_cast<size_t>(n_m);
         for (int rr = 0; rr < n_m; ++rr)
           if (slots[rr] >= 0)
-            tangent_ws.values[static_cast<size_t>(slots[rr])] += coupling.dr_dF.row(rr).dot(dF);
+            work.tangent_ws.values[static_cast<size_t>(slots[rr])] +=
+                work.coupling.dr_dF.row(rr).dot(dF);
       }
     }
   }
-  registry.outputs = derivs.saved_outputs;
+  registry.outputs = work.derivs.saved_outputs;
   return MH_OK;
 }
 

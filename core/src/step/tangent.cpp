@@ -30,7 +30,7 @@ void Simulation::Engine::build_pattern() {
                       " joint coordinates) but added " + std::to_string(n_m) + " unknowns");
   // The formulation's blocks are then cleared and read on the pattern only
   // (assemble_tangent, check_formulation_blocks): O(nonzeros), not 3 n_m^2.
-  tangent_ws.coordinate_unknowns = topological;
+  work.tangent_ws.coordinate_unknowns = topological;
   // The mechanical unknowns each subsystem with points moves and is moved by.
   std::vector<std::vector<int>> moved(subsystems.size());
   std::vector<int> all_mechanical(static_cast<size_t>(n_m));
@@ -69,47 +69,49 @@ void Simulation::Engine::build_pattern() {
         entries.emplace_back(k, n_m + a);
       }
   }
-  tangent_ws.pattern = std::make_shared<const SparsePattern>(n, std::move(entries));
-  tangent_ws.any_points = false;
+  work.tangent_ws.pattern = std::make_shared<const SparsePattern>(n, std::move(entries));
+  work.tangent_ws.any_points = false;
   for (const auto& s : subsystems)
-    tangent_ws.any_points = tangent_ws.any_points || !s.points.empty();
-  tangent_ws.values.assign(static_cast<size_t>(tangent_ws.pattern->nonzeros()), 0.0);
-  tangent_ws.groups = tangent_ws.pattern->column_groups();
-  tangent_ws.mech_column_start.assign(1, 0);
-  tangent_ws.mech_row_index.clear();
+    work.tangent_ws.any_points = work.tangent_ws.any_points || !s.points.empty();
+  work.tangent_ws.values.assign(static_cast<size_t>(work.tangent_ws.pattern->nonzeros()), 0.0);
+  work.tangent_ws.groups = work.tangent_ws.pattern->column_groups();
+  work.tangent_ws.mech_column_start.assign(1, 0);
+  work.tangent_ws.mech_row_index.clear();
   if (topological) {
-    const auto& colptr = tangent_ws.pattern->column_start();
-    const auto& rows = tangent_ws.pattern->row_index();
+    const auto& colptr = work.tangent_ws.pattern->column_start();
+    const auto& rows = work.tangent_ws.pattern->row_index();
     for (int c = 0; c < n_m; ++c) {  // a column's mechanical rows come first
       for (int k = colptr[c]; k < colptr[c + 1] && rows[k] < n_m; ++k)
-        tangent_ws.mech_row_index.push_back(rows[k]);
-      tangent_ws.mech_column_start.push_back(
-          static_cast<int32_t>(tangent_ws.mech_row_index.size()));
+        work.tangent_ws.mech_row_index.push_back(rows[k]);
+      work.tangent_ws.mech_column_start.push_back(
+          static_cast<int32_t>(work.tangent_ws.mech_row_index.size()));
     }
   }
 
   // Which state columns are fully covered by analytic blocks.
-  tangent_ws.column_analytic.assign(static_cast<size_t>(n_s), 1);
+  work.tangent_ws.column_analytic.assign(static_cast<size_t>(n_s), 1);
   std::vector<char> state_feeds_mech(static_cast<size_t>(n_s), 0);
   for (const auto& s : subsystems)
     for (int a : s.touched) {
-      if (s.api.ops.jacobian == nullptr) tangent_ws.column_analytic[static_cast<size_t>(a)] = 0;
+      if (s.api.ops.jacobian == nullptr)
+        work.tangent_ws.column_analytic[static_cast<size_t>(a)] = 0;
       if (!s.points.empty()) state_feeds_mech[static_cast<size_t>(a)] = 1;
     }
   // State columns that need differences; the mechanical ones are decided per
   // assembly (the formulation says which columns it gave).
-  tangent_ws.group_needs_fd.assign(tangent_ws.groups.size(), 0);
-  for (size_t g = 0; g < tangent_ws.groups.size(); ++g) {
-    for (int c : tangent_ws.groups[g]) {
+  work.tangent_ws.group_needs_fd.assign(work.tangent_ws.groups.size(), 0);
+  for (size_t g = 0; g < work.tangent_ws.groups.size(); ++g) {
+    for (int c : work.tangent_ws.groups[g]) {
       if (c < n_m) continue;
-      if (tangent_ws.column_analytic[static_cast<size_t>(c - n_m)] == 0 ||
+      if (work.tangent_ws.column_analytic[static_cast<size_t>(c - n_m)] == 0 ||
           state_feeds_mech[static_cast<size_t>(c - n_m)] != 0)
-        tangent_ws.group_needs_fd[g] = 1;
+        work.tangent_ws.group_needs_fd[g] = 1;
     }
   }
-  for (Eigen::MatrixXd* b : {&tangent_ws.dr_dx, &tangent_ws.dr_dxd, &tangent_ws.dr_dxdd})
+  for (Eigen::MatrixXd* b :
+       {&work.tangent_ws.dr_dx, &work.tangent_ws.dr_dxd, &work.tangent_ws.dr_dxdd})
     b->setZero(n_m, n_m);
-  tangent_ws.mech_column_given.assign(static_cast<size_t>(n_m), 0);
+  work.tangent_ws.mech_column_given.assign(static_cast<size_t>(n_m), 0);
   for (auto& s : subsystems) {
     const size_t k = s.touched.size();
     s.slots.resize(k * k);
@@ -117,7 +119,7 @@ void Simulation::Engine::build_pattern() {
     s.d_dydot.resize(k * k);
     for (size_t a = 0; a < k; ++a)
       for (size_t b = 0; b < k; ++b)
-        s.slots[b * k + a] = tangent_ws.pattern->slot(n_m + s.touched[a], n_m + s.touched[b]);
+        s.slots[b * k + a] = work.tangent_ws.pattern->slot(n_m + s.touched[a], n_m + s.touched[b]);
     if (s.declared.empty()) continue;
     // A declared block: its entries outside the declaration are zero, and
     // another instance's entry in the same place is not its to write.
@@ -149,17 +151,18 @@ void Simulation::Engine::build_pattern() {
     for (size_t e = 0; e < k * k; ++e)
       if (s.slots[e] < 0) s.undeclared[static_cast<Eigen::Index>(e)] = 1.0;
   }
-  solver.linear_solver = make_linear_solver(*tangent_ws.pattern, settings.linear);
+  work.solver.linear_solver = make_linear_solver(*work.tangent_ws.pattern, settings.linear);
   for (Eigen::VectorXd* v :
-       {&x, &xd, &xdd, &r, &tangent_ws.r_pert, &solver.dx, &solver.dx_trial, &solver.dx_correction,
-        &tangent_ws.eps, &map_ws.x_pred, &map_ws.xd_off, &map_ws.xdd_off})
+       {&run.x, &run.xd, &run.xdd, &work.r, &work.tangent_ws.r_pert, &work.solver.dx,
+        &work.solver.dx_trial, &work.solver.dx_correction, &work.tangent_ws.eps,
+        &work.map_ws.x_pred, &work.map_ws.xd_off, &work.map_ws.xdd_off})
     v->setZero(n);
 }
 
 mh_status Simulation::Engine::residual(double t_eval, const Eigen::VectorXd& xq,
                                        Eigen::VectorXd& rq) {
-  rates_of(xq, xd, xdd);
-  return residual_at(t_eval, xq, xd, xdd, rq);
+  rates_of(xq, run.xd, run.xdd);
+  return residual_at(t_eval, xq, run.xd, run.xdd, rq);
 }
 
 mh_status Simulation::Engine::residual_at(double t_eval, const Eigen::VectorXd& xq,
@@ -167,19 +170,19 @@ mh_status Simulation::Engine::residual_at(double t_eval, const Eigen::VectorXd& 
                                           Eigen::VectorXd& rq) {
   states.y = xq.tail(n_s);
   states.ydot = xdq.tail(n_s);
-  ++eval.counters.residual_evaluations;
-  eval.rows_target = rq.data() + n_m;
-  eval.iterate_evaluated = false;
+  ++run.counters.residual_evaluations;
+  work.eval.rows_target = rq.data() + n_m;
+  work.eval.iterate_evaluated = false;
   const mh_status st = normalized(in_flight(*formulation_host, InstanceHost::Op::residual, [&] {
     const mh_unknown_values at = monohydra::unknown_values(t_eval, static_cast<size_t>(n_m),
                                                            xq.data(), xdq.data(), xddq.data());
     return formulation.ops.residual(formulation.self, &at, rq.data());
   }));
-  eval.rows_target = nullptr;
-  if (status_ok(st) && !eval.iterate_evaluated) {
-    last_plugin_error = "formulation '" + formulation_name +
-                        "' broke the ABI contract: its residual did not call "
-                        "evaluate_mechanics with MH_EVAL_SUBSYSTEMS";
+  work.eval.rows_target = nullptr;
+  if (status_ok(st) && !work.eval.iterate_evaluated) {
+    reports.last_plugin_error = "formulation '" + formulation_name +
+                                "' broke the ABI contract: its residual did not call "
+                                "evaluate_mechanics with MH_EVAL_SUBSYSTEMS";
     return MH_ERROR;
   }
   return st;
@@ -189,14 +192,14 @@ mh_status Simulation::Engine::residual_at(double t_eval, const Eigen::VectorXd& 
 // non-finite one, the plugins' buffers read into them are searched for the
 // writer, in the order they were read.
 void Simulation::Engine::check_tangent_values() const {
-  if (all_finite(tangent_ws.values.data(), tangent_ws.values.size())) return;
+  if (all_finite(work.tangent_ws.values.data(), work.tangent_ws.values.size())) return;
   if (formulation.ops.tangent != nullptr) check_formulation_blocks();
-  if (tangent_ws.any_points && coupling.coupling_possible) {
+  if (work.tangent_ws.any_points && work.coupling.coupling_possible) {
     const std::pair<const Eigen::MatrixXd*, const char*> maps[] = {
-        {&coupling.map_dz_dx, "dz_dx"},
-        {&coupling.map_dzd_dx, "dzd_dx"},
-        {&coupling.map_dzd_dxd, "dzd_dxd"},
-        {&coupling.map_dr_dQ, "dr_dQ"}};
+        {&work.coupling.map_dz_dx, "dz_dx"},
+        {&work.coupling.map_dzd_dx, "dzd_dx"},
+        {&work.coupling.map_dzd_dxd, "dzd_dxd"},
+        {&work.coupling.map_dr_dQ, "dr_dQ"}};
     for (const auto& [block, name] : maps)
       check_finite(block->data(), static_cast<size_t>(block->size()), *formulation_host,
                    "mechanics_map", name);
@@ -206,7 +209,7 @@ void Simulation::Engine::check_tangent_values() const {
       check_finite(s.d_dy.data(), s.d_dy.size(), *s.host, "jacobian", "d_dy");
       check_finite(s.d_dydot.data(), s.d_dydot.size(), *s.host, "jacobian", "d_dydot");
     }
-    if (s.api.ops.coupling_jacobian != nullptr && coupling.coupling_possible) {
+    if (s.api.ops.coupling_jacobian != nullptr && work.coupling.coupling_possible) {
       check_finite(s.dR_dp.data(), s.dR_dp.size(), *s.host, "coupling_jacobian", "dR_dp");
       check_finite(s.dR_dv.data(), s.dR_dv.size(), *s.host, "coupling_jacobian", "dR_dv");
       check_finite(s.dF_dy.data(), s.dF_dy.size(), *s.host, "coupling_jacobian", "dF_dy");
@@ -214,10 +217,10 @@ void Simulation::Engine::check_tangent_values() const {
     }
   }
   // No plugin buffer holds it: a difference of finite residuals overflowed.
-  const auto& colptr = tangent_ws.pattern->column_start();
+  const auto& colptr = work.tangent_ws.pattern->column_start();
   for (int c = 0; c < n; ++c)
     for (int k = colptr[c]; k < colptr[c + 1]; ++k)
-      if (!std::isfinite(tangent_ws.values[static_cast<size_t>(k)]))
+      if (!std::isfinite(work.tangent_ws.values[static_cast<size_t>(k)]))
         fail_step("the tangent's column of " + unknown_name(c) +
                   " is not finite: its forward differences of the residual overflowed");
 }
@@ -225,18 +228,19 @@ void Simulation::Engine::check_tangent_values() const {
 // Outside the topological pattern of coordinate unknowns the blocks are not
 // read (and not zeroed): only the entries read are checked, O(nonzeros).
 void Simulation::Engine::check_formulation_blocks() const {
-  const Eigen::MatrixXd* blocks[3] = {&tangent_ws.dr_dx, &tangent_ws.dr_dxd, &tangent_ws.dr_dxdd};
+  const Eigen::MatrixXd* blocks[3] = {&work.tangent_ws.dr_dx, &work.tangent_ws.dr_dxd,
+                                      &work.tangent_ws.dr_dxdd};
   const char* names[3] = {"dr_dx (column-major)", "dr_dxd (column-major)",
                           "dr_dxdd (column-major)"};
   for (int b = 0; b < 3; ++b) {
     const double* v = blocks[b]->data();
-    if (!tangent_ws.coordinate_unknowns) {
+    if (!work.tangent_ws.coordinate_unknowns) {
       check_finite(v, static_cast<size_t>(blocks[b]->size()), *formulation_host, "tangent",
                    names[b]);
       continue;
     }
-    const auto& colptr = tangent_ws.pattern->column_start();
-    const auto& rows = tangent_ws.pattern->row_index();
+    const auto& colptr = work.tangent_ws.pattern->column_start();
+    const auto& rows = work.tangent_ws.pattern->row_index();
     for (int c = 0; c < n_m; ++c)
       for (int k = colptr[c]; k < colptr[c + 1] && rows[k] < n_m; ++k) {
         const auto at = static_cast<size_t>(c) * static_cast<size_t>(n_m) + rows[k];
@@ -247,39 +251,40 @@ void Simulation::Engine::check_formulation_blocks() const {
 }
 
 mh_status Simulation::Engine::assemble_tangent(double t_eval) {
-  std::fill(tangent_ws.values.begin(), tangent_ws.values.end(), 0.0);
+  std::fill(work.tangent_ws.values.begin(), work.tangent_ws.values.end(), 0.0);
   // Analytic blocks first: they are defined at the x of the last residual
   // call, which the forward differences below move away from.
-  std::fill(tangent_ws.mech_column_given.begin(), tangent_ws.mech_column_given.end(), 0);
+  std::fill(work.tangent_ws.mech_column_given.begin(), work.tangent_ws.mech_column_given.end(), 0);
   if (formulation.ops.tangent != nullptr) {
-    if (tangent_ws.coordinate_unknowns) {
+    if (work.tangent_ws.coordinate_unknowns) {
       // Zero on entry where the host reads them; outside the topological
       // pattern the blocks are structurally zero and ignored (O(nonzeros),
       // not O(n_m^2)).
-      const auto& colptr = tangent_ws.pattern->column_start();
-      const auto& rows = tangent_ws.pattern->row_index();
+      const auto& colptr = work.tangent_ws.pattern->column_start();
+      const auto& rows = work.tangent_ws.pattern->row_index();
       for (int c = 0; c < n_m; ++c)
         for (int k = colptr[c]; k < colptr[c + 1] && rows[k] < n_m; ++k) {
-          tangent_ws.dr_dx(rows[k], c) = 0.0;
-          tangent_ws.dr_dxd(rows[k], c) = 0.0;
-          tangent_ws.dr_dxdd(rows[k], c) = 0.0;
+          work.tangent_ws.dr_dx(rows[k], c) = 0.0;
+          work.tangent_ws.dr_dxd(rows[k], c) = 0.0;
+          work.tangent_ws.dr_dxdd(rows[k], c) = 0.0;
         }
     } else {
-      for (Eigen::MatrixXd* b : {&tangent_ws.dr_dx, &tangent_ws.dr_dxd, &tangent_ws.dr_dxdd})
+      for (Eigen::MatrixXd* b :
+           {&work.tangent_ws.dr_dx, &work.tangent_ws.dr_dxd, &work.tangent_ws.dr_dxdd})
         b->setZero();
     }
     const mh_status st = normalized(in_flight(*formulation_host, InstanceHost::Op::tangent, [&] {
-      const mh_unknown_values at = monohydra::unknown_values(t_eval, static_cast<size_t>(n_m),
-                                                             x.data(), xd.data(), xdd.data());
+      const mh_unknown_values at = monohydra::unknown_values(
+          t_eval, static_cast<size_t>(n_m), run.x.data(), run.xd.data(), run.xdd.data());
       const mh_tangent_blocks blocks{
-          sizeof(mh_tangent_blocks), static_cast<uint32_t>(n_m),
-          tangent_ws.dr_dx.data(),   tangent_ws.dr_dxd.data(),
-          tangent_ws.dr_dxdd.data(), tangent_ws.mech_column_given.data()};
+          sizeof(mh_tangent_blocks),      static_cast<uint32_t>(n_m),
+          work.tangent_ws.dr_dx.data(),   work.tangent_ws.dr_dxd.data(),
+          work.tangent_ws.dr_dxdd.data(), work.tangent_ws.mech_column_given.data()};
       return formulation.ops.tangent(formulation.self, &at, &blocks);
     }));
     if (!status_ok(st)) return st;
-    Eigen::MatrixXd* const written[3] = {&tangent_ws.dr_dx, &tangent_ws.dr_dxd,
-                                         &tangent_ws.dr_dxdd};
+    Eigen::MatrixXd* const written[3] = {&work.tangent_ws.dr_dx, &work.tangent_ws.dr_dxd,
+                                         &work.tangent_ws.dr_dxdd};
     apply_planted(planted, written);
   }
   // With the formulation's mechanics map the subsystems with points
@@ -287,12 +292,12 @@ mh_status Simulation::Engine::assemble_tangent(double t_eval) {
   // in a state column that feeds the mechanics, nor in a mechanical column the
   // formulation's tangent gave. Read here, at the iterate, before the
   // differences below move x.
-  const bool coupled = tangent_ws.any_points && coupling.coupling_possible;
+  const bool coupled = work.tangent_ws.any_points && work.coupling.coupling_possible;
   if (coupled) {
     const mh_status st = read_mechanics_map();
     if (!status_ok(st)) return st;
   }
-  mh_subsystem_eval ev = subsystem_eval(t_eval, eval.scratch_rows.data());
+  mh_subsystem_eval ev = subsystem_eval(t_eval, work.eval.scratch_rows.data());
   for (auto& s : subsystems) {
     if (s.api.ops.jacobian == nullptr) continue;
     if (s.undeclared.size() != 0 && s.block_checked) {
@@ -333,42 +338,42 @@ mh_status Simulation::Engine::assemble_tangent(double t_eval) {
   }
 
   // Forward differences by column groups, Eqs. (40)-(41).
-  const auto& colptr = tangent_ws.pattern->column_start();
-  const auto& rows = tangent_ws.pattern->row_index();
-  for (size_t g = 0; g < tangent_ws.groups.size(); ++g) {
+  const auto& colptr = work.tangent_ws.pattern->column_start();
+  const auto& rows = work.tangent_ws.pattern->row_index();
+  for (size_t g = 0; g < work.tangent_ws.groups.size(); ++g) {
     bool needs = false;
-    for (int c : tangent_ws.groups[g]) {
+    for (int c : work.tangent_ws.groups[g]) {
       if (c < n_m)
-        needs = needs || tangent_ws.mech_column_given[static_cast<size_t>(c)] == 0 ||
-                (tangent_ws.any_points && !coupled);
+        needs = needs || work.tangent_ws.mech_column_given[static_cast<size_t>(c)] == 0 ||
+                (work.tangent_ws.any_points && !coupled);
       else if (coupled)
-        needs = needs || tangent_ws.column_analytic[static_cast<size_t>(c - n_m)] == 0;
+        needs = needs || work.tangent_ws.column_analytic[static_cast<size_t>(c - n_m)] == 0;
       else
-        needs = needs || tangent_ws.group_needs_fd[g] != 0;
+        needs = needs || work.tangent_ws.group_needs_fd[g] != 0;
     }
     if (!needs) continue;
-    for (int c : tangent_ws.groups[g]) {
-      tangent_ws.eps[c] = 1e-8 * std::max(1e-2, std::abs(x[c]));  // Eq. (41)
-      x[c] += tangent_ws.eps[c];
+    for (int c : work.tangent_ws.groups[g]) {
+      work.tangent_ws.eps[c] = 1e-8 * std::max(1e-2, std::abs(run.x[c]));  // Eq. (41)
+      run.x[c] += work.tangent_ws.eps[c];
     }
-    const mh_status st = residual(t_eval, x, tangent_ws.r_pert);
-    for (int c : tangent_ws.groups[g]) x[c] -= tangent_ws.eps[c];
+    const mh_status st = residual(t_eval, run.x, work.tangent_ws.r_pert);
+    for (int c : work.tangent_ws.groups[g]) run.x[c] -= work.tangent_ws.eps[c];
     if (!status_ok(st)) return st;
-    for (int c : tangent_ws.groups[g])
+    for (int c : work.tangent_ws.groups[g])
       for (int k = colptr[c]; k < colptr[c + 1]; ++k)
-        tangent_ws.values[static_cast<size_t>(k)] =
-            (tangent_ws.r_pert[rows[k]] - r[rows[k]]) / tangent_ws.eps[c];
+        work.tangent_ws.values[static_cast<size_t>(k)] =
+            (work.tangent_ws.r_pert[rows[k]] - work.r[rows[k]]) / work.tangent_ws.eps[c];
   }
   // Restore the state the step's base evaluation left (rates, y, ydot at x).
-  rates_of(x, xd, xdd);
-  states.y = x.tail(n_s);
-  states.ydot = xd.tail(n_s);
+  rates_of(run.x, run.xd, run.xdd);
+  states.y = run.x.tail(n_s);
+  states.ydot = run.xd.tail(n_s);
 
   // The formulation's columns: dr/dx + dxd_dx dr/dxd + dxdd_dx dr/dxdd.
-  const mh_step_coefficients& cf = map_ws.map.coefficients;
-  if (!tangent_ws.any_points || coupled) {
+  const mh_step_coefficients& cf = work.map_ws.map.coefficients;
+  if (!work.tangent_ws.any_points || coupled) {
     for (int c = 0; c < n_m; ++c) {
-      if (tangent_ws.mech_column_given[static_cast<size_t>(c)] == 0) continue;
+      if (work.tangent_ws.mech_column_given[static_cast<size_t>(c)] == 0) continue;
       const uint8_t kind = registry.kinds[static_cast<size_t>(c)];
       const double cv = kind == MH_UNKNOWN_SECOND_ORDER  ? cf.dxd_dx_second
                         : kind == MH_UNKNOWN_FIRST_ORDER ? cf.dxd_dx_first
@@ -378,9 +383,9 @@ mh_status Simulation::Engine::assemble_tangent(double t_eval) {
       // pattern are structurally zero (MH_EXT_COORDINATE_UNKNOWNS).
       for (int k = colptr[c]; k < colptr[c + 1] && rows[k] < n_m; ++k) {
         const int rr = rows[k];
-        tangent_ws.values[static_cast<size_t>(k)] = tangent_ws.dr_dx(rr, c) +
-                                                    cv * tangent_ws.dr_dxd(rr, c) +
-                                                    ca * tangent_ws.dr_dxdd(rr, c);
+        work.tangent_ws.values[static_cast<size_t>(k)] = work.tangent_ws.dr_dx(rr, c) +
+                                                         cv * work.tangent_ws.dr_dxd(rr, c) +
+                                                         ca * work.tangent_ws.dr_dxdd(rr, c);
       }
     }
   }
@@ -393,19 +398,20 @@ mh_status Simulation::Engine::assemble_tangent(double t_eval) {
   const double dydot_dy = cf.dxd_dx_first;
   for (const auto& s : subsystems)
     for (const auto& col : s.block_columns) {
-      if (tangent_ws.column_analytic[static_cast<size_t>(col.state)] == 0) continue;
+      if (work.tangent_ws.column_analytic[static_cast<size_t>(col.state)] == 0) continue;
       for (size_t i = col.begin; i < col.end; ++i)
-        tangent_ws.values[static_cast<size_t>(s.block[i].slot)] = 0.0;
+        work.tangent_ws.values[static_cast<size_t>(s.block[i].slot)] = 0.0;
     }
   for (const auto& s : subsystems)
     for (const auto& col : s.block_columns) {
       const auto state = static_cast<size_t>(col.state);
-      if (tangent_ws.column_analytic[state] == 0) continue;
+      if (work.tangent_ws.column_analytic[state] == 0) continue;
       // An algebraic state has no rate: its column is d r / d y alone.
       const double cv = states.algebraic[state] != 0 ? 0.0 : dydot_dy;
       for (size_t i = col.begin; i < col.end; ++i) {
         const auto e = static_cast<size_t>(s.block[i].local);
-        tangent_ws.values[static_cast<size_t>(s.block[i].slot)] += s.d_dy[e] + cv * s.d_dydot[e];
+        work.tangent_ws.values[static_cast<size_t>(s.block[i].slot)] +=
+            s.d_dy[e] + cv * s.d_dydot[e];
       }
     }
   check_tangent_values();

@@ -19,11 +19,11 @@ SimulationError::SimulationError(double t, long step, const std::string& reason)
       reason_(reason) {}
 
 void Simulation::Engine::fail(const std::string& reason) const {
-  throw SimulationError(accepted.attempt_t, accepted.attempt_step, reason);
+  throw SimulationError(run.accepted.attempt_t, run.accepted.attempt_step, reason);
 }
 
 void Simulation::Engine::fail_step(const std::string& reason) const {
-  throw StepFailure(accepted.attempt_t, accepted.attempt_step, reason);
+  throw StepFailure(run.accepted.attempt_t, run.accepted.attempt_step, reason);
 }
 
 void Simulation::Engine::fail_nonfinite(double value, size_t index, const InstanceHost& writer,
@@ -70,7 +70,7 @@ std::string Simulation::Engine::status_reason(mh_status s, const std::string& wh
     reason += " failed fatally";
   else
     reason += " failed";
-  if (!last_plugin_error.empty()) reason += ": " + last_plugin_error;
+  if (!reports.last_plugin_error.empty()) reason += ": " + reports.last_plugin_error;
   return reason;
 }
 
@@ -92,59 +92,58 @@ void Simulation::Engine::start() {
 }
 
 void Simulation::Engine::start_run() {
-  accepted.t = 0.0;
-  accepted.step = 0;
-  accepted.attempt_t = 0.0;
-  accepted.attempt_step = 0;
+  run.accepted.t = 0.0;
+  run.accepted.step = 0;
+  run.accepted.attempt_t = 0.0;
+  run.accepted.attempt_step = 0;
   states.ydot.setZero(n_s);
-  eval.scratch_rows.setZero(n_s);
+  work.eval.scratch_rows.setZero(n_s);
   registry.outputs.setZero(n_o);
-  accepted.z = cons.z0;  // assembled: Phi(z0) = 0, Phi_z zd0 = 0
-  accepted.zd = cons.zd0;
-  accepted.zdd.setZero(N);
-  last_plugin_error.clear();
-  eval.counters = Simulation::WorkCounters{};
+  run.accepted.z = cons.z0;  // assembled: Phi(z0) = 0, Phi_z zd0 = 0
+  run.accepted.zd = cons.zd0;
+  run.accepted.zdd.setZero(N);
+  reports.last_plugin_error.clear();
+  run.counters = Simulation::WorkCounters{};
   // The step's statistics grow by one entry per iteration: sized here so
   // that a step allocates nothing (only a retried step may need more).
   const size_t per_attempt = static_cast<size_t>(std::max(settings.max_iterations, 1)) + 2;
   // A damped iteration evaluates the residual at each trial (NewtonDamping:
   // at most 11) and once more after the formulation's iteration_done.
   const size_t residuals_per_iteration = settings.line_search ? 12 : 1;
-  solver.stats.increment_norms.reserve(4 * per_attempt);
-  solver.stats.residual_norms.reserve(4 * per_attempt * residuals_per_iteration);
+  run.last_step.increment_norms.reserve(4 * per_attempt);
+  run.last_step.residual_norms.reserve(4 * per_attempt * residuals_per_iteration);
   // Algebraic states, and the equilibrium the model asks for, before the
   // formulation computes its initial accelerations from them.
   solve_algebraic_and_equilibrium();
-  states.next_event = 0;
-  while (states.next_event < states.time_events.size() &&
-         states.time_events[states.next_event] <= 0.0)
-    ++states.next_event;
-  x.setZero();
-  xd.setZero();
-  xdd.setZero();
+  run.next_event = 0;
+  while (run.next_event < states.time_events.size() && states.time_events[run.next_event] <= 0.0)
+    ++run.next_event;
+  run.x.setZero();
+  run.xd.setZero();
+  run.xdd.setZero();
   check(in_flight(*formulation_host, InstanceHost::Op::start,
                   [&] {
                     const mh_unknown_buffers out = monohydra::unknown_buffers(
-                        static_cast<size_t>(n_m), x.data(), xd.data(), xdd.data());
+                        static_cast<size_t>(n_m), run.x.data(), run.xd.data(), run.xdd.data());
                     return formulation.ops.start(formulation.self, &out);
                   }),
         "formulation start");
   const auto mech = static_cast<size_t>(n_m);
-  check_finite(x.data(), mech, *formulation_host, "start", "x", false);
-  check_finite(xd.data(), mech, *formulation_host, "start", "xd", false);
-  check_finite(xdd.data(), mech, *formulation_host, "start", "xdd", false);
+  check_finite(run.x.data(), mech, *formulation_host, "start", "x", false);
+  check_finite(run.xd.data(), mech, *formulation_host, "start", "xd", false);
+  check_finite(run.xdd.data(), mech, *formulation_host, "start", "xdd", false);
   check(in_flight(*formulation_host, InstanceHost::Op::coordinates,
                   [&] {
-                    const mh_coordinate_buffers out{sizeof(mh_coordinate_buffers),
-                                                    static_cast<uint32_t>(N), accepted.z.data(),
-                                                    accepted.zd.data(), accepted.zdd.data()};
+                    const mh_coordinate_buffers out{
+                        sizeof(mh_coordinate_buffers), static_cast<uint32_t>(N),
+                        run.accepted.z.data(), run.accepted.zd.data(), run.accepted.zdd.data()};
                     return formulation.ops.coordinates(formulation.self, &out);
                   }),
         "formulation coordinates");
   const auto coords = static_cast<size_t>(N);
-  check_finite(accepted.z.data(), coords, *formulation_host, "coordinates", "z", false);
-  check_finite(accepted.zd.data(), coords, *formulation_host, "coordinates", "zd", false);
-  check_finite(accepted.zdd.data(), coords, *formulation_host, "coordinates", "zdd", false);
+  check_finite(run.accepted.z.data(), coords, *formulation_host, "coordinates", "z", false);
+  check_finite(run.accepted.zd.data(), coords, *formulation_host, "coordinates", "zd", false);
+  check_finite(run.accepted.zdd.data(), coords, *formulation_host, "coordinates", "zdd", false);
   registry.tol.resize(n);
   registry.tol.head(n_m) = registry.unknown_tol;
   registry.tol.tail(n_s) = states.state_tol;
@@ -152,36 +151,36 @@ void Simulation::Engine::start_run() {
     if (!(registry.tol[i] > 0.0)) fail("the tolerance of " + unknown_name(i) + " is not positive");
 
   // ydot0: the rates that make every state row vanish at t = 0.
-  forward_kinematics(model, data, accepted.z, accepted.zd);
-  solve_initial_rates(accepted.t);
-  x.tail(n_s) = states.y;
-  xd.tail(n_s) = states.ydot;
+  forward_kinematics(model, data, run.accepted.z, run.accepted.zd);
+  solve_initial_rates(run.accepted.t);
+  run.x.tail(n_s) = states.y;
+  run.xd.tail(n_s) = states.ydot;
   for (int i = 0; i < n_s; ++i)
-    if (states.algebraic[static_cast<size_t>(i)] != 0) xd[n_m + i] = 0.0;
-  states.y_k = states.y;
-  states.ydot_k = states.ydot;
-  solver.reuse.invalidate();
+    if (states.algebraic[static_cast<size_t>(i)] != 0) run.xd[n_m + i] = 0.0;
+  run.y = states.y;
+  run.ydot = states.ydot;
+  run.reuse.invalidate();
   restart_integrator();
   start_energy_balance();
-  accepted.started = true;
+  run.accepted.started = true;
 }
 
 void Simulation::Engine::step_once() {
-  if (!accepted.started) fail("step() before start()");
-  if (signals.jump_pending) apply_input_jump();
+  if (!run.accepted.started) fail("step() before start()");
+  if (run.input_jump_pending) apply_input_jump();
   // t from the step count, not by summing dt: no round-off creep over 1e4 steps.
-  const double t_next = static_cast<double>(accepted.step + 1) * settings.dt;
-  accepted.attempt_step = accepted.step + 1;
-  solver.stats.iterations = 0;
-  solver.stats.retries = 0;
-  solver.stats.tangents = 0;
-  solver.stats.damped = 0;
-  solver.stats.converged = true;
-  solver.stats.unconverged = 0.0;
-  solver.stats.increment_norms.clear();
-  solver.stats.residual_norms.clear();
+  const double t_next = static_cast<double>(run.accepted.step + 1) * settings.dt;
+  run.accepted.attempt_step = run.accepted.step + 1;
+  run.last_step.iterations = 0;
+  run.last_step.retries = 0;
+  run.last_step.tangents = 0;
+  run.last_step.damped = 0;
+  run.last_step.converged = true;
+  run.last_step.unconverged = 0.0;
+  run.last_step.increment_norms.clear();
+  run.last_step.residual_norms.clear();
   advance(t_next, settings.max_step_halvings);
-  ++accepted.step;
+  ++run.accepted.step;
 }
 
 // From the accepted t to t_to in one step; when that step fails for a reason
@@ -189,22 +188,22 @@ void Simulation::Engine::step_once() {
 // left, in two halves instead. Every accepted (sub-)step is a complete step:
 // the formulation, the integrator and the subsystems accept it.
 void Simulation::Engine::advance(double t_to, int halvings_left) {
-  const size_t events_before = states.next_event;
+  const size_t events_before = run.next_event;
   try {
     attempt(t_to);
   } catch (const StepFailure& failure) {
-    solver.reuse.invalidate();  // modified Newton: the retry factors anew
+    run.reuse.invalidate();  // modified Newton: the retry factors anew
     if (halvings_left <= 0) {
-      if (solver.stats.retries == 0) throw;
+      if (run.last_step.retries == 0) throw;
       throw SimulationError(
           failure.time(), failure.step(),
-          failure.reason() + " (after " + std::to_string(solver.stats.retries) +
+          failure.reason() + " (after " + std::to_string(run.last_step.retries) +
               " halvings of the step, the most the model allows: " + "solver.max_step_halvings = " +
               std::to_string(settings.max_step_halvings) + ")");
     }
-    states.next_event = events_before;
-    ++solver.stats.retries;
-    const double t_mid = 0.5 * (accepted.t + t_to);
+    run.next_event = events_before;
+    ++run.last_step.retries;
+    const double t_mid = 0.5 * (run.accepted.t + t_to);
     advance(t_mid, halvings_left - 1);
     advance(t_to, halvings_left - 1);
   }
@@ -212,27 +211,27 @@ void Simulation::Engine::advance(double t_to, int halvings_left) {
 
 // One step from the accepted t to t_next.
 void Simulation::Engine::attempt(double t_next) {
-  const double h = t_next - accepted.t;
-  accepted.attempt_t = t_next;  // failures name the step being attempted
+  const double h = t_next - run.accepted.t;
+  run.accepted.attempt_t = t_next;  // failures name the step being attempted
   // ... and so does a crash handler (plugin_call.hpp)
   plugin_call_in_flight().t.store(t_next, std::memory_order_relaxed);
-  plugin_call_in_flight().step.store(accepted.attempt_step, std::memory_order_relaxed);
-  last_plugin_error.clear();
+  plugin_call_in_flight().step.store(run.accepted.attempt_step, std::memory_order_relaxed);
+  reports.last_plugin_error.clear();
 
   // A time event inside the step, or at its end: the end is evaluated at the
   // event's left limit, and the integrator restarts after it (right limit).
   bool event = false;
   double t_eval = t_next;
-  while (states.next_event < states.time_events.size() &&
-         states.time_events[states.next_event] <= t_next + 1e-9 * h) {
+  while (run.next_event < states.time_events.size() &&
+         states.time_events[run.next_event] <= t_next + 1e-9 * h) {
     // An input's table jump is an event only while the input follows it.
-    const int input = states.time_event_inputs[states.next_event];
-    if (input < 0 || signals.inputs[static_cast<size_t>(input)].follows_table) {
+    const int input = states.time_event_inputs[run.next_event];
+    if (input < 0 || run.input_follows_table[static_cast<size_t>(input)] != 0) {
       event = true;
-      if (std::abs(states.time_events[states.next_event] - t_next) <= 1e-9 * h)
-        t_eval = std::nextafter(states.time_events[states.next_event], -HUGE_VAL);
+      if (std::abs(states.time_events[run.next_event] - t_next) <= 1e-9 * h)
+        t_eval = std::nextafter(states.time_events[run.next_event], -HUGE_VAL);
     }
-    ++states.next_event;
+    ++run.next_event;
   }
 
   if (explicit_method) {
@@ -247,7 +246,7 @@ void Simulation::Engine::attempt(double t_next) {
     // Modified Newton may fail on a kept factorization where full Newton
     // converges: the step once more from its prediction, factoring at every
     // iteration, before the failure counts.
-    if (!solver.reuse.retry_with_full_newton()) throw;
+    if (!run.reuse.retry_with_full_newton()) throw;
     prepare_step(t_next, h);
     newton_solve(t_eval, t_next);
   }
@@ -258,9 +257,9 @@ void Simulation::Engine::attempt(double t_next) {
 // formulation.
 void Simulation::Engine::prepare_step(double t_next, double h) {
   begin_step(t_next, h);
-  x = map_ws.x_pred;
-  rates_of(x, xd, xdd);
-  formulation_begin_step(map_ws.map.coefficients, t_next, x, xd, xdd);
+  run.x = work.map_ws.x_pred;
+  rates_of(run.x, run.xd, run.xdd);
+  formulation_begin_step(work.map_ws.map.coefficients, t_next, run.x, run.xd, run.xdd);
 }
 
 // The formulation's begin_step (optional) with the step's coefficients and
@@ -288,31 +287,31 @@ void Simulation::Engine::accept_step(double t_next, bool event, double h, double
   check(in_flight(*formulation_host, InstanceHost::Op::accept,
                   [&] {
                     const mh_unknown_buffers values = monohydra::unknown_buffers(
-                        static_cast<size_t>(n_m), x.data(), xd.data(), xdd.data());
+                        static_cast<size_t>(n_m), run.x.data(), run.xd.data(), run.xdd.data());
                     return formulation.ops.accept(formulation.self, t_next,
-                                                  &map_ws.map.coefficients, &values, &flags);
+                                                  &work.map_ws.map.coefficients, &values, &flags);
                   }),
         "formulation accept");
   // What accept left in x, xd, xdd (its corrections, a redefinition) is the
   // integrator's history: a non-finite value is named here, with its writer.
   const auto mech = static_cast<size_t>(n_m);
-  check_finite(x.data(), mech, *formulation_host, "accept", "x", false);
-  check_finite(xd.data(), mech, *formulation_host, "accept", "xd", false);
-  check_finite(xdd.data(), mech, *formulation_host, "accept", "xdd", false);
+  check_finite(run.x.data(), mech, *formulation_host, "accept", "x", false);
+  check_finite(run.xd.data(), mech, *formulation_host, "accept", "xd", false);
+  check_finite(run.xdd.data(), mech, *formulation_host, "accept", "xdd", false);
   check(in_flight(*formulation_host, InstanceHost::Op::coordinates,
                   [&] {
-                    const mh_coordinate_buffers out{sizeof(mh_coordinate_buffers),
-                                                    static_cast<uint32_t>(N), accepted.z.data(),
-                                                    accepted.zd.data(), accepted.zdd.data()};
+                    const mh_coordinate_buffers out{
+                        sizeof(mh_coordinate_buffers), static_cast<uint32_t>(N),
+                        run.accepted.z.data(), run.accepted.zd.data(), run.accepted.zdd.data()};
                     return formulation.ops.coordinates(formulation.self, &out);
                   }),
         "formulation coordinates");
   const auto coords = static_cast<size_t>(N);
-  check_finite(accepted.z.data(), coords, *formulation_host, "coordinates", "z", false);
-  check_finite(accepted.zd.data(), coords, *formulation_host, "coordinates", "zd", false);
-  check_finite(accepted.zdd.data(), coords, *formulation_host, "coordinates", "zdd", false);
-  states.y = x.tail(n_s);
-  states.ydot = xd.tail(n_s);
+  check_finite(run.accepted.z.data(), coords, *formulation_host, "coordinates", "z", false);
+  check_finite(run.accepted.zd.data(), coords, *formulation_host, "coordinates", "zd", false);
+  check_finite(run.accepted.zdd.data(), coords, *formulation_host, "coordinates", "zdd", false);
+  states.y = run.x.tail(n_s);
+  states.ydot = run.xd.tail(n_s);
   if (formulation.ops.write_outputs != nullptr)
     check(in_flight(*formulation_host, InstanceHost::Op::write_outputs,
                     [&] {
@@ -321,30 +320,31 @@ void Simulation::Engine::accept_step(double t_next, bool event, double h, double
                     }),
           "formulation write_outputs");
   check_outputs("at the accepted step");
-  registry.outputs_k = registry.outputs;  // of the converged iterate's evaluation
+  run.outputs = registry.outputs;  // of the converged iterate's evaluation
   update_energy_balance(h);
   for (auto& s : subsystems) {
     if (s.api.ops.accept == nullptr) continue;
-    mh_subsystem_eval ev = subsystem_eval(t_next, eval.scratch_rows.data());
+    mh_subsystem_eval ev = subsystem_eval(t_next, work.eval.scratch_rows.data());
     point_at(ev, s);
     refresh_signals(s, ev);
     check(in_flight(*s.host, InstanceHost::Op::accept,
                     [&] { return s.api.ops.accept(s.api.self, &ev); }),
           "subsystem", s.spec->name, "accept");
   }
-  accepted.t = t_next;
-  kinematics_at(accepted.z.data(), accepted.zd.data());
+  run.accepted.t = t_next;
+  kinematics_at(run.accepted.z.data(), run.accepted.zd.data());
   if (event) rates_after_jump();
-  states.y_k = states.y;
-  states.ydot_k = states.ydot;
+  run.y = states.y;
+  run.ydot = states.ydot;
   if (event || (flags & MH_ACCEPT_REDEFINED) != 0) {
-    solver.reuse.invalidate();  // x may mean something else now, or jump
+    run.reuse.invalidate();  // x may mean something else now, or jump
     restart_integrator();
   } else {
     check(in_flight(*integrator_host, InstanceHost::Op::accept,
                     [&] {
-                      const mh_unknown_values at = monohydra::unknown_values(
-                          accepted.t, static_cast<size_t>(n), x.data(), xd.data(), xdd.data());
+                      const mh_unknown_values at =
+                          monohydra::unknown_values(run.accepted.t, static_cast<size_t>(n),
+                                                    run.x.data(), run.xd.data(), run.xdd.data());
                       return integrator.ops.accept(integrator.self, &at);
                     }),
           "integrator", integrator_name, "accept");
@@ -354,19 +354,19 @@ void Simulation::Engine::accept_step(double t_next, bool event, double h, double
 }
 
 void Simulation::Engine::rates_after_jump() {
-  solve_initial_rates(std::nextafter(accepted.t, HUGE_VAL));
-  kinematics_at(accepted.z.data(), accepted.zd.data());
-  xd.tail(n_s) = states.ydot;
+  solve_initial_rates(std::nextafter(run.accepted.t, HUGE_VAL));
+  kinematics_at(run.accepted.z.data(), run.accepted.zd.data());
+  run.xd.tail(n_s) = states.ydot;
 }
 
 // What accept_step does after a time event, for a jump between two steps:
 // the accepted state keeps its coordinates and states, its rates are the
 // right limit's, and the integrator starts again from there.
 void Simulation::Engine::apply_input_jump() {
-  signals.jump_pending = false;
+  run.input_jump_pending = false;
   rates_after_jump();
-  states.ydot_k = states.ydot;
-  solver.reuse.invalidate();
+  run.ydot = states.ydot;
+  run.reuse.invalidate();
   restart_integrator();
 }
 

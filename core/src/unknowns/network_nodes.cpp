@@ -34,13 +34,13 @@ mh_status Simulation::Engine::add_port(InstanceHost& h, const mh_port_spec& spec
   const auto fail_input = [&](const SourceMark& mark, const std::string& field,
                               const std::string& expected) {
     const InputError err(mark, field, expected);
-    last_plugin_error = err.what();
-    if (!option_error) option_error = std::make_unique<InputError>(err);
-    if (log) log(MH_LOG_ERROR, h.source, err.what());
+    reports.last_plugin_error = err.what();
+    if (!reports.option_error) reports.option_error = std::make_unique<InputError>(err);
+    if (reports.log) reports.log(MH_LOG_ERROR, h.source, err.what());
     return MH_ERROR;
   };
   if (key.empty() || (spec.role != MH_PORT_FLOW && spec.role != MH_PORT_EFFORT)) {
-    last_plugin_error = h.source + ": add_port: expected a port name and a role";
+    reports.last_plugin_error = h.source + ": add_port: expected a port name and a role";
     return MH_ERROR;
   }
   // A port of the component that the model leaves unconnected.

@@ -275,7 +275,7 @@ std::string state_check(const Setup& s, const PluginRegistry& registry) {
     fresh.step();
     if (shown(fresh) != after[k]) {
       std::ostringstream msg;
-      msg << "the run restored from a snapshot at t = " << saved.accepted.t
+      msg << "the run restored from a snapshot at t = " << saved.data.accepted.t
           << " s differs from the run it was saved from at t = " << fresh.time()
           << " s: some state between steps is not in the instance's saved bytes";
       return msg.str();
@@ -661,12 +661,12 @@ std::string compare_formulation_blocks(const Simulation::FormulationBlocks& f, d
     std::ostringstream msg;
     msg.precision(6);
     if (w.non_finite) {
-      msg << kTangentBlocks[b] << " holds a non-finite entry at t = " << t << " s: row "
-          << w.row + 1 << ", column " << w.col + 1;
+      msg << Simulation::FormulationBlocks::kNames[b] << " holds a non-finite entry at t = " << t
+          << " s: row " << w.row + 1 << ", column " << w.col + 1;
       return msg.str();
     }
     if (w.compared && w.error > kTangentTolerance) {
-      msg << kTangentBlocks[b]
+      msg << Simulation::FormulationBlocks::kNames[b]
           << " disagrees with differences of its residual in that argument at t = " << t
           << " s: row " << w.row + 1 << ", column " << w.col + 1 << ": " << describe(w);
       return msg.str();

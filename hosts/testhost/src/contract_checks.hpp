@@ -84,7 +84,6 @@ monohydra::testhost::TangentComparison compare_tangent(Simulation& sim);
 // differences of its residual in each argument alone
 // (Simulation::formulation_blocks), at the blocks' floor (kBlockFloor): ""
 // or the failure; `worst` raised to each block's worst entry.
-inline constexpr const char* kTangentBlocks[3] = {"dr/dx", "dr/dxd", "dr/dxdd"};
 std::string compare_formulation_blocks(const Simulation::FormulationBlocks& f, double t,
                                        double worst[3]);
 

@@ -607,7 +607,7 @@ PlantedErrors Host::planted_errors(const Model& model, double factor) const {
       std::string unplanted = mh::testhost::compare_formulation_blocks(f, sim.time(), worst);
       if (!unplanted.empty()) return "unplanted: " + unplanted;
       for (int b = 0; b < 3; ++b) {
-        const char* block = mh::testhost::kTangentBlocks[b];
+        const char* block = mh::Simulation::FormulationBlocks::kNames[b];
         account.plant(
             f.block[b], &f.given, mh::testhost::judged_effect(f.block[b], across), block, nullptr,
             nullptr,

@@ -52,7 +52,7 @@ TEST_P(RestoredRun, RepeatsTheStepsAfterTheSaveToTheLastBitHereAndInAFreshRun) {
   const Trace first = steps(run, c.after);
 
   run.restore_state(saved);
-  EXPECT_EQ(run.time(), saved.accepted.t);
+  EXPECT_EQ(run.time(), saved.data.accepted.t);
   const Trace again = steps(run, c.after);
   EXPECT_EQ(largest_difference(first, again), 0.0) << "restored into the run it came from";
 
@@ -163,7 +163,7 @@ TEST(RunState, BytesAnInstanceRefusesLeaveTheWholeRunAsItWas) {
   ASSERT_FALSE(garbled.part_sizes.empty());
   // The formulation's part first: 0xff bytes make its partition's indices -1.
   std::fill_n(garbled.part_bytes.begin(), garbled.part_sizes[0], static_cast<unsigned char>(0xff));
-  garbled.accepted.z.setConstant(1e3);  // the host's part: not taken either
+  garbled.data.accepted.z.setConstant(1e3);  // the host's part: not taken either
   try {
     run.restore_state(garbled);
     FAIL() << "garbled bytes restored";

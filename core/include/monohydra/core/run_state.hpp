@@ -43,33 +43,37 @@ struct AcceptedPoint {
   bool started = false;
 };
 
-struct RunState {
-  // The run it is of (formulation, integrator, dt, every coordinate's, state's
-  // and output's name): restore refuses another.
-  std::string run_key;
+// Everything the host keeps of a run that changes from step to step (the
+// plugin instances keep theirs, state.h): the one value the step reads and
+// writes. A snapshot is a copy of it, restore assigns it back, and its bytes
+// are one walk of its fields (run_state_bytes.cpp); the rest of the engine is
+// fixed by the model or recomputed from this (kinematics, tangents, the
+// integrator's map, the caches of the constraints and the rates' factors).
+struct RunData {
   AcceptedPoint accepted;
   EnergyBalance energy;
-  Eigen::VectorXd x, xd, xdd;  // every unknown at the accepted time
-  Eigen::VectorXd y, ydot;     // the subsystem states and rates
-  Eigen::VectorXd outputs;
-  size_t next_event = 0;  // the first time event after the accepted time
-  // An explicit integrator's stability checks.
+  // Newton's unknowns and their rates: the iterate within a step, the
+  // accepted values between steps.
+  Eigen::VectorXd x, xd, xdd;
+  Eigen::VectorXd y, ydot;  // the subsystem states and rates, accepted
+  Eigen::VectorXd outputs;  // accepted
+  size_t next_event = 0;    // the first time event after the accepted time
+  // An explicit integrator's stability checks (explicit_stability.cpp).
   bool stability_due = false;
   long stability_next_step = 0;
   double stability_worst_excess = 0.0;
   ExplicitStability stability;
-  Simulation::WorkCounters counters;
+  Simulation::WorkCounters counters;  // since start()
   StepStats last_step;
   // Where the host's constraint cache stands (Phi at constraint_z, its rates
   // at constraint_zd), so that a restored run's passes, as the counters count
   // them, are the saved run's.
   Eigen::VectorXd constraint_z, constraint_zd;
   bool constraint_positions_valid = false, constraint_rates_valid = false;
-  // What the Newton loops keep from step to step: modified Newton's
-  // factorization (as the tangent's values it was made from, refactored on
-  // restore: the same factors) and an explicit integrator's rates Jacobian.
+  // What the Newton loops keep from step to step: full, per-step or modified
+  // Newton and its factorization's age (the factors themselves are
+  // RunState::kept_tangent's); an explicit integrator's rates Jacobian.
   TangentReuse reuse;
-  std::vector<double> kept_tangent;  // empty: no factorization kept
   bool rates_jacobian_valid = false;
   Eigen::MatrixXd rates_jacobian;
   // The model's inputs: their values, which still follow their tables, and
@@ -77,6 +81,16 @@ struct RunState {
   std::vector<double> input_values;
   std::vector<uint8_t> input_follows_table;
   bool input_jump_pending = false;
+};
+
+struct RunState {
+  // The run it is of (formulation, integrator, dt, every coordinate's, state's
+  // and output's name): restore refuses another.
+  std::string run_key;
+  RunData data;
+  // Modified Newton's factorization, as the tangent's values it was made
+  // from (refactored on restore: the same factors); empty: none kept.
+  std::vector<double> kept_tangent;
   // The values of the model a run changes in place when it was saved (each
   // body's mass, centre of mass and inertia, then gravity: model_values_of):
   // Simulation::model_differences names those a run has otherwise.

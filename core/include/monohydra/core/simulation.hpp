@@ -336,6 +336,8 @@ class Simulation {
   // mechanical columns of a model whose subsystems have points). `given`:
   // the columns the formulation wrote (empty when it has no tangent op).
   struct FormulationBlocks {
+    // The blocks' names, as every check and message writes them.
+    static constexpr const char* kNames[3] = {"dr/dx", "dr/dxd", "dr/dxdd"};
     TangentSample block[3];  // of x, xd, xdd
     std::vector<unsigned char> given;
   };
