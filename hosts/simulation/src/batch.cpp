@@ -74,9 +74,11 @@ void Batch::set_parameter(size_t run, const std::string& path, const std::string
 size_t Batch::step(long steps) {
   each([&](BatchRun& r) {
     stepped(r, [&](Simulation& s) {
-      for (long i = 0; i < steps; ++i) s.step();
+      for (long i = 0; i < steps && !stop_asked(); ++i) s.step();
     });
   });
+  if (cancel_hit_.load(std::memory_order_acquire))
+    cancel_asked_.store(false, std::memory_order_release);  // taken by this call
   size_t stopped = 0;
   for (const auto& r : runs_) stopped += r->failure.empty() ? 0 : 1;
   return stopped;
@@ -86,9 +88,11 @@ size_t Batch::advance(double t) {
   each([&](BatchRun& r) {
     stepped(r, [&](Simulation& s) {
       const double dt = s.settings().dt;
-      while (s.time() < t - 1e-6 * dt) s.step();
+      while (s.time() < t - 1e-6 * dt && !stop_asked()) s.step();
     });
   });
+  if (cancel_hit_.load(std::memory_order_acquire))
+    cancel_asked_.store(false, std::memory_order_release);  // taken by this call
   size_t stopped = 0;
   for (const auto& r : runs_) stopped += r->failure.empty() ? 0 : 1;
   return stopped;

@@ -7,6 +7,7 @@
 // run's result is the one it has stepped alone, to the bit.
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <functional>
 #include <memory>
@@ -54,6 +55,13 @@ class Batch {
   // a restore; the others go on. Returns how many runs are stopped.
   size_t step(long steps);
   size_t advance(double t);
+  // Ends the step or advance in flight: each run stops at its next look
+  // between two steps (with none in flight, the next call at its start).
+  // Any thread may call it, and a signal handler (it only sets a flag).
+  void cancel() { cancel_asked_.store(true, std::memory_order_release); }
+  // Whether cancel() ended the last step or advance (taken: asked once, it
+  // ends one call).
+  bool take_cancelled() { return cancel_hit_.exchange(false, std::memory_order_acq_rel); }
 
   // Variable `v` (the table's numbering) of every run, in run order.
   void values(const Variable& v, double* out) const;
@@ -75,11 +83,19 @@ class Batch {
 
  private:
   void each(const std::function<void(BatchRun&)>& work);
+  // Whether a run's loop stops before its next step (cancel() was asked).
+  bool stop_asked() {
+    if (!cancel_asked_.load(std::memory_order_acquire)) return false;
+    cancel_hit_.store(true, std::memory_order_release);
+    return true;
+  }
 
   std::unique_ptr<const OpenedModel> opened_;
   std::vector<std::unique_ptr<BatchRun>> runs_;  // each where its log sink points
   std::unique_ptr<VariableTable> variables_;
   RunPool pool_;
+  std::atomic<bool> cancel_asked_{false};
+  std::atomic<bool> cancel_hit_{false};
 };
 
 }  // namespace mh::embed

@@ -1,6 +1,8 @@
 // The batch's C API (simulation.h, 1.5): each call checks its arguments
 // and runs inside one guard that turns every exception into a status and a
 // message, as a run's calls do (simulation_api.cpp).
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -19,7 +21,10 @@
 
 struct mhs_batch {
   std::unique_ptr<mh::embed::Batch> batch;  // null: the model did not open
+  // What the last call that did not return MHS_OK said, kept through the
+  // calls that do until the next one that does not, or a restore.
   std::string message;
+  std::atomic<bool> in_call{false};  // a thread is in a call on this batch
 };
 
 struct mhs_batch_snapshot {
@@ -35,10 +40,43 @@ namespace {
 using mh::embed::Batch;
 using monohydra::short_number;
 
+constexpr const char* kBatchInUse =
+    "refused: another thread is in a call on this batch (a batch is used by one thread at a "
+    "time; its own threads step its runs)";
+
+// The batch this thread was last refused on because another thread was in a
+// call on it: its mhs_batch_message is kBatchInUse.
+const mhs_batch*& refused_in_use() {
+  thread_local const mhs_batch* batch = nullptr;
+  return batch;
+}
+
+// Marks the batch as in a call for as long as it lives; `entered` is false
+// when another thread was in one already.
+class BatchCallScope {
+ public:
+  explicit BatchCallScope(mhs_batch* b) : b_(b) {
+    entered_ = !b->in_call.exchange(true, std::memory_order_acquire);
+    if (entered_ && refused_in_use() == b) refused_in_use() = nullptr;
+    if (!entered_) refused_in_use() = b;
+  }
+  ~BatchCallScope() {
+    if (entered_) b_->in_call.store(false, std::memory_order_release);
+  }
+  BatchCallScope(const BatchCallScope&) = delete;
+  BatchCallScope& operator=(const BatchCallScope&) = delete;
+  bool entered() const { return entered_; }
+
+ private:
+  mhs_batch* b_;
+  bool entered_ = false;
+};
+
 template <class Body>
 mhs_status guarded(mhs_batch* b, Body&& body) {
   if (b == nullptr) return MHS_ERROR;
-  b->message.clear();
+  const BatchCallScope scope(b);
+  if (!scope.entered()) return MHS_ERROR;
   if (!b->batch) {
     b->message = "the model did not open; free this handle (mhs_batch_free)";
     return MHS_FATAL;
@@ -93,6 +131,23 @@ mhs_status stopped(mhs_batch* b, size_t count) {
   if (count == 0) return MHS_OK;
   b->message = std::to_string(count) + " of " + std::to_string(b->batch->size()) +
                " runs are stopped (the others went on):\n" + b->batch->failures();
+  return MHS_DISCARD;
+}
+
+// A step or advance that mhs_batch_cancel ended: each run stopped between
+// two of its steps, at an accepted state, and goes on from there.
+mhs_status cancelled(mhs_batch* b, const Batch& batch, const char* call) {
+  double lo = batch.run(0).sim->time(), hi = lo;
+  for (size_t k = 1; k < batch.size(); ++k) {
+    lo = std::min(lo, batch.run(k).sim->time());
+    hi = std::max(hi, batch.run(k).sim->time());
+  }
+  b->message =
+      std::string(call) +
+      ": cancelled (mhs_batch_cancel); each run is at an accepted state (t = " + short_number(lo) +
+      (hi > lo ? " to " + short_number(hi) : std::string()) + " s) and goes on from there";
+  const std::string failures = batch.failures();
+  if (!failures.empty()) b->message += "; stopped runs:\n" + failures;
   return MHS_DISCARD;
 }
 
@@ -176,7 +231,13 @@ MHS_API void mhs_batch_free(mhs_batch* batch) {
 }
 
 MHS_API const char* mhs_batch_message(const mhs_batch* batch) {
-  return batch == nullptr ? "the batch handle is NULL" : batch->message.c_str();
+  if (batch == nullptr) return "the batch handle is NULL";
+  if (refused_in_use() == batch) return kBatchInUse;
+  return batch->message.c_str();
+}
+
+MHS_API void mhs_batch_cancel(mhs_batch* batch) {
+  if (batch != nullptr && batch->batch) batch->batch->cancel();
 }
 
 MHS_API mhs_status mhs_batch_size(const mhs_batch* cb, uint32_t* runs, uint32_t* threads) {
@@ -222,7 +283,9 @@ MHS_API mhs_status mhs_batch_step(mhs_batch* b, uint64_t steps) {
   return guarded(b, [&](Batch& batch) -> mhs_status {
     if (steps > static_cast<uint64_t>(1) << 40)
       return refuse(b, "mhs_batch_step: " + std::to_string(steps) + " steps is more than 2^40");
-    return stopped(b, batch.step(static_cast<long>(steps)));
+    const size_t stopped_runs = batch.step(static_cast<long>(steps));
+    if (batch.take_cancelled()) return cancelled(b, batch, "mhs_batch_step");
+    return stopped(b, stopped_runs);
   });
 }
 
@@ -236,7 +299,9 @@ MHS_API mhs_status mhs_batch_advance(mhs_batch* b, double t) {
         return refuse(b, "mhs_batch_advance: t = " + short_number(t) + " s is before run " +
                              std::to_string(k) + "'s time " + short_number(s.time()) + " s");
     }
-    return stopped(b, batch.advance(t));
+    const size_t stopped_runs = batch.advance(t);
+    if (batch.take_cancelled()) return cancelled(b, batch, "mhs_batch_advance");
+    return stopped(b, stopped_runs);
   });
 }
 
@@ -352,6 +417,7 @@ MHS_API mhs_status mhs_batch_restore(mhs_batch* b, const mhs_batch_snapshot* sna
       return refuse(b, "mhs_batch_restore: the snapshot was made for another batch");
     if (!snapshot->saved) return refuse(b, "mhs_batch_restore: the snapshot holds no state yet");
     const std::string differ = batch.restore(snapshot->runs);
+    b->message.clear();  // the runs' past calls' words are of states gone
     if (differ.empty()) return MHS_OK;
     b->message =
         "mhs_batch_restore: saved with other values of the model (the runs go on as "

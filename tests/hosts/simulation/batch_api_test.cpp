@@ -5,6 +5,8 @@
 // differ run by run; every bad call returns a status and a message.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -13,6 +15,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "build_paths.hpp"
@@ -239,6 +242,87 @@ TEST(EmbeddingBatch, EachRunTakesItsOwnInputAndAClampedOneIsNamed) {
       << clamped;
   EXPECT_EQ(clamped.find("run 0"), std::string::npos) << clamped;
   EXPECT_EQ(column(c.get(), u, 2), std::vector<double>({0.0, 10.0}));
+}
+
+TEST(EmbeddingBatch, ASecondThreadsCallOnABusyBatchIsRefusedAndChangesNothing) {
+  const Batch b = open_batch("fourbar.yaml", 2, 2);
+  ASSERT_TRUE(ok(mhs_batch_start(b.get())));
+  // One long call in another thread (days of model time, until cancelled);
+  // tried again when this thread's call refused it.
+  std::thread stepping([&] {
+    while (mhs_batch_advance(b.get(), 1e6) == MHS_ERROR) {
+    }
+  });
+  uint32_t z1 = 0;
+  ASSERT_EQ(mhs_batch_find(b.get(), "z1", &z1), MHS_OK);
+  int refused = 0;
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (refused == 0 && std::chrono::steady_clock::now() < until) {
+    double values[2] = {-1.0, -1.0};
+    const mhs_status st = mhs_batch_get(b.get(), z1, values, 2);
+    if (st == MHS_OK) continue;
+    ++refused;
+    EXPECT_EQ(st, MHS_ERROR);
+    EXPECT_EQ(values[0], -1.0);  // nothing written
+    EXPECT_EQ(values[1], -1.0);
+    EXPECT_NE(std::string(mhs_batch_message(b.get())).find("another thread is in a call"),
+              std::string::npos)
+        << mhs_batch_message(b.get());
+  }
+  mhs_batch_cancel(b.get());
+  stepping.join();
+  EXPECT_EQ(refused, 1);
+  // Alone again: calls go through, and the message is the batch's own (the
+  // other thread's cancelled advance).
+  double values[2] = {};
+  EXPECT_EQ(mhs_batch_get(b.get(), z1, values, 2), MHS_OK);
+  EXPECT_NE(std::string(mhs_batch_message(b.get())).find("cancelled"), std::string::npos)
+      << mhs_batch_message(b.get());
+}
+
+TEST(EmbeddingBatch, CancelEndsALongAdvanceBetweenTwoStepsAndTheRunsGoOn) {
+  const Batch b = open_batch("fourbar.yaml", 3, 2);
+  ASSERT_TRUE(ok(mhs_batch_start(b.get())));
+  std::thread canceller([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    mhs_batch_cancel(b.get());
+  });
+  const mhs_status st = mhs_batch_advance(b.get(), 1e6);  // days of model time
+  canceller.join();
+  EXPECT_EQ(st, MHS_DISCARD);
+  const std::string message = mhs_batch_message(b.get());
+  EXPECT_NE(message.find("mhs_batch_advance: cancelled (mhs_batch_cancel)"), std::string::npos)
+      << message;
+  // Each run at an accepted state, none stopped, none near the end.
+  double latest = 0.0;
+  for (uint32_t k = 0; k < 3; ++k) {
+    mhs_status run_status = MHS_ERROR;
+    double t = -1.0;
+    int64_t steps = -1;
+    ASSERT_EQ(mhs_batch_run_status(b.get(), k, &run_status, &t, &steps, nullptr), MHS_OK);
+    EXPECT_EQ(run_status, MHS_OK) << "run " << k;
+    EXPECT_GE(t, 0.0) << "run " << k;
+    EXPECT_LT(t, 1e3) << "run " << k;
+    EXPECT_NEAR(t, static_cast<double>(steps) * 1e-3, 1e-9) << "run " << k;  // at a step
+    latest = std::max(latest, t);
+  }
+  // The message stays through calls that succeed, until the next that does not.
+  uint32_t z1 = 0;
+  ASSERT_EQ(mhs_batch_find(b.get(), "z1", &z1), MHS_OK);
+  EXPECT_EQ(std::string(mhs_batch_message(b.get())), message);
+  // They go on from there.
+  EXPECT_EQ(mhs_batch_advance(b.get(), latest + 0.01), MHS_OK) << mhs_batch_message(b.get());
+  // A cancel with no call in flight ends the next one at its start.
+  mhs_batch_cancel(b.get());
+  EXPECT_EQ(mhs_batch_step(b.get(), 5), MHS_DISCARD);
+  mhs_status run_status = MHS_ERROR;
+  int64_t before = -1;
+  ASSERT_EQ(mhs_batch_run_status(b.get(), 0, &run_status, nullptr, &before, nullptr), MHS_OK);
+  EXPECT_EQ(mhs_batch_step(b.get(), 5), MHS_OK) << mhs_batch_message(b.get());
+  int64_t after = -1;
+  ASSERT_EQ(mhs_batch_run_status(b.get(), 0, &run_status, nullptr, &after, nullptr), MHS_OK);
+  EXPECT_EQ(after, before + 5);
+  mhs_batch_cancel(nullptr);  // ignored
 }
 
 TEST(EmbeddingBatch, BadCallsReturnAStatusAndAMessageNamingWhatIsWrong) {

@@ -353,9 +353,17 @@ MHS_API mhs_status mhs_batch_open_text(const char* yaml_text, const char* label,
                                        size_t count, uint32_t runs, uint32_t threads,
                                        mhs_batch** out);
 MHS_API void mhs_batch_free(mhs_batch* batch);
-/* Why the last call on `batch` returned what it did ("" after MHS_OK); a
- * call that stopped runs names each ("run 3: t = ... s, step ...: ..."). */
+/* What the last call on `batch` that did not return MHS_OK said, kept until
+ * the next such call or a restore, as mhs_message; a call that stopped runs
+ * names each ("run 3: t = ... s, step ...: ..."); on a thread refused
+ * because another was in a call on `batch`, that refusal. */
 MHS_API const char* mhs_batch_message(const mhs_batch* batch);
+/* Ends the mhs_batch_step or mhs_batch_advance in flight on `batch`: each
+ * run stops at its next look between two of its steps, at an accepted state,
+ * and the call returns MHS_DISCARD (the runs go on from there; their times
+ * may differ). With no such call in flight, the next one ends at its start.
+ * Any thread may call it, and a signal handler (it only sets a flag). */
+MHS_API void mhs_batch_cancel(mhs_batch* batch);
 /* The number of runs and of threads. Either pointer may be NULL. */
 MHS_API mhs_status mhs_batch_size(const mhs_batch* batch, uint32_t* runs, uint32_t* threads);
 /* The model's dt and t_end (s), the same for every run. Either may be NULL. */

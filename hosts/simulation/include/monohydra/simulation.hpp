@@ -495,6 +495,9 @@ class Batch {
   size_t start() { return stepped(mhs_batch_start(get())); }
   size_t step(uint64_t steps = 1) { return stepped(mhs_batch_step(get(), steps)); }
   size_t advance(double t) { return stepped(mhs_batch_advance(get(), t)); }
+  // Ends the step or advance in flight (mhs_batch_cancel): from another
+  // thread or a signal handler; that call's warning() says where the runs are.
+  void cancel() { mhs_batch_cancel(get()); }
   uint32_t find(const std::string& name) const {
     uint32_t index = 0;
     check(mhs_batch_find(get(), name.c_str(), &index));
