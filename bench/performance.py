@@ -1423,10 +1423,16 @@ def main():
                     "(BUILD/performance-targets.json) instead of measuring them again")
     ap.add_argument("--chains", action="store_true",
                     help="measure the chains and trees only and print their table")
+    ap.add_argument("--copied-only", action="store_true",
+                    help="refresh only the sections copied from docs/sweeps.md and "
+                    "docs/batches.md in the existing page, measuring nothing")
     ap.add_argument("--out", default=os.path.join(ROOT, "docs", "performance.md"))
     ap.add_argument("--svg", default=os.path.join(ROOT, "docs", "performance-chains.svg"))
     a = ap.parse_args()
     a.build = os.path.abspath(a.build)
+    if a.copied_only:
+        refresh_copied(a.out)
+        return
 
     if a.json:
         with open(a.json) as f:
@@ -1656,20 +1662,7 @@ CPU): four-bar double-step 204 ms per 10 s, four-bar penalty 213 ms,
 quick-return double-step 369 ms, quick-return penalty 354 ms; the chain per
 step {base_chain}.
 
-## Sweeps: speed-up over one core
-
-Measured by `studies/speedup.sh` and kept in `docs/sweeps.md` (section
-"Speed-up"), copied here by this script:
-
-{sweep_speedup}
-
-## Batches: speed-up over one thread, and what a run costs
-
-Measured by `bench/batch_scaling.sh` and kept in `docs/batches.md` (section
-"Measured"), copied here by this script:
-
-{batch_scaling}
-""".format(
+{copied}""".format(
         head=git_head(), date=datetime.date.today().isoformat(), cpus=cpus, model=model,
         reps=max([e.get("repetitions", 1) for e in data.get("benchmarks", [])] or [1]), ncpu=ctx.get("num_cpus", "?"),
         mhz=ctx.get("mhz_per_cpu", "?"),
@@ -1690,11 +1683,46 @@ Measured by `bench/batch_scaling.sh` and kept in `docs/batches.md` (section
         budget=budget_section(budget, res,
                               "left out by --no-profile" if a.no_profile else "valgrind missing"),
         profile=profile_section(rows, why), base_chain=base_chain,
-        sweep_speedup=section("sweeps.md", "Speed-up"),
-        batch_scaling=section("batches.md", "Measured"))
+        copied=copied_sections())
     with open(a.out, "w") as f:
         f.write(page)
     print("wrote %s and %s" % (a.out, a.svg), file=sys.stderr)
+
+
+COPIED_FIRST = "## Sweeps: speed-up over one core"
+
+
+def copied_sections():
+    """The page's last sections, measured by other scripts and kept in their
+    own pages: copied here, the same text whether the page is made whole or
+    only these are refreshed (--copied-only)."""
+    return """{first}
+
+Measured by `studies/speedup.sh` and kept in `docs/sweeps.md` (section
+"Speed-up"), copied here by this script:
+
+{sweeps}
+
+## Batches: speed-up over one thread, and what a run costs
+
+Measured by `bench/batch_scaling.sh` and kept in `docs/batches.md` (section
+"Measured"), copied here by this script:
+
+{batches}
+""".format(first=COPIED_FIRST, sweeps=section("sweeps.md", "Speed-up"),
+           batches=section("batches.md", "Measured"))
+
+
+def refresh_copied(out):
+    """Replaces the copied sections at the end of an existing page (or adds
+    them) without measuring anything else."""
+    with open(out) as f:
+        text = f.read()
+    at = text.find(COPIED_FIRST)
+    text = (text[:at] if at >= 0 else text.rstrip("\n") + "\n\n") + copied_sections()
+    with open(out, "w") as f:
+        f.write(text)
+    print("refreshed the copied sections of %s" % out, file=sys.stderr)
 
 
 def section(page, title):
