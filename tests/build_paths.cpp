@@ -17,6 +17,7 @@ const char* const executable = MH_EXECUTABLE;
 const char* const plugin_dir = MH_PLUGIN_DIR;
 const char* const fixture_dir = MH_FIXTURE_DIR;
 const char* const sdk20_plugin_dir = MH_SDK20_PLUGIN_DIR;
+const char* const frozen_sdk_plugin_dir = MH_FROZEN_SDK_PLUGIN_DIR;
 const char* const clash_plugin_dir = MH_CLASH_PLUGIN_DIR;
 const char* const check_fixture_dir = MH_CHECK_FIXTURE_DIR;
 const char* const faulty_plugin_dir = MH_FAULTY_PLUGIN_DIR;

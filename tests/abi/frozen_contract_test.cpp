@@ -107,6 +107,24 @@ TEST(FrozenAbi, TheFrozenHeadersAreTheOnesThreeZeroShipped) {
     EXPECT_EQ(fnv1a(read_text(frozen_dir() + "/monohydra/" + name)), hash) << name;
 }
 
+// 3.2 is frozen as well (tests/abi/sdk-3.2/: its headers as 3.2 shipped
+// them): plugins built against that copy alone are loaded and run by
+// frozen_plugins_test.cpp. Never edit the copy.
+TEST(FrozenAbi, TheFrozenHeadersAreTheOnesThreeTwoShipped) {
+  const std::map<std::string, uint64_t> shipped = {
+      {"constrained.h", 0x1f1917f9492c2444ull},  {"entry.h", 0x1a27eb9eff7cdb11ull},
+      {"formulation.h", 0x49af3caaff1dd2d0ull},  {"host.h", 0x796da5186aa4a69dull},
+      {"integrator.h", 0x6ad1359afa7ee48full},   {"inverse_dynamics.h", 0xc56679fad9010654ull},
+      {"model_folder.h", 0x7bb50bb9c6273434ull}, {"monohydra.h", 0x7c7a3d39b58b5695ull},
+      {"parameters.h", 0x7d45172a37346802ull},   {"sparsity.h", 0xd15f0dd657192327ull},
+      {"state.h", 0xd57a169b283ff7fcull},        {"subsystem.h", 0xdce196c64bce0ae9ull},
+      {"types.h", 0x11ef564e47a77c8eull},        {"visual.h", 0xf79e7378ed211111ull},
+  };
+  const std::string dir = std::string(mh::test::paths::source_dir) + "/tests/abi/sdk-3.2";
+  for (const auto& [name, hash] : shipped)
+    EXPECT_EQ(fnv1a(read_text(dir + "/monohydra/" + name)), hash) << name;
+}
+
 // The list names every struct, member and constant of the frozen headers, so
 // nothing of 3.0 escapes the comparisons below.
 TEST(FrozenAbi, TheListHoldsEveryMemberAndConstantOfThreeZero) {
