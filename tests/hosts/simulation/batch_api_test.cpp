@@ -247,14 +247,15 @@ TEST(EmbeddingBatch, EachRunTakesItsOwnInputAndAClampedOneIsNamed) {
 TEST(EmbeddingBatch, ASecondThreadsCallOnABusyBatchIsRefusedAndChangesNothing) {
   const Batch b = open_batch("fourbar.yaml", 2, 2);
   ASSERT_TRUE(ok(mhs_batch_start(b.get())));
+  uint32_t z1 = 0;
+  ASSERT_EQ(mhs_batch_find(b.get(), "z1", &z1), MHS_OK);
   // One long call in another thread (days of model time, until cancelled);
-  // tried again when this thread's call refused it.
+  // tried again when this thread's call refused it. No assertion may end
+  // the test before the thread is joined.
   std::thread stepping([&] {
     while (mhs_batch_advance(b.get(), 1e6) == MHS_ERROR) {
     }
   });
-  uint32_t z1 = 0;
-  ASSERT_EQ(mhs_batch_find(b.get(), "z1", &z1), MHS_OK);
   int refused = 0;
   const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
   while (refused == 0 && std::chrono::steady_clock::now() < until) {
