@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "monohydra/core/simulation.hpp"
 
@@ -15,8 +16,11 @@ namespace mh {
 // least `least[c]` when given: a rate's, whose value may be 0): their
 // mean is the central difference, a kink (a spool crossing zero) makes the
 // analytic entry one of them, and the coarse one's distance estimates the
-// differences' own error. `rows()` evaluates at the current `v`; each entry
-// is restored after.
+// differences' own error. Central at 1e-4 and 1e-3 as well: where a row's
+// other terms are 1e5 times an entry's, rounding at 1e-6 hides a 1 % error
+// of it that a wider step shows (their own distance says whether the row
+// is smooth enough there for them). `rows()` evaluates at the current `v`;
+// each entry is restored after.
 template <class Rows>
 void difference_columns(Eigen::VectorXd& v, Eigen::Index n, const Eigen::VectorXd& r0, Rows&& rows,
                         Simulation::TangentSample& out, const Eigen::VectorXd* least = nullptr) {
@@ -24,6 +28,8 @@ void difference_columns(Eigen::VectorXd& v, Eigen::Index n, const Eigen::VectorX
   out.forward.resize(m, n);
   out.backward.resize(m, n);
   out.central_coarse.resize(m, n);
+  out.central_wide.resize(m, n);
+  out.central_wider.resize(m, n);
   out.column_scale.resize(n);
   for (Eigen::Index c = 0; c < n; ++c) {
     const double v0 = v[c],
@@ -38,6 +44,19 @@ void difference_columns(Eigen::VectorXd& v, Eigen::Index n, const Eigen::VectorX
     out.central_coarse.col(c) = rows();
     v[c] = v0 - coarse;
     out.central_coarse.col(c) = (out.central_coarse.col(c) - rows()) / (2.0 * coarse);
+    for (const double wide : {1e-4 * scale, 1e-3 * scale}) {
+      Eigen::MatrixXd& to = wide < 5e-4 * scale ? out.central_wide : out.central_wider;
+      try {
+        v[c] = v0 + wide;
+        to.col(c) = rows();
+        v[c] = v0 - wide;
+        to.col(c) = (to.col(c) - rows()) / (2.0 * wide);
+      } catch (const SimulationError&) {
+        // Outside what the model takes there (a piston at its stop): the
+        // fine pair alone judges this column.
+        to.col(c).setConstant(std::numeric_limits<double>::quiet_NaN());
+      }
+    }
     v[c] = v0;
   }
 }

@@ -213,6 +213,8 @@ std::vector<Simulation::DerivativeBlock> Simulation::subsystem_blocks(const std:
       b.sample.forward = columns[arg].forward.middleRows(r0, m);
       b.sample.backward = columns[arg].backward.middleRows(r0, m);
       b.sample.central_coarse = columns[arg].central_coarse.middleRows(r0, m);
+      b.sample.central_wide = columns[arg].central_wide.middleRows(r0, m);
+      b.sample.central_wider = columns[arg].central_wider.middleRows(r0, m);
       b.sample.column_scale = columns[arg].column_scale;
     }
     out.push_back(std::move(b));

@@ -131,6 +131,23 @@ struct EntryError {
   Eigen::Index row = 0, col = 0;
 };
 
+// Entry (r, c)'s differences and their own error: the central ones at 1e-6
+// (their distance from those at 1e-5), or those at 1e-4 where their
+// distance from those at 1e-3 is smaller (an entry beside far larger terms
+// of its row, whose 1e-6 step rounding hides).
+struct Differenced {
+  double value = 0.0, noise = 0.0;
+};
+
+Differenced differenced(const Simulation::TangentSample& t, Eigen::Index r, Eigen::Index c) {
+  const double fine = 0.5 * (t.forward(r, c) + t.backward(r, c));
+  const Differenced central{fine, std::abs(fine - t.central_coarse(r, c))};
+  if (t.central_wide.size() == 0) return central;
+  const Differenced wide{t.central_wide(r, c),
+                         std::abs(t.central_wide(r, c) - t.central_wider(r, c))};
+  return wide.noise < central.noise ? wide : central;
+}
+
 EntryError worst_entry_error(const Simulation::TangentSample& t,
                              const std::vector<unsigned char>* given,
                              const Eigen::VectorXd* row_effect = nullptr, int* noisy = nullptr) {
@@ -149,26 +166,28 @@ EntryError worst_entry_error(const Simulation::TangentSample& t,
         w.col = c;
         return w;
       }
-      const double noise = std::abs(d(r, c) - t.central_coarse(r, c));
+      const Differenced best = differenced(t, r, c);
+      const double noise = best.noise;
       const double floor = row_effect != nullptr
                                ? kBlockFloor * (*row_effect)[r] / t.column_scale[c]
                                : kEntryFloor * std::sqrt(row_max[r] * col_max[c]);
-      const double scale = std::abs(d(r, c)) + floor + 10.0 * noise / kTangentTolerance;
+      const double scale = std::abs(best.value) + floor + 10.0 * noise / kTangentTolerance;
       // A nonzero entry 1 % off that this scale would not show, for the
       // differences' own error (not for the floor: a rounding residue).
       if (noisy != nullptr && a(r, c) != 0.0 && 10.0 * noise / kTangentTolerance > floor &&
           0.01 * std::abs(a(r, c)) <= kTangentTolerance * scale)
         ++*noisy;
-      const double e = std::min({std::abs(a(r, c) - d(r, c)), std::abs(a(r, c) - t.forward(r, c)),
-                                 std::abs(a(r, c) - t.backward(r, c))}) /
-                       std::max(scale, 1e-300);
+      const double e =
+          std::min({std::abs(a(r, c) - d(r, c)), std::abs(a(r, c) - t.forward(r, c)),
+                    std::abs(a(r, c) - t.backward(r, c)), std::abs(a(r, c) - best.value)}) /
+          std::max(scale, 1e-300);
       if (!w.compared || e > w.error) {
         w.compared = true;
         w.error = e;
         w.row = r;
         w.col = c;
         w.analytic = a(r, c);
-        w.differences = d(r, c);
+        w.differences = best.value;
         w.scale = scale;
       }
     }
@@ -190,10 +209,9 @@ Eigen::VectorXd judged_effect(const Simulation::TangentSample& t, const Eigen::V
 
 bool shows_one_percent(const Simulation::TangentSample& t, Eigen::Index r, Eigen::Index c,
                        double effect) {
-  const double d = 0.5 * (t.forward(r, c) + t.backward(r, c));
-  const double noise = std::abs(d - t.central_coarse(r, c));
-  const double scale =
-      std::abs(d) + kBlockFloor * effect / t.column_scale[c] + 10.0 * noise / kTangentTolerance;
+  const Differenced best = differenced(t, r, c);
+  const double scale = std::abs(best.value) + kBlockFloor * effect / t.column_scale[c] +
+                       10.0 * best.noise / kTangentTolerance;
   return 0.01 * std::abs(t.analytic(r, c)) > kTangentTolerance * scale;
 }
 

@@ -320,8 +320,12 @@ class Simulation {
   // a kink of the model, a valve's spool crossing zero, the analytic tangent
   // is one of them), and central differences at 1e-5, whose distance from
   // those at 1e-6 estimates the differences' own error entry by entry.
+  // Central differences at 1e-4 and 1e-3 too (`central_wide`,
+  // `central_wider`): an entry whose row is dominated by far larger terms
+  // (a pump's leakage beside its delivered flow) is rounded away at 1e-6,
+  // and is judged by the wider pair where they agree more closely.
   struct TangentSample {
-    Eigen::MatrixXd analytic, forward, backward, central_coarse;
+    Eigen::MatrixXd analytic, forward, backward, central_coarse, central_wide, central_wider;
     double h = 0.0;
     // Each column's magnitude, whose 1e-6 the differences stepped it by:
     // |value|, at least 1e-2 (a rate's at least its state's over dt).
