@@ -16,46 +16,8 @@
 #include "monohydra/cpp/number_text.hpp"
 
 namespace mh {
-// Results are exact (the shortest text that reads back as the same double);
-// messages short.
-using monohydra::put_exact_number;
+// Messages short.
 using monohydra::short_number;
-
-void write_csv_header(std::ostream& out, const Simulation& sim) {
-  out << "t";
-  for (const auto& n : sim.coordinate_names()) out << ',' << n;
-  for (const auto& n : sim.state_names())
-    if (!n.empty()) out << ',' << n;
-  for (const auto& n : sim.output_names())
-    if (!n.empty()) out << ',' << n;
-  out << ",KE,PE,W,drift,phi_norm,iters\n";
-}
-
-void write_csv_row(std::ostream& out, const Simulation& sim) {
-  put_exact_number(out, sim.time());
-  for (int i = 0; i < sim.z().size(); ++i) {
-    out << ',';
-    put_exact_number(out, sim.z()[i]);
-  }
-  const auto& state_names = sim.state_names();
-  for (int i = 0; i < sim.states().size(); ++i) {
-    if (state_names[static_cast<size_t>(i)].empty()) continue;
-    out << ',';
-    put_exact_number(out, sim.states()[i]);
-  }
-  const auto& output_names = sim.output_names();
-  for (int i = 0; i < sim.outputs().size(); ++i) {
-    if (output_names[static_cast<size_t>(i)].empty()) continue;
-    out << ',';
-    put_exact_number(out, sim.outputs()[i]);
-  }
-  for (double v :
-       {sim.kinetic_energy(), sim.potential_energy(), sim.work(), sim.drift(), sim.phi_norm()}) {
-    out << ',';
-    put_exact_number(out, v);
-  }
-  out << ',' << sim.last_step().iterations << '\n';
-}
 
 namespace {
 class CsvWriteError : public std::runtime_error {

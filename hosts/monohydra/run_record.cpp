@@ -24,7 +24,7 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// The columns of `sim` and their units, in the order write_csv_row writes them.
+// The columns of `sim` and their units, in the order a run's CSV (CsvLayout) writes them.
 void name_columns(const ModelFile& file, const Simulation& sim, RunRecord& rec) {
   auto add = [&rec](const std::string& name, const std::string& unit,
                     const VariableInfo& info = {}) {

@@ -14,11 +14,6 @@
 
 namespace mh {
 
-// Columns: t, z1..zN, one per subsystem state and output (unless hidden), KE, PE,
-// W, drift, phi_norm, iters.
-void write_csv_header(std::ostream& out, const Simulation& sim);
-void write_csv_row(std::ostream& out, const Simulation& sim);
-
 // How a run ended; only `completed` reached t_end.
 enum class RunEnd {
   completed,
