@@ -10,6 +10,7 @@
 #include <memory>
 #include <new>
 #include <string>
+#include <utility>
 
 #include "instance.hpp"
 #include "monohydra/simulation.h"
@@ -32,31 +33,74 @@ inline constexpr const char* kInUse =
     "refused: another thread is in a call on this simulation (a run is used by one thread at a "
     "time; give each thread its own, or a batch: mhs_batch_*)";
 
-// The run this thread was last refused on because another thread was in a
-// call on it: its mhs_message is kInUse (the run's own message belongs to
-// the other thread's call).
-const mhs_simulation*& refused_in_use();
+// The handle of each kind (a run, a batch) this thread was last refused on
+// because another thread was in a call on it: its message is the refusal
+// (the handle's own message belongs to the other thread's call).
+template <class Handle>
+const Handle*& refused_in_use() {
+  thread_local const Handle* handle = nullptr;
+  return handle;
+}
 
-// Marks the run as in a call for as long as it lives; `entered` is false
-// when another thread was in one already.
+// Marks a handle (its `in_call`) as in a call for as long as it lives;
+// `entered` is false when another thread was in one already.
+template <class Handle>
 class CallScope {
  public:
-  explicit CallScope(mhs_simulation* sim) : sim_(sim) {
-    entered_ = !sim->in_call.exchange(true, std::memory_order_acquire);
-    if (entered_ && refused_in_use() == sim) refused_in_use() = nullptr;
-    if (!entered_) refused_in_use() = sim;
+  explicit CallScope(Handle* h) : h_(h) {
+    entered_ = !h->in_call.exchange(true, std::memory_order_acquire);
+    if (entered_ && refused_in_use<Handle>() == h) refused_in_use<Handle>() = nullptr;
+    if (!entered_) refused_in_use<Handle>() = h;
   }
   ~CallScope() {
-    if (entered_) sim_->in_call.store(false, std::memory_order_release);
+    if (entered_) h_->in_call.store(false, std::memory_order_release);
   }
   CallScope(const CallScope&) = delete;
   CallScope& operator=(const CallScope&) = delete;
   bool entered() const { return entered_; }
 
  private:
-  mhs_simulation* sim_;
+  Handle* h_;
   bool entered_ = false;
 };
+
+// Runs `body` on what the handle opened (`opened(*h)`, null when the model
+// did not open): NULL and unopened handles, a second thread's call,
+// exceptions and the plugins' warnings (`take_warnings`: what they said
+// since it was last called) become the call's status and the handle's
+// `message`. `free_call` names the call that frees an unopened handle.
+template <class Handle, class Opened, class TakeWarnings, class Body>
+mhs_status guarded_call(Handle* h, Opened&& opened, TakeWarnings&& take_warnings,
+                        const char* free_call, Body&& body) {
+  if (h == nullptr) return MHS_ERROR;
+  const CallScope<Handle> scope(h);
+  if (!scope.entered()) return MHS_ERROR;
+  auto* object = opened(*h);
+  if (object == nullptr) {
+    h->message = std::string("the model did not open; free this handle (") + free_call + ")";
+    return MHS_FATAL;
+  }
+  take_warnings(*object);  // an earlier call's, left by its exception
+  mhs_status status = MHS_OK;
+  try {
+    status = body(*object);
+  } catch (const std::bad_alloc&) {
+    h->message = "out of memory";
+    return MHS_FATAL;
+  } catch (const std::exception& err) {
+    h->message = err.what();
+    return MHS_ERROR;
+  } catch (...) {
+    h->message = "an unknown exception reached the API";
+    return MHS_ERROR;
+  }
+  const std::string warnings = take_warnings(*object);
+  if (status == MHS_OK && !warnings.empty()) {
+    h->message = warnings;
+    return MHS_WARNING;
+  }
+  return status;
+}
 
 // Whether mhs_cancel asked to end the call in flight (taken: the next call
 // runs unless asked again).
@@ -64,37 +108,17 @@ inline bool cancel_asked(mhs_simulation* sim) {
   return sim->cancelled.exchange(false, std::memory_order_acq_rel);
 }
 
-// Runs `body` on an open run: NULL and unopened handles, a second thread's
-// call, exceptions and the plugins' warnings become the call's status and
-// message.
+// Runs `body` on an open run (guarded_call).
 template <class Body>
 mhs_status guarded(mhs_simulation* sim, Body&& body) {
-  if (sim == nullptr) return MHS_ERROR;
-  const CallScope scope(sim);
-  if (!scope.entered()) return MHS_ERROR;
-  if (!sim->instance) {
-    sim->message = "the model did not open; free this handle (mhs_free)";
-    return MHS_FATAL;
-  }
-  sim->instance->warnings.clear();
-  mhs_status status = MHS_OK;
-  try {
-    status = body(*sim->instance);
-  } catch (const std::bad_alloc&) {
-    sim->message = "out of memory";
-    return MHS_FATAL;
-  } catch (const std::exception& err) {
-    sim->message = err.what();
-    return MHS_ERROR;
-  } catch (...) {
-    sim->message = "an unknown exception reached the API";
-    return MHS_ERROR;
-  }
-  if (status == MHS_OK && !sim->instance->warnings.empty()) {
-    sim->message = sim->instance->warnings;
-    return MHS_WARNING;
-  }
-  return status;
+  return guarded_call(
+      sim, [](mhs_simulation& s) { return s.instance.get(); },
+      [](Instance& in) {
+        std::string said = std::move(in.warnings);
+        in.warnings.clear();
+        return said;
+      },
+      "mhs_free", std::forward<Body>(body));
 }
 
 inline mhs_status refuse(mhs_simulation* sim, const std::string& why) {

@@ -58,8 +58,13 @@ Batch::Batch(const OpenRequest& request, size_t runs, unsigned threads)
   variables_ = std::make_unique<VariableTable>(*runs_.front()->sim, opened_->file.model);
 }
 
-void Batch::each(const std::function<void(BatchRun&)>& work) {
-  pool_.for_each(runs_.size(), [&](size_t k) { work(*runs_[k]); });
+size_t Batch::step_each(const std::function<void(Simulation&)>& steps) {
+  pool_.for_each(runs_.size(), [&](size_t k) { stepped(*runs_[k], steps); });
+  if (cancel_hit_.load(std::memory_order_acquire))
+    cancel_asked_.store(false, std::memory_order_release);  // taken by this call
+  size_t stopped = 0;
+  for (const auto& r : runs_) stopped += r->failure.empty() ? 0 : 1;
+  return stopped;
 }
 
 void Batch::set_parameter(size_t run, const std::string& path, const std::string& value) {
@@ -72,30 +77,16 @@ void Batch::set_parameter(size_t run, const std::string& path, const std::string
 }
 
 size_t Batch::step(long steps) {
-  each([&](BatchRun& r) {
-    stepped(r, [&](Simulation& s) {
-      for (long i = 0; i < steps && !stop_asked(); ++i) s.step();
-    });
+  return step_each([&](Simulation& s) {
+    for (long i = 0; i < steps && !stop_asked(); ++i) s.step();
   });
-  if (cancel_hit_.load(std::memory_order_acquire))
-    cancel_asked_.store(false, std::memory_order_release);  // taken by this call
-  size_t stopped = 0;
-  for (const auto& r : runs_) stopped += r->failure.empty() ? 0 : 1;
-  return stopped;
 }
 
 size_t Batch::advance(double t) {
-  each([&](BatchRun& r) {
-    stepped(r, [&](Simulation& s) {
-      const double dt = s.settings().dt;
-      while (s.time() < t - 1e-6 * dt && !stop_asked()) s.step();
-    });
+  return step_each([&](Simulation& s) {
+    const double dt = s.settings().dt;
+    while (s.time() < t - 1e-6 * dt && !stop_asked()) s.step();
   });
-  if (cancel_hit_.load(std::memory_order_acquire))
-    cancel_asked_.store(false, std::memory_order_release);  // taken by this call
-  size_t stopped = 0;
-  for (const auto& r : runs_) stopped += r->failure.empty() ? 0 : 1;
-  return stopped;
 }
 
 void Batch::values(const Variable& v, double* out) const {

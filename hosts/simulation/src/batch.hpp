@@ -82,7 +82,9 @@ class Batch {
   std::string take_warnings();
 
  private:
-  void each(const std::function<void(BatchRun&)>& work);
+  // `steps` on every run not yet stopped, in the pool (a run started first,
+  // its failure its own); cancel() taken; how many runs have stopped.
+  size_t step_each(const std::function<void(Simulation&)>& steps);
   // Whether a run's loop stops before its next step (cancel() was asked).
   bool stop_asked() {
     if (!cancel_asked_.load(std::memory_order_acquire)) return false;

@@ -10,9 +10,11 @@
 #include <memory>
 #include <new>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "api_arguments.hpp"
+#include "api_handle.hpp"
 #include "batch.hpp"
 #include "monohydra/core/run_state.hpp"
 #include "monohydra/core/run_state_bytes.hpp"
@@ -44,62 +46,13 @@ constexpr const char* kBatchInUse =
     "refused: another thread is in a call on this batch (a batch is used by one thread at a "
     "time; its own threads step its runs)";
 
-// The batch this thread was last refused on because another thread was in a
-// call on it: its mhs_batch_message is kBatchInUse.
-const mhs_batch*& refused_in_use() {
-  thread_local const mhs_batch* batch = nullptr;
-  return batch;
-}
-
-// Marks the batch as in a call for as long as it lives; `entered` is false
-// when another thread was in one already.
-class BatchCallScope {
- public:
-  explicit BatchCallScope(mhs_batch* b) : b_(b) {
-    entered_ = !b->in_call.exchange(true, std::memory_order_acquire);
-    if (entered_ && refused_in_use() == b) refused_in_use() = nullptr;
-    if (!entered_) refused_in_use() = b;
-  }
-  ~BatchCallScope() {
-    if (entered_) b_->in_call.store(false, std::memory_order_release);
-  }
-  BatchCallScope(const BatchCallScope&) = delete;
-  BatchCallScope& operator=(const BatchCallScope&) = delete;
-  bool entered() const { return entered_; }
-
- private:
-  mhs_batch* b_;
-  bool entered_ = false;
-};
-
+// Runs `body` on an open batch (guarded_call).
 template <class Body>
 mhs_status guarded(mhs_batch* b, Body&& body) {
-  if (b == nullptr) return MHS_ERROR;
-  const BatchCallScope scope(b);
-  if (!scope.entered()) return MHS_ERROR;
-  if (!b->batch) {
-    b->message = "the model did not open; free this handle (mhs_batch_free)";
-    return MHS_FATAL;
-  }
-  mhs_status status = MHS_OK;
-  try {
-    status = body(*b->batch);
-  } catch (const std::bad_alloc&) {
-    b->message = "out of memory";
-    return MHS_FATAL;
-  } catch (const std::exception& err) {
-    b->message = err.what();
-    return MHS_ERROR;
-  } catch (...) {
-    b->message = "an unknown exception reached the API";
-    return MHS_ERROR;
-  }
-  const std::string warnings = b->batch->take_warnings();
-  if (status == MHS_OK && !warnings.empty()) {
-    b->message = warnings;
-    return MHS_WARNING;
-  }
-  return status;
+  return mh::embed::guarded_call(
+      b, [](mhs_batch& h) { return h.batch.get(); },
+      [](Batch& batch) { return batch.take_warnings(); }, "mhs_batch_free",
+      std::forward<Body>(body));
 }
 
 constexpr unsigned char kBatchMagic[8] = {'M', 'H', 'B', 'A', 'T', 'C', 'H', '1'};
@@ -232,7 +185,7 @@ MHS_API void mhs_batch_free(mhs_batch* batch) {
 
 MHS_API const char* mhs_batch_message(const mhs_batch* batch) {
   if (batch == nullptr) return "the batch handle is NULL";
-  if (refused_in_use() == batch) return kBatchInUse;
+  if (mh::embed::refused_in_use<mhs_batch>() == batch) return kBatchInUse;
   return batch->message.c_str();
 }
 

@@ -73,13 +73,6 @@ mhs_status refused_open(const std::string& why, mhs_simulation** out) {
 
 }  // namespace
 
-namespace mh::embed {
-const mhs_simulation*& refused_in_use() {
-  thread_local const mhs_simulation* run = nullptr;
-  return run;
-}
-}  // namespace mh::embed
-
 extern "C" {
 
 MHS_API uint32_t mhs_api_version(void) {
@@ -115,7 +108,7 @@ MHS_API void mhs_free(mhs_simulation* sim) {
 
 MHS_API const char* mhs_message(const mhs_simulation* sim) {
   if (sim == nullptr) return kNullHandle;
-  if (mh::embed::refused_in_use() == sim) return mh::embed::kInUse;
+  if (mh::embed::refused_in_use<mhs_simulation>() == sim) return mh::embed::kInUse;
   return sim->message.c_str();
 }
 
