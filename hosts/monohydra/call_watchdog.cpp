@@ -9,6 +9,8 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <initializer_list>
 #include <thread>
 
 #include "monohydra/core/plugin_call.hpp"
@@ -16,7 +18,7 @@
 namespace mh::cli {
 namespace {
 
-std::atomic<double> g_limit{0.0};
+std::atomic<double> g_setup_limit{0.0}, g_step_limit{0.0};
 // The record of the thread that steps the run (the one that started the
 // watchdog): a thread's own record is its thread_local (plugin_call.hpp).
 std::atomic<const PluginCallInFlight*> g_record{nullptr};
@@ -29,7 +31,7 @@ std::atomic<pid_t> g_running_pid{0};  // the process whose thread has entered wa
   const int n = std::snprintf(
       message, sizeof message,
       "monohydra: %s has not returned from its %s within %g s (at t = %g s, step %ld): "
-      "stopped (--call-timeout sets the limit)\n",
+      "stopped (--call-timeout S raises the limit)\n",
       site.who != nullptr ? site.who : "a plugin", site.call != nullptr ? site.call : "call",
       seconds, record.t.load(std::memory_order_relaxed),
       record.step.load(std::memory_order_relaxed));
@@ -50,12 +52,14 @@ void watch() {
   g_running_pid.store(::getpid(), std::memory_order_release);
   for (;;) {
     std::this_thread::sleep_for(kPeriod);
-    const double limit = g_limit.load(std::memory_order_relaxed);
     const PluginCallInFlight* watched = g_record.load(std::memory_order_relaxed);
     if (watched == nullptr) continue;
     const PluginCallInFlight& record = *watched;
     const PluginCallSite* site = record.site.load(std::memory_order_relaxed);
     const unsigned long entered = record.entered.load(std::memory_order_relaxed);
+    const CallLimits limits{g_setup_limit.load(std::memory_order_relaxed),
+                            g_step_limit.load(std::memory_order_relaxed)};
+    const double limit = site != nullptr ? limits.of(site->call) : 0.0;
     if (site == nullptr || site != last_site || entered != last_entered || !(limit > 0.0)) {
       last_site = site;
       last_entered = entered;
@@ -69,12 +73,20 @@ void watch() {
 
 }  // namespace
 
-void start_call_watchdog(double seconds) {
-  g_limit.store(seconds, std::memory_order_relaxed);
+double CallLimits::of(const char* call) const {
+  if (call == nullptr) return step;
+  for (const char* kind : {"create", "setup", "start", "destroy"})
+    if (std::strcmp(call, kind) == 0) return setup;
+  return step;
+}
+
+void start_call_watchdog(const CallLimits& limits) {
+  g_setup_limit.store(limits.setup, std::memory_order_relaxed);
+  g_step_limit.store(limits.step, std::memory_order_relaxed);
   g_record.store(&plugin_call_in_flight(), std::memory_order_relaxed);
   const pid_t self = ::getpid();
   if (g_watched_pid.exchange(self) == self) return;  // this process has its thread
-  if (!(seconds > 0.0)) {
+  if (!(limits.setup > 0.0) && !(limits.step > 0.0)) {
     g_watched_pid.store(0);
     return;
   }

@@ -9,14 +9,25 @@
 
 namespace mh::cli {
 
-// The limit when a command is not given one (s): far above any call of the
-// shipped plugins (the longest, a formulation's setup, takes milliseconds).
-constexpr double kDefaultCallTimeout = 60.0;
+// How long one plugin call may go without returning (or making a nested
+// call) before the command is stopped, by the kind of call (s; 0: no limit).
+// The defaults are far above what the shipped plugins take and far below a
+// minute: a call of the set-up (create, setup, start, destroy) may read
+// files and solve an initial state (the shipped ones take milliseconds); a
+// call inside a step is one evaluation (microseconds). `--call-timeout S`
+// sets both.
+struct CallLimits {
+  double setup = 30.0;
+  double step = 5.0;
+  static CallLimits uniform(double seconds) { return {seconds, seconds}; }
+  // The limit of the call named `call` (a PluginCallSite's).
+  double of(const char* call) const;
+};
 
-// Starts this process's watchdog with `seconds` (<= 0: none). Call again in
-// a forked child: threads do not survive fork. A second call in the same
-// process changes the limit. Watches the calls of the thread that calls it
+// Starts this process's watchdog with `limits` (both 0: none). Call again
+// in a forked child: threads do not survive fork. A second call in the same
+// process changes the limits. Watches the calls of the thread that calls it
 // (the one that steps the run).
-void start_call_watchdog(double seconds);
+void start_call_watchdog(const CallLimits& limits = {});
 
 }  // namespace mh::cli

@@ -179,7 +179,8 @@ std::optional<int> parse_run_args(const std::vector<std::string>& args, const ch
       app.add_option("--newton-cap", cap, "real time: Newton iterations per step (default 4)");
   auto* timeout_opt = app.add_option(
       "--call-timeout", call_timeout,
-      "stop when one plugin call has not returned within S s, naming it (default 60; 0: never)");
+      "stop when one plugin call has not returned within S s, naming it (default 30 for "
+      "create, setup, start and destroy, 5 for a call inside a step; 0: never)");
   std::string save_at;
   CLI::Option* at_opt = nullptr;
   std::string sensors_out_path, seed_text;
@@ -217,7 +218,7 @@ std::optional<int> parse_run_args(const std::vector<std::string>& args, const ch
     return usage(2);
   }
   request.model_path = models.front();
-  request.call_timeout = kDefaultCallTimeout;
+  request.call_limits = CallLimits{};
   if (timeout_opt->count() > 0) {
     const std::optional<double> value = parse_number("--call-timeout", call_timeout);
     if (!value) return 2;
@@ -226,7 +227,7 @@ std::optional<int> parse_run_args(const std::vector<std::string>& args, const ch
                 << call_timeout << "'\n";
       return 2;
     }
-    request.call_timeout = *value;
+    request.call_limits = CallLimits::uniform(*value);
   }
   if (interval_opt->count() > 0) {
     request.output_interval = parse_number("--output-interval", interval);
@@ -506,7 +507,7 @@ double last_row_time(const std::string& path) {
 // the run is made here.
 int simulate(RunRequest request, const std::string& out_path) {
   request.csv = !out_path.empty();
-  start_call_watchdog(request.call_timeout);  // create and setup are plugin calls too
+  start_call_watchdog(request.call_limits);  // create and setup are plugin calls too
   const volatile std::sig_atomic_t* stop = install_stop_handlers();
   std::cout.flush();
   std::cerr.flush();
@@ -519,7 +520,7 @@ int simulate(RunRequest request, const std::string& out_path) {
   }
   if (pid == 0) {
     install_crash_handler(crash);
-    start_call_watchdog(request.call_timeout);   // the parent's thread is not in the child
+    start_call_watchdog(request.call_limits);    // the parent's thread is not in the child
     const auto prepared = prepare_run(request);  // every plugin's create and setup
     if (!prepared) {
       std::cerr.flush();
@@ -674,7 +675,7 @@ int run(const std::vector<std::string>& args) {
     job.report_dir = request.report_dir;
     job.overrides = request.overrides;
     job.single_run = true;
-    start_call_watchdog(request.call_timeout);
+    start_call_watchdog(request.call_limits);
     return run_comparison(job, std::cout);
   }
   return simulate(request, out);
@@ -684,7 +685,7 @@ int run(const std::vector<std::string>& args) {
 int validate(const std::vector<std::string>& args) {
   RunRequest request;
   if (const auto code = parse_run_args(args, "validate", request, nullptr)) return *code;
-  start_call_watchdog(request.call_timeout);
+  start_call_watchdog(request.call_limits);
   const auto prepared = prepare_run(request);
   if (!prepared) return 1;
   try {

@@ -79,7 +79,7 @@ RunRecord record_run_isolated(const ModelFile& file, const PluginRegistry& regis
   if (pid == 0) {
     ::close(fds[0]);
     install_crash_handler(crash);
-    start_call_watchdog(kDefaultCallTimeout);  // threads do not survive fork
+    start_call_watchdog();  // threads do not survive fork
     run_in_child(fds[1], file, registry, formulation, integrator, std::move(options));
   }
   ::close(fds[1]);

@@ -80,7 +80,7 @@ int main(int argc, char** argv) {
   // here; run does it in a child) is named.
   mh::cli::install_crash_handler(nullptr);
   // Nor can a plugin call that never returns hang it (run sets its own limit).
-  mh::cli::start_call_watchdog(mh::cli::kDefaultCallTimeout);
+  mh::cli::start_call_watchdog();
   std::vector<std::string> args(argv + 1, argv + argc);
   if (!take_log_level(args)) return 2;
   int code = 2;

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "call_watchdog.hpp"
 #include "model_plugins.hpp"
 #include "monohydra/core/csv_layout.hpp"
 #include "monohydra/core/model_file.hpp"
@@ -29,7 +30,7 @@ struct RunRequest {
   bool csv = false;                       // the run writes a CSV (counted in the output limit)
   std::optional<double> output_interval;  // --output-interval: overrides output.interval
   int real_time_cap = 0;                  // --real-time: Newton iterations per step (0: off)
-  double call_timeout = 0.0;              // --call-timeout: s a plugin call may take (0: no limit)
+  CallLimits call_limits;                 // --call-timeout: s a plugin call may take (0: no limit)
   std::string save_state;                 // --save-state FILE: a checkpoint ("" none)
   std::optional<double> save_at;          // --at T: when (s; none: at the run's end)
   std::string resume;                     // --resume FILE: go on from a checkpoint

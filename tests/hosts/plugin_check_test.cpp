@@ -3,6 +3,7 @@
 // (tests/fixtures/faulty/faulty_spring.c and the ABI fixtures).
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -420,6 +421,30 @@ TEST(HostBoundary, AnEvaluateThatNeverReturnsStopsTheRunKeepingEveryRowBefore) {
   while (std::getline(rows, line))
     if (!line.empty()) last = line;
   EXPECT_EQ(last.substr(0, last.find(',')), "0.5") << last;
+}
+
+// Without --call-timeout a call inside a step has 5 s, not a minute: the
+// hung evaluate is named within seconds, and the message says how to raise
+// the limit for a slow honest plugin.
+TEST(HostBoundary, AnEvaluateThatNeverReturnsIsStoppedWithinTheStepCallsDefaultOfFiveSeconds) {
+  const auto dir = mh::test::scratch_dir("hang-evaluate-default");
+  const auto model = dir / "spring.yaml";
+  {
+    std::ifstream in(spring_model());
+    std::ofstream out(model);
+    out << in.rdbuf() << "plugins: {faulty-spring: " << fixture("hang_evaluate") << "}\n";
+  }
+  const auto began = std::chrono::steady_clock::now();
+  const CliResult r = run_cli("run " + model.string() + " --out /dev/null");
+  const double took =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("monohydra: subsystem 'spring' (faulty-spring) of hang_evaluate.so has "
+                          "not returned from its evaluate within 5 s (at t = 0.501 s, step 501): "
+                          "stopped (--call-timeout S raises the limit)"),
+            std::string::npos)
+      << r.output;
+  EXPECT_LT(took, 15.0);
 }
 
 TEST(HostBoundary, ACallTimeoutThatIsNotATimeIsRefusedNamingTheFlagAndTheValue) {
