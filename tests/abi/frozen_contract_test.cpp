@@ -17,8 +17,11 @@
 
 #include "abi/contract_record.h"
 #include "build_paths.hpp"
+#include "text_file.hpp"
 
 namespace {
+
+using mh::test::read_text;
 
 std::string frozen_dir() {
   return std::string(mh::test::paths::source_dir) + "/tests/abi/sdk-3.0";
@@ -36,13 +39,6 @@ void expect_same_entries() {
 
 std::string label(const mh_abi_record& r) {
   return r.owner != nullptr ? std::string(r.owner) + "." + r.name : std::string(r.name);
-}
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
 }
 
 // The frozen headers, concatenated, without their comments.

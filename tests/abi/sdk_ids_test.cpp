@@ -13,17 +13,13 @@
 #include <string>
 
 #include "build_paths.hpp"
+#include "text_file.hpp"
 
 namespace {
 
-namespace fs = std::filesystem;
+using mh::test::read_text;
 
-std::string read_file(const fs::path& path) {
-  std::ifstream in(path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+namespace fs = std::filesystem;
 
 struct Defined {
   std::string text;    // "monohydra.options/3"
@@ -36,7 +32,7 @@ std::map<std::string, Defined> ids_in(const fs::path& folder) {
   const std::regex define(R"re(#define\s+(MH_(?:SERVICE|EXT)_\w+)\s+"([^"]+)")re");
   for (const auto& entry : fs::directory_iterator(folder)) {
     if (entry.path().extension() != ".h") continue;
-    const std::string text = read_file(entry.path());
+    const std::string text = read_text(entry.path());
     for (std::sregex_iterator m(text.begin(), text.end(), define), end; m != end; ++m)
       out[(*m)[1]] = {(*m)[2], entry.path().filename().string()};
   }
@@ -59,13 +55,13 @@ TEST(SdkIds, TheSdkGuideListsEveryIdOfTheHeadersWithItsRevision) {
   const std::map<std::string, Defined> frozen = ids_in(source / "tests/abi/sdk-3.0/monohydra");
   ASSERT_GE(headers.size(), 17u);  // as many as 3.2 defines, at least
   ASSERT_EQ(frozen.size(), 7u);    // as 3.0 shipped them
-  const std::string types = read_file(source / "sdk/include/monohydra/types.h");
+  const std::string types = read_text(source / "sdk/include/monohydra/types.h");
   const int major = defined_number(types, "MH_ABI_VERSION_MAJOR");
   const int minor = defined_number(types, "MH_ABI_VERSION_MINOR");
   ASSERT_GE(major, 3);
   ASSERT_GE(minor, 0);
 
-  const std::string guide = read_file(source / "docs/sdk.md");
+  const std::string guide = read_text(source / "docs/sdk.md");
   const std::string title = "### Every id, its revision and the minor that added it";
   const size_t at = guide.find(title);
   ASSERT_NE(at, std::string::npos) << "docs/sdk.md has no section '" << title << "'";

@@ -13,15 +13,11 @@
 #include <string>
 
 #include "build_paths.hpp"
+#include "text_file.hpp"
 
 namespace {
 
-std::string read_file(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using mh::test::read_text;
 
 std::string output_of(const std::string& command, int& code) {
   std::string out;
@@ -56,9 +52,9 @@ TEST(EmbeddingExample, ItsCsvIsMonohydraRunsByteForByteWithNoPluginPathSet) {
           mh::test::paths::source_dir + "/models/fourbar.yaml --out " + reference,
       code);
   ASSERT_EQ(code, 0) << ran;
-  const std::string embedded = read_file(root / "out" / "embedding" / "fourbar.csv");
+  const std::string embedded = read_text(root / "out" / "embedding" / "fourbar.csv");
   EXPECT_EQ(std::count(embedded.begin(), embedded.end(), '\n'), 10002);
-  EXPECT_TRUE(embedded == read_file(reference)) << "the embedded run's CSV differs";
+  EXPECT_TRUE(embedded == read_text(reference)) << "the embedded run's CSV differs";
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "build_paths.hpp"
+#include "text_file.hpp"
 
 namespace mh::test {
 
@@ -89,13 +90,6 @@ inline std::filesystem::path scratch_dir(const std::string& name) {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
-}
-
-inline std::string read_text(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
 }
 
 // A CSV with a header row, by column name.

@@ -21,8 +21,11 @@
 #include "build_paths.hpp"
 #include "monohydra/simulation.h"
 #include "same_bits.hpp"
+#include "text_file.hpp"
 
 namespace {
+
+using mh::test::read_text;
 
 struct Free {
   void operator()(mhs_simulation* s) const { mhs_free(s); }
@@ -35,13 +38,6 @@ using BatchSnapshot = std::unique_ptr<mhs_batch_snapshot, Free>;
 
 std::string model(const std::string& name) {
   return std::string(mh::test::paths::source_dir) + "/models/" + name;
-}
-
-std::string read_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 bool ok(mhs_status st) {
@@ -226,7 +222,7 @@ TEST(EmbeddingBatch, EachRunTakesItsOwnInputAndAClampedOneIsNamed) {
   EXPECT_NE(refused.find("mhs_batch_set: run 1: "), std::string::npos) << refused;
   EXPECT_EQ(column(b.get(), u, 2), std::vector<double>({5.0, -5.0}));
   // Clamped where the model says so, and each clamped run named.
-  std::string text = read_file(model("fourbar.yaml"));
+  std::string text = read_text(model("fourbar.yaml"));
   const std::string range = "    range: [-10, 10]\n";
   ASSERT_NE(text.find(range), std::string::npos);
   text.insert(text.find(range) + range.size(), "    out_of_range: clamp\n");

@@ -23,8 +23,11 @@
 
 #include "build_paths.hpp"
 #include "monohydra/simulation.h"
+#include "text_file.hpp"
 
 namespace {
+
+using mh::test::read_text;
 
 struct Free {
   void operator()(mhs_simulation* s) const { mhs_free(s); }
@@ -43,13 +46,6 @@ std::filesystem::path scratch(const std::string& name) {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
-}
-
-std::string read_file(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 // Opens `name` with the settings; fails the test unless it opened.
@@ -95,7 +91,7 @@ std::string cli_csv(const std::string& name, const std::string& args, const std:
   const std::string command = std::string(mh::test::paths::executable) + " run " + model(name) +
                               " " + args + " --out " + out.string() + " > /dev/null 2>&1";
   EXPECT_EQ(std::system(command.c_str()), 0) << command;
-  return read_file(out);
+  return read_text(out);
 }
 
 // Every row the run writes, as `monohydra run` writes its CSV.
@@ -133,7 +129,7 @@ TEST(EmbeddingRun, SettingsChooseAsTheCommandLinesFlagsDo) {
 TEST(EmbeddingRun, AValueSetByItsPathIsTheModelFileWithThatValue) {
   // The pump at 9 MPa instead of the paper's 7.6, by path here and in an
   // edited copy of the file for the command line.
-  std::string text = read_file(model("fourbar.yaml"));
+  std::string text = read_text(model("fourbar.yaml"));
   const std::string from = "pressure: 7.6e6";
   ASSERT_NE(text.find(from), std::string::npos);
   text.replace(text.find(from), from.size(), "pressure: 9e6");
@@ -145,7 +141,7 @@ TEST(EmbeddingRun, AValueSetByItsPathIsTheModelFileWithThatValue) {
   ASSERT_EQ(std::system(command.c_str()), 0) << command;
   Sim sim = open("fourbar.yaml", {{"subsystems/pump/pressure", "9e6"}, {"t_end", "2"}});
   const std::string csv = api_csv(sim.get());
-  EXPECT_EQ(csv, read_file(out));
+  EXPECT_EQ(csv, read_text(out));
   // And it is not the paper's pump.
   Sim paper = open("fourbar.yaml", {{"t_end", "2"}});
   EXPECT_NE(csv, api_csv(paper.get()));
@@ -266,7 +262,7 @@ TEST(EmbeddingSnapshot, BytesRestoredInANewProcessContinueIdentically) {
         std::string(mh::test::paths::resume_snapshot) + " " + model("fourbar.yaml") + " " +
         formulation + " " + (dir / "state.bin").string() + " 10 > " + (dir / "rows.csv").string();
     ASSERT_EQ(std::system(command.c_str()), 0) << command;
-    EXPECT_EQ(read_file(dir / "rows.csv"), here) << formulation;
+    EXPECT_EQ(read_text(dir / "rows.csv"), here) << formulation;
   }
 }
 
@@ -345,7 +341,7 @@ TEST(EmbeddingInputs, TheValveCommandSetFromCodeIsTheTableItReplacesToTheByte) {
 }
 
 TEST(EmbeddingInputs, AnotherCycleSetFromCodeIsTheModelWithThatTable) {
-  std::string text = read_file(model("fourbar.yaml"));
+  std::string text = read_text(model("fourbar.yaml"));
   const std::string paper =
       "table: [[0, 0], [1, 0], [1, 10], [2.5, 10], [2.5, 0], [5, 0], [5, -10], [8, -10], [8, 0]]";
   ASSERT_NE(text.find(paper), std::string::npos);
@@ -446,7 +442,7 @@ TEST(EmbeddingBadCalls, InputsRefuseOtherValuesNaNAndOutOfRangeSettingNone) {
   EXPECT_EQ(u, 0.0);  // still its table's
 
   // An input that clamps: set to 12 V, it takes 10 V and says so.
-  std::string text = read_file(model("fourbar.yaml"));
+  std::string text = read_text(model("fourbar.yaml"));
   const std::string range = "range: [-10, 10]";
   ASSERT_NE(text.find(range), std::string::npos);
   text.replace(text.find(range), range.size(), range + "\n    out_of_range: clamp");
@@ -534,7 +530,7 @@ TEST(EmbeddingBadCalls, AModelThatDoesNotOpenIsFatalAndSaysWhy) {
   Sim null_value(raw);
   EXPECT_STREQ(mhs_message(null_value.get()), "setting 0 has a NULL path or value");
 
-  std::string text_model = read_file(model("fourbar.yaml"));
+  std::string text_model = read_text(model("fourbar.yaml"));
   const std::string reference = "reference: valve_command";
   ASSERT_NE(text_model.find(reference), std::string::npos);
   text_model.replace(text_model.find(reference), reference.size(), "reference: valve_comand");
@@ -970,7 +966,7 @@ TEST(EmbeddingParameters, AComponentsOptionSetBeforeStartIsTheModelOpenedWithItT
 // opening, flow_table/ROW/2) set before start: the model opened with it, to
 // the byte, and not the model without it.
 TEST(EmbeddingParameters, AnEntryOfAComponentsTableSetBeforeStartIsTheModelOpenedWithIt) {
-  std::string text = read_file(model("fourbar.yaml"));
+  std::string text = read_text(model("fourbar.yaml"));
   const auto swap = [&](const std::string& from, const std::string& to) {
     const size_t at = text.find(from);
     ASSERT_NE(at, std::string::npos) << from;
@@ -996,7 +992,7 @@ TEST(EmbeddingParameters, AnEntryOfAComponentsTableSetBeforeStartIsTheModelOpene
                               " --t-end 1.5 --set subsystems/valve/flow_table/1/2=2.5e-4 --out " +
                               out.string() + " > /dev/null 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0) << command;
-  EXPECT_EQ(changed, read_file(out));
+  EXPECT_EQ(changed, read_text(out));
   EXPECT_NE(changed, csv(nullptr, 0.0));
 }
 
