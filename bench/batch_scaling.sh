@@ -8,8 +8,9 @@
 # at once against one process of them all (each its stepping time, the
 # slower of the two). Prints a Markdown table: the medians of the times and
 # of each repeat's own speed-up (the machine's speed drifts between
-# repeats; a 1-thread run and the 2-thread one right after it share it). Memory: resident size after the first step of a batch of 1 and
-# of a batch of N runs, (N-run - 1-run) / (N - 1).
+# repeats; a 1-thread run and the 2-thread one right after it share it).
+# Memory: resident size after the first step of a batch of 1 and of a batch
+# of N runs, (N-run - 1-run) / (N - 1).
 #   usage: bench/batch_scaling.sh BUILD/bin/mh_batch_run [REPEATS]
 set -euo pipefail
 bin=$(realpath "$1")
@@ -80,7 +81,7 @@ print(row("256 four-bars, 10 s", "fourbar-1", "fourbar-2"))
 print(row("the machine's ceiling: 2 processes x 128 four-bars, 1 thread each (the slower's stepping)",
           "fourbar-1", "processes-2"))
 print(row("32 excavators (load sensing), 10 s", "excavator-1", "excavator-2"))
-share = sorted(times["processes-2"][r] / times["fourbar-2"][r] for r in times["fourbar-2"])
+share = ratios("processes-2", "fourbar-2")
 print(f"\nThe four-bar batch on 2 threads against the two processes of the same repeat: "
       f"{statistics.median(share):.2f} of their speed ({share[0]:.2f}-{share[-1]:.2f}).")
 print()
