@@ -371,6 +371,12 @@ struct NewtonState {
   std::unique_ptr<ArticulatedWorkspace> articulated;
   int real_time_cap = 0;  // real-time mode: Newton iterations per step at most (0: off)
   std::chrono::steady_clock::time_point step_deadline{};  // real-time mode: wall clock
+  // Newton on the exact tangent contracts quadratically, and a linear
+  // contraction says the tangent is wrong (TangentReuse::converged); not
+  // where the formulation moves its multipliers at each residual call until
+  // Phi = 0 (MH_EXT_CONSTRAINED_AT_CONVERGENCE: penalty's augmented
+  // Lagrangian), whose iteration is linear by design.
+  bool quadratic = true;
 };
 
 // The step's tangent (tangent.cpp): its pattern and values, the column

@@ -291,6 +291,11 @@ Simulation::Simulation(const ModelFile& file, const PluginRegistry& registry,
   e.build_pattern();  // and the linear solver the model chose analyses it
   if (e.settings.newton == NewtonKind::automatic) e.settings.newton = e.automatic_newton();
   e.run.reuse.set_mode(reuse_mode(e.settings.newton));
+  e.work.solver.quadratic = e.formulation.ops.get_extension == nullptr ||
+                            in_flight(*e.formulation_host, InstanceHost::Op::get_extension, [&] {
+                              return e.formulation.ops.get_extension(
+                                  e.formulation.self, MH_EXT_CONSTRAINED_AT_CONVERGENCE);
+                            }) == nullptr;
   if (e.settings.newton == NewtonKind::articulated) e.size_articulated();
   e.size_derivatives();
   e.size_explicit();

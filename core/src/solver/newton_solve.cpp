@@ -95,7 +95,9 @@ class StepProblem final : public NewtonProblem {
              "formulation iteration");
     return true;
   }
-  bool converged(double size) override { return e_.run.reuse.converged(size); }
+  bool converged(double size) override {
+    return e_.run.reuse.converged(size, e_.work.solver.quadratic);
+  }
   // Real-time mode: a late or over-long step is accepted as it stands.
   bool stop_early(int iteration) override {
     return e_.work.solver.real_time_cap > 0 &&
@@ -142,9 +144,18 @@ void Simulation::Engine::newton_solve(double t_eval, double t_next) {
     case NewtonOutcome::End::not_converged:
       break;
   }
+  // A matrix that is not the tangent (tangent_reuse.hpp): say so, since its
+  // increments may well be within the tolerance.
+  const std::string suspect =
+      work.solver.quadratic && run.reuse.tangent_suspect()
+          ? "; its increments shrank only by a factor of " + short_number(run.reuse.rate()) +
+                " per iteration on tangents made in this step, where the residual's derivative "
+                "makes them shrink quadratically: a component's Jacobian or the formulation's "
+                "tangent is not the derivative of its residual (monohydra check compares them)"
+          : "";
   fail_step("Newton did not converge in " + std::to_string(settings.max_iterations) +
             " iterations; the largest increment was " + short_number(out.size) +
-            " times the tolerance, in " + unknown_name(out.worst));
+            " times the tolerance, in " + unknown_name(out.worst) + suspect);
 }
 
 // Evaluates the subsystems one by one at the current kinematics, states and
