@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "monohydra/core/plugin_call.hpp"
+#include "stop_signals.hpp"
 
 namespace mh::cli {
 namespace {
@@ -44,11 +45,33 @@ std::atomic<pid_t> g_running_pid{0};  // the process whose thread has entered wa
   std::_Exit(1);  // the hung call holds the engine: nothing else can run safely
 }
 
+// A stop signal arrived while `site` was in flight, and the call has not
+// returned: the run cannot reach its next row to stop there.
+[[noreturn]] void stop_interrupted(const PluginCallSite& site, int signal) {
+  const PluginCallInFlight& record = *g_record.load(std::memory_order_relaxed);
+  char message[1024];
+  const int n = std::snprintf(
+      message, sizeof message,
+      "monohydra: interrupted by %s: %s had not returned from its %s (at t = %g s, step %ld): "
+      "stopped there\n",
+      signal_name(signal), site.who != nullptr ? site.who : "a plugin",
+      site.call != nullptr ? site.call : "call", record.t.load(std::memory_order_relaxed),
+      record.step.load(std::memory_order_relaxed));
+  if (n > 0) {
+    const auto len =
+        static_cast<size_t>(n) < sizeof message ? static_cast<size_t>(n) : sizeof message - 1;
+    const ssize_t written = ::write(STDERR_FILENO, message, len);
+    (void)written;
+  }
+  std::_Exit(exit_status_for_signal(signal));
+}
+
 void watch() {
   constexpr auto kPeriod = std::chrono::milliseconds(200);
   const PluginCallSite* last_site = nullptr;
   unsigned long last_entered = 0;
   double stuck = 0.0;
+  bool stop_seen = false;  // a stop signal was pending during this call at the last tick
   g_running_pid.store(::getpid(), std::memory_order_release);
   for (;;) {
     std::this_thread::sleep_for(kPeriod);
@@ -60,7 +83,16 @@ void watch() {
     const CallLimits limits{g_setup_limit.load(std::memory_order_relaxed),
                             g_step_limit.load(std::memory_order_relaxed)};
     const double limit = site != nullptr ? limits.of(site->call) : 0.0;
-    if (site == nullptr || site != last_site || entered != last_entered || !(limit > 0.0)) {
+    const bool same_call = site != nullptr && site == last_site && entered == last_entered;
+    // Stopped while this call, in flight at the last tick too, has not returned.
+    const int signal = pending_stop_signal();
+    if (same_call && signal != 0) {
+      if (stop_seen) stop_interrupted(*site, signal);
+      stop_seen = true;
+    } else {
+      stop_seen = false;
+    }
+    if (!same_call || !(limit > 0.0)) {
       last_site = site;
       last_entered = entered;
       stuck = 0.0;

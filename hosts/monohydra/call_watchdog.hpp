@@ -4,7 +4,11 @@
 // plugin_call.hpp); when one call has not returned, and made no nested call,
 // for the limit, it says which (the instance, its library, the call, the time
 // and step) and ends the process with exit code 1. The CSV rows written
-// before stay. Policy of the host, not of the engine: the core only marks.
+// before stay. A stop signal (SIGINT, SIGTERM) is honoured between rows; one
+// that arrives while a plugin call is in flight, which then does not return
+// within a tick or two of the watchdog (at most 0.4 s), ends the process at
+// once, naming the call, with the signal's exit status. Policy of the host,
+// not of the engine: the core only marks.
 #pragma once
 
 namespace mh::cli {

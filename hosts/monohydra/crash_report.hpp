@@ -17,6 +17,9 @@ struct CrashReport {
   double t = 0.0;
   char who[512] = {};
   char call[64] = {};
+  // With no call in flight on the crashing thread (a thread a plugin
+  // started): the file name of the library whose code crashed, if known.
+  char code[256] = {};
 };
 
 // A zeroed report shared with children forked after it (nullptr if the
@@ -33,7 +36,10 @@ void release_crash_report(CrashReport* report);
 void install_crash_handler(CrashReport* report);
 
 // In the parent: " in subsystem 'x' (type) of lib.so, in its evaluate, at
-// t = 0.5 s, step 500", or "" when the report names no call.
+// t = 0.5 s, step 500"; " in the code of lib.so, outside the plugin calls
+// the host marks (a thread it started)" when no call was in flight on the
+// crashing thread but its instruction was in a plugin library; or "" when
+// the report names neither.
 std::string crash_site(const CrashReport* report);
 
 }  // namespace mh::cli

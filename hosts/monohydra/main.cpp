@@ -14,6 +14,7 @@
 #include "commands.hpp"
 #include "crash_report.hpp"
 #include "plugin_check.hpp"
+#include "supervised.hpp"
 #include "sweep_command.hpp"
 
 namespace {
@@ -22,14 +23,15 @@ int dispatch(const std::string& cmd, const std::vector<std::string>& args) {
   if (cmd == "run") return mh::cli::run(args);
   if (cmd == "compare") return mh::cli::compare(args);
   if (cmd == "check") return mh::cli::check(args);
-  if (cmd == "validate") return mh::cli::validate(args);
+  if (cmd == "validate") return mh::cli::supervised([&] { return mh::cli::validate(args); });
   if (cmd == "sweep") return mh::cli::run_sweep(args);
-  if (cmd == "linearize") return mh::cli::linearize(args);
-  if (cmd == "sensitivities") return mh::cli::sensitivities(args);
-  if (cmd == "fit") return mh::cli::fit(args);
-  if (cmd == "estimate") return mh::cli::estimate(args);
-  if (cmd == "fmu") return mh::cli::fmu(args);
-  if (cmd == "forces") return mh::cli::forces(args);
+  if (cmd == "linearize") return mh::cli::supervised([&] { return mh::cli::linearize(args); });
+  if (cmd == "sensitivities")
+    return mh::cli::supervised([&] { return mh::cli::sensitivities(args); });
+  if (cmd == "fit") return mh::cli::supervised([&] { return mh::cli::fit(args); });
+  if (cmd == "estimate") return mh::cli::supervised([&] { return mh::cli::estimate(args); });
+  if (cmd == "fmu") return mh::cli::supervised([&] { return mh::cli::fmu(args); });
+  if (cmd == "forces") return mh::cli::supervised([&] { return mh::cli::forces(args); });
   if (cmd == "--help" || cmd == "-h" || cmd == "help") return mh::cli::usage(0);
   // Named, with the commands there are, rather than the whole usage text
   // (which hid a mistyped command's name among 50 lines).
@@ -76,8 +78,8 @@ bool take_log_level(std::vector<std::string>& args) {
 
 int main(int argc, char** argv) {
   mh::cli::set_command_line(argc, argv);
-  // A plugin that crashes in a call this process makes (validate and compare set runs up
-  // here; run does it in a child) is named.
+  // A plugin that crashes in a call this process makes (compare sets runs up
+  // here; run, and the commands dispatch() supervises, do it in a child) is named.
   mh::cli::install_crash_handler(nullptr);
   // Nor can a plugin call that never returns hang it (run sets its own limit).
   mh::cli::start_call_watchdog();

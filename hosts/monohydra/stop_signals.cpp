@@ -29,6 +29,10 @@ const volatile std::sig_atomic_t* install_stop_handlers() {
   return &g_stop;
 }
 
+int pending_stop_signal() {
+  return static_cast<int>(g_stop);
+}
+
 const char* signal_name(int signal) {
   if (signal == SIGINT) return "SIGINT";
   if (signal == SIGTERM) return "SIGTERM";

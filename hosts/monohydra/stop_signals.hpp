@@ -10,6 +10,11 @@ namespace mh::cli {
 // Installs the handlers (once) and returns the flag: 0, or the signal number.
 const volatile std::sig_atomic_t* install_stop_handlers();
 
+// The stop signal this process has received (0: none), for the call
+// watchdog (call_watchdog.hpp), which ends a run whose plugin call does not
+// return to let it stop.
+int pending_stop_signal();
+
 // "SIGINT", "SIGTERM", "SIGSEGV" and the other crashes, or "signal N".
 const char* signal_name(int signal);
 

@@ -18,6 +18,7 @@ namespace {
 
 using mh::test::CliResult;
 using mh::test::run_cli;
+using mh::test::run_shell;
 
 std::string fixture(const std::string& name) {
   return std::string(mh::test::paths::check_fixture_dir) + "/" + name + ".so";
@@ -312,6 +313,69 @@ TEST(HostBoundary, ACrashInsideASubsystemCallNamesTheInstanceTheCallTheTimeAndTh
       << r.output;
 }
 
+// Every way a plugin's code can die inside a call ends the run's process,
+// not the command: it names the signal, the instance, its library and the
+// call, and keeps every row before. A stack overflow too, whose handler
+// runs on a stack of its own (crash_report.cpp).
+struct CrashKind {
+  const char* fixture;
+  const char* signal;
+};
+
+class HostBoundaryCrash : public ::testing::TestWithParam<CrashKind> {};
+
+TEST_P(HostBoundaryCrash, AnEvaluateThatDiesIsNamedWithTheSignalAndEveryRowBeforeIsKept) {
+  const CrashKind kind = GetParam();
+  const auto dir = mh::test::scratch_dir(std::string("crash-") + kind.fixture);
+  const auto model = dir / "spring.yaml";
+  {
+    std::ifstream in(spring_model());
+    std::ofstream out(model);
+    out << in.rdbuf() << "plugins: {faulty-spring: " << fixture(kind.fixture) << "}\n";
+  }
+  const auto csv = dir / "out.csv";
+  const CliResult r = run_cli("run " + model.string() + " --out " + csv.string());
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find(std::string("monohydra: the run crashed (") + kind.signal +
+                          ") in subsystem 'spring' (faulty-spring) of " + kind.fixture +
+                          ".so, in its evaluate, at t = 0.501 s, step 501; every row up to t = "
+                          "0.5 s is in '" +
+                          csv.string() + "'"),
+            std::string::npos)
+      << r.output;
+}
+
+INSTANTIATE_TEST_SUITE_P(Signals, HostBoundaryCrash,
+                         ::testing::Values(CrashKind{"abort_evaluate", "SIGABRT"},
+                                           CrashKind{"trap_evaluate", "SIGILL"},
+                                           CrashKind{"null_write_evaluate", "SIGSEGV"},
+                                           CrashKind{"divide_evaluate", "SIGFPE"},
+                                           CrashKind{"stack_overflow_evaluate", "SIGSEGV"}),
+                         [](const ::testing::TestParamInfo<CrashKind>& p) {
+                           return std::string(p.param.fixture);
+                         });
+
+// A thread the plugin started crashes later, in its own code, while the
+// stepping thread is anywhere: no call of the host's is to blame, and the
+// message names the library whose code crashed rather than a call.
+TEST(HostBoundary, AThreadAPluginStartedThatCrashesLaterIsBlamedOnItsLibrary) {
+  const auto dir = mh::test::scratch_dir("crash-thread");
+  const auto model = dir / "spring.yaml";
+  {
+    std::ifstream in(spring_model());
+    std::ofstream out(model);
+    out << in.rdbuf() << "plugins: {faulty-spring: " << fixture("thread_crash") << "}\n";
+  }
+  const auto csv = dir / "out.csv";
+  const CliResult r = run_cli("run " + model.string() + " --out " + csv.string());
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("monohydra: the run crashed (SIGSEGV) in the code of thread_crash.so, "
+                          "outside the plugin calls the host marks (a thread it started); every "
+                          "row up to t = "),
+            std::string::npos)
+      << r.output;
+}
+
 // A crash while the run is set up: the child that sets the run up and steps
 // it dies, and the command itself reports the call and exits 1.
 TEST(HostBoundary, ACrashInSetupEndsTheRunsChildAndTheCommandNamesTheInstanceAndTheCall) {
@@ -445,6 +509,46 @@ TEST(HostBoundary, AnEvaluateThatNeverReturnsIsStoppedWithinTheStepCallsDefaultO
             std::string::npos)
       << r.output;
   EXPECT_LT(took, 15.0);
+}
+
+// SIGTERM while a plugin call never returns: the run cannot reach its next
+// row to stop there, and does not wait for the call's 5 s either: it stops
+// within a second, naming the call, with SIGTERM's exit status, every row
+// before it kept.
+TEST(HostBoundary, SigtermDuringACallThatNeverReturnsStopsTheRunWithinASecond) {
+  const auto dir = mh::test::scratch_dir("hang-evaluate-sigterm");
+  const auto model = dir / "spring.yaml";
+  {
+    std::ifstream in(spring_model());
+    std::ofstream out(model);
+    out << in.rdbuf() << "plugins: {faulty-spring: " << fixture("hang_evaluate") << "}\n";
+  }
+  const auto csv = dir / "out.csv";
+  // Signalled once the row at t = 0.5 s is written (the header and 501 rows)
+  // and the evaluate of step 501 has hung for 0.3 s; the time from the
+  // signal to the command's end printed last.
+  const CliResult r =
+      run_shell("( MONOHYDRA_PLUGIN_PATH= " + std::string(mh::test::paths::executable) + " run " +
+                model.string() + " --out " + csv.string() +
+                " & p=$!; for i in $(seq 400); do [ \"$(wc -l < " + csv.string() +
+                " 2>/dev/null)\" -ge 502 ] && break; sleep 0.05; done; sleep 0.3; " +
+                "t0=$(date +%s.%N); kill -TERM $p; wait $p; rc=$?; t1=$(date +%s.%N); " +
+                "echo; echo \"took $(awk -v a=$t0 -v b=$t1 'BEGIN { print b - a }')\"; exit $rc )");
+  EXPECT_EQ(r.code, 143) << r.output;
+  EXPECT_NE(
+      r.output.find("monohydra: interrupted by SIGTERM: subsystem 'spring' (faulty-spring) of "
+                    "hang_evaluate.so had not returned from its evaluate (at t = 0.501 s, "
+                    "step 501): stopped there"),
+      std::string::npos)
+      << r.output;
+  const size_t at = r.output.rfind("took ");
+  ASSERT_NE(at, std::string::npos) << r.output;
+  EXPECT_LT(std::stod(r.output.substr(at + 5)), 1.0) << r.output;
+  std::ifstream rows(csv);
+  std::string line, last;
+  while (std::getline(rows, line))
+    if (!line.empty()) last = line;
+  EXPECT_EQ(last.substr(0, last.find(',')), "0.5") << last;
 }
 
 TEST(HostBoundary, ACallTimeoutThatIsNotATimeIsRefusedNamingTheFlagAndTheValue) {

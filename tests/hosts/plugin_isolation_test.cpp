@@ -119,5 +119,61 @@ TEST(PluginIsolation, SigtermToCompareStopsTheRunInItsProcessAndExits143) {
   EXPECT_EQ(std::to_string(read_csv(csv).rows - 1), t.cell("steps", "double-step"));
 }
 
+// Every library built broken on purpose, each alone on the plugin path
+// beside a run that does not use it (a bystander): probed in a child, it is
+// refused or known and left alone, and the four-bar's rows are the clean
+// run's byte for byte, from run and from linearize alike. (The library that
+// hangs in its init is left out: its probe's 10 s limit is tested by
+// PluginProbe.KillsALibraryThatHangsInInitAfterTheTimeLimit.)
+TEST(PluginIsolation, EveryFaultyLibraryAsABystanderLeavesTheRunsResultsUnchanged) {
+  const fs::path dir = scratch_dir("bystanders");
+  const std::string fourbar = shipped_model("fourbar.yaml");
+  const auto rows = [&](const std::string& env, const std::string& name) {
+    const fs::path csv = dir / (name + ".csv");
+    const CliResult r = run_cli("run " + fourbar + " --t-end 0.05 --out " + csv.string(), env);
+    return std::make_pair(r, read_text(csv));
+  };
+  // linearize's matrices, from its states on (a refused bystander's warning comes before).
+  const auto from_states = [](const std::string& out) {
+    const size_t at = out.find("\nstates:");
+    return at == std::string::npos ? std::string() : out.substr(at);
+  };
+  const auto clean = rows("MONOHYDRA_PROBE_CACHE=off ", "clean");
+  ASSERT_EQ(clean.first.code, 0) << clean.first.output;
+  const CliResult clean_linearized =
+      run_cli("linearize " + fourbar + " --at 0.05", "MONOHYDRA_PROBE_CACHE=off ");
+  ASSERT_EQ(clean_linearized.code, 0) << clean_linearized.output;
+  size_t bystanders = 0;
+  for (const char* folder :
+       {mh::test::paths::faulty_plugin_dir, mh::test::paths::check_fixture_dir,
+        mh::test::paths::boundary_plugin_dir, mh::test::paths::sdk20_plugin_dir,
+        mh::test::paths::fixture_dir, mh::test::paths::clash_plugin_dir}) {
+    for (const auto& entry : fs::directory_iterator(folder)) {
+      if (entry.path().extension() != ".so") continue;
+      const std::string name = entry.path().stem().string();
+      const fs::path alone = dir / ("path-" + name);
+      fs::create_directories(alone);
+      fs::create_symlink(entry.path(), alone / entry.path().filename());
+      const std::string env =
+          "MONOHYDRA_PROBE_CACHE=off MONOHYDRA_PLUGIN_PATH=" + alone.string() + " ";
+      const auto ran = rows(env, name);
+      // A library offering an id the model uses is no bystander: the model
+      // must say which it means, and the run is refused saying so.
+      if (ran.first.output.find("is offered by 2 libraries") != std::string::npos) {
+        EXPECT_EQ(ran.first.code, 2) << name << ": " << ran.first.output;
+        continue;
+      }
+      ++bystanders;
+      EXPECT_EQ(ran.first.code, 0) << name << ": " << ran.first.output;
+      EXPECT_EQ(ran.second, clean.second) << name << ": its rows differ from the clean run's";
+      const CliResult linearized = run_cli("linearize " + fourbar + " --at 0.05", env);
+      EXPECT_EQ(linearized.code, 0) << name << ": " << linearized.output;
+      EXPECT_EQ(from_states(linearized.output), from_states(clean_linearized.output)) << name;
+      EXPECT_NE(from_states(linearized.output), "") << name << ": " << linearized.output;
+    }
+  }
+  EXPECT_GE(bystanders, 40u);  // the corpus, as it stands
+}
+
 }  // namespace
 }  // namespace mh::test
