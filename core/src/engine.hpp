@@ -39,6 +39,7 @@
 #include "monohydra/cpp/unknowns.hpp"
 #include "monohydra/monohydra.h"
 #include "monohydra/parameters.h"
+#include "plugins/guarded_array.hpp"
 #include "plugins/plugin_instance.hpp"
 #include "step/signals.hpp"
 
@@ -159,8 +160,9 @@ struct SubsystemInstance {
   SubsystemProxy api;
   std::vector<int> touched;  // states it may read and add to; own first-call order
   std::vector<BodyPoint> points;
-  std::vector<double> p, v, f;  // 3 per point
-  std::vector<int> slots;       // touched x touched: value slots in the tangent (-1: none)
+  std::vector<double> p, v;  // 3 per point: the points' motion, read by the instance
+  GuardedArray f;            // 3 per point: the forces it writes (evaluate)
+  std::vector<int> slots;    // touched x touched: value slots in the tangent (-1: none)
   // The entries of its block it declared (sparsity.h: global state indices,
   // row then column); empty: the block is dense.
   std::vector<std::pair<int, int>> declared;
@@ -178,14 +180,15 @@ struct SubsystemInstance {
   std::vector<BlockColumn> block_columns;
   Eigen::ArrayXd undeclared;   // k x k: 1 where a declared block has no entry (empty: dense)
   bool block_checked = false;  // its first jacobian wrote within the declaration
-  std::vector<double> d_dy, d_dydot;
-  double power = 0.0;  // sum F . v at the last evaluation
+  GuardedArray d_dy, d_dydot;  // its jacobian's blocks
+  double power = 0.0;          // sum F . v at the last evaluation
   // Point-force derivatives (3P x 3P, column-major) and the buffers that
   // difference them when the plugin gives none (mechanics_derivatives.cpp).
-  std::vector<double> dF_dp, dF_dv, p_pert, v_pert, f_base;
+  GuardedArray dF_dp, dF_dv;
+  std::vector<double> p_pert, v_pert, f_base;
   // Its rows' derivatives in its points' motion (k x 3P, row-major) and its
   // point forces' in its states (3P x k, column-major): subsystem_coupling.cpp.
-  std::vector<double> dR_dp, dR_dv, dF_dy, dF_dydot;
+  GuardedArray dR_dp, dR_dv, dF_dy, dF_dydot;
   // Where those couplings go in the tangent, found once (size_coupling):
   // its state rows in the mechanical columns (k x n_m, row-major) and the
   // mechanical rows in its state columns (k x n_m, a state's column by
@@ -219,11 +222,12 @@ inline void apply_planted(const PlantedError& planted, Eigen::MatrixXd* const bl
     b(static_cast<Eigen::Index>(planted.entry)) *= planted.factor;
 }
 // After the op that wrote `arrays` (array numbers first, first + 1, ...).
-inline void apply_planted(const PlantedError& planted, const SubsystemInstance& s, int first,
-                          std::initializer_list<std::vector<double>*> arrays) {
+template <class Array>
+void apply_planted(const PlantedError& planted, const SubsystemInstance& s, int first,
+                   std::initializer_list<Array*> arrays) {
   if (planted.instance != &s) return;
   int a = first;
-  for (std::vector<double>* v : arrays) {
+  for (Array* v : arrays) {
     if (a++ == planted.array && planted.entry < v->size()) (*v)[planted.entry] *= planted.factor;
   }
 }
@@ -735,6 +739,18 @@ struct Simulation::Engine {
                                const char* call, const char* what) const;
   [[noreturn]] void fail_nonfinite(double value, size_t index, const InstanceHost& writer,
                                    const char* call, const char* what, bool retryable) const;
+  // An instance wrote past the end of `array` in `call`: the run stops
+  // (the memory after it is the host's, so no retry), naming them; the
+  // guard is set again first.
+  [[noreturn]] void fail_overrun(GuardedArray& array, const InstanceHost& writer, const char* call,
+                                 const char* what) const;
+  // After `call` of `writer` that wrote `arrays`: stops the run at the first
+  // whose guard it changed.
+  void check_guards(const InstanceHost& writer, const char* call,
+                    std::initializer_list<std::pair<GuardedArray*, const char*>> arrays) const {
+    for (const auto& [array, what] : arrays)
+      if (!array->intact()) fail_overrun(*array, writer, call, what);
+  }
   // The outputs of the step's evaluation, each checked and named by its owner.
   void check_outputs(const char* when) const;
   std::string status_reason(mh_status s, const std::string& what) const;
@@ -792,8 +808,10 @@ inline void refresh_signals(SubsystemInstance& s, const mh_subsystem_eval& ev) {
 
 inline mh_status evaluate_instance(SubsystemInstance& s, const mh_subsystem_eval& ev) {
   refresh_signals(s, ev);
-  return in_flight(*s.host, InstanceHost::Op::evaluate,
-                   [&] { return s.api.ops.evaluate(s.api.self, &ev); });
+  const mh_status st = in_flight(*s.host, InstanceHost::Op::evaluate,
+                                 [&] { return s.api.ops.evaluate(s.api.self, &ev); });
+  if (!s.f.intact()) s.host->engine->fail_overrun(s.f, *s.host, "evaluate", "point forces");
+  return st;
 }
 
 }  // namespace mh

@@ -355,6 +355,59 @@ INSTANTIATE_TEST_SUITE_P(Signals, HostBoundaryCrash,
                            return std::string(p.param.fixture);
                          });
 
+// An evaluate that writes one entry past its point forces: the run stops
+// at that step naming the instance, its library, the array and the call
+// (the entries after the array are the host's guard, not its data), every
+// row before kept.
+TEST(HostBoundary, AWritePastTheEndOfItsPointForcesStopsTheRunNamingTheArray) {
+  const auto dir = mh::test::scratch_dir("overrun-evaluate");
+  const auto model = dir / "spring.yaml";
+  {
+    std::ifstream in(spring_model());
+    std::ofstream out(model);
+    out << in.rdbuf() << "plugins: {faulty-spring: " << fixture("overrun_evaluate") << "}\n";
+  }
+  const auto csv = dir / "out.csv";
+  const CliResult r = run_cli("run " + model.string() + " --out " + csv.string());
+  EXPECT_EQ(r.code, 1) << r.output;
+  // Said inside the formulation's residual, whose host service evaluated it.
+  EXPECT_NE(r.output.find("monohydra: simulation failed at t = 0.501 s, step 501: residual "
+                          "evaluation failed: formulation 'open-loop': residual: "),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("subsystem 'spring' (faulty-spring) of overrun_evaluate.so wrote past "
+                          "the end of its point forces (6 entries) in evaluate\n"),
+            std::string::npos)
+      << r.output;
+  std::ifstream rows(csv);
+  std::string line, last;
+  while (std::getline(rows, line))
+    if (!line.empty()) last = line;
+  EXPECT_EQ(last.substr(0, last.find(',')), "0.5") << last;
+}
+
+// The same for a derivative array: point_force_jacobian writes one entry
+// past dF_dp (two points: 6 x 6 entries) while the step's tangent is made.
+TEST(HostBoundary, AWritePastTheEndOfADerivativeArrayStopsTheRunNamingTheArray) {
+  const auto dir = mh::test::scratch_dir("overrun-force-jacobian");
+  const auto model = dir / "spring.yaml";
+  {
+    std::ifstream in(spring_model());
+    std::ofstream out(model);
+    out << in.rdbuf() << "plugins: {faulty-spring: " << fixture("overrun_force_jacobian") << "}\n";
+  }
+  const CliResult r = run_cli("run " + model.string() + " --out /dev/null");
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("monohydra: simulation failed at t = 0.501 s, step 501: tangent "
+                          "assembly failed: formulation 'open-loop': tangent: "),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("subsystem 'spring' (faulty-spring) of overrun_force_jacobian.so wrote "
+                          "past the end of its dF_dp (36 entries) in point_force_jacobian\n"),
+            std::string::npos)
+      << r.output;
+}
+
 // A thread the plugin started crashes later, in its own code, while the
 // stepping thread is anywhere: no call of the host's is to blame, and the
 // message names the library whose code crashed rather than a call.

@@ -61,7 +61,7 @@ mh_status differenced_point_forces(SubsystemInstance& s, mh_subsystem_eval ev) {
   std::copy(s.f.begin(), s.f.end(), s.f_base.begin());  // the forces at p, v themselves
   for (int level = 0; level < 2; ++level) {
     std::vector<double>& x = level == 0 ? s.p_pert : s.v_pert;
-    std::vector<double>& out = level == 0 ? s.dF_dp : s.dF_dv;
+    GuardedArray& out = level == 0 ? s.dF_dp : s.dF_dv;
     for (size_t c = 0; c < n3; ++c) {
       const double x0 = x[c];
       const double h = 1e-6 * std::max(1.0, std::abs(x0));
@@ -92,8 +92,8 @@ mh_status Simulation::Engine::refuse_nonfinite_derivatives() {
   reports.last_plugin_error = "the mechanics' derivatives K, C are not finite";
   for (const SubsystemInstance& s : subsystems) {
     if (s.points.empty() || s.api.ops.point_force_jacobian == nullptr) continue;
-    const std::pair<const std::vector<double>*, const char*> given[] = {{&s.dF_dp, "dF_dp"},
-                                                                        {&s.dF_dv, "dF_dv"}};
+    const std::pair<const GuardedArray*, const char*> given[] = {{&s.dF_dp, "dF_dp"},
+                                                                 {&s.dF_dv, "dF_dv"}};
     for (const auto& [buffer, name] : given) {
       const size_t i = first_nonfinite(buffer->data(), buffer->size());
       if (i == buffer->size()) continue;
@@ -146,6 +146,7 @@ mh_status Simulation::Engine::mechanics_derivatives(const mh_mech_derivatives_re
         st = normalized(in_flight(*s.host, InstanceHost::Op::point_force_jacobian, [&] {
           return s.api.ops.point_force_jacobian(s.api.self, &ev, s.dF_dp.data(), s.dF_dv.data());
         }));
+        check_guards(*s.host, "point_force_jacobian", {{&s.dF_dp, "dF_dp"}, {&s.dF_dv, "dF_dv"}});
         if (status_ok(st)) apply_planted(planted, s, 6, {&s.dF_dp, &s.dF_dv});
       } else {
         st = differenced_point_forces(s, ev);

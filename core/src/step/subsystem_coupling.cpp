@@ -85,7 +85,7 @@ mh_status difference_instance(SubsystemInstance& s, mh_subsystem_eval ev, Eigen:
   // The points' motion: columns of dR/dp and dR/dv.
   for (int level = 0; level < 2; ++level) {
     std::vector<double>& x = level == 0 ? s.p_pert : s.v_pert;
-    std::vector<double>& out = level == 0 ? s.dR_dp : s.dR_dv;
+    GuardedArray& out = level == 0 ? s.dR_dp : s.dR_dv;
     for (size_t c = 0; c < n3; ++c) {
       const double x0 = x[c];
       const double h = 1e-6 * std::max(1.0, std::abs(x0));
@@ -222,6 +222,11 @@ mh_status Simulation::Engine::couple_subsystems(double t_eval) {
         return s.api.ops.coupling_jacobian(s.api.self, &ev, s.dR_dp.data(), s.dR_dv.data(),
                                            s.dF_dy.data(), s.dF_dydot.data());
       }));
+      check_guards(*s.host, "coupling_jacobian",
+                   {{&s.dR_dp, "dR_dp"},
+                    {&s.dR_dv, "dR_dv"},
+                    {&s.dF_dy, "dF_dy"},
+                    {&s.dF_dydot, "dF_dydot"}});
       if (status_ok(st)) apply_planted(planted, s, 2, {&s.dR_dp, &s.dR_dv, &s.dF_dy, &s.dF_dydot});
       // Along the integrator's map (Eq. 33): d/dy + dydot_dy d/dydot.
       for (size_t b = 0; b < k; ++b) {

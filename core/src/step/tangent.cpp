@@ -316,6 +316,7 @@ mh_status Simulation::Engine::assemble_tangent(double t_eval) {
     const mh_status st = normalized(in_flight(*s.host, InstanceHost::Op::jacobian, [&] {
       return s.api.ops.jacobian(s.api.self, &ev, s.d_dy.data(), s.d_dydot.data());
     }));
+    check_guards(*s.host, "jacobian", {{&s.d_dy, "d_dy"}, {&s.d_dydot, "d_dydot"}});
     if (!status_ok(st)) return st;
     apply_planted(planted, s, 0, {&s.d_dy, &s.d_dydot});
     // A declared block (sparsity.h) holds every entry the instance writes:

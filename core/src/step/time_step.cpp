@@ -33,6 +33,13 @@ void Simulation::Engine::fail_nonfinite(double value, size_t index, const Instan
   fail(reason);
 }
 
+void Simulation::Engine::fail_overrun(GuardedArray& array, const InstanceHost& writer,
+                                      const char* call, const char* what) const {
+  array.arm();
+  fail((writer.label.empty() ? writer.source : writer.label) + " wrote past the end of its " +
+       what + " (" + std::to_string(array.size()) + " entries) in " + call);
+}
+
 std::string Simulation::Engine::nonfinite_reason(double value, size_t index,
                                                  const InstanceHost& writer, const char* call,
                                                  const char* what) const {
