@@ -48,6 +48,14 @@ class RunResiduals final : public ceres::CostFunction {
   }
 
   const std::string& why() const { return why_; }
+  // A run already made at `p` (the fit's start): Ceres' first evaluation,
+  // which asks for the Jacobian there, reuses it.
+  void seed(const Eigen::VectorXd& p, const Eigen::VectorXd& predicted, const Eigen::MatrixXd& J) {
+    at_ = p;
+    predicted_ = predicted;
+    J_ = J;
+    has_ = true;
+  }
   // The last run's predictions and Jacobian when it was at `p`.
   bool ran_at(const Eigen::VectorXd& p, Eigen::VectorXd& predicted, Eigen::MatrixXd& J) const {
     if (!has_ || p != at_) return false;
@@ -89,8 +97,10 @@ FitResult fit_parameters(const SampledRun& run, const std::vector<double>& noise
   for (Eigen::Index j = 0; j < k; ++j) scale(j) = p0(j) != 0.0 ? std::abs(p0(j)) : 1.0;
 
   // The initial model's predictions: the starting weights of the columns
-  // without a noise level.
-  if (!run.evaluate(p0, out.predicted_initial, nullptr, out.why)) {
+  // without a noise level. With its Jacobian: the solver's first evaluation
+  // is at the same point (one run of the model fewer in each fit).
+  Eigen::MatrixXd J0;
+  if (!run.evaluate(p0, out.predicted_initial, &J0, out.why)) {
     out.why = "the initial model does not run: " + out.why;
     return out;
   }
@@ -109,6 +119,12 @@ FitResult fit_parameters(const SampledRun& run, const std::vector<double>& noise
     problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     ceres::Problem problem(problem_options);
     RunResiduals residuals(run, scale, out.sigma);
+    // Where this round starts: the initial model, or the last round's solution.
+    if (out.rounds == 1) {
+      residuals.seed(p0, out.predicted_initial, J0);
+    } else {
+      residuals.seed(out.estimate, out.predicted, out.jacobian);
+    }
     std::vector<double*> blocks(x.size());
     for (size_t j = 0; j < x.size(); ++j) blocks[j] = &x[j];
     problem.AddResidualBlock(&residuals, nullptr, blocks);
