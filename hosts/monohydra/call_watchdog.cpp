@@ -26,6 +26,16 @@ std::atomic<const PluginCallInFlight*> g_record{nullptr};
 std::atomic<pid_t> g_watched_pid{0};  // the process whose thread is running
 std::atomic<pid_t> g_running_pid{0};  // the process whose thread has entered watch()
 
+// `n` characters of `message` as snprintf made them (cut to the buffer) on
+// stderr, with write(): the stepping thread may hold the stream's lock.
+template <size_t Size>
+void write_message(const char (&message)[Size], int n) {
+  if (n <= 0) return;
+  const size_t len = static_cast<size_t>(n) < Size ? static_cast<size_t>(n) : Size - 1;
+  const ssize_t written = ::write(STDERR_FILENO, message, len);
+  (void)written;
+}
+
 [[noreturn]] void stop_hung(const PluginCallSite& site, double seconds) {
   const PluginCallInFlight& record = *g_record.load(std::memory_order_relaxed);
   char message[1024];
@@ -36,12 +46,7 @@ std::atomic<pid_t> g_running_pid{0};  // the process whose thread has entered wa
       site.who != nullptr ? site.who : "a plugin", site.call != nullptr ? site.call : "call",
       seconds, record.t.load(std::memory_order_relaxed),
       record.step.load(std::memory_order_relaxed));
-  if (n > 0) {
-    const auto len =
-        static_cast<size_t>(n) < sizeof message ? static_cast<size_t>(n) : sizeof message - 1;
-    const ssize_t written = ::write(STDERR_FILENO, message, len);
-    (void)written;
-  }
+  write_message(message, n);
   std::_Exit(1);  // the hung call holds the engine: nothing else can run safely
 }
 
@@ -57,12 +62,7 @@ std::atomic<pid_t> g_running_pid{0};  // the process whose thread has entered wa
       signal_name(signal), site.who != nullptr ? site.who : "a plugin",
       site.call != nullptr ? site.call : "call", record.t.load(std::memory_order_relaxed),
       record.step.load(std::memory_order_relaxed));
-  if (n > 0) {
-    const auto len =
-        static_cast<size_t>(n) < sizeof message ? static_cast<size_t>(n) : sizeof message - 1;
-    const ssize_t written = ::write(STDERR_FILENO, message, len);
-    (void)written;
-  }
+  write_message(message, n);
   std::_Exit(exit_status_for_signal(signal));
 }
 

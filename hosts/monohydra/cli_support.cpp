@@ -3,10 +3,12 @@
 #include <unistd.h>
 
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -132,6 +134,17 @@ void ProgressBar::operator()(double fraction) const {
                std::string(static_cast<size_t>(width - filled), ' ').c_str(),
                static_cast<int>(std::lround(fraction * 100.0)));
   if (fraction >= 1.0) std::fputc('\n', stderr);
+}
+
+int with_output_written(int code) {
+  errno = 0;
+  std::cout.flush();
+  if (!std::cout || std::fflush(stdout) != 0 || std::ferror(stdout) != 0) {
+    std::cerr << "monohydra: cannot write to standard output: "
+              << (errno != 0 ? std::strerror(errno) : "write failed") << '\n';
+    if (code == 0) code = 1;
+  }
+  return code;
 }
 
 }  // namespace mh::cli

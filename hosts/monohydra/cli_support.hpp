@@ -34,6 +34,11 @@ void set_log_threshold(mh_log_level level);
 // "error", "warn", "info" or "debug" as a level; nullopt for anything else.
 std::optional<mh_log_level> parse_log_level(const std::string& text);
 
+// `code`, or 1 in its place when standard output could not be written (a
+// full disk, /dev/full): flushes it and says why on stderr. Output that never
+// arrived is not a success.
+int with_output_written(int code);
+
 // The command line this process was started with, shell-quoted, for the
 // result sidecars (result_sidecar.hpp).
 void set_command_line(int argc, const char* const* argv);

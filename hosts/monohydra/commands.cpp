@@ -34,6 +34,7 @@
 #include "step_overrides.hpp"
 #include "stop_signals.hpp"
 #include "subcommand_parser.hpp"
+#include "supervised.hpp"
 
 namespace fs = std::filesystem;
 
@@ -527,28 +528,13 @@ int simulate(RunRequest request, const std::string& out_path) {
       std::_Exit(2);
     }
     int code = run_prepared(*prepared, request, out_path, stop, true);
-    errno = 0;
-    std::cout.flush();
-    if (!std::cout || std::fflush(stdout) != 0 || std::ferror(stdout) != 0) {
-      std::cerr << "monohydra: cannot write to standard output: "
-                << (errno != 0 ? std::strerror(errno) : "write failed") << '\n';
-      if (code == 0) code = 1;
-    }
+    code = with_output_written(code);
     std::cerr.flush();
     std::_Exit(code);  // the parent owns everything else: no destructors, no atexit
   }
   int status = 0;
-  bool forwarded = false;
-  for (;;) {
-    const pid_t done = ::waitpid(pid, &status, WNOHANG);
-    if (done == pid) break;
-    if (done < 0 && errno != EINTR) return 70;
-    if (!forwarded && *stop != 0) {
-      ::kill(pid, static_cast<int>(*stop));  // the child stops after its row
-      forwarded = true;
-    }
-    ::usleep(20000);
-  }
+  // A stop signal is passed on: the child stops after its row.
+  if (!wait_passing_stop(pid, stop, status)) return 70;
   const std::string site = crash_site(crash);
   release_crash_report(crash);
   if (WIFEXITED(status)) return WEXITSTATUS(status);

@@ -98,13 +98,5 @@ int main(int argc, char** argv) {
     std::cerr << "monohydra: internal error: " << err.what() << '\n';
     code = 70;
   }
-  // Output that never arrived (stdout on a full disk, /dev/full) is not a success.
-  errno = 0;
-  std::cout.flush();
-  if (!std::cout || std::fflush(stdout) != 0 || std::ferror(stdout) != 0) {
-    std::cerr << "monohydra: cannot write to standard output: "
-              << (errno != 0 ? std::strerror(errno) : "write failed") << '\n';
-    if (code == 0) code = 1;
-  }
-  return code;
+  return mh::cli::with_output_written(code);
 }

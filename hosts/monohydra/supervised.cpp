@@ -13,10 +13,25 @@
 #include <string>
 
 #include "call_watchdog.hpp"
+#include "cli_support.hpp"
 #include "crash_report.hpp"
 #include "stop_signals.hpp"
 
 namespace mh::cli {
+
+bool wait_passing_stop(pid_t pid, const volatile std::sig_atomic_t* stop, int& status) {
+  bool forwarded = false;
+  for (;;) {
+    const pid_t done = ::waitpid(pid, &status, WNOHANG);
+    if (done == pid) return true;
+    if (done < 0 && errno != EINTR) return false;
+    if (!forwarded && *stop != 0) {
+      ::kill(pid, static_cast<int>(*stop));
+      forwarded = true;
+    }
+    ::usleep(20000);
+  }
+}
 
 int supervised(const std::function<int()>& body) {
   std::cout.flush();  // nothing buffered is written twice
@@ -37,13 +52,7 @@ int supervised(const std::function<int()>& body) {
     } catch (const std::exception& err) {  // a bug: said as main() says it
       std::cerr << "monohydra: internal error: " << err.what() << '\n';
     }
-    errno = 0;
-    std::cout.flush();
-    if (!std::cout || std::fflush(stdout) != 0 || std::ferror(stdout) != 0) {
-      std::cerr << "monohydra: cannot write to standard output: "
-                << (errno != 0 ? std::strerror(errno) : "write failed") << '\n';
-      if (code == 0) code = 1;
-    }
+    code = with_output_written(code);
     std::cerr.flush();
     std::_Exit(code);  // the parent owns everything else: no destructors, no atexit
   }
@@ -51,19 +60,9 @@ int supervised(const std::function<int()>& body) {
   // its command installs handlers of its own.
   const volatile std::sig_atomic_t* stop = install_stop_handlers();
   int status = 0;
-  bool forwarded = false;
-  for (;;) {
-    const pid_t done = ::waitpid(pid, &status, WNOHANG);
-    if (done == pid) break;
-    if (done < 0 && errno != EINTR) {
-      release_crash_report(crash);
-      return 70;
-    }
-    if (!forwarded && *stop != 0) {
-      ::kill(pid, static_cast<int>(*stop));
-      forwarded = true;
-    }
-    ::usleep(20000);
+  if (!wait_passing_stop(pid, stop, status)) {
+    release_crash_report(crash);
+    return 70;
   }
   const std::string site = crash_site(crash);
   release_crash_report(crash);

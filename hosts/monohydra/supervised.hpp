@@ -9,9 +9,16 @@
 // (commands.cpp, isolated_run.cpp) and `check` each of its checks.
 #pragma once
 
+#include <sys/types.h>
+
+#include <csignal>
 #include <functional>
 
 namespace mh::cli {
+
+// Waits for the child `pid`, passing the stop signal `*stop` on to it once
+// it is set; its wait status into `status`. False when waitpid fails.
+bool wait_passing_stop(pid_t pid, const volatile std::sig_atomic_t* stop, int& status);
 
 // `body`'s exit code, from a child; 1 when the child died of a crash, 128 +
 // the signal when SIGINT or SIGTERM ended it. Without fork, `body` here.

@@ -43,6 +43,23 @@ std::string spring_model() {
   return path.string();
 }
 
+// The pendulum of spring_model() written to `path`, its spring from the
+// fixture `name` (tests/fixtures/faulty/faulty_spring.c).
+void write_spring_model_with(const std::filesystem::path& path, const std::string& name) {
+  std::ifstream in(spring_model());
+  std::ofstream out(path);
+  out << in.rdbuf() << "plugins: {faulty-spring: " << fixture(name) << "}\n";
+}
+
+// The time (its text) of the last row of a run's CSV.
+std::string last_row_time(const std::filesystem::path& csv) {
+  std::ifstream rows(csv);
+  std::string line, last;
+  while (std::getline(rows, line))
+    if (!line.empty()) last = line;
+  return last.substr(0, last.find(','));
+}
+
 TEST(PluginCheck, AShippedFormulationPassesEveryCheckOnTheFourBar) {
   const CliResult r =
       run_cli("check " + std::string(mh::test::paths::plugin_dir) + "/monohydra-penalty.so");
@@ -226,11 +243,7 @@ TEST(HostServices, NullOutPointersNullOrForgedHandlesAndBadLooksAreRefusedWithAM
   // The fixture's setup makes each bad call and fails, naming it, if one is
   // accepted; refused, it goes on as the sound spring and the model runs.
   const auto path = mh::test::scratch_dir("check-model") / "bad-host-calls.yaml";
-  {
-    std::ifstream in(spring_model());
-    std::ofstream out(path);
-    out << in.rdbuf() << "plugins: {faulty-spring: " << fixture("bad_host_calls") << "}\n";
-  }
+  write_spring_model_with(path, "bad_host_calls");
   const CliResult r = run_cli("validate " + path.string());
   EXPECT_EQ(r.code, 0) << r.output;
   EXPECT_EQ(r.output.find("accepted a bad call"), std::string::npos) << r.output;
@@ -269,11 +282,7 @@ TEST(HostBoundary, ANonFiniteWriteStopsTheRunNamingTheInstanceItsLibraryTheCallA
   for (const auto& c : cases) {
     const auto dir = mh::test::scratch_dir(std::string("nonfinite-") + c.fixture);
     const auto model = dir / "spring.yaml";
-    {
-      std::ifstream in(spring_model());
-      std::ofstream out(model);
-      out << in.rdbuf() << "plugins: {faulty-spring: " << fixture(c.fixture) << "}\n";
-    }
+    write_spring_model_with(model, c.fixture);
     const auto csv = dir / "out.csv";
     const CliResult r = run_cli("run " + model.string() + " --out " + csv.string());
     EXPECT_EQ(r.code, 1) << c.fixture << "\n" << r.output;
@@ -297,11 +306,7 @@ TEST(HostBoundary, ANonFiniteWriteStopsTheRunNamingTheInstanceItsLibraryTheCallA
 TEST(HostBoundary, ACrashInsideASubsystemCallNamesTheInstanceTheCallTheTimeAndTheStep) {
   const auto dir = mh::test::scratch_dir("crash-evaluate");
   const auto model = dir / "spring.yaml";
-  {
-    std::ifstream in(spring_model());
-    std::ofstream out(model);
-    out << in.rdbuf() << "plugins: {faulty-spring: " << fixture("crash_evaluate") << "}\n";
-  }
+  write_spring_model_with(model, "crash_evaluate");
   const auto csv = dir / "out.csv";
   const CliResult r = run_cli("run " + model.string() + " --out " + csv.string());
   EXPECT_EQ(r.code, 1) << r.output;
@@ -328,11 +333,7 @@ TEST_P(HostBoundaryCrash, AnEvaluateThatDiesIsNamedWithTheSignalAndEveryRowBefor
   const CrashKind kind = GetParam();
   const auto dir = mh::test::scratch_dir(std::string("crash-") + kind.fixture);
   const auto model = dir / "spring.yaml";
-  {
-    std::ifstream in(spring_model());
-    std::ofstream out(model);
-    out << in.rdbuf() << "plugins: {faulty-spring: " << fixture(kind.fixture) << "}\n";
-  }
+  write_spring_model_with(model, kind.fixture);
   const auto csv = dir / "out.csv";
   const CliResult r = run_cli("run " + model.string() + " --out " + csv.string());
   EXPECT_EQ(r.code, 1) << r.output;
@@ -362,11 +363,7 @@ INSTANTIATE_TEST_SUITE_P(Signals, HostBoundaryCrash,
 TEST(HostBoundary, AWritePastTheEndOfItsPointForcesStopsTheRunNamingTheArray) {
   const auto dir = mh::test::scratch_dir("overrun-evaluate");
   const auto model = dir / "spring.yaml";
-  {
-    std::ifstream in(spring_model());
-    std::ofstream out(model);
-    out << in.rdbuf() << "plugins: {faulty-spring: " << fixture("overrun_evaluate") << "}\n";
-  }
+  write_spring_model_with(model, "overrun_evaluate");
   const auto csv = dir / "out.csv";
   const CliResult r = run_cli("run " + model.string() + " --out " + csv.string());
   EXPECT_EQ(r.code, 1) << r.output;
@@ -379,11 +376,7 @@ TEST(HostBoundary, AWritePastTheEndOfItsPointForcesStopsTheRunNamingTheArray) {
                           "the end of its point forces (6 entries) in evaluate\n"),
             std::string::npos)
       << r.output;
-  std::ifstream rows(csv);
-  std::string line, last;
-  while (std::getline(rows, line))
-    if (!line.empty()) last = line;
-  EXPECT_EQ(last.substr(0, last.find(',')), "0.5") << last;
+  EXPECT_EQ(last_row_time(csv), "0.5");
 }
 
 // The same for a derivative array: point_force_jacobian writes one entry
@@ -391,11 +384,7 @@ TEST(HostBoundary, AWritePastTheEndOfItsPointForcesStopsTheRunNamingTheArray) {
 TEST(HostBoundary, AWritePastTheEndOfADerivativeArrayStopsTheRunNamingTheArray) {
   const auto dir = mh::test::scratch_dir("overrun-force-jacobian");
   const auto model = dir / "spring.yaml";
-  {
-    std::ifstream in(spring_model());
-    std::ofstream out(model);
-    out << in.rdbuf() << "plugins: {faulty-spring: " << fixture("overrun_force_jacobian") << "}\n";
-  }
+  write_spring_model_with(model, "overrun_force_jacobian");
   const CliResult r = run_cli("run " + model.string() + " --out /dev/null");
   EXPECT_EQ(r.code, 1) << r.output;
   EXPECT_NE(r.output.find("monohydra: simulation failed at t = 0.501 s, step 501: tangent "
@@ -414,11 +403,7 @@ TEST(HostBoundary, AWritePastTheEndOfADerivativeArrayStopsTheRunNamingTheArray) 
 TEST(HostBoundary, AThreadAPluginStartedThatCrashesLaterIsBlamedOnItsLibrary) {
   const auto dir = mh::test::scratch_dir("crash-thread");
   const auto model = dir / "spring.yaml";
-  {
-    std::ifstream in(spring_model());
-    std::ofstream out(model);
-    out << in.rdbuf() << "plugins: {faulty-spring: " << fixture("thread_crash") << "}\n";
-  }
+  write_spring_model_with(model, "thread_crash");
   const auto csv = dir / "out.csv";
   const CliResult r = run_cli("run " + model.string() + " --out " + csv.string());
   EXPECT_EQ(r.code, 1) << r.output;
@@ -433,11 +418,7 @@ TEST(HostBoundary, AThreadAPluginStartedThatCrashesLaterIsBlamedOnItsLibrary) {
 // it dies, and the command itself reports the call and exits 1.
 TEST(HostBoundary, ACrashInSetupEndsTheRunsChildAndTheCommandNamesTheInstanceAndTheCall) {
   const auto model = mh::test::scratch_dir("crash-setup") / "spring.yaml";
-  {
-    std::ifstream in(spring_model());
-    std::ofstream out(model);
-    out << in.rdbuf() << "plugins: {faulty-spring: " << fixture("crash_setup") << "}\n";
-  }
+  write_spring_model_with(model, "crash_setup");
   const CliResult r = run_cli("run " + model.string() + " --out /dev/null");
   EXPECT_EQ(r.code, 1) << r.output;  // an exit, not the command dying of the signal
   EXPECT_NE(r.output.find("monohydra: the run crashed (SIGSEGV) in subsystem 'spring' "
@@ -475,22 +456,14 @@ TEST(HostBoundary, NanInAFormulationsStartOrAcceptIsNamedWithTheCallAndTheEntry)
     EXPECT_EQ(r.code, 1) << r.output;
     EXPECT_NE(r.output.find(message), std::string::npos) << r.output;
     if (last_row.empty()) continue;
-    std::ifstream rows(csv);
-    std::string line, last;
-    while (std::getline(rows, line))
-      if (!line.empty()) last = line;
-    EXPECT_EQ(last.substr(0, last.find(',')), last_row) << last;
+    EXPECT_EQ(last_row_time(csv), last_row);
   }
 }
 
 // destroy is a plugin call like the others: a crash in it is named.
 TEST(HostBoundary, ACrashInDestroyIsNamedWithTheInstanceAndTheCall) {
   const auto model = mh::test::scratch_dir("crash-destroy") / "spring.yaml";
-  {
-    std::ifstream in(spring_model());
-    std::ofstream out(model);
-    out << in.rdbuf() << "plugins: {faulty-spring: " << fixture("crash_destroy") << "}\n";
-  }
+  write_spring_model_with(model, "crash_destroy");
   const CliResult r = run_cli("validate " + model.string());  // sets up and destroys here
   EXPECT_NE(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("monohydra: crashed (SIGSEGV) in subsystem 'spring' (faulty-spring) of "
@@ -503,11 +476,7 @@ TEST(HostBoundary, ACrashInDestroyIsNamedWithTheInstanceAndTheCall) {
 // once the call has been in flight for --call-timeout, naming it.
 TEST(HostBoundary, ACreateThatNeverReturnsIsStoppedNamingTheInstanceAndTheCall) {
   const auto model = mh::test::scratch_dir("hang-create") / "spring.yaml";
-  {
-    std::ifstream in(spring_model());
-    std::ofstream out(model);
-    out << in.rdbuf() << "plugins: {faulty-spring: " << fixture("hang_create") << "}\n";
-  }
+  write_spring_model_with(model, "hang_create");
   const CliResult r = run_cli("run " + model.string() + " --out /dev/null --call-timeout 0.5");
   EXPECT_EQ(r.code, 1) << r.output;
   EXPECT_NE(r.output.find("monohydra: subsystem 'spring' (faulty-spring) of hang_create.so has "
@@ -520,11 +489,7 @@ TEST(HostBoundary, ACreateThatNeverReturnsIsStoppedNamingTheInstanceAndTheCall) 
 TEST(HostBoundary, AnEvaluateThatNeverReturnsStopsTheRunKeepingEveryRowBefore) {
   const auto dir = mh::test::scratch_dir("hang-evaluate");
   const auto model = dir / "spring.yaml";
-  {
-    std::ifstream in(spring_model());
-    std::ofstream out(model);
-    out << in.rdbuf() << "plugins: {faulty-spring: " << fixture("hang_evaluate") << "}\n";
-  }
+  write_spring_model_with(model, "hang_evaluate");
   const auto csv = dir / "out.csv";
   const CliResult r =
       run_cli("run " + model.string() + " --out " + csv.string() + " --call-timeout 0.5");
@@ -533,11 +498,7 @@ TEST(HostBoundary, AnEvaluateThatNeverReturnsStopsTheRunKeepingEveryRowBefore) {
                           "not returned from its evaluate within 0.5 s (at t = 0.501 s, step 501)"),
             std::string::npos)
       << r.output;
-  std::ifstream rows(csv);
-  std::string line, last;
-  while (std::getline(rows, line))
-    if (!line.empty()) last = line;
-  EXPECT_EQ(last.substr(0, last.find(',')), "0.5") << last;
+  EXPECT_EQ(last_row_time(csv), "0.5");
 }
 
 // Without --call-timeout a call inside a step has 5 s, not a minute: the
@@ -546,11 +507,7 @@ TEST(HostBoundary, AnEvaluateThatNeverReturnsStopsTheRunKeepingEveryRowBefore) {
 TEST(HostBoundary, AnEvaluateThatNeverReturnsIsStoppedWithinTheStepCallsDefaultOfFiveSeconds) {
   const auto dir = mh::test::scratch_dir("hang-evaluate-default");
   const auto model = dir / "spring.yaml";
-  {
-    std::ifstream in(spring_model());
-    std::ofstream out(model);
-    out << in.rdbuf() << "plugins: {faulty-spring: " << fixture("hang_evaluate") << "}\n";
-  }
+  write_spring_model_with(model, "hang_evaluate");
   const auto began = std::chrono::steady_clock::now();
   const CliResult r = run_cli("run " + model.string() + " --out /dev/null");
   const double took =
@@ -571,11 +528,7 @@ TEST(HostBoundary, AnEvaluateThatNeverReturnsIsStoppedWithinTheStepCallsDefaultO
 TEST(HostBoundary, SigtermDuringACallThatNeverReturnsStopsTheRunWithinASecond) {
   const auto dir = mh::test::scratch_dir("hang-evaluate-sigterm");
   const auto model = dir / "spring.yaml";
-  {
-    std::ifstream in(spring_model());
-    std::ofstream out(model);
-    out << in.rdbuf() << "plugins: {faulty-spring: " << fixture("hang_evaluate") << "}\n";
-  }
+  write_spring_model_with(model, "hang_evaluate");
   const auto csv = dir / "out.csv";
   // Signalled once the row at t = 0.5 s is written (the header and 501 rows)
   // and the evaluate of step 501 has hung for 0.3 s; the time from the
@@ -597,11 +550,7 @@ TEST(HostBoundary, SigtermDuringACallThatNeverReturnsStopsTheRunWithinASecond) {
   const size_t at = r.output.rfind("took ");
   ASSERT_NE(at, std::string::npos) << r.output;
   EXPECT_LT(std::stod(r.output.substr(at + 5)), 1.0) << r.output;
-  std::ifstream rows(csv);
-  std::string line, last;
-  while (std::getline(rows, line))
-    if (!line.empty()) last = line;
-  EXPECT_EQ(last.substr(0, last.find(',')), "0.5") << last;
+  EXPECT_EQ(last_row_time(csv), "0.5");
 }
 
 TEST(HostBoundary, ACallTimeoutThatIsNotATimeIsRefusedNamingTheFlagAndTheValue) {
